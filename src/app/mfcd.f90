@@ -1,0 +1,111 @@
+!> mfcd: meshfree contact detection (Li, Qian, Liu, Belytschko, CMAME 190, 2001).
+!! Usage: mfcd [--check] deck.nml | --help | --version.
+!! Exit codes: 0 success, 2 bad input (nothing written), 1 a run that failed.
+program mfcd
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use errors_m, only: error_t, exit_bad_input
+  use version_m, only: code_name, code_version, git_commit
+  use deck_m, only: deck_t, read_deck
+  use body_m, only: body_t
+  use bodies_m, only: build_bodies
+  use run_output_m, only: check_output_path, timestamp
+  use detect_run_m, only: run_detect
+  implicit none
+  type(deck_t) :: deck
+  type(body_t), allocatable :: bodies(:)
+  type(error_t), allocatable :: err
+  character(len=:), allocatable :: deck_path
+  character(len=1024) :: arg
+  logical :: check_only
+  integer :: i, nargs
+
+  check_only = .false.
+  nargs = command_argument_count()
+  deck_path = ''
+  do i = 1, nargs
+    call get_command_argument(i, arg)
+    select case (trim(arg))
+    case ('-h', '--help')
+      call usage(output_unit)
+      stop
+    case ('-V', '--version')
+      write(output_unit, '(a)') code_name//' '//code_version//' (git '//git_commit//')'
+      stop
+    case ('--check')
+      check_only = .true.
+    case default
+      if (arg(1:1) == '-') then
+        write(error_unit, '(a)') 'mfcd: error: unknown option '//trim(arg)
+        call usage(error_unit)
+        error stop exit_bad_input
+      end if
+      if (len(deck_path) > 0) then
+        write(error_unit, '(a)') 'mfcd: error: give one deck only (got '''//deck_path// &
+          ''' and '''//trim(arg)//''')'
+        error stop exit_bad_input
+      end if
+      deck_path = trim(arg)
+    end select
+  end do
+  if (len(deck_path) == 0) then
+    write(error_unit, '(a)') 'mfcd: error: no deck given'
+    call usage(error_unit)
+    error stop exit_bad_input
+  end if
+
+  write(output_unit, '(a)') code_name//' '//code_version//' (git '//git_commit//') '// &
+    timestamp()//' deck '//deck_path
+  call read_deck(deck_path, deck, err)
+  if (.not. allocated(err)) call echo_deck(deck)
+  if (.not. allocated(err)) call build_bodies(deck, bodies, err)
+  if (.not. allocated(err) .and. .not. check_only) call check_output_path(deck, err)
+  if (allocated(err)) call fail(err)
+  if (check_only) then
+    write(output_unit, '(a)') 'mfcd: deck '''//deck_path//''' is valid'
+    stop
+  end if
+
+  select case (trim(deck%run%mode))
+  case ('detect')
+    call run_detect(deck, bodies, err)
+  end select
+  if (allocated(err)) call fail(err)
+
+contains
+
+  subroutine fail(e)
+    type(error_t), intent(in) :: e
+    write(error_unit, '(a)') 'mfcd: error: '//e%message
+    if (e%code == exit_bad_input) error stop exit_bad_input
+    error stop 1
+  end subroutine fail
+
+  subroutine echo_deck(d)
+    type(deck_t), intent(in) :: d
+    integer :: a, z
+    a = 1
+    do while (a <= len(d%text))
+      z = index(d%text(a:), new_line('a'))
+      if (z == 0) then
+        write(output_unit, '(a)') 'deck| '//d%text(a:)
+        exit
+      end if
+      write(output_unit, '(a)') 'deck| '//d%text(a:a + z - 2)
+      a = a + z
+    end do
+  end subroutine echo_deck
+
+  subroutine usage(u)
+    integer, intent(in) :: u
+    write(u, '(a)') 'usage: mfcd [--check] DECK.nml'
+    write(u, '(a)') '       mfcd --help | --version'
+    write(u, '(a)') ''
+    write(u, '(a)') 'Runs the namelist deck DECK.nml (groups &run, &body, &detection, &output;'
+    write(u, '(a)') 'see doc/deck.md) and writes one HDF5 file (doc/output.md).'
+    write(u, '(a)') '  --check     read and validate the deck and bodies, write nothing'
+    write(u, '(a)') '  --help      this text'
+    write(u, '(a)') '  --version   code version and git commit'
+    write(u, '(a)') 'Threads: OMP_NUM_THREADS. Exit codes: 0 ok, 2 bad input (nothing'
+    write(u, '(a)') 'written), 1 run failed (output so far kept).'
+  end subroutine usage
+end program mfcd

@@ -1,0 +1,34 @@
+!> A particle body: reference positions, volumes, per-direction supports, boundary flags and
+!! the ordered boundary polylines contact needs (master surface segments, SPEC 2.5), plus
+!! the window/basis choice and the exact geometry when a generator made it.
+module body_m
+  use kinds_m, only: wp
+  use geometry_m, only: geometry_t
+  implicit none
+  private
+  public :: body_t, name_len
+
+  integer, parameter :: name_len = 64
+
+  type :: body_t
+    character(len=name_len) :: name = ''
+    character(len=32) :: shape = ''
+    integer :: ndim = 2
+    integer :: np = 0
+    real(wp), allocatable :: x(:, :)      !< reference positions (ndim, np) (m)
+    real(wp), allocatable :: vol(:)       !< particle volume (m^ndim; area in 2D)
+    real(wp), allocatable :: rho(:, :)    !< support radius per direction (ndim, np) (m)
+    logical, allocatable :: boundary(:)   !< particle lies on (or its cell is cut by) the boundary
+    !> Boundary polylines in CSR form: loop k is loop_idx(loop_ptr(k) : loop_ptr(k+1)-1),
+    !! counter-clockwise (outward normal = e3 x t on the right of the walking direction).
+    integer :: nloops = 0
+    integer, allocatable :: loop_ptr(:)
+    integer, allocatable :: loop_idx(:)
+    logical, allocatable :: loop_closed(:)
+    real(wp) :: spacing(3) = 0.0_wp       !< nominal particle spacing per direction (m)
+    real(wp) :: support_factor(3) = 0.0_wp
+    real(wp) :: h(3) = 1.0_wp             !< basis scale: nominal support radius (m)
+    integer :: kid = 1, wshape = 1, bid = 0
+    type(geometry_t) :: geom
+  end type body_t
+end module body_m

@@ -1,0 +1,593 @@
+!> The namelist deck: one group per concern (&run, &body repeatable, &detection, &output).
+!! Defaults are set before each read, every read has iostat/iomsg, ranges are checked after,
+!! and every message names the deck, the group, the variable, the value and the fix.
+!! Variables, units, defaults and ranges are documented in doc/deck.md.
+module deck_m
+  use kinds_m, only: wp
+  use strings_m, only: lower, itoa, join_names, rtoa_plain => rtoa
+  use errors_m, only: error_t, set_error
+  use kernels_m, only: kernel_id, kernel_names, window_shape_id, window_shape_names
+  use basis_m, only: basis_id, basis_names
+  use, intrinsic :: iso_fortran_env, only: iostat_end
+  implicit none
+  private
+  public :: deck_t, run_params_t, body_spec_t, detection_spec_t, output_spec_t
+  public :: read_deck, max_vertices, max_points, unset
+
+  integer, parameter :: max_vertices = 64
+  integer, parameter :: max_points = 32
+  integer, parameter :: max_bodies = 16
+  integer, parameter :: path_len = 512
+  !> Marks an array entry the deck did not set.
+  real(wp), parameter :: unset = -huge(1.0_wp)
+
+  character(len=*), parameter :: known_groups(4) = [character(len=9) :: &
+    'run', 'body', 'detection', 'output']
+  character(len=*), parameter :: modes(1) = [character(len=8) :: 'detect']
+  character(len=*), parameter :: geometries(2) = [character(len=12) :: &
+    'plane', 'axisymmetric']
+  character(len=*), parameter :: shapes(5) = [character(len=14) :: &
+    'segment', 'rectangle', 'polygon', 'annulus_sector', 'file']
+
+  type :: run_params_t
+    character(len=128) :: title = ''
+    character(len=16) :: mode = 'detect'
+    integer :: ndim = 2
+    character(len=16) :: geometry = 'plane'
+  end type run_params_t
+
+  type :: body_spec_t
+    character(len=64) :: name = ''
+    character(len=16) :: shape = ''
+    real(wp) :: lo(3) = unset, hi(3) = unset
+    integer :: n(3) = 0
+    real(wp) :: vertices(2, max_vertices) = unset
+    integer :: nvert = 0
+    real(wp) :: spacing(3) = unset
+    real(wp) :: origin(2) = unset
+    real(wp) :: center(2) = 0.0_wp
+    real(wp) :: r_inner = 0.0_wp, r_outer = 0.0_wp
+    real(wp) :: theta_start = 0.0_wp, theta_end = 360.0_wp   !< degrees in the deck
+    character(len=path_len) :: file = ''
+    character(len=16) :: kernel = 'cubic_spline'
+    character(len=8) :: window = 'tensor'
+    character(len=20) :: basis = 'bilinear'
+    real(wp) :: support_factor(3) = unset
+    integer :: kid = 0, wshape = 0, bid = 0
+  end type body_spec_t
+
+  type :: detection_spec_t
+    logical :: present = .false.
+    character(len=64) :: body = ''
+    real(wp) :: eps_cr = 5.0e-10_wp
+    real(wp) :: eps_rel = 0.0_wp
+    real(wp) :: line_from(3) = unset, line_to(3) = unset
+    integer :: line_n = 0
+    real(wp) :: grid_lo(3) = unset, grid_hi(3) = unset
+    integer :: grid_n(3) = 0
+    real(wp) :: points(3, max_points) = unset
+    integer :: npoints = 0
+  end type detection_spec_t
+
+  type :: output_spec_t
+    character(len=path_len) :: file = ''
+    logical :: overwrite = .true.
+  end type output_spec_t
+
+  type :: deck_t
+    character(len=:), allocatable :: path
+    character(len=:), allocatable :: text   !< the deck verbatim
+    type(run_params_t) :: run
+    integer :: nbodies = 0
+    type(body_spec_t), allocatable :: bodies(:)
+    type(detection_spec_t) :: detection
+    type(output_spec_t) :: output
+  end type deck_t
+
+contains
+
+  !> Read and validate the whole deck at path. Nothing is written anywhere.
+  subroutine read_deck(path, deck, err)
+    character(len=*), intent(in) :: path
+    type(deck_t), intent(out) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: u, ios
+    character(len=512) :: msg
+    logical :: exists
+    deck%path = path
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      call set_error(err, "deck '"//path//"' not found: check the path (run mfcd --help)")
+      return
+    end if
+    call read_text(path, deck%text, err)
+    if (allocated(err)) return
+    call check_groups(deck, err)
+    if (allocated(err)) return
+    open(newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call set_error(err, "deck '"//path//"' cannot be opened: "//trim(msg))
+      return
+    end if
+    call read_run(u, deck, err)
+    if (.not. allocated(err)) call read_bodies(u, deck, err)
+    if (.not. allocated(err)) call read_detection(u, deck, err)
+    if (.not. allocated(err)) call read_output(u, deck, err)
+    close(u)
+  end subroutine read_deck
+
+  subroutine read_text(path, text, err)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: u, ios, sz
+    character(len=512) :: msg
+    open(newunit=u, file=path, access='stream', form='unformatted', status='old', &
+      action='read', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call set_error(err, "deck '"//path//"' cannot be read: "//trim(msg))
+      return
+    end if
+    inquire(unit=u, size=sz)
+    allocate(character(len=max(sz, 0)) :: text)
+    if (sz > 0) read(u, iostat=ios, iomsg=msg) text
+    close(u)
+    if (ios /= 0) call set_error(err, "deck '"//path//"' cannot be read: "//trim(msg))
+  end subroutine read_text
+
+  !> Reject group names the code does not know (gfortran would skip them silently).
+  subroutine check_groups(deck, err)
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, j, k, lineno, n
+    character(len=:), allocatable :: line, name
+    logical :: quoted
+    character :: qc
+    i = 1
+    lineno = 0
+    n = len(deck%text)
+    do while (i <= n)
+      j = index(deck%text(i:), new_line('a'))
+      if (j == 0) then
+        line = deck%text(i:)
+        i = n + 1
+      else
+        line = deck%text(i:i + j - 2)
+        i = i + j
+      end if
+      lineno = lineno + 1
+      ! strip a comment outside quotes
+      quoted = .false.
+      qc = ' '
+      do k = 1, len(line)
+        if (quoted) then
+          if (line(k:k) == qc) quoted = .false.
+        else if (line(k:k) == "'" .or. line(k:k) == '"') then
+          quoted = .true.
+          qc = line(k:k)
+        else if (line(k:k) == '!') then
+          line = line(1:k - 1)
+          exit
+        end if
+      end do
+      line = adjustl(line)
+      if (len_trim(line) < 2) cycle
+      if (line(1:1) /= '&') cycle
+      k = scan(line(2:), ' ,/'//achar(9))
+      if (k == 0) then
+        name = lower(trim(line(2:)))
+      else
+        name = lower(line(2:k))
+      end if
+      if (name == 'end') cycle
+      if (.not. any(known_groups == name)) then
+        call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
+          ": unknown namelist group &"//name//"; valid groups: "// &
+          join_names(known_groups)//" (see doc/deck.md)")
+        return
+      end if
+    end do
+  end subroutine check_groups
+
+  subroutine read_run(u, deck, err)
+    integer, intent(in) :: u
+    type(deck_t), intent(inout) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=128) :: title
+    character(len=16) :: mode, geometry
+    integer :: ndim, ios
+    character(len=512) :: msg
+    namelist /run/ title, mode, ndim, geometry
+    title = ''
+    mode = 'detect'
+    ndim = 2
+    geometry = 'plane'
+    rewind(u)
+    read(u, nml=run, iostat=ios, iomsg=msg)
+    if (ios == iostat_end) then
+      call set_error(err, "deck '"//deck%path//"': group &run is missing; add "// &
+        "&run ndim = 2, mode = 'detect' / (see doc/deck.md)")
+      return
+    else if (ios /= 0) then
+      call nml_error(deck, 'run', '', msg, err)
+      return
+    end if
+    mode = lower(mode)
+    geometry = lower(geometry)
+    if (.not. any(modes == mode)) then
+      call bad(deck, 'run', 'mode', "'"//trim(mode)//"'", 'use one of: '// &
+        join_names(modes), err)
+    else if (ndim < 1 .or. ndim > 3) then
+      call bad(deck, 'run', 'ndim', itoa(ndim), 'use 1, 2 or 3', err)
+    else if (.not. any(geometries == geometry)) then
+      call bad(deck, 'run', 'geometry', "'"//trim(geometry)//"'", 'use one of: '// &
+        join_names(geometries), err)
+    else if (geometry == 'axisymmetric' .and. ndim /= 2) then
+      call bad(deck, 'run', 'geometry', "'axisymmetric'", 'axisymmetric runs need ndim = 2', err)
+    end if
+    deck%run%title = title
+    deck%run%mode = mode
+    deck%run%ndim = ndim
+    deck%run%geometry = geometry
+  end subroutine read_run
+
+  subroutine read_bodies(u, deck, err)
+    integer, intent(in) :: u
+    type(deck_t), intent(inout) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=64) :: name
+    character(len=16) :: shape, kernel
+    character(len=8) :: window
+    character(len=20) :: basis
+    character(len=path_len) :: file
+    real(wp) :: lo(3), hi(3), vertices(2, max_vertices), spacing(3), origin(2), center(2)
+    real(wp) :: r_inner, r_outer, theta_start, theta_end, support_factor(3)
+    integer :: n(3), ios, k
+    character(len=512) :: msg
+    type(body_spec_t) :: s, dflt
+    type(body_spec_t), allocatable :: tmp(:)
+    namelist /body/ name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, &
+      r_outer, theta_start, theta_end, file, kernel, window, basis, support_factor
+    allocate(tmp(max_bodies))
+    rewind(u)
+    k = 0
+    do
+      name = dflt%name
+      shape = dflt%shape
+      lo = dflt%lo
+      hi = dflt%hi
+      n = dflt%n
+      vertices = dflt%vertices
+      spacing = dflt%spacing
+      origin = dflt%origin
+      center = dflt%center
+      r_inner = dflt%r_inner
+      r_outer = dflt%r_outer
+      theta_start = dflt%theta_start
+      theta_end = dflt%theta_end
+      file = dflt%file
+      kernel = dflt%kernel
+      window = dflt%window
+      basis = dflt%basis
+      support_factor = dflt%support_factor
+      read(u, nml=body, iostat=ios, iomsg=msg)
+      if (ios == iostat_end) exit
+      k = k + 1
+      if (ios /= 0) then
+        call nml_error(deck, 'body', ' (body '//itoa(k)//')', msg, err)
+        return
+      end if
+      if (k > max_bodies) then
+        call set_error(err, "deck '"//deck%path//"': more than "//itoa(max_bodies)// &
+          " &body groups; merge bodies or raise max_bodies in src/deck_m.f90")
+        return
+      end if
+      s = dflt
+      s%name = name
+      s%shape = lower(shape)
+      s%lo = lo
+      s%hi = hi
+      s%n = n
+      s%vertices = vertices
+      s%nvert = count(vertices(1, :) /= unset .and. vertices(2, :) /= unset)
+      s%spacing = spacing
+      s%origin = origin
+      s%center = center
+      s%r_inner = r_inner
+      s%r_outer = r_outer
+      s%theta_start = theta_start
+      s%theta_end = theta_end
+      s%file = file
+      s%kernel = lower(kernel)
+      s%window = lower(window)
+      s%basis = lower(basis)
+      s%support_factor = support_factor
+      call check_body(deck, k, s, err)
+      if (allocated(err)) return
+      tmp(k) = s
+    end do
+    if (k == 0) then
+      call set_error(err, "deck '"//deck%path//"': no &body group; add at least one, e.g. "// &
+        "&body name = 'block', shape = 'rectangle', lo = 0, 0, hi = 1, 1, n = 11, 11 /")
+      return
+    end if
+    deck%nbodies = k
+    deck%bodies = tmp(1:k)
+  end subroutine read_bodies
+
+  subroutine check_body(deck, k, s, err)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    type(body_spec_t), intent(inout) :: s
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: grp
+    integer :: nd, j
+    logical :: exists
+    nd = deck%run%ndim
+    grp = 'body'
+    if (len_trim(s%name) == 0) s%name = 'body'//itoa(k)
+    grp = "body (body "//itoa(k)//", '"//trim(s%name)//"')"
+    do j = 1, k - 1
+      if (deck_body_name(deck, j) == s%name) then
+        call bad(deck, grp, 'name', "'"//trim(s%name)//"'", 'give every body its own name', err)
+        return
+      end if
+    end do
+    if (.not. any(shapes == s%shape)) then
+      call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", 'use one of: '// &
+        join_names(shapes), err)
+      return
+    end if
+    s%kid = kernel_id(s%kernel)
+    if (s%kid == 0) then
+      call bad(deck, grp, 'kernel', "'"//trim(s%kernel)//"'", 'use one of: '// &
+        join_names(kernel_names), err)
+      return
+    end if
+    s%wshape = window_shape_id(s%window)
+    if (s%wshape == 0) then
+      call bad(deck, grp, 'window', "'"//trim(s%window)//"'", 'use one of: '// &
+        join_names(window_shape_names), err)
+      return
+    end if
+    s%bid = basis_id(s%basis, nd)
+    if (s%bid == 0) then
+      call bad(deck, grp, 'basis', "'"//trim(s%basis)//"'", 'use one of: '// &
+        join_names(basis_names)//" that exists in ndim = "//itoa(nd)// &
+        " (bilinear: 2D; trilinear: 3D; quadratic: 1D/2D; counterexample_1xy: 2D)", err)
+      return
+    end if
+    if (s%support_factor(1) == unset) then
+      s%support_factor = 2.0_wp
+    else
+      do j = 2, 3
+        if (s%support_factor(j) == unset) s%support_factor(j) = s%support_factor(j - 1)
+      end do
+    end if
+    if (any(s%support_factor(1:nd) <= 0.0_wp) .or. any(s%support_factor(1:nd) > 20.0_wp)) then
+      call bad(deck, grp, 'support_factor', rtoa(minval(s%support_factor(1:nd))), &
+        'use a value in (0, 20]; 2.0 is typical (rho = support_factor x spacing)', err)
+      return
+    end if
+    select case (s%shape)
+    case ('segment')
+      if (nd /= 1) then
+        call bad(deck, grp, 'shape', "'segment'", 'segments need &run ndim = 1', err)
+      else if (s%lo(1) == unset .or. s%hi(1) == unset .or. .not. s%hi(1) > s%lo(1)) then
+        call bad(deck, grp, 'lo/hi', 'missing or hi <= lo', 'give lo = a, hi = b with b > a', err)
+      else if (s%n(1) < 2 .or. s%n(1) > 10000000) then
+        call bad(deck, grp, 'n', itoa(s%n(1)), 'give n = number of particles, 2 .. 1e7', err)
+      end if
+    case ('rectangle')
+      if (nd /= 2) then
+        call bad(deck, grp, 'shape', "'rectangle'", 'rectangles need &run ndim = 2', err)
+      else if (any(s%lo(1:2) == unset) .or. any(s%hi(1:2) == unset) .or. &
+        any(.not. s%hi(1:2) > s%lo(1:2))) then
+        call bad(deck, grp, 'lo/hi', 'missing or hi <= lo', &
+          'give lo = x0, y0 and hi = x1, y1 with x1 > x0 and y1 > y0', err)
+      else if (any(s%n(1:2) < 2) .or. real(s%n(1), wp)*s%n(2) > 5.0e7_wp) then
+        call bad(deck, grp, 'n', itoa(s%n(1))//', '//itoa(s%n(2)), &
+          'give n = nx, ny with nx, ny >= 2 (at most 5e7 particles)', err)
+      end if
+    case ('polygon')
+      if (nd /= 2) then
+        call bad(deck, grp, 'shape', "'polygon'", 'polygons need &run ndim = 2', err)
+      else if (s%nvert < 3) then
+        call bad(deck, grp, 'vertices', itoa(s%nvert)//' vertices', &
+          'give at least 3 vertices: vertices = x1, y1, x2, y2, x3, y3, ...', err)
+      else if (any(s%spacing(1:2) == unset) .or. any(s%spacing(1:2) <= 0.0_wp)) then
+        call bad(deck, grp, 'spacing', 'missing or <= 0', 'give spacing = dx, dy > 0 (m)', err)
+      end if
+      if (.not. allocated(err) .and. s%origin(1) == unset) s%origin = s%vertices(:, 1)
+    case ('annulus_sector')
+      if (nd /= 2) then
+        call bad(deck, grp, 'shape', "'annulus_sector'", 'annuli need &run ndim = 2', err)
+      else if (.not. (s%r_outer > s%r_inner .and. s%r_inner >= 0.0_wp)) then
+        call bad(deck, grp, 'r_inner/r_outer', rtoa(s%r_inner)//', '//rtoa(s%r_outer), &
+          'give 0 <= r_inner < r_outer (m)', err)
+      else if (.not. (s%theta_end > s%theta_start .and. &
+        s%theta_end - s%theta_start <= 360.0_wp)) then
+        call bad(deck, grp, 'theta_start/theta_end', rtoa(s%theta_start)//', '// &
+          rtoa(s%theta_end), 'give theta_start < theta_end <= theta_start + 360 (degrees)', err)
+      else if (any(s%n(1:2) < 2)) then
+        call bad(deck, grp, 'n', itoa(s%n(1))//', '//itoa(s%n(2)), &
+          'give n = n_radial, n_angular, both >= 2', err)
+      end if
+    case ('file')
+      inquire(file=trim(s%file), exist=exists)
+      if (len_trim(s%file) == 0 .or. .not. exists) then
+        call bad(deck, grp, 'file', "'"//trim(s%file)//"'", 'give the path of an existing '// &
+          'particle file (HDF5 .h5 or plain columns; see doc/deck.md)', err)
+      end if
+    end select
+  end subroutine check_body
+
+  pure function deck_body_name(deck, j) result(name)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: j
+    character(len=64) :: name
+    name = ''
+    if (allocated(deck%bodies)) name = deck%bodies(j)%name
+  end function deck_body_name
+
+  subroutine read_detection(u, deck, err)
+    integer, intent(in) :: u
+    type(deck_t), intent(inout) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=64) :: body
+    real(wp) :: eps_cr, eps_rel, line_from(3), line_to(3), grid_lo(3), grid_hi(3)
+    real(wp) :: points(3*max_points)
+    integer :: line_n, grid_n(3), ios, nd, j, nset
+    character(len=512) :: msg
+    type(detection_spec_t) :: d
+    namelist /detection/ body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, &
+      grid_hi, grid_n, points
+    body = d%body
+    eps_cr = d%eps_cr
+    eps_rel = d%eps_rel
+    line_from = d%line_from
+    line_to = d%line_to
+    line_n = d%line_n
+    grid_lo = d%grid_lo
+    grid_hi = d%grid_hi
+    grid_n = d%grid_n
+    points = unset
+    rewind(u)
+    read(u, nml=detection, iostat=ios, iomsg=msg)
+    if (ios == iostat_end) then
+      if (deck%run%mode == 'detect') call set_error(err, "deck '"//deck%path// &
+        "': mode = 'detect' needs a &detection group (see doc/deck.md)")
+      return
+    else if (ios /= 0) then
+      call nml_error(deck, 'detection', '', msg, err)
+      return
+    end if
+    nd = deck%run%ndim
+    d%present = .true.
+    d%body = body
+    d%eps_cr = eps_cr
+    d%eps_rel = eps_rel
+    d%line_from = line_from
+    d%line_to = line_to
+    d%line_n = line_n
+    d%grid_lo = grid_lo
+    d%grid_hi = grid_hi
+    d%grid_n = grid_n
+    ! points are consecutive ndim-tuples: points = x1, y1, x2, y2, ...
+    nset = 0
+    do j = 1, size(points)
+      if (points(j) /= unset) nset = j
+    end do
+    if (mod(nset, nd) /= 0 .or. any(points(1:nset) == unset)) then
+      call bad(deck, 'detection', 'points', itoa(nset)//' values', &
+        'give whole points: ndim coordinates each, points = x1, y1, x2, y2, ...', err)
+      return
+    end if
+    d%npoints = nset/nd
+    do j = 1, d%npoints
+      d%points(1:nd, j) = points((j - 1)*nd + 1:j*nd)
+    end do
+    if (len_trim(body) == 0) body = deck%bodies(1)%name
+    d%body = body
+    if (.not. any(deck%bodies%name == body)) then
+      call bad(deck, 'detection', 'body', "'"//trim(body)//"'", 'name one of the bodies: '// &
+        join_names(deck%bodies%name), err)
+    else if (.not. (eps_cr > 0.0_wp)) then
+      call bad(deck, 'detection', 'eps_cr', rtoa(eps_cr), &
+        'give a small positive threshold (paper: 5e-10)', err)
+    else if (eps_rel < 0.0_wp .or. eps_rel >= 1.0_wp) then
+      call bad(deck, 'detection', 'eps_rel', rtoa(eps_rel), &
+        'give 0 (off) or a fraction of the interior plateau in (0, 1), e.g. 1e-5', err)
+    else if (line_n /= 0 .and. (line_n < 2 .or. any(line_from(1:nd) == unset) .or. &
+      any(line_to(1:nd) == unset))) then
+      call bad(deck, 'detection', 'line_n/line_from/line_to', itoa(line_n), &
+        'give line_n >= 2 and both end points (ndim coordinates each), or line_n = 0', err)
+    else if (any(grid_n(1:nd) /= 0) .and. (any(grid_n(1:nd) < 2) .or. &
+      any(grid_lo(1:nd) == unset) .or. any(grid_hi(1:nd) == unset))) then
+      call bad(deck, 'detection', 'grid_n/grid_lo/grid_hi', itoa(grid_n(1)), &
+        'give grid_n >= 2 in every direction with grid_lo and grid_hi, or leave grid_n = 0', err)
+    else if (any(grid_n(1:nd) /= 0) .and. any(.not. grid_hi(1:nd) > grid_lo(1:nd))) then
+      call bad(deck, 'detection', 'grid_hi', 'not above grid_lo', &
+        'give grid_hi > grid_lo in every direction', err)
+    else if (real(max(grid_n(1), 1), wp)*max(grid_n(2), 1)*max(grid_n(3), 1) > 1.0e8_wp) then
+      call bad(deck, 'detection', 'grid_n', 'more than 1e8 points', &
+        'use a coarser grid (memory)', err)
+    else if (line_n == 0 .and. all(grid_n(1:nd) == 0) .and. d%npoints == 0) then
+      call bad(deck, 'detection', 'line_n/grid_n/points', 'nothing to evaluate', &
+        'give a query line (line_n), a grid (grid_n) or points', err)
+    end if
+    deck%detection = d
+  end subroutine read_detection
+
+  subroutine read_output(u, deck, err)
+    integer, intent(in) :: u
+    type(deck_t), intent(inout) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=path_len) :: file
+    logical :: overwrite
+    integer :: ios
+    character(len=512) :: msg
+    namelist /output/ file, overwrite
+    file = ''
+    overwrite = .true.
+    rewind(u)
+    read(u, nml=output, iostat=ios, iomsg=msg)
+    if (ios /= 0 .and. ios /= iostat_end) then
+      call nml_error(deck, 'output', '', msg, err)
+      return
+    end if
+    if (len_trim(file) == 0) then
+      call bad(deck, 'output', 'file', "''", &
+        "give the HDF5 output path, e.g. &output file = 'output/run.h5' /", err)
+      return
+    end if
+    deck%output%file = file
+    deck%output%overwrite = overwrite
+  end subroutine read_output
+
+  subroutine nml_error(deck, group, which, msg, err)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: group, which, msg
+    type(error_t), allocatable, intent(inout) :: err
+    call set_error(err, "deck '"//deck%path//"', group &"//group//which//": "//trim(msg)// &
+      "; fix the spelling or the value (variables of &"//group//": "// &
+      group_vars(group)//"; see doc/deck.md)")
+  end subroutine nml_error
+
+  pure function group_vars(group) result(s)
+    character(len=*), intent(in) :: group
+    character(len=:), allocatable :: s
+    select case (group)
+    case ('run')
+      s = 'title, mode, ndim, geometry'
+    case ('body')
+      s = 'name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, r_outer, '// &
+        'theta_start, theta_end, file, kernel, window, basis, support_factor'
+    case ('detection')
+      s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
+    case ('output')
+      s = 'file, overwrite'
+    case default
+      s = ''
+    end select
+  end function group_vars
+
+  subroutine bad(deck, group, var, value, fix, err)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: group, var, value, fix
+    type(error_t), allocatable, intent(inout) :: err
+    call set_error(err, "deck '"//deck%path//"', group &"//group//", variable "//var// &
+      " = "//value//": "//fix)
+  end subroutine bad
+
+  !> A deck value as text, '(unset)' for entries the deck did not give.
+  pure function rtoa(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    if (x == unset) then
+      s = '(unset)'
+    else
+      s = rtoa_plain(x)
+    end if
+  end function rtoa
+end module deck_m

@@ -1,0 +1,100 @@
+!> Contact detection by the moment matrix (Section 2): det(M) of a body at query points,
+!! the interior plateau, and the inside/outside classification det(M) > threshold, with
+!! the threshold either eps_cr (absolute, paper: 5e-10) or eps_rel x plateau (scale-free).
+!! When the body has an exact geometry, each query also gets its signed distance so the
+!! buffer zone of eq. (50), 0 < distance < rho, can be measured.
+module detection_m
+  use kinds_m, only: wp, i64
+  use body_m, only: body_t
+  use geometry_m, only: geom_none, signed_distance
+  use rk_cloud_m, only: rk_cloud_t, cloud_det
+  use sorting_m, only: sort_index
+  implicit none
+  private
+  public :: det_at_points, body_plateau, classify, buffer_stats, buffer_stats_t
+  public :: detection_threshold
+
+  !> What the classification says about the buffer zone (all distances in m).
+  type :: buffer_stats_t
+    real(wp) :: rho_buffer = 0.0_wp         !< eq. (50): sqrt(sum rho_i^2)
+    real(wp) :: max_outside_inside = 0.0_wp !< largest distance of a det > eps point outside
+    real(wp) :: min_outside_outside = 0.0_wp !< smallest distance of a det <= eps point outside
+    integer(i64) :: n_false_outside = 0     !< points inside the body with det <= eps
+    integer(i64) :: n_beyond_buffer = 0     !< points outside with det > eps and distance >= rho
+    integer(i64) :: n_points = 0
+  end type buffer_stats_t
+
+contains
+
+  !> det(M) of cloud c at every column of p(ndim, n). OpenMP over points.
+  subroutine det_at_points(c, p, det)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:, :)
+    real(wp), intent(out) :: det(:)
+    integer :: i
+    !$omp parallel do default(none) shared(c, p, det) schedule(static, 256)
+    do i = 1, size(p, 2)
+      det(i) = cloud_det(c, p(:, i))
+    end do
+    !$omp end parallel do
+  end subroutine det_at_points
+
+  !> Interior plateau: the median of det(M) at the body's own particles (most particles
+  !! are interior, where det(M) is flat; the median ignores the lower boundary values).
+  function body_plateau(b, c) result(plateau)
+    type(body_t), intent(in) :: b
+    type(rk_cloud_t), intent(in) :: c
+    real(wp) :: plateau
+    real(wp), allocatable :: det(:)
+    integer, allocatable :: order(:)
+    allocate(det(b%np), order(b%np))
+    call det_at_points(c, b%x, det)
+    call sort_index(det, order)
+    plateau = det(order((b%np + 1)/2))
+  end function body_plateau
+
+  !> eps_rel x plateau when eps_rel > 0, else eps_cr.
+  pure real(wp) function detection_threshold(eps_cr, eps_rel, plateau) result(t)
+    real(wp), intent(in) :: eps_cr, eps_rel, plateau
+    if (eps_rel > 0.0_wp) then
+      t = eps_rel*plateau
+    else
+      t = eps_cr
+    end if
+  end function detection_threshold
+
+  !> inside = 1 where det > threshold, else 0.
+  pure subroutine classify(det, threshold, inside)
+    real(wp), intent(in) :: det(:), threshold
+    integer, intent(out) :: inside(:)
+    inside = merge(1, 0, det > threshold)
+  end subroutine classify
+
+  !> Signed distances of the points and how the classification sits in the buffer zone.
+  subroutine buffer_stats(b, p, inside, dist, st)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: p(:, :)
+    integer, intent(in) :: inside(:)
+    real(wp), intent(out) :: dist(:)
+    type(buffer_stats_t), intent(out) :: st
+    integer :: i
+    st%rho_buffer = norm2(b%h(1:b%ndim))
+    st%n_points = size(p, 2)
+    if (b%geom%kind == geom_none) then
+      dist = huge(1.0_wp)
+      return
+    end if
+    st%min_outside_outside = huge(1.0_wp)
+    do i = 1, size(p, 2)
+      dist(i) = signed_distance(b%geom, p(:, i))
+      if (dist(i) <= 0.0_wp) then
+        if (inside(i) == 0) st%n_false_outside = st%n_false_outside + 1
+      else if (inside(i) == 1) then
+        st%max_outside_inside = max(st%max_outside_inside, dist(i))
+        if (dist(i) >= st%rho_buffer) st%n_beyond_buffer = st%n_beyond_buffer + 1
+      else
+        st%min_outside_outside = min(st%min_outside_outside, dist(i))
+      end if
+    end do
+  end subroutine buffer_stats
+end module detection_m

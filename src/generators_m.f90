@@ -1,0 +1,317 @@
+!> Particle-body generators: segment (1D), rectangle and polygon (2D lattices, e.g. the L- or
+!! C-shaped concave domain of Figs. 6-7), annulus sector (polar lattice), and bodies given
+!! as arrays (read from a particle file). Each particle gets its volume (its lattice cell
+!! clipped by the exact shape), its support rho = support_factor x spacing per direction,
+!! a boundary flag, and the ordered, counter-clockwise boundary polylines.
+module generators_m
+  use kinds_m, only: wp, pi
+  use errors_m, only: error_t, set_error
+  use body_m, only: body_t
+  use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, &
+    signed_distance, polygon_area, clip_polygon_box, segment_distance
+  use sorting_m, only: sort_index
+  implicit none
+  private
+  public :: make_segment, make_rectangle, make_polygon, make_annulus, make_from_arrays
+  public :: set_supports
+
+  !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
+  real(wp), parameter :: geom_tol = 1.0e-9_wp
+
+contains
+
+  !> n particles evenly on [a, b] (Example 2.1); end particles carry half a cell.
+  subroutine make_segment(b, a, bb, n, err)
+    type(body_t), intent(inout) :: b
+    real(wp), intent(in) :: a, bb
+    integer, intent(in) :: n
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i
+    real(wp) :: dx
+    if (n < 2 .or. bb <= a) then
+      call set_error(err, 'segment needs n >= 2 and hi > lo')
+      return
+    end if
+    dx = (bb - a)/real(n - 1, wp)
+    b%ndim = 1
+    b%np = n
+    allocate(b%x(1, n), b%vol(n), b%boundary(n))
+    do i = 1, n
+      b%x(1, i) = a + real(i - 1, wp)*dx
+    end do
+    b%vol = dx
+    b%vol(1) = 0.5_wp*dx
+    b%vol(n) = 0.5_wp*dx
+    b%boundary = .false.
+    b%boundary([1, n]) = .true.
+    b%spacing = 0.0_wp
+    b%spacing(1) = dx
+    b%nloops = 0
+    allocate(b%loop_ptr(1), b%loop_idx(0), b%loop_closed(0))
+    b%loop_ptr = 1
+    b%geom%kind = geom_segment
+    b%geom%a = a
+    b%geom%b = bb
+  end subroutine make_segment
+
+  !> n(1) x n(2) particles on [lo, hi] (Example 2.2).
+  subroutine make_rectangle(b, lo, hi, n, err)
+    type(body_t), intent(inout) :: b
+    real(wp), intent(in) :: lo(2), hi(2)
+    integer, intent(in) :: n(2)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: v(2, 4), dx(2)
+    if (any(n < 2) .or. any(hi <= lo)) then
+      call set_error(err, 'rectangle needs n >= 2 in each direction and hi > lo')
+      return
+    end if
+    dx = (hi - lo)/real(n - 1, wp)
+    v(:, 1) = lo
+    v(:, 2) = [hi(1), lo(2)]
+    v(:, 3) = hi
+    v(:, 4) = [lo(1), hi(2)]
+    call make_polygon(b, v, dx, lo, err)
+  end subroutine make_rectangle
+
+  !> Lattice points origin + (i dx, j dy) inside or on the polygon v(2, nv).
+  subroutine make_polygon(b, v_in, dx, origin, err)
+    type(body_t), intent(inout) :: b
+    real(wp), intent(in) :: v_in(:, :), dx(2), origin(2)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: v(:, :), xs(:, :), vols(:), key(:)
+    logical, allocatable :: bnd(:)
+    integer, allocatable :: order(:), bl(:)
+    real(wp) :: lo(2), hi(2), p(2), sd, tol, w(2, 64), cell, area
+    integer :: nv, i, j, i0, i1, j0, j1, np, cap, nw, k, nb
+    nv = size(v_in, 2)
+    if (nv < 3 .or. any(dx <= 0.0_wp)) then
+      call set_error(err, 'polygon needs at least 3 vertices and a positive spacing')
+      return
+    end if
+    area = polygon_area(v_in, nv)
+    if (abs(area) <= 0.0_wp) then
+      call set_error(err, 'polygon has zero area (check the vertex list)')
+      return
+    end if
+    allocate(v(2, nv))
+    if (area > 0.0_wp) then
+      v = v_in
+    else
+      v = v_in(:, nv:1:-1)
+    end if
+    b%ndim = 2
+    b%geom%kind = geom_polygon
+    b%geom%v = v
+    lo = minval(v, dim=2)
+    hi = maxval(v, dim=2)
+    tol = geom_tol*minval(dx)
+    i0 = floor((lo(1) - origin(1))/dx(1) - geom_tol)
+    i1 = ceiling((hi(1) - origin(1))/dx(1) + geom_tol)
+    j0 = floor((lo(2) - origin(2))/dx(2) - geom_tol)
+    j1 = ceiling((hi(2) - origin(2))/dx(2) + geom_tol)
+    cap = (i1 - i0 + 1)*(j1 - j0 + 1)
+    allocate(xs(2, cap), vols(cap), bnd(cap))
+    cell = dx(1)*dx(2)
+    np = 0
+    do j = j0, j1
+      do i = i0, i1
+        p = origin + [real(i, wp)*dx(1), real(j, wp)*dx(2)]
+        sd = signed_distance(b%geom, p)
+        if (sd > tol) cycle
+        np = np + 1
+        xs(:, np) = p
+        call clip_polygon_box(v, p - 0.5_wp*dx, p + 0.5_wp*dx, w, nw)
+        vols(np) = 0.0_wp
+        if (nw >= 3) vols(np) = polygon_area(w, nw)
+        bnd(np) = abs(sd) <= tol .or. vols(np) < (1.0_wp - geom_tol)*cell
+      end do
+    end do
+    b%np = np
+    b%x = xs(:, 1:np)
+    b%vol = vols(1:np)
+    b%boundary = bnd(1:np)
+    b%spacing = 0.0_wp
+    b%spacing(1:2) = dx
+    ! One closed loop: boundary particles ordered by (nearest edge, position along it).
+    nb = count(b%boundary)
+    allocate(bl(nb), key(nb), order(nb))
+    bl = pack([(k, k = 1, np)], b%boundary)
+    do k = 1, nb
+      key(k) = edge_key(v, b%x(:, bl(k)))
+    end do
+    call sort_index(key, order)
+    b%nloops = 1
+    b%loop_ptr = [1, nb + 1]
+    b%loop_idx = bl(order)
+    b%loop_closed = [.true.]
+  end subroutine make_polygon
+
+  !> Position along the polygon boundary: edge index - 1 + fraction along the edge.
+  pure real(wp) function edge_key(v, p) result(key)
+    real(wp), intent(in) :: v(:, :), p(2)
+    integer :: i, j, nv
+    real(wp) :: d, dmin, e(2), t
+    nv = size(v, 2)
+    dmin = huge(1.0_wp)
+    key = 0.0_wp
+    do i = 1, nv
+      j = merge(1, i + 1, i == nv)
+      d = segment_distance(v(:, i), v(:, j), p)
+      e = v(:, j) - v(:, i)
+      t = max(0.0_wp, min(1.0_wp, dot_product(p - v(:, i), e)/dot_product(e, e)))
+      ! prefer the edge where p sits nearer the start (a vertex belongs to the next edge)
+      if (d < dmin - geom_tol*norm2(e) .or. (abs(d - dmin) <= geom_tol*norm2(e) &
+        .and. t < 0.5_wp)) then
+        dmin = d
+        key = real(i - 1, wp) + t
+      end if
+    end do
+    if (key >= real(nv, wp) - geom_tol) key = 0.0_wp
+  end function edge_key
+
+  !> Polar lattice: nr radii on [r0, r1], nt angles on [t0, t1] (radians) about center.
+  !! A full ring (t1 - t0 = 2 pi) does not repeat the seam.
+  subroutine make_annulus(b, center, r0, r1, t0, t1, nr, nt, err)
+    type(body_t), intent(inout) :: b
+    real(wp), intent(in) :: center(2), r0, r1, t0, t1
+    integer, intent(in) :: nr, nt
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: dr, dt, r, t, ra, rb, ta, tb
+    logical :: full
+    integer :: i, j, k, np, nb
+    if (nr < 2 .or. nt < 2 .or. r1 <= r0 .or. r0 < 0.0_wp .or. t1 <= t0 &
+      .or. t1 - t0 > 2.0_wp*pi + 1.0e-12_wp) then
+      call set_error(err, 'annulus sector needs n >= 2, 0 <= r_inner < r_outer and '// &
+        '0 < theta_end - theta_start <= 360 degrees')
+      return
+    end if
+    full = t1 - t0 >= 2.0_wp*pi - 1.0e-12_wp
+    dr = (r1 - r0)/real(nr - 1, wp)
+    if (full) then
+      dt = (t1 - t0)/real(nt, wp)
+    else
+      dt = (t1 - t0)/real(nt - 1, wp)
+    end if
+    np = nr*nt
+    b%ndim = 2
+    b%np = np
+    allocate(b%x(2, np), b%vol(np), b%boundary(np))
+    k = 0
+    do j = 1, nt
+      t = t0 + real(j - 1, wp)*dt
+      ta = t - 0.5_wp*dt
+      tb = t + 0.5_wp*dt
+      if (.not. full) then
+        ta = max(ta, t0)
+        tb = min(tb, t1)
+      end if
+      do i = 1, nr
+        r = r0 + real(i - 1, wp)*dr
+        ra = max(r - 0.5_wp*dr, r0)
+        rb = min(r + 0.5_wp*dr, r1)
+        k = k + 1
+        b%x(:, k) = center + r*[cos(t), sin(t)]
+        b%vol(k) = 0.5_wp*(rb*rb - ra*ra)*(tb - ta)
+        b%boundary(k) = i == 1 .or. i == nr .or. ((j == 1 .or. j == nt) .and. .not. full)
+      end do
+    end do
+    b%spacing = 0.0_wp
+    b%spacing(1:2) = max(dr, 0.5_wp*(r0 + r1)*dt)
+    b%geom%kind = geom_annulus
+    b%geom%center = center
+    b%geom%r0 = r0
+    b%geom%r1 = r1
+    b%geom%t0 = t0
+    b%geom%t1 = t1
+    if (full) then
+      ! two closed rings: outer counter-clockwise, inner clockwise (material on the left)
+      b%nloops = 2
+      b%loop_ptr = [1, nt + 1, 2*nt + 1]
+      b%loop_idx = [([(idx(nr, j), j = 1, nt)]), ([(idx(1, j), j = nt, 1, -1)])]
+      b%loop_closed = [.true., .true.]
+    else
+      nb = 2*(nr - 1) + 2*(nt - 1)
+      b%nloops = 1
+      b%loop_ptr = [1, nb + 1]
+      b%loop_idx = [[(idx(i, 1), i = 1, nr - 1)], [(idx(nr, j), j = 1, nt - 1)], &
+        [(idx(i, nt), i = nr, 2, -1)], [(idx(1, j), j = nt, 2, -1)]]
+      b%loop_closed = [.true.]
+    end if
+  contains
+    pure integer function idx(ir, jt)
+      integer, intent(in) :: ir, jt
+      idx = ir + (jt - 1)*nr
+    end function idx
+  end subroutine make_annulus
+
+  !> A body from arrays (particle file): x(ndim, np), vol(np), loop(np) (0 = interior,
+  !! k > 0 = on boundary loop k) and order(np) (position along that loop).
+  subroutine make_from_arrays(b, x, vol, loop, order, err)
+    type(body_t), intent(inout) :: b
+    real(wp), intent(in) :: x(:, :), vol(:)
+    integer, intent(in) :: loop(:), order(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: np, nl, k, i, n, pos
+    integer, allocatable :: members(:), srt(:)
+    real(wp), allocatable :: key(:)
+    np = size(x, 2)
+    if (np < 1 .or. size(vol) /= np) then
+      call set_error(err, 'particle file: no particles, or volume count differs from '// &
+        'the number of positions')
+      return
+    end if
+    if (any(vol <= 0.0_wp)) then
+      call set_error(err, 'particle file: every particle volume must be positive')
+      return
+    end if
+    b%ndim = size(x, 1)
+    b%np = np
+    b%x = x
+    b%vol = vol
+    b%boundary = loop > 0
+    nl = 0
+    if (np > 0) nl = maxval(loop)
+    b%nloops = nl
+    allocate(b%loop_ptr(nl + 1), b%loop_idx(count(loop > 0)), b%loop_closed(nl))
+    b%loop_closed = .true.
+    b%loop_ptr(1) = 1
+    pos = 0
+    do k = 1, nl
+      members = pack([(i, i = 1, np)], loop == k)
+      n = size(members)
+      key = real(order(members), wp)
+      if (allocated(srt)) deallocate(srt)
+      allocate(srt(n))
+      call sort_index(key, srt)
+      b%loop_idx(pos + 1:pos + n) = members(srt)
+      pos = pos + n
+      b%loop_ptr(k + 1) = pos + 1
+    end do
+    ! nominal spacing: the cube root (square root in 2D) of the mean volume
+    b%spacing = 0.0_wp
+    b%spacing(1:b%ndim) = (sum(vol)/real(np, wp))**(1.0_wp/real(b%ndim, wp))
+  end subroutine make_from_arrays
+
+  !> rho = factor x spacing per direction. For annuli the local spacing grows with radius,
+  !! so each particle gets factor x max(dr, r dtheta); the basis scale h is the nominal rho.
+  subroutine set_supports(b, factor, local_spacing)
+    type(body_t), intent(inout) :: b
+    real(wp), intent(in) :: factor(:)
+    real(wp), intent(in), optional :: local_spacing(:)
+    integer :: i, nd
+    nd = b%ndim
+    b%support_factor = 0.0_wp
+    b%support_factor(1:nd) = factor(1:nd)
+    if (allocated(b%rho)) deallocate(b%rho)
+    allocate(b%rho(nd, b%np))
+    do i = 1, b%np
+      if (present(local_spacing)) then
+        b%rho(:, i) = factor(1:nd)*local_spacing(i)
+      else
+        b%rho(:, i) = factor(1:nd)*b%spacing(1:nd)
+      end if
+    end do
+    b%h = 1.0_wp
+    b%h(1:nd) = factor(1:nd)*b%spacing(1:nd)
+  end subroutine set_supports
+end module generators_m

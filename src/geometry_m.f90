@@ -1,0 +1,189 @@
+!> Exact geometry of generated bodies: signed distance (negative inside) for a segment, a
+!! polygon (rectangles are polygons) and an annulus sector. Used to classify query points
+!! against the truth (buffer zone of eq. (50), detection accuracy) and never by the solver.
+module geometry_m
+  use kinds_m, only: wp, pi
+  implicit none
+  private
+  public :: geometry_t, geom_none, geom_segment, geom_polygon, geom_annulus
+  public :: signed_distance, polygon_area, clip_polygon_box, segment_distance
+
+  integer, parameter :: geom_none = 0, geom_segment = 1, geom_polygon = 2, geom_annulus = 3
+
+  type :: geometry_t
+    integer :: kind = geom_none
+    real(wp) :: a = 0.0_wp, b = 0.0_wp          !< segment [a, b] (m)
+    real(wp), allocatable :: v(:, :)            !< polygon vertices (2, nv), counter-clockwise
+    real(wp) :: center(2) = 0.0_wp              !< annulus centre (m)
+    real(wp) :: r0 = 0.0_wp, r1 = 0.0_wp        !< inner, outer radius (m)
+    real(wp) :: t0 = 0.0_wp, t1 = 0.0_wp        !< start, end angle (rad), t1 > t0
+  end type geometry_t
+
+contains
+
+  !> Signed distance from p to the boundary: < 0 inside, > 0 outside (m).
+  pure real(wp) function signed_distance(g, p) result(sd)
+    type(geometry_t), intent(in) :: g
+    real(wp), intent(in) :: p(:)
+    select case (g%kind)
+    case (geom_segment)
+      sd = max(g%a - p(1), p(1) - g%b)
+    case (geom_polygon)
+      sd = polygon_sd(g%v, p(1:2))
+    case (geom_annulus)
+      sd = annulus_sd(g, p(1:2))
+    case default
+      sd = huge(1.0_wp)
+    end select
+  end function signed_distance
+
+  !> Distance from p to the segment [a, b] in the plane.
+  pure real(wp) function segment_distance(a, b, p) result(d)
+    real(wp), intent(in) :: a(2), b(2), p(2)
+    real(wp) :: e(2), t, l2
+    e = b - a
+    l2 = dot_product(e, e)
+    t = 0.0_wp
+    if (l2 > 0.0_wp) t = max(0.0_wp, min(1.0_wp, dot_product(p - a, e)/l2))
+    d = norm2(p - a - t*e)
+  end function segment_distance
+
+  pure real(wp) function polygon_sd(v, p) result(sd)
+    real(wp), intent(in) :: v(:, :), p(2)
+    integer :: i, j, nv
+    logical :: inside
+    nv = size(v, 2)
+    sd = huge(1.0_wp)
+    inside = .false.
+    j = nv
+    do i = 1, nv
+      sd = min(sd, segment_distance(v(:, j), v(:, i), p))
+      if ((v(2, i) > p(2)) .neqv. (v(2, j) > p(2))) then
+        if (p(1) < (v(1, j) - v(1, i))*(p(2) - v(2, i))/(v(2, j) - v(2, i)) + v(1, i)) &
+          inside = .not. inside
+      end if
+      j = i
+    end do
+    if (inside) sd = -sd
+  end function polygon_sd
+
+  pure real(wp) function annulus_sd(g, p) result(sd)
+    type(geometry_t), intent(in) :: g
+    real(wp), intent(in) :: p(2)
+    real(wp) :: q(2), r, t, d, e0(2), e1(2)
+    logical :: full, in_angle
+    q = p - g%center
+    r = norm2(q)
+    t = atan2(q(2), q(1))
+    full = g%t1 - g%t0 >= 2.0_wp*pi - 1.0e-12_wp
+    in_angle = full .or. angle_in(t, g%t0, g%t1)
+    e0 = [cos(g%t0), sin(g%t0)]
+    e1 = [cos(g%t1), sin(g%t1)]
+    d = huge(1.0_wp)
+    ! distance to the two arcs
+    if (in_angle) then
+      d = min(abs(r - g%r0), abs(r - g%r1))
+    else
+      d = min(norm2(q - g%r0*e0), norm2(q - g%r1*e0), norm2(q - g%r0*e1), norm2(q - g%r1*e1))
+    end if
+    if (.not. full) then
+      d = min(d, segment_distance(g%r0*e0, g%r1*e0, q), segment_distance(g%r0*e1, g%r1*e1, q))
+    end if
+    sd = d
+    if (in_angle .and. r >= g%r0 .and. r <= g%r1) sd = -d
+  end function annulus_sd
+
+  pure logical function angle_in(t, t0, t1)
+    real(wp), intent(in) :: t, t0, t1
+    real(wp) :: u
+    u = modulo(t - t0, 2.0_wp*pi)
+    angle_in = u <= t1 - t0
+  end function angle_in
+
+  !> Shoelace area of a polygon (positive when counter-clockwise).
+  pure real(wp) function polygon_area(v, nv) result(a)
+    real(wp), intent(in) :: v(:, :)
+    integer, intent(in) :: nv
+    integer :: i, j
+    a = 0.0_wp
+    j = nv
+    do i = 1, nv
+      a = a + (v(1, j)*v(2, i) - v(1, i)*v(2, j))
+      j = i
+    end do
+    a = 0.5_wp*a
+  end function polygon_area
+
+  !> Sutherland-Hodgman: clip polygon v (any shape) by the box [lo, hi]; result w(2, nw).
+  pure subroutine clip_polygon_box(v, lo, hi, w, nw)
+    real(wp), intent(in) :: v(:, :), lo(2), hi(2)
+    real(wp), intent(out) :: w(:, :)
+    integer, intent(out) :: nw
+    real(wp) :: a(2, size(w, 2)), b(2, size(w, 2))
+    integer :: na, edge
+    na = size(v, 2)
+    a(:, 1:na) = v
+    do edge = 1, 4
+      call clip_half(a, na, edge, lo, hi, b, nw)
+      na = nw
+      a(:, 1:na) = b(:, 1:nw)
+      if (na == 0) exit
+    end do
+    nw = na
+    w(:, 1:nw) = a(:, 1:nw)
+  end subroutine clip_polygon_box
+
+  pure subroutine clip_half(a, na, edge, lo, hi, b, nb)
+    real(wp), intent(in) :: a(:, :), lo(2), hi(2)
+    integer, intent(in) :: na, edge
+    real(wp), intent(out) :: b(:, :)
+    integer, intent(out) :: nb
+    integer :: i, j
+    logical :: ini, inj
+    real(wp) :: t
+    nb = 0
+    if (na == 0) return
+    j = na
+    do i = 1, na
+      ini = inside(a(:, i))
+      inj = inside(a(:, j))
+      if (ini .neqv. inj) then
+        t = cross_t(a(:, j), a(:, i))
+        nb = nb + 1
+        b(:, nb) = a(:, j) + t*(a(:, i) - a(:, j))
+      end if
+      if (ini) then
+        nb = nb + 1
+        b(:, nb) = a(:, i)
+      end if
+      j = i
+    end do
+  contains
+    pure logical function inside(p)
+      real(wp), intent(in) :: p(2)
+      select case (edge)
+      case (1)
+        inside = p(1) >= lo(1)
+      case (2)
+        inside = p(1) <= hi(1)
+      case (3)
+        inside = p(2) >= lo(2)
+      case default
+        inside = p(2) <= hi(2)
+      end select
+    end function inside
+    pure real(wp) function cross_t(p, q)
+      real(wp), intent(in) :: p(2), q(2)
+      select case (edge)
+      case (1)
+        cross_t = (lo(1) - p(1))/(q(1) - p(1))
+      case (2)
+        cross_t = (hi(1) - p(1))/(q(1) - p(1))
+      case (3)
+        cross_t = (lo(2) - p(2))/(q(2) - p(2))
+      case default
+        cross_t = (hi(2) - p(2))/(q(2) - p(2))
+      end select
+    end function cross_t
+  end subroutine clip_half
+end module geometry_m

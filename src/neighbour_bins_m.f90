@@ -1,0 +1,157 @@
+!> Uniform cell lists (bins) in 1D, 2D and 3D, stored in CSR form (SPEC 2.3).
+!!
+!! Particles are counting-sorted into cells of size >= the largest support radius per
+!! direction; cell c holds idx(start(c) : start(c+1)-1). A query box [p - r, p + r] overlaps a
+!! clamped block of cells; points outside the grid get an empty block.
+module neighbour_bins_m
+  use kinds_m, only: wp
+  use errors_m, only: error_t, set_error
+  implicit none
+  private
+  public :: bins_t, bins_build, bins_cell_block, bins_candidates, bins_brute_force
+
+  !> Cells cap: keeps memory bounded for very elongated or sparse clouds.
+  integer, parameter :: max_cells = 16*1024*1024
+
+  type :: bins_t
+    integer :: ndim = 0
+    integer :: np = 0
+    real(wp) :: lo(3) = 0.0_wp       !< grid origin (m)
+    real(wp) :: hi(3) = 0.0_wp       !< grid far corner (m)
+    real(wp) :: cell(3) = 1.0_wp     !< cell size per direction (m)
+    real(wp) :: inv_cell(3) = 1.0_wp
+    integer :: nc(3) = 1             !< cells per direction
+    integer, allocatable :: start(:) !< CSR pointer, size ncells + 1
+    integer, allocatable :: idx(:)   !< particle ids sorted by cell
+  end type bins_t
+
+contains
+
+  !> Build bins over x(ndim, np) with cells at least min_cell(ndim) wide (m).
+  subroutine bins_build(b, x, min_cell, err)
+    type(bins_t), intent(out) :: b
+    real(wp), intent(in) :: x(:, :)
+    real(wp), intent(in) :: min_cell(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: ndim, np, i, c, ncell
+    integer, allocatable :: cid(:), fill(:)
+    real(wp) :: ext(3)
+    ndim = size(x, 1)
+    np = size(x, 2)
+    b%ndim = ndim
+    b%np = np
+    if (any(min_cell(1:ndim) <= 0.0_wp)) then
+      call set_error(err, 'neighbour bins: cell size must be positive')
+      return
+    end if
+    if (np == 0) then
+      allocate(b%start(2), b%idx(0))
+      b%start = 1
+      return
+    end if
+    b%lo(1:ndim) = minval(x, dim=2)
+    b%hi(1:ndim) = maxval(x, dim=2)
+    ext = 0.0_wp
+    ext(1:ndim) = b%hi(1:ndim) - b%lo(1:ndim)
+    b%cell(1:ndim) = min_cell(1:ndim)
+    do
+      b%nc = 1
+      b%nc(1:ndim) = int(ext(1:ndim)/b%cell(1:ndim)) + 1
+      if (real(b%nc(1), wp)*b%nc(2)*b%nc(3) <= max_cells) exit
+      b%cell(1:ndim) = 2.0_wp*b%cell(1:ndim)
+    end do
+    b%inv_cell(1:ndim) = 1.0_wp/b%cell(1:ndim)
+    ncell = product(b%nc)
+    allocate(cid(np), fill(ncell), b%start(ncell + 1), b%idx(np))
+    fill = 0
+    do i = 1, np
+      cid(i) = cell_of(b, x(:, i))
+      fill(cid(i)) = fill(cid(i)) + 1
+    end do
+    b%start(1) = 1
+    do c = 1, ncell
+      b%start(c + 1) = b%start(c) + fill(c)
+    end do
+    fill = 0
+    do i = 1, np
+      c = cid(i)
+      b%idx(b%start(c) + fill(c)) = i
+      fill(c) = fill(c) + 1
+    end do
+  end subroutine bins_build
+
+  !> Flat cell id (1-based) of a point known to lie in the grid.
+  pure integer function cell_of(b, p) result(c)
+    type(bins_t), intent(in) :: b
+    real(wp), intent(in) :: p(:)
+    integer :: ijk(3), d
+    ijk = 0
+    do d = 1, b%ndim
+      ijk(d) = min(b%nc(d) - 1, max(0, int((p(d) - b%lo(d))*b%inv_cell(d))))
+    end do
+    c = 1 + ijk(1) + b%nc(1)*(ijk(2) + b%nc(2)*ijk(3))
+  end function cell_of
+
+  !> Zero-based cell index block [clo, chi] overlapped by the box [p - r, p + r].
+  !! empty is true when the box misses the grid entirely.
+  pure subroutine bins_cell_block(b, p, r, clo, chi, empty)
+    type(bins_t), intent(in) :: b
+    real(wp), intent(in) :: p(:), r(:)
+    integer, intent(out) :: clo(3), chi(3)
+    logical, intent(out) :: empty
+    integer :: d
+    real(wp) :: a, z
+    clo = 0
+    chi = 0
+    empty = b%np == 0
+    do d = 1, b%ndim
+      a = (p(d) - r(d) - b%lo(d))*b%inv_cell(d)
+      z = (p(d) + r(d) - b%lo(d))*b%inv_cell(d)
+      if (z < 0.0_wp .or. a >= real(b%nc(d), wp)) then
+        empty = .true.
+        return
+      end if
+      clo(d) = max(0, int(a))
+      chi(d) = min(b%nc(d) - 1, int(z))
+    end do
+  end subroutine bins_cell_block
+
+  !> Candidate particles whose cell overlaps [p - r, p + r]; list must be large enough.
+  pure subroutine bins_candidates(b, p, r, list, n)
+    type(bins_t), intent(in) :: b
+    real(wp), intent(in) :: p(:), r(:)
+    integer, intent(inout) :: list(:)
+    integer, intent(out) :: n
+    integer :: clo(3), chi(3), i, j, k, c, q
+    logical :: empty
+    n = 0
+    call bins_cell_block(b, p, r, clo, chi, empty)
+    if (empty) return
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        c = 1 + b%nc(1)*(j + b%nc(2)*k)
+        do i = clo(1), chi(1)
+          do q = b%start(c + i), b%start(c + i + 1) - 1
+            n = n + 1
+            list(n) = b%idx(q)
+          end do
+        end do
+      end do
+    end do
+  end subroutine bins_candidates
+
+  !> Reference O(N) search: particles with |x_d - p_d| < r_d in every direction.
+  pure subroutine bins_brute_force(x, p, r, list, n)
+    real(wp), intent(in) :: x(:, :), p(:), r(:)
+    integer, intent(inout) :: list(:)
+    integer, intent(out) :: n
+    integer :: i
+    n = 0
+    do i = 1, size(x, 2)
+      if (all(abs(x(:, i) - p(1:size(x, 1))) < r(1:size(x, 1)))) then
+        n = n + 1
+        list(n) = i
+      end if
+    end do
+  end subroutine bins_brute_force
+end module neighbour_bins_m

@@ -1,0 +1,284 @@
+!> A particle cloud ready for moment-matrix work: particles packed in bin order with their
+!! supports and volumes, the window and basis choices, and the bins. It evaluates det(M)
+!! (contact detection, Section 2) and the RKPM shape functions and gradients (eq. 60) from
+!! the same factorization, so detection and interpolation share one code path.
+module rk_cloud_m
+  use kinds_m, only: wp
+  use errors_m, only: error_t, set_error
+  use kernels_m, only: window_eval, window_1d, window_tensor, radial_norm, kernel_cubic
+  use basis_m, only: mmax, basis_size, basis_eval, basis_eval_grad, basis_bilinear
+  use moment_matrix_m, only: moment_add, chol_small, chol_det, chol_solve, moment_symmetrize
+  use neighbour_bins_m, only: bins_t, bins_build, bins_cell_block
+  implicit none
+  private
+  public :: rk_cloud_t, cloud_init, cloud_det, cloud_moment, cloud_shape, cloud_count_cover
+
+  type :: rk_cloud_t
+    integer :: ndim = 0, np = 0
+    integer :: kid = kernel_cubic, wshape = window_tensor, bid = 0, m = 0
+    real(wp) :: hinv(3) = 1.0_wp      !< 1/h: scaling of the basis argument z = (x_l - x)/h
+    real(wp) :: cn = 1.0_wp           !< radial window normalisation
+    real(wp) :: rmax(3) = 0.0_wp      !< largest support radius per direction (m)
+    real(wp), allocatable :: x(:, :)     !< particle positions in bin order (ndim, np)
+    real(wp), allocatable :: rho(:, :)   !< support radius per direction (ndim, np)
+    real(wp), allocatable :: rinv(:, :)  !< 1/rho
+    real(wp), allocatable :: vol(:)      !< particle volume (weight Delta V)
+    integer, allocatable :: perm(:)      !< bin-order slot -> caller's particle index
+    type(bins_t) :: bins
+  end type rk_cloud_t
+
+contains
+
+  !> Pack a cloud. x(ndim,np) positions, rho(ndim,np) support radii, vol(np) weights,
+  !! h(ndim) basis scale (normally the nominal support radius). Particles keep their own
+  !! index through perm so callers never see the bin order.
+  subroutine cloud_init(c, x, rho, vol, kid, wshape, bid, h, err)
+    type(rk_cloud_t), intent(out) :: c
+    real(wp), intent(in) :: x(:, :), rho(:, :), vol(:), h(:)
+    integer, intent(in) :: kid, wshape, bid
+    type(error_t), allocatable, intent(inout) :: err
+    type(bins_t) :: b0
+    integer :: i, q, ndim
+    ndim = size(x, 1)
+    c%ndim = ndim
+    c%np = size(x, 2)
+    c%kid = kid
+    c%wshape = wshape
+    c%bid = bid
+    c%m = basis_size(bid)
+    c%cn = radial_norm(kid, ndim)
+    c%hinv = 1.0_wp
+    c%hinv(1:ndim) = 1.0_wp/h(1:ndim)
+    c%rmax = 0.0_wp
+    if (c%np > 0) c%rmax(1:ndim) = maxval(rho, dim=2)
+    call bins_build(b0, x, max(c%rmax(1:ndim), tiny(1.0_wp)), err)
+    if (allocated(err)) return
+    allocate(c%x(ndim, c%np), c%rho(ndim, c%np), c%rinv(ndim, c%np), c%vol(c%np))
+    allocate(c%perm(c%np))
+    ! Repack in cell order so the bins index the packed arrays directly.
+    do q = 1, c%np
+      i = b0%idx(q)
+      c%perm(q) = i
+      c%x(:, q) = x(:, i)
+      c%rho(:, q) = rho(:, i)
+      c%rinv(:, q) = 1.0_wp/rho(:, i)
+      c%vol(q) = vol(i)
+    end do
+    c%bins = b0
+    do q = 1, c%np
+      c%bins%idx(q) = q
+    end do
+    if (any(c%rho <= 0.0_wp)) call set_error(err, 'rk cloud: support radius must be positive')
+  end subroutine cloud_init
+
+  !> Moment matrix M(p) (full, symmetric) and the number of particles covering p.
+  pure subroutine cloud_moment(c, p, mm, ncover)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:)
+    real(wp), intent(out) :: mm(:, :)
+    integer, intent(out) :: ncover
+    integer :: clo(3), chi(3), i, j, k, cc, q, nd
+    logical :: empty
+    real(wp) :: d(3), pv(mmax), phi
+    nd = c%ndim
+    mm(1:c%m, 1:c%m) = 0.0_wp
+    ncover = 0
+    call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
+    if (empty) return
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
+        do i = clo(1), chi(1)
+          do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
+            d(1:nd) = c%x(:, q) - p(1:nd)
+            if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
+            call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
+            if (phi <= 0.0_wp) cycle
+            ncover = ncover + 1
+            call basis_eval(c%bid, d(1:nd)*c%hinv(1:nd), pv)
+            call moment_add(c%m, pv, phi*c%vol(q), mm)
+          end do
+        end do
+      end do
+    end do
+    call moment_symmetrize(c%m, mm)
+  end subroutine cloud_moment
+
+  !> Number of particles whose support covers p (Theorem 3.1's k).
+  pure integer function cloud_count_cover(c, p) result(ncover)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:)
+    real(wp) :: mm(mmax, mmax)
+    call cloud_moment(c, p, mm, ncover)
+  end function cloud_count_cover
+
+  !> det(M(p)); 0 when no particle covers p or the Cholesky factorization fails.
+  pure real(wp) function cloud_det(c, p) result(det)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:)
+    real(wp) :: mm(mmax, mmax)
+    integer :: ncover
+    logical :: ok
+    if (c%ndim == 2 .and. c%bid == basis_bilinear .and. c%wshape == window_tensor) then
+      det = det_2d_bilinear_tensor(c, p)
+      return
+    end if
+    call cloud_moment(c, p, mm, ncover)
+    det = 0.0_wp
+    if (ncover == 0) return
+    call chol_small(c%m, mm, ok)
+    if (ok) det = chol_det(c%m, mm)
+  end function cloud_det
+
+  !> Hot path for the paper's default (2D, bilinear basis, tensor-product window):
+  !! the ten distinct moments summed in registers, then a 4x4 Cholesky.
+  pure real(wp) function det_2d_bilinear_tensor(c, p) result(det)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:)
+    integer :: clo(3), chi(3), j, cc, q
+    logical :: empty
+    real(wp) :: dx, dy, w, z1, z2, z12, h1, h2
+    real(wp) :: m11, m12, m13, m14, m22, m24, m33, m34, m44
+    real(wp) :: l11, l21, l31, l41, l22, l32, l42, l33, l43, l44, s
+    det = 0.0_wp
+    call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
+    if (empty) return
+    h1 = c%hinv(1)
+    h2 = c%hinv(2)
+    m11 = 0.0_wp; m12 = 0.0_wp; m13 = 0.0_wp; m14 = 0.0_wp; m22 = 0.0_wp
+    m24 = 0.0_wp; m33 = 0.0_wp; m34 = 0.0_wp; m44 = 0.0_wp
+    do j = clo(2), chi(2)
+      cc = 1 + c%bins%nc(1)*j
+      do q = c%bins%start(cc + clo(1)), c%bins%start(cc + chi(1) + 1) - 1
+        dx = c%x(1, q) - p(1)
+        dy = c%x(2, q) - p(2)
+        if (abs(dx) >= c%rho(1, q) .or. abs(dy) >= c%rho(2, q)) cycle
+        w = 4.0_wp*c%rinv(1, q)*c%rinv(2, q)*c%vol(q) &
+          *window_1d(c%kid, 2.0_wp*dx*c%rinv(1, q))*window_1d(c%kid, 2.0_wp*dy*c%rinv(2, q))
+        z1 = dx*h1
+        z2 = dy*h2
+        z12 = z1*z2
+        m11 = m11 + w
+        m12 = m12 + w*z1
+        m13 = m13 + w*z2
+        m14 = m14 + w*z12
+        m22 = m22 + w*z1*z1
+        m33 = m33 + w*z2*z2
+        m24 = m24 + w*z12*z1
+        m34 = m34 + w*z12*z2
+        m44 = m44 + w*z12*z12
+      end do
+    end do
+    ! M23 = M14 (eq. 19). Cholesky, column by column.
+    if (m11 <= 0.0_wp) return
+    l11 = sqrt(m11)
+    l21 = m12/l11
+    l31 = m13/l11
+    l41 = m14/l11
+    s = m22 - l21*l21
+    if (s <= 0.0_wp) return
+    l22 = sqrt(s)
+    l32 = (m14 - l31*l21)/l22
+    l42 = (m24 - l41*l21)/l22
+    s = m33 - l31*l31 - l32*l32
+    if (s <= 0.0_wp) return
+    l33 = sqrt(s)
+    l43 = (m34 - l41*l31 - l42*l32)/l33
+    s = m44 - l41*l41 - l42*l42 - l43*l43
+    if (s <= 0.0_wp) return
+    l44 = sqrt(s)
+    det = (l11*l22*l33*l44)**2
+  end function det_2d_bilinear_tensor
+
+  !> RKPM shape functions N_I(p) = P(0)^T M^-1 P(z_I) phi_I V_I and gradients dN(ndim, :)
+  !! with respect to p, for every particle covering p. ids are caller indices (perm).
+  !! ok is false when M(p) is singular (p outside the body or too few particles).
+  pure subroutine cloud_shape(c, p, nnb, ids, n, dn, ok)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:)
+    integer, intent(out) :: nnb
+    integer, intent(inout) :: ids(:)
+    real(wp), intent(inout) :: n(:), dn(:, :)
+    logical, intent(out) :: ok
+    integer :: clo(3), chi(3), i, j, k, cc, q, nd, m, a, l
+    logical :: empty
+    real(wp) :: d(3), z(3), pv(mmax), dpz(mmax, 3), phi, dphi(3), vol
+    real(wp) :: mm(mmax, mmax), dmm(mmax, mmax, 3), b(mmax), db(mmax, 3)
+    integer :: slot(size(ids))
+    nd = c%ndim
+    m = c%m
+    nnb = 0
+    ok = .false.
+    mm = 0.0_wp
+    dmm = 0.0_wp
+    call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
+    if (empty) return
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
+        do i = clo(1), chi(1)
+          do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
+            d(1:nd) = c%x(:, q) - p(1:nd)
+            if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
+            call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi, &
+              dphi(1:nd))
+            if (phi <= 0.0_wp) cycle
+            if (nnb >= size(ids)) return
+            nnb = nnb + 1
+            slot(nnb) = q
+            z(1:nd) = d(1:nd)*c%hinv(1:nd)
+            call basis_eval_grad(c%bid, z(1:nd), pv, dpz)
+            vol = c%vol(q)
+            call moment_add(m, pv, phi*vol, mm)
+            ! dM/dp_a: d/dp of d is -1, of z is -hinv.
+            do a = 1, nd
+              call add_dm(m, pv, -dpz(:, a)*c%hinv(a), phi*vol, -dphi(a)*vol, dmm(:, :, a))
+            end do
+          end do
+        end do
+      end do
+    end do
+    if (nnb == 0) return
+    call moment_symmetrize(m, mm)
+    do a = 1, nd
+      call moment_symmetrize(m, dmm(:, :, a))
+    end do
+    call chol_small(m, mm, ok)
+    if (.not. ok) return
+    b = 0.0_wp
+    b(1) = 1.0_wp
+    call chol_solve(m, mm, b)
+    do a = 1, nd
+      db(1:m, a) = -matmul(dmm(1:m, 1:m, a), b(1:m))
+      call chol_solve(m, mm, db(:, a))
+    end do
+    do l = 1, nnb
+      q = slot(l)
+      ids(l) = c%perm(q)
+      d(1:nd) = c%x(:, q) - p(1:nd)
+      z(1:nd) = d(1:nd)*c%hinv(1:nd)
+      call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi, dphi(1:nd))
+      call basis_eval_grad(c%bid, z(1:nd), pv, dpz)
+      vol = c%vol(q)
+      n(l) = dot_product(b(1:m), pv(1:m))*phi*vol
+      do a = 1, nd
+        dn(a, l) = (dot_product(db(1:m, a), pv(1:m))*phi &
+          - dot_product(b(1:m), dpz(1:m, a))*c%hinv(a)*phi &
+          - dot_product(b(1:m), pv(1:m))*dphi(a))*vol
+      end do
+    end do
+  end subroutine cloud_shape
+
+  !> Upper triangle of dm += (dp p^T + p dp^T) w + p p^T dw.
+  pure subroutine add_dm(m, p, dp, w, dw, dm)
+    integer, intent(in) :: m
+    real(wp), intent(in) :: p(:), dp(:), w, dw
+    real(wp), intent(inout) :: dm(:, :)
+    integer :: i, j
+    do j = 1, m
+      do i = 1, j
+        dm(i, j) = dm(i, j) + (dp(i)*p(j) + p(i)*dp(j))*w + p(i)*p(j)*dw
+      end do
+    end do
+  end subroutine add_dm
+end module rk_cloud_m

@@ -1,0 +1,136 @@
+!> Parts of every mfcd output file: provenance attributes on '/', the deck verbatim, and
+!! the bodies' reference particles. Layout: doc/output.md.
+module run_output_m
+  use kinds_m, only: wp
+  use errors_m, only: error_t, set_error
+  use version_m, only: code_name, code_version, git_commit
+  use deck_m, only: deck_t
+  use body_m, only: body_t
+  use kernels_m, only: kernel_names, window_shape_names
+  use hdf5_io_m, only: h5file_t, h5_group, h5_write, h5_attr, h5_text
+  implicit none
+  private
+  public :: write_header, write_bodies, timestamp, check_output_path
+
+contains
+
+  !> Before any output: the directory exists (created if missing), the file may be
+  !! replaced (or overwrite is on), and a probe file can be written there.
+  subroutine check_output_path(deck, err)
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: path, dir
+    character(len=512) :: msg
+    logical :: exists
+    integer :: k, u, ios, stat
+    path = trim(deck%output%file)
+    k = index(path, '/', back=.true.)
+    dir = '.'
+    if (k > 1) dir = path(1:k - 1)
+    inquire(file=dir//'/.', exist=exists)
+    if (.not. exists) then
+      call execute_command_line('mkdir -p "'//dir//'"', exitstat=stat)
+      inquire(file=dir//'/.', exist=exists)
+    end if
+    if (.not. exists) then
+      call set_error(err, "deck '"//deck%path//"', group &output, variable file = '"//path// &
+        "': directory '"//dir//"' does not exist and cannot be created; give a writable path")
+      return
+    end if
+    inquire(file=path//'/.', exist=exists)
+    if (exists) then
+      call set_error(err, "deck '"//deck%path//"', group &output, variable file = '"//path// &
+        "': this is a directory; give a file name such as '"//path//"/run.h5'")
+      return
+    end if
+    inquire(file=path, exist=exists)
+    if (exists .and. .not. deck%output%overwrite) then
+      call set_error(err, "deck '"//deck%path//"', group &output, variable file = '"//path// &
+        "': the file exists and overwrite = .false.; remove it, rename the output, or set "// &
+        "overwrite = .true.")
+      return
+    end if
+    open(newunit=u, file=path//'.probe', status='replace', action='write', iostat=ios, &
+      iomsg=msg)
+    if (ios /= 0) then
+      call set_error(err, "deck '"//deck%path//"', group &output, variable file = '"//path// &
+        "': cannot write there ("//trim(msg)//"); give a writable path")
+      return
+    end if
+    close(u, status='delete')
+  end subroutine check_output_path
+
+  !> ISO 8601 local time stamp.
+  function timestamp() result(s)
+    character(len=25) :: s
+    integer :: v(8)
+    character(len=1) :: sg
+    call date_and_time(values=v)
+    sg = merge('+', '-', v(4) >= 0)
+    write(s, '(i4.4,"-",i2.2,"-",i2.2,"T",i2.2,":",i2.2,":",i2.2,a1,i2.2,":",i2.2)') &
+      v(1), v(2), v(3), v(5), v(6), v(7), sg, abs(v(4))/60, mod(abs(v(4)), 60)
+  end function timestamp
+
+  !> Root attributes (code, version, commit, deck path, time, run parameters) and /deck.
+  subroutine write_header(f, deck, err)
+    type(h5file_t), intent(in) :: f
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    call h5_attr(f, '/', 'code', code_name, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'code_version', code_version, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'git_commit', git_commit, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'deck_path', deck%path, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'created', timestamp(), err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'title', trim(deck%run%title), err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'mode', trim(deck%run%mode), err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'ndim', deck%run%ndim, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'geometry', trim(deck%run%geometry), err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'units', 'SI (m, kg, s, Pa)', err)
+    if (.not. allocated(err)) call h5_text(f, '/deck', deck%text, err)
+  end subroutine write_header
+
+  !> /bodies/<name>: reference positions, volumes, supports, boundary and polylines.
+  subroutine write_bodies(f, bodies, deck, err)
+    type(h5file_t), intent(in) :: f
+    type(body_t), intent(in) :: bodies(:)
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, nd
+    character(len=:), allocatable :: g
+    character(len=3) :: vunit
+    call h5_group(f, '/bodies', err)
+    do k = 1, size(bodies)
+      if (allocated(err)) return
+      associate (b => bodies(k))
+        nd = b%ndim
+        g = '/bodies/'//trim(b%name)
+        vunit = 'm'
+        if (nd == 2) vunit = 'm^2'
+        if (nd == 3) vunit = 'm^3'
+        call h5_group(f, g, err)
+        if (.not. allocated(err)) call h5_write(f, g//'/x', b%x, 'm', err, &
+          'reference particle positions (ndim, np)')
+        if (.not. allocated(err)) call h5_write(f, g//'/volume', b%vol, trim(vunit), err, &
+          'particle volume Delta V (length in 1D, area in 2D)')
+        if (.not. allocated(err)) call h5_write(f, g//'/support', b%rho, 'm', err, &
+          'support radius rho per direction (ndim, np)')
+        if (.not. allocated(err)) call h5_write(f, g//'/boundary', merge(1, 0, b%boundary), &
+          '1', err, '1 for boundary particles')
+        if (.not. allocated(err)) call h5_write(f, g//'/loop_ptr', b%loop_ptr, '1', err, &
+          'CSR pointer of boundary polylines (1-based, nloops + 1)')
+        if (.not. allocated(err)) call h5_write(f, g//'/loop_idx', b%loop_idx, '1', err, &
+          'particle indices (1-based) along each counter-clockwise boundary polyline')
+        if (.not. allocated(err)) call h5_attr(f, g, 'shape', trim(b%shape), err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'kernel', trim(kernel_names(b%kid)), err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'window', &
+          trim(window_shape_names(b%wshape)), err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'basis', trim(deck%bodies(k)%basis), err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'spacing', b%spacing(1:nd), err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'support_factor', &
+          b%support_factor(1:nd), err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'basis_scale', b%h(1:nd), err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'np', b%np, err)
+      end associate
+    end do
+  end subroutine write_bodies
+end module run_output_m

@@ -1,0 +1,47 @@
+!> Index sort (heap sort, O(n log n), no recursion, no allocation beyond the result).
+module sorting_m
+  use kinds_m, only: wp
+  implicit none
+  private
+  public :: sort_index
+
+contains
+
+  !> idx such that key(idx) is non-decreasing.
+  pure subroutine sort_index(key, idx)
+    real(wp), intent(in) :: key(:)
+    integer, intent(out) :: idx(:)
+    integer :: n, i, t, last
+    n = size(key)
+    idx = [(i, i = 1, n)]
+    do i = n/2, 1, -1
+      call sift(key, idx, i, n)
+    end do
+    do last = n, 2, -1
+      t = idx(1)
+      idx(1) = idx(last)
+      idx(last) = t
+      call sift(key, idx, 1, last - 1)
+    end do
+  end subroutine sort_index
+
+  pure subroutine sift(key, idx, start, fin)
+      real(wp), intent(in) :: key(:)
+      integer, intent(inout) :: idx(:)
+      integer, intent(in) :: start, fin
+      integer :: root, child, tmp
+      root = start
+      do
+        child = 2*root
+        if (child > fin) exit
+        if (child < fin) then
+          if (key(idx(child + 1)) > key(idx(child))) child = child + 1
+        end if
+        if (key(idx(root)) >= key(idx(child))) exit
+        tmp = idx(root)
+        idx(root) = idx(child)
+        idx(child) = tmp
+        root = child
+      end do
+  end subroutine sift
+end module sorting_m
