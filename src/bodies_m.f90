@@ -54,11 +54,6 @@ contains
     type(error_t), allocatable :: e2
     nd = deck%run%ndim
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(s%name)//"')"
-    b%name = s%name
-    b%shape = s%shape
-    b%kid = s%kid
-    b%wshape = s%wshape
-    b%bid = s%bid
     select case (s%shape)
     case ('segment')
       call make_segment(b, s%lo(1), s%hi(1), s%n(1), e2)
@@ -78,6 +73,11 @@ contains
       call set_error(err, where//': '//e2%message)
       return
     end if
+    b%name = s%name
+    b%shape = s%shape
+    b%kid = s%kid
+    b%wshape = s%wshape
+    b%bid = s%bid
     if (s%shape == 'annulus_sector') then
       dr = (s%r_outer - s%r_inner)/real(s%n(1) - 1, wp)
       dt = (s%theta_end - s%theta_start)*pi/180.0_wp
@@ -151,7 +151,9 @@ contains
   end subroutine body_cloud
 
   !> True when M is non-singular at every probe of a lattice patch with these supports.
-  !! Probes: a 5^ndim sub-grid of the central lattice cell (particles, mid-edges, centres).
+  !! The patch is a corner of a lattice (indices 0 .. 2K per direction), the worst place on
+  !! a convex lattice body: probes are a 5^ndim sub-grid of the corner cell and of the
+  !! central cell (particles, mid-edges, centres).
   function lattice_admissible(kid, wshape, bid, ndim, spacing, factor) result(ok)
     integer, intent(in) :: kid, wshape, bid, ndim
     real(wp), intent(in) :: spacing(:), factor(:)
@@ -161,27 +163,30 @@ contains
     type(error_t), allocatable :: err
     real(wp), allocatable :: x(:, :), rho(:, :), vol(:)
     real(wp) :: p(3), mm(mmax, mmax)
-    integer :: kpatch, nside, np, i, j, ijk(3), ncover, nprobe
+    integer :: kpatch, nside, np, i, j, ijk(3), ncover, nprobe, cell
     kpatch = ceiling(maxval(factor(1:ndim))) + 2
     nside = 2*kpatch + 1
     np = nside**ndim
     allocate(x(ndim, np), rho(ndim, np), vol(np))
     do i = 1, np
       call unflatten(i - 1, nside, ndim, ijk)
-      x(:, i) = real(ijk(1:ndim) - kpatch, wp)*spacing(1:ndim)
+      x(:, i) = real(ijk(1:ndim), wp)*spacing(1:ndim)
       rho(:, i) = factor(1:ndim)*spacing(1:ndim)
     end do
     vol = product(spacing(1:ndim))
     call cloud_init(c, x, rho, vol, kid, wshape, bid, factor(1:ndim)*spacing(1:ndim), err)
     ok = .not. allocated(err)
     nprobe = nsub**ndim
-    do j = 1, nprobe
-      if (.not. ok) exit
-      call unflatten(j - 1, nsub, ndim, ijk)
-      p = 0.0_wp
-      p(1:ndim) = real(ijk(1:ndim), wp)/real(nsub - 1, wp)*spacing(1:ndim)
-      call cloud_moment(c, p(1:ndim), mm, ncover)
-      call chol_small(c%m, mm, ok, pivot_tol)
+    do cell = 0, kpatch, kpatch
+      do j = 1, nprobe
+        if (.not. ok) return
+        call unflatten(j - 1, nsub, ndim, ijk)
+        p = 0.0_wp
+        p(1:ndim) = (real(cell, wp) + real(ijk(1:ndim), wp)/real(nsub - 1, wp)) &
+          *spacing(1:ndim)
+        call cloud_moment(c, p(1:ndim), mm, ncover)
+        call chol_small(c%m, mm, ok, pivot_tol)
+      end do
     end do
   end function lattice_admissible
 

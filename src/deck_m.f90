@@ -135,59 +135,169 @@ contains
     if (ios /= 0) call set_error(err, "deck '"//path//"' cannot be read: "//trim(msg))
   end subroutine read_text
 
-  !> Reject group names the code does not know (gfortran would skip them silently).
+  !> Scan the deck before gfortran reads it: every group name and every variable name must
+  !! be known. gfortran skips unknown groups silently, and for a misspelt name after an
+  !! array it may report "Bad data for namelist object <previous>" instead of the culprit;
+  !! this scan names the line, the group, the misspelt variable and the nearest valid name.
   subroutine check_groups(deck, err)
     type(deck_t), intent(in) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    integer :: i, j, k, lineno, n
-    character(len=:), allocatable :: line, name
-    logical :: quoted
+    character(len=:), allocatable :: t, group, word
+    integer :: i, n, lineno, j, k, depth
+    logical :: in_group
     character :: qc
+    t = deck%text
+    n = len(t)
     i = 1
-    lineno = 0
-    n = len(deck%text)
+    lineno = 1
+    in_group = .false.
+    group = ''
     do while (i <= n)
-      j = index(deck%text(i:), new_line('a'))
-      if (j == 0) then
-        line = deck%text(i:)
-        i = n + 1
-      else
-        line = deck%text(i:i + j - 2)
-        i = i + j
-      end if
-      lineno = lineno + 1
-      ! strip a comment outside quotes
-      quoted = .false.
-      qc = ' '
-      do k = 1, len(line)
-        if (quoted) then
-          if (line(k:k) == qc) quoted = .false.
-        else if (line(k:k) == "'" .or. line(k:k) == '"') then
-          quoted = .true.
-          qc = line(k:k)
-        else if (line(k:k) == '!') then
-          line = line(1:k - 1)
-          exit
+      select case (t(i:i))
+      case (achar(10))
+        lineno = lineno + 1
+        i = i + 1
+      case ("'", '"')
+        qc = t(i:i)
+        i = i + 1
+        do while (i <= n)
+          if (t(i:i) == qc) exit
+          if (t(i:i) == achar(10)) lineno = lineno + 1
+          i = i + 1
+        end do
+        i = i + 1
+      case ('!')
+        do while (i <= n)
+          if (t(i:i) == achar(10)) exit
+          i = i + 1
+        end do
+      case ('&')
+        j = i + 1
+        do while (j <= n)
+          if (.not. is_name_char(t(j:j))) exit
+          j = j + 1
+        end do
+        group = lower(t(i + 1:j - 1))
+        if (group /= 'end' .and. .not. any(known_groups == group)) then
+          call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
+            ": unknown namelist group &"//group//"; valid groups: "// &
+            join_names(known_groups)//" (see doc/deck.md)")
+          return
         end if
-      end do
-      line = adjustl(line)
-      if (len_trim(line) < 2) cycle
-      if (line(1:1) /= '&') cycle
-      k = scan(line(2:), ' ,/'//achar(9))
-      if (k == 0) then
-        name = lower(trim(line(2:)))
-      else
-        name = lower(line(2:k))
-      end if
-      if (name == 'end') cycle
-      if (.not. any(known_groups == name)) then
-        call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
-          ": unknown namelist group &"//name//"; valid groups: "// &
-          join_names(known_groups)//" (see doc/deck.md)")
-        return
-      end if
+        in_group = group /= 'end'
+        i = j
+      case ('/')
+        in_group = .false.
+        i = i + 1
+      case default
+        if (in_group .and. is_name_start(t(i:i)) .and. (i == 1 .or. .not. &
+          is_name_char(t(max(i - 1, 1):max(i - 1, 1))))) then
+          j = i
+          do while (j <= n)
+            if (.not. is_name_char(t(j:j))) exit
+            j = j + 1
+          end do
+          word = lower(t(i:j - 1))
+          ! a name is a variable when '=' follows (after an optional (subscript))
+          k = j
+          do while (k <= n)
+            if (t(k:k) /= ' ' .and. t(k:k) /= achar(9)) exit
+            k = k + 1
+          end do
+          if (k <= n) then
+            if (t(k:k) == '(') then
+              depth = 0
+              do while (k <= n)
+                if (t(k:k) == '(') depth = depth + 1
+                if (t(k:k) == ')') depth = depth - 1
+                k = k + 1
+                if (depth == 0) exit
+              end do
+              do while (k <= n)
+                if (t(k:k) /= ' ') exit
+                k = k + 1
+              end do
+            end if
+          end if
+          if (k <= n) then
+            if (t(k:k) == '=' .and. .not. is_value_word(word)) then
+              if (.not. var_known(group, word)) then
+                call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
+                  ", group &"//group//": unknown variable '"//word//"'"// &
+                  nearest_hint(group, word)//"; variables of &"//group//": "// &
+                  group_vars(group)//" (see doc/deck.md)")
+                return
+              end if
+            end if
+          end if
+          i = j
+        else
+          i = i + 1
+        end if
+      end select
     end do
   end subroutine check_groups
+
+  pure logical function is_name_start(c)
+    character, intent(in) :: c
+    is_name_start = (c >= 'a' .and. c <= 'z') .or. (c >= 'A' .and. c <= 'Z')
+  end function is_name_start
+
+  pure logical function is_name_char(c)
+    character, intent(in) :: c
+    is_name_char = is_name_start(c) .or. (c >= '0' .and. c <= '9') .or. c == '_'
+  end function is_name_char
+
+  !> Words that can stand before '=' but are values (none in mfcd's decks; kept explicit).
+  pure logical function is_value_word(w)
+    character(len=*), intent(in) :: w
+    is_value_word = w == 'true' .or. w == 'false' .or. w == 't' .or. w == 'f'
+  end function is_value_word
+
+  pure logical function var_known(group, word)
+    character(len=*), intent(in) :: group, word
+    var_known = index(', '//group_vars(group)//',', ', '//word//',') > 0
+  end function var_known
+
+  !> "; did you mean 'basis'?" for the valid name at the smallest edit distance (<= 3).
+  pure function nearest_hint(group, word) result(hint)
+    character(len=*), intent(in) :: group, word
+    character(len=:), allocatable :: hint, vars, best
+    integer :: a, z, d, dbest
+    vars = group_vars(group)//','
+    hint = ''
+    best = ''
+    dbest = 4
+    a = 1
+    do
+      z = index(vars(a:), ',')
+      if (z == 0) exit
+      d = edit_distance(trim(adjustl(vars(a:a + z - 2))), word)
+      if (d < dbest) then
+        dbest = d
+        best = trim(adjustl(vars(a:a + z - 2)))
+      end if
+      a = a + z
+      if (a > len(vars)) exit
+    end do
+    if (len(best) > 0) hint = "; did you mean '"//best//"'?"
+  end function nearest_hint
+
+  pure integer function edit_distance(s, t) result(d)
+    character(len=*), intent(in) :: s, t
+    integer :: row(0:len(t)), prev, tmp, i, j
+    row = [(j, j = 0, len(t))]
+    do i = 1, len(s)
+      prev = row(0)
+      row(0) = i
+      do j = 1, len(t)
+        tmp = row(j)
+        row(j) = min(row(j) + 1, row(j - 1) + 1, prev + merge(0, 1, s(i:i) == t(j:j)))
+        prev = tmp
+      end do
+    end do
+    d = row(len(t))
+  end function edit_distance
 
   subroutine read_run(u, deck, err)
     integer, intent(in) :: u

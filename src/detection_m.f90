@@ -9,6 +9,7 @@ module detection_m
   use geometry_m, only: geom_none, signed_distance
   use rk_cloud_m, only: rk_cloud_t, cloud_det
   use sorting_m, only: sort_index
+  use neighbour_bins_m, only: bins_candidates
   implicit none
   private
   public :: det_at_points, body_plateau, classify, buffer_stats, buffer_stats_t
@@ -39,18 +40,38 @@ contains
     !$omp end parallel do
   end subroutine det_at_points
 
-  !> Interior plateau: the median of det(M) at the body's own particles (most particles
-  !! are interior, where det(M) is flat; the median ignores the lower boundary values).
+  !> Interior plateau: the median of det(M) at the body's deep particles, those whose
+  !! support holds no boundary particle (there det(M) is flat; near the boundary it drops).
+  !! A body too thin to have deep particles falls back to the largest det(M) of any particle.
   function body_plateau(b, c) result(plateau)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     real(wp) :: plateau
-    real(wp), allocatable :: det(:)
-    integer, allocatable :: order(:)
-    allocate(det(b%np), order(b%np))
+    real(wp), allocatable :: det(:), deep_det(:)
+    integer, allocatable :: order(:), cand(:)
+    logical, allocatable :: deep(:)
+    integer :: i, k, nc
+    allocate(det(b%np), deep(b%np), cand(b%np))
     call det_at_points(c, b%x, det)
-    call sort_index(det, order)
-    plateau = det(order((b%np + 1)/2))
+    do i = 1, b%np
+      call bins_candidates(c%bins, b%x(:, i), b%rho(:, i), cand, nc)
+      deep(i) = .true.
+      do k = 1, nc
+        if (.not. b%boundary(c%perm(cand(k)))) cycle
+        if (all(abs(c%x(:, cand(k)) - b%x(:, i)) < b%rho(:, i))) then
+          deep(i) = .false.
+          exit
+        end if
+      end do
+    end do
+    if (.not. any(deep)) then
+      plateau = maxval(det)
+      return
+    end if
+    deep_det = pack(det, deep)
+    allocate(order(size(deep_det)))
+    call sort_index(deep_det, order)
+    plateau = deep_det(order((size(deep_det) + 1)/2))
   end function body_plateau
 
   !> eps_rel x plateau when eps_rel > 0, else eps_cr.

@@ -22,7 +22,7 @@ contains
 
   !> n particles evenly on [a, b] (Example 2.1); end particles carry half a cell.
   subroutine make_segment(b, a, bb, n, err)
-    type(body_t), intent(inout) :: b
+    type(body_t), intent(out) :: b
     real(wp), intent(in) :: a, bb
     integer, intent(in) :: n
     type(error_t), allocatable, intent(inout) :: err
@@ -56,7 +56,7 @@ contains
 
   !> n(1) x n(2) particles on [lo, hi] (Example 2.2).
   subroutine make_rectangle(b, lo, hi, n, err)
-    type(body_t), intent(inout) :: b
+    type(body_t), intent(out) :: b
     real(wp), intent(in) :: lo(2), hi(2)
     integer, intent(in) :: n(2)
     type(error_t), allocatable, intent(inout) :: err
@@ -75,7 +75,7 @@ contains
 
   !> Lattice points origin + (i dx, j dy) inside or on the polygon v(2, nv).
   subroutine make_polygon(b, v_in, dx, origin, err)
-    type(body_t), intent(inout) :: b
+    type(body_t), intent(out) :: b
     real(wp), intent(in) :: v_in(:, :), dx(2), origin(2)
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: v(:, :), xs(:, :), vols(:), key(:)
@@ -172,7 +172,7 @@ contains
   !> Polar lattice: nr radii on [r0, r1], nt angles on [t0, t1] (radians) about center.
   !! A full ring (t1 - t0 = 2 pi) does not repeat the seam.
   subroutine make_annulus(b, center, r0, r1, t0, t1, nr, nt, err)
-    type(body_t), intent(inout) :: b
+    type(body_t), intent(out) :: b
     real(wp), intent(in) :: center(2), r0, r1, t0, t1
     integer, intent(in) :: nr, nt
     type(error_t), allocatable, intent(inout) :: err
@@ -247,7 +247,7 @@ contains
   !> A body from arrays (particle file): x(ndim, np), vol(np), loop(np) (0 = interior,
   !! k > 0 = on boundary loop k) and order(np) (position along that loop).
   subroutine make_from_arrays(b, x, vol, loop, order, err)
-    type(body_t), intent(inout) :: b
+    type(body_t), intent(out) :: b
     real(wp), intent(in) :: x(:, :), vol(:)
     integer, intent(in) :: loop(:), order(:)
     type(error_t), allocatable, intent(inout) :: err

@@ -29,7 +29,7 @@ contains
     if (k > 1) dir = path(1:k - 1)
     inquire(file=dir//'/.', exist=exists)
     if (.not. exists) then
-      call execute_command_line('mkdir -p "'//dir//'"', exitstat=stat)
+      call execute_command_line('mkdir -p "'//dir//'" 2>/dev/null', exitstat=stat)
       inquire(file=dir//'/.', exist=exists)
     end if
     if (.not. exists) then

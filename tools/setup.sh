@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs everything mfcd needs on Debian 12 / Ubuntu that is not there yet:
+# gfortran, CMake, Ninja, HDF5 (Fortran API), LAPACK, Python 3 with venv, and a virtual
+# environment .venv with numpy, matplotlib and h5py for post/ and the regression checks.
+# Safe to run again: it installs only what is missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+pkgs=()
+command -v gfortran >/dev/null 2>&1 || pkgs+=(gfortran)
+command -v cmake >/dev/null 2>&1 || pkgs+=(cmake)
+command -v ninja >/dev/null 2>&1 || pkgs+=(ninja-build)
+command -v python3 >/dev/null 2>&1 || pkgs+=(python3)
+command -v git >/dev/null 2>&1 || pkgs+=(git)
+python3 -c 'import ensurepip, venv' >/dev/null 2>&1 || pkgs+=(python3-venv)
+have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q 'install ok installed'; }
+have_pkg libhdf5-dev || pkgs+=(libhdf5-dev)
+have_pkg liblapack-dev || pkgs+=(liblapack-dev)
+have_pkg make || pkgs+=(make)
+
+if [ ${#pkgs[@]} -gt 0 ]; then
+  echo "setup: installing ${pkgs[*]}"
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${pkgs[@]}"
+fi
+
+if [ ! -x .venv/bin/python ]; then
+  echo "setup: creating .venv"
+  python3 -m venv .venv
+fi
+if ! .venv/bin/python -c 'import numpy, matplotlib, h5py' >/dev/null 2>&1; then
+  echo "setup: installing post/requirements.txt into .venv"
+  .venv/bin/python -m pip install -q --upgrade pip
+  .venv/bin/python -m pip install -q -r post/requirements.txt
+fi
+echo "setup: ok ($(gfortran --version | head -n 1); cmake $(cmake --version | head -n 1 | awk '{print $3}'))"
