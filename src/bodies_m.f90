@@ -104,7 +104,8 @@ contains
           trim(s%basis)//''' with the '//trim(s%window)//' window (Theorem 3.1: some '// &
           'points are covered by fewer than '//itoa(basis_size(b%bid))// &
           ' non-degenerate particles, so M is singular); use support_factor >= '// &
-          rtoa(fmin)//' (2.0 is typical)')
+          rtoa(fmin)//' (a margin above it, e.g. '//rtoa(max(2.0_wp, &
+          real(ceiling(2.0_wp*fmin), wp)/2.0_wp))//', is typical)')
         return
       end if
     end if

@@ -7,7 +7,7 @@ module deck_m
   use strings_m, only: lower, itoa, join_names, rtoa_plain => rtoa
   use errors_m, only: error_t, set_error
   use kernels_m, only: kernel_id, kernel_names, window_shape_id, window_shape_names
-  use basis_m, only: basis_id, basis_names
+  use basis_m, only: basis_id, basis_names, basis_order
   use, intrinsic :: iso_fortran_env, only: iostat_end
   implicit none
   private
@@ -468,7 +468,9 @@ contains
       return
     end if
     if (s%support_factor(1) == unset) then
-      s%support_factor = 2.0_wp
+      ! 2 dx suits linear and multilinear bases; a quadratic basis needs three particles per
+      ! direction at a corner, so rho > 2 dx (Theorem 3.1)
+      s%support_factor = merge(2.5_wp, 2.0_wp, basis_order(s%bid) > 1)
     else
       do j = 2, 3
         if (s%support_factor(j) == unset) s%support_factor(j) = s%support_factor(j - 1)
@@ -524,6 +526,14 @@ contains
           'give n = n_radial, n_angular, both >= 2', err)
       end if
     case ('file')
+      do j = 2, 3
+        if (s%spacing(j) == unset) s%spacing(j) = s%spacing(j - 1)
+      end do
+      if (s%spacing(1) /= unset .and. any(s%spacing(1:nd) <= 0.0_wp)) then
+        call bad(deck, grp, 'spacing', rtoa(minval(s%spacing(1:nd))), 'give a positive '// &
+          'particle spacing (m), or leave it out to use the cube root of the mean volume', err)
+        return
+      end if
       inquire(file=trim(s%file), exist=exists)
       if (len_trim(s%file) == 0 .or. .not. exists) then
         call bad(deck, grp, 'file', "'"//trim(s%file)//"'", 'give the path of an existing '// &
@@ -594,6 +604,11 @@ contains
       return
     end if
     d%npoints = nset/nd
+    if (d%npoints > max_points) then
+      call bad(deck, 'detection', 'points', itoa(d%npoints)//' points', 'give at most '// &
+        itoa(max_points)//' points (use line_n or grid_n for more)', err)
+      return
+    end if
     do j = 1, d%npoints
       d%points(1:nd, j) = points((j - 1)*nd + 1:j*nd)
     end do

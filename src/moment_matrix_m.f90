@@ -7,7 +7,13 @@ module moment_matrix_m
   use kinds_m, only: wp
   implicit none
   private
-  public :: moment_add, chol_small, chol_det, chol_solve, moment_symmetrize
+  public :: moment_add, chol_small, chol_det, chol_solve, moment_symmetrize, singular_pivot
+
+  !> Relative pivot below which M is treated as singular (det(M) = 0). A rank-deficient
+  !! Gram matrix assembled in floating point keeps pivots of a few eps x M_jj (~1e-15);
+  !! genuine pivots in the buffer zone stay above 1e-12 until det(M) is ~1e-40, far below
+  !! any detection threshold.
+  real(wp), parameter :: singular_pivot = 1.0e-12_wp
 
 contains
 

@@ -7,7 +7,8 @@ module rk_cloud_m
   use errors_m, only: error_t, set_error
   use kernels_m, only: window_eval, window_1d, window_tensor, radial_norm, kernel_cubic
   use basis_m, only: mmax, basis_size, basis_eval, basis_eval_grad, basis_bilinear
-  use moment_matrix_m, only: moment_add, chol_small, chol_det, chol_solve, moment_symmetrize
+  use moment_matrix_m, only: moment_add, chol_small, chol_det, chol_solve, moment_symmetrize, &
+    singular_pivot
   use neighbour_bins_m, only: bins_t, bins_build, bins_cell_block
   implicit none
   private
@@ -126,7 +127,7 @@ contains
     call cloud_moment(c, p, mm, ncover)
     det = 0.0_wp
     if (ncover == 0) return
-    call chol_small(c%m, mm, ok)
+    call chol_small(c%m, mm, ok, singular_pivot)
     if (ok) det = chol_det(c%m, mm)
   end function cloud_det
 
@@ -139,7 +140,7 @@ contains
     logical :: empty
     real(wp) :: dx, dy, w, z1, z2, z12, h1, h2
     real(wp) :: m11, m12, m13, m14, m22, m24, m33, m34, m44
-    real(wp) :: l11, l21, l31, l41, l22, l32, l42, l33, l43, l44, s
+    real(wp) :: l11, l21, l31, l41, l22, l32, l42, l33, l43, l44, s, tol
     det = 0.0_wp
     call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
     if (empty) return
@@ -171,21 +172,22 @@ contains
     end do
     ! M23 = M14 (eq. 19). Cholesky, column by column.
     if (m11 <= 0.0_wp) return
+    tol = singular_pivot
     l11 = sqrt(m11)
     l21 = m12/l11
     l31 = m13/l11
     l41 = m14/l11
     s = m22 - l21*l21
-    if (s <= 0.0_wp) return
+    if (s <= tol*m22) return
     l22 = sqrt(s)
     l32 = (m14 - l31*l21)/l22
     l42 = (m24 - l41*l21)/l22
     s = m33 - l31*l31 - l32*l32
-    if (s <= 0.0_wp) return
+    if (s <= tol*m33) return
     l33 = sqrt(s)
     l43 = (m34 - l41*l31 - l42*l32)/l33
     s = m44 - l41*l41 - l42*l42 - l43*l43
-    if (s <= 0.0_wp) return
+    if (s <= tol*m44) return
     l44 = sqrt(s)
     det = (l11*l22*l33*l44)**2
   end function det_2d_bilinear_tensor

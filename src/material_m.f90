@@ -1,0 +1,261 @@
+!> Constitutive models: the abstract material, its parameters and state, the factory.
+!!
+!! Section 4 of Li, Qian, Liu, Belytschko (2001). The stress is the Kirchhoff stress
+!! tau = J sigma, advanced with its Jaumann rate (eq. 59),
+!!   tau_dot = tau_jaumann + W.tau - tau.W,   tau_jaumann = C : (D - D^p)   (eq. 58),
+!! C isotropic (lambda, G). Models (doc/materials.md): 'elastic' (D^p = 0), 'j2_plastic'
+!! (rate-independent J2, linear isotropic hardening, radial return) and 'viscoplastic' (the
+!! paper's overstress power law, eqs. (73)-(81), by the rate tangent method, eqs. (82)-(88)).
+!!
+!! Conventions (2D: plane strain and axisymmetric carry 3D tensors):
+!! - components ordered (11, 22, 33, 12): 1-2 the plane (x,y or r,z), 3 out of plane (zz in
+!!   plane strain, the hoop theta-theta in axisymmetry); 13 = 23 = 0;
+!! - tau(4,n) and alpha(4,n) in Pa; d(4,n) holds D11, D22, D33, D12 (tensor components, 1/s);
+!!   w12(n) = W12 = -W21 (1/s), the only non-zero spin component;
+!! - a double contraction a:b = a11 b11 + a22 b22 + a33 b33 + 2 a12 b12.
+!! Rotation: the Hughes-Winget rotation Q = (I - dt W/2)^-1 (I + dt W/2) applied as
+!! tau* = Q tau_n Q^T (and likewise alpha), then tau_{n+1} = tau* + dt tau_jaumann.
+!!
+!! All models are chosen once by make_material; the time loop calls mat%update on blocks of
+!! points (i0..i1), never per point through a select case.
+module material_m
+  use kinds_m, only: wp
+  use errors_m, only: error_t, set_error
+  use strings_m, only: rtoa, join_names, lower
+  implicit none
+  private
+  public :: ncomp, material_names
+  public :: material_params_t, material_state_t, material_t
+  public :: make_material, check_material_params, jaumann_rotate, elastic_rate
+
+  integer, parameter :: ncomp = 4  !< stored tensor components (11, 22, 33, 12)
+
+  !> Valid values of material_params_t%model.
+  character(len=*), parameter :: material_names(3) = [character(len=12) :: &
+    'elastic', 'j2_plastic', 'viscoplastic']
+
+  !> Material parameters as read from the deck, SI units. Defaults: the paper's steel
+  !! (Table 1 with E = 211 GPa, SPEC section 3: the printed 2110 MPa contradicts
+  !! eps0 = sigma0/E = 460 MPa / 2.18e-3).
+  type :: material_params_t
+    character(len=32) :: model = 'viscoplastic'  !< one of material_names
+    real(wp) :: density = 7800.0_wp         !< rho0 (kg/m^3)
+    real(wp) :: youngs_modulus = 211.0e9_wp !< E (Pa)
+    real(wp) :: poisson_ratio = 0.3_wp      !< nu (-)
+    ! viscoplastic, eqs. (79)-(81) and (86)
+    real(wp) :: sigma0 = 460.0e6_wp         !< sigma_0 of g, eq. (80) (Pa)
+    real(wp) :: hardening_n = 0.1_wp        !< N of eq. (80) (-)
+    real(wp) :: rate_m = 0.01_wp            !< m of eq. (79) (-)
+    real(wp) :: eps0 = 2.18e-3_wp           !< epsilon_0 of eq. (80) (-)
+    real(wp) :: eps1 = 0.218_wp             !< epsilon_1 of eq. (80), 100 eps0 (-)
+    real(wp) :: epsdot0 = 0.0021_wp         !< reference rate of eq. (79) (1/s)
+    real(wp) :: back_stress_b = 0.0_wp      !< b of eq. (81) (Pa); not in Table 1
+    real(wp) :: theta = 0.5_wp              !< theta of eq. (86), 0 explicit .. 1 (-)
+    ! j2_plastic
+    real(wp) :: yield_stress = 460.0e6_wp   !< initial yield stress (Pa)
+    real(wp) :: hardening_modulus = 0.0_wp  !< H: yield = yield_stress + H epsbar (Pa)
+  end type material_params_t
+
+  !> Per-point state in structure-of-arrays form.
+  type :: material_state_t
+    real(wp), allocatable :: tau(:, :)    !< Kirchhoff stress (4, n) (Pa)
+    real(wp), allocatable :: alpha(:, :)  !< back stress (4, n) (Pa)
+    real(wp), allocatable :: epsbar(:)    !< effective plastic strain (n) (-)
+    real(wp), allocatable :: epsdot(:)    !< effective plastic strain rate of the last step (1/s)
+  contains
+    procedure :: init => state_init
+  end type material_state_t
+
+  !> A constitutive model: elastic constants plus what an extension adds.
+  type, abstract :: material_t
+    real(wp) :: rho0 = 0.0_wp    !< reference density (kg/m^3)
+    real(wp) :: e = 0.0_wp       !< Young's modulus (Pa)
+    real(wp) :: nu = 0.0_wp      !< Poisson's ratio (-)
+    real(wp) :: g = 0.0_wp       !< shear modulus E/(2(1+nu)) (Pa)
+    real(wp) :: k = 0.0_wp       !< bulk modulus E/(3(1-2nu)) (Pa)
+    real(wp) :: lambda = 0.0_wp  !< Lame's first parameter (Pa)
+  contains
+    procedure(init_i), deferred :: init
+    procedure(update_i), deferred :: update
+    procedure(model_name_i), deferred, nopass :: model_name
+    procedure :: set_elastic_constants
+    procedure :: dilatational_speed
+  end type material_t
+
+  abstract interface
+    !> Take the model's parameters (assumed checked by check_material_params).
+    subroutine init_i(this, params)
+      import :: material_t, material_params_t
+      class(material_t), intent(inout) :: this
+      type(material_params_t), intent(in) :: params
+    end subroutine init_i
+
+    !> Advance points i0..i1 over one step dt (s): d(:,i) rate of deformation (1/s),
+    !! w12(i) spin (1/s), st the state (tau, alpha, epsbar, epsdot of point i updated);
+    !! dwp(i) the plastic work of the step per unit reference volume, tau:D^p dt (J/m^3).
+    !! d, w12, dwp are indexed like st (point i is column i everywhere); only entries i0..i1
+    !! are read or written, so blocks may run concurrently on disjoint ranges.
+    subroutine update_i(this, dt, d, w12, st, i0, i1, dwp)
+      import :: material_t, material_state_t, wp
+      class(material_t), intent(in) :: this
+      real(wp), intent(in) :: dt
+      real(wp), intent(in) :: d(:, :)
+      real(wp), intent(in) :: w12(:)
+      type(material_state_t), intent(inout) :: st
+      integer, intent(in) :: i0, i1
+      real(wp), intent(inout) :: dwp(:)
+    end subroutine update_i
+
+    !> The model's deck name (one of material_names).
+    pure function model_name_i() result(name)
+      character(len=:), allocatable :: name
+    end function model_name_i
+  end interface
+
+  interface
+    !> The model named by params%model (material_names), initialised from params after
+    !! check_material_params. Implemented in material_factory_sm (it needs the extensions,
+    !! which themselves use this module).
+    module subroutine make_material(params, mat, err)
+      type(material_params_t), intent(in) :: params
+      class(material_t), allocatable, intent(out) :: mat
+      type(error_t), allocatable, intent(inout) :: err
+    end subroutine make_material
+  end interface
+
+contains
+
+  !> Allocate n points, all zero (unstressed, no plastic strain).
+  subroutine state_init(this, n)
+    class(material_state_t), intent(inout) :: this
+    integer, intent(in) :: n
+    if (allocated(this%tau)) deallocate(this%tau)
+    if (allocated(this%alpha)) deallocate(this%alpha)
+    if (allocated(this%epsbar)) deallocate(this%epsbar)
+    if (allocated(this%epsdot)) deallocate(this%epsdot)
+    allocate(this%tau(ncomp, n), this%alpha(ncomp, n), this%epsbar(n), this%epsdot(n))
+    this%tau = 0.0_wp
+    this%alpha = 0.0_wp
+    this%epsbar = 0.0_wp
+    this%epsdot = 0.0_wp
+  end subroutine state_init
+
+  !> Store rho0 (kg/m^3), E (Pa), nu and the derived G, K, lambda (Pa).
+  subroutine set_elastic_constants(this, rho0, e, nu)
+    class(material_t), intent(inout) :: this
+    real(wp), intent(in) :: rho0, e, nu
+    this%rho0 = rho0
+    this%e = e
+    this%nu = nu
+    this%g = e/(2.0_wp*(1.0_wp + nu))
+    this%k = e/(3.0_wp*(1.0_wp - 2.0_wp*nu))
+    this%lambda = e*nu/((1.0_wp + nu)*(1.0_wp - 2.0_wp*nu))
+  end subroutine set_elastic_constants
+
+  !> Dilatational (P) wave speed sqrt((lambda + 2G)/rho0) (m/s), for the critical time step.
+  pure real(wp) function dilatational_speed(this)
+    class(material_t), intent(in) :: this
+    dilatational_speed = sqrt((this%lambda + 2.0_wp*this%g)/this%rho0)
+  end function dilatational_speed
+
+  !> Hughes-Winget rotation of one tensor t (11, 22, 33, 12) over a step dt (s) with spin
+  !! W12 = w12 (1/s): t <- Q t Q^T, Q = (I - dt W/2)^-1 (I + dt W/2). For this W,
+  !! with a = dt w12/2, Q = [c s; -s c], c = (1-a^2)/(1+a^2), s = 2a/(1+a^2): an exact
+  !! rotation (by 2 atan(a)), so the invariants of t are kept to round-off; to first order
+  !! it adds dt (W t - t W), the spin terms of eq. (59). t33 is unchanged.
+  pure subroutine jaumann_rotate(dt, w12, t)
+    real(wp), intent(in) :: dt, w12
+    real(wp), intent(inout) :: t(ncomp)
+    real(wp) :: a, r, c, s, cc, ss, cs, t11, t22, t12
+    a = 0.5_wp*dt*w12
+    r = 1.0_wp/(1.0_wp + a*a)
+    c = (1.0_wp - a*a)*r
+    s = 2.0_wp*a*r
+    cc = c*c
+    ss = s*s
+    cs = c*s
+    t11 = t(1)
+    t22 = t(2)
+    t12 = t(4)
+    t(1) = cc*t11 + 2.0_wp*cs*t12 + ss*t22
+    t(2) = ss*t11 - 2.0_wp*cs*t12 + cc*t22
+    t(4) = cs*(t22 - t11) + (cc - ss)*t12
+  end subroutine jaumann_rotate
+
+  !> Isotropic elastic rate r = C : d = lambda tr(d) 1 + 2 G d (Pa/s for d in 1/s).
+  pure subroutine elastic_rate(lambda, g, d, r)
+    real(wp), intent(in) :: lambda, g, d(ncomp)
+    real(wp), intent(out) :: r(ncomp)
+    real(wp) :: ltr
+    ltr = lambda*(d(1) + d(2) + d(3))
+    r(1) = ltr + 2.0_wp*g*d(1)
+    r(2) = ltr + 2.0_wp*g*d(2)
+    r(3) = ltr + 2.0_wp*g*d(3)
+    r(4) = 2.0_wp*g*d(4)
+  end subroutine elastic_rate
+
+  !> Range checks of the parameters params%model uses; err names the variable, its value
+  !! and the fix. Messages start with 'material: ' so a caller can prefix the deck path.
+  subroutine check_material_params(params, err)
+    type(material_params_t), intent(in) :: params
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: model
+    model = trim(adjustl(lower(params%model)))
+    if (.not. any(material_names == model)) then
+      call set_error(err, "material: variable model = '"//trim(params%model)// &
+        "' is not a material model; use one of: "//join_names(material_names))
+      return
+    end if
+    if (.not. (params%density > 0.0_wp)) then
+      call bad('density', params%density, 'must be > 0 (kg/m^3; steel: 7800)')
+    else if (.not. (params%youngs_modulus > 0.0_wp)) then
+      call bad('youngs_modulus', params%youngs_modulus, &
+        'must be > 0 (Pa, not MPa; the paper''s steel: 211e9)')
+    else if (.not. (params%poisson_ratio > -1.0_wp .and. params%poisson_ratio < 0.5_wp)) then
+      call bad('poisson_ratio', params%poisson_ratio, &
+        'must satisfy -1 < nu < 0.5 (0.5 is incompressible, which an explicit code cannot '// &
+        'carry); steel: 0.3')
+    end if
+    if (allocated(err)) return
+    select case (model)
+    case ('j2_plastic')
+      if (.not. (params%yield_stress > 0.0_wp)) then
+        call bad('yield_stress', params%yield_stress, 'must be > 0 (Pa; steel: 460e6)')
+      else if (.not. (params%hardening_modulus >= 0.0_wp)) then
+        call bad('hardening_modulus', params%hardening_modulus, &
+          'must be >= 0 (Pa; 0 is perfect plasticity)')
+      end if
+    case ('viscoplastic')
+      if (.not. (params%sigma0 > 0.0_wp)) then
+        call bad('sigma0', params%sigma0, 'must be > 0 (Pa, eq. (80); steel: 460e6)')
+      else if (.not. (params%hardening_n >= 0.0_wp)) then
+        call bad('hardening_n', params%hardening_n, 'must be >= 0 (eq. (80); steel: 0.1)')
+      else if (.not. (params%rate_m > 0.0_wp)) then
+        call bad('rate_m', params%rate_m, &
+          'must be > 0 (rate sensitivity of eq. (79); steel: 0.01)')
+      else if (.not. (params%eps0 > 0.0_wp)) then
+        call bad('eps0', params%eps0, 'must be > 0 (eq. (80); steel: sigma0/E = 2.18e-3)')
+      else if (.not. (params%eps1 > 0.0_wp)) then
+        call bad('eps1', params%eps1, 'must be > 0 (eq. (80); steel: 100 eps0 = 0.218)')
+      else if (.not. (params%epsdot0 > 0.0_wp)) then
+        call bad('epsdot0', params%epsdot0, 'must be > 0 (1/s, eq. (79); steel: 0.0021)')
+      else if (.not. (params%back_stress_b >= 0.0_wp)) then
+        call bad('back_stress_b', params%back_stress_b, &
+          'must be >= 0 (Pa, eq. (81); 0 for no kinematic hardening)')
+      else if (.not. (params%theta >= 0.0_wp .and. params%theta <= 1.0_wp)) then
+        call bad('theta', params%theta, &
+          'must be in [0, 1] (eq. (86); 0.5 is the default, 1 the most stable)')
+      end if
+    end select
+
+  contains
+
+    subroutine bad(name, value, fix)
+      character(len=*), intent(in) :: name, fix
+      real(wp), intent(in) :: value
+      call set_error(err, 'material ('//model//'): variable '//name//' = '//rtoa(value)// &
+        ' '//fix)
+    end subroutine bad
+  end subroutine check_material_params
+
+end module material_m

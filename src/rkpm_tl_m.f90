@@ -1,0 +1,573 @@
+!> Total-Lagrangian RKPM tables (Section 4; SPEC 2.6): everything that depends only on the
+!! reference configuration, computed once before the time loop.
+!!
+!! For each integration point L the tables hold the particles I whose shape functions touch
+!! it (CSR: ptr, nbr) with the reference gradients g of their shape functions, the hoop term
+!! h (axisymmetry), the weight W_L, plus the lumped masses (eq. 70), the table N_I(X_J) that
+!! turns coefficients into physical positions, and the transpose that lets the internal
+!! force be gathered per particle without write races.
+!!
+!! Integration schemes:
+!!  - SCNI (default; Chen, Wu, Yoon, You 2001): one point per particle, its lattice cell
+!!    clipped by the body; smoothed gradients b_I = (1/A_L) \oint N_I n dGamma with two Gauss
+!!    points per cell edge. In axisymmetry the smoothing is weighted with r:
+!!    V_L = \int_L r dA, b_Ia = (1/V_L)[\oint N_I n_a r dGamma - delta_a1 \int_L N_I dA],
+!!    h_I = (1/V_L) \int_L N_I dA (the hoop term u_r/r), W_L = 2 pi V_L. For linear fields
+!!    b and h are exact and the interior forces of a uniform state vanish: the patch test
+!!    holds to round-off in plane strain and in axisymmetry.
+!!  - Gauss: background quadrature, three points per triangle of each cell (fan).
+!!  - Direct nodal integration: gradients at the particles, W = volume. A negative control
+!!    only (spurious zero-energy modes), plane strain only.
+!!
+!! Symmetry axis (axisymmetry, r = X1 = 0): particles whose support crosses the axis get a
+!! mirrored ghost at -r that carries (-u_r, u_z) of its twin. Folding the ghost onto the twin
+!! gives component-wise shape functions N^r_I = N_I - N_I', N^z_I = N_I + N_I', so
+!! u_r(0, z) = 0 exactly by symmetry; particles on the axis have their u_r coefficient fixed
+!! at 0 (their own mirror image).
+module rkpm_tl_m
+  use kinds_m, only: wp, pi
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa
+  use body_m, only: body_t
+  use geometry_m, only: geom_polygon, clip_polygon_box, polygon_area
+  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape
+  use neighbour_bins_m, only: bins_candidates
+  implicit none
+  private
+  public :: tl_tables_t, tl_build, scheme_scni, scheme_gauss, scheme_direct, scheme_names
+  public :: scheme_id
+
+  integer, parameter :: scheme_scni = 1, scheme_gauss = 2, scheme_direct = 3
+  character(len=*), parameter :: scheme_names(3) = [character(len=6) :: &
+    'scni', 'gauss', 'direct']
+  integer, parameter :: max_nb = 512    !< particles covering one evaluation point
+  integer, parameter :: max_cv = 64     !< vertices of one clipped cell
+
+  type :: tl_tables_t
+    integer :: np = 0                    !< particles (coefficient pairs)
+    integer :: nq = 0                    !< integration points
+    integer :: scheme = scheme_scni
+    logical :: axisym = .false.
+    real(wp), allocatable :: xq(:, :)    !< integration points, reference (2, nq) (m)
+    integer, allocatable :: owner(:)     !< particle whose cell holds point L
+    real(wp), allocatable :: wgt(:)      !< W_L (m^3 axisymmetric, m^2 per unit thickness)
+    real(wp), allocatable :: mass(:)     !< lumped mass (kg, or kg/m in plane strain)
+    integer, allocatable :: ptr(:)       !< CSR pointer over points (nq + 1)
+    integer, allocatable :: nbr(:)       !< particle of each entry
+    real(wp), allocatable :: g(:, :)     !< (4, nnz): dN^1/dX1, dN^1/dX2, dN^2/dX1, dN^2/dX2 (1/m)
+    real(wp), allocatable :: h(:)        !< (nnz): hoop term of N^1 (1/m), 0 in plane strain
+    integer, allocatable :: tptr(:)      !< transpose pointer over particles (np + 1)
+    integer, allocatable :: tent(:)      !< entries touching particle I
+    integer, allocatable :: tq(:)        !< their integration points
+    integer, allocatable :: pptr(:)      !< position table pointer (np + 1)
+    integer, allocatable :: pnbr(:)
+    real(wp), allocatable :: pn(:, :)    !< (2, nnzp): N^1_I(X_J), N^2_I(X_J)
+    logical, allocatable :: fix1(:)      !< component 1 held at 0 (on the axis)
+    real(wp) :: hmin = 0.0_wp            !< smallest particle spacing (m)
+    real(wp) :: total_mass = 0.0_wp
+    real(wp) :: total_volume = 0.0_wp
+  end type tl_tables_t
+
+contains
+
+  !> Scheme id from its deck name, 0 if unknown.
+  pure integer function scheme_id(name)
+    character(len=*), intent(in) :: name
+    integer :: k
+    scheme_id = 0
+    do k = 1, size(scheme_names)
+      if (trim(adjustl(name)) == trim(scheme_names(k))) scheme_id = k
+    end do
+  end function scheme_id
+
+  !> Build the tables of body b (reference configuration). rho0: density (kg/m^3).
+  subroutine tl_build(b, axisym, scheme, rho0, t, err)
+    type(body_t), intent(in) :: b
+    logical, intent(in) :: axisym
+    integer, intent(in) :: scheme
+    real(wp), intent(in) :: rho0
+    type(tl_tables_t), intent(out) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    type(rk_cloud_t) :: c
+    real(wp), allocatable :: xe(:, :), rhoe(:, :), vole(:)
+    integer, allocatable :: twin(:)
+    real(wp) :: tol
+    integer :: np, ng, i, k
+    np = b%np
+    t%np = np
+    t%axisym = axisym
+    t%scheme = scheme
+    if (b%ndim /= 2) then
+      call set_error(err, 'the RKPM solver needs ndim = 2 (plane strain or axisymmetric)')
+      return
+    end if
+    if (b%geom%kind /= geom_polygon .and. scheme /= scheme_direct) then
+      call set_error(err, "body '"//trim(b%name)//"': SCNI and Gauss integration need "// &
+        "the cells of a 'rectangle' or 'polygon' body (shape = '"//trim(b%shape)//"')")
+      return
+    end if
+    if (axisym .and. scheme == scheme_direct) then
+      call set_error(err, "direct nodal integration is a negative control for plane strain "// &
+        "only; use integration = 'scni' or 'gauss' in axisymmetry")
+      return
+    end if
+    tol = 1.0e-9_wp*minval(b%spacing(1:2))
+    if (axisym .and. minval(b%x(1, :)) < -tol) then
+      call set_error(err, "body '"//trim(b%name)//"': axisymmetric bodies must lie in r >= 0 "// &
+        "(x = r is the first coordinate)")
+      return
+    end if
+    ! ghosts mirrored about the axis
+    ng = 0
+    if (axisym) ng = count(b%x(1, :) > tol .and. b%x(1, :) < b%rho(1, :))
+    allocate(xe(2, np + ng), rhoe(2, np + ng), vole(np + ng), twin(np + ng))
+    xe(:, 1:np) = b%x
+    rhoe(:, 1:np) = b%rho
+    vole(1:np) = b%vol
+    twin = [(i, i = 1, np + ng)]
+    k = np
+    if (axisym) then
+      do i = 1, np
+        if (b%x(1, i) > tol .and. b%x(1, i) < b%rho(1, i)) then
+          k = k + 1
+          xe(:, k) = [-b%x(1, i), b%x(2, i)]
+          rhoe(:, k) = b%rho(:, i)
+          vole(k) = b%vol(i)
+          twin(k) = i
+        end if
+      end do
+    end if
+    allocate(t%fix1(np))
+    t%fix1 = axisym .and. abs(b%x(1, :)) <= tol
+    call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:2), err)
+    if (allocated(err)) return
+    t%hmin = minval(b%spacing(1:2))
+    select case (scheme)
+    case (scheme_scni)
+      call build_scni(b, c, twin, np, rho0, t, err)
+    case (scheme_gauss)
+      call build_gauss(b, c, twin, np, rho0, t, err)
+    case (scheme_direct)
+      call build_direct(b, c, twin, np, rho0, t, err)
+    end select
+    if (allocated(err)) return
+    call build_positions(b, c, twin, np, t, err)
+    if (allocated(err)) return
+    call build_transpose(t)
+    t%total_mass = sum(t%mass)
+    t%total_volume = sum(t%wgt)
+  end subroutine tl_build
+
+  !> The lattice cell of particle i clipped by the body polygon: vertices cv(2, ncv).
+  pure subroutine particle_cell(b, i, cv, ncv)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: i
+    real(wp), intent(out) :: cv(2, max_cv)
+    integer, intent(out) :: ncv
+    real(wp) :: half(2)
+    half = 0.5_wp*b%spacing(1:2)
+    call clip_polygon_box(b%geom%v, b%x(:, i) - half, b%x(:, i) + half, cv, ncv)
+  end subroutine particle_cell
+
+  !> Area quadrature of a cell: fan triangles from the vertex mean, 3 points each (exact for
+  !! quadratics; signed areas keep it exact for any simple polygon).
+  pure subroutine cell_area_points(cv, ncv, xg, wg, ng)
+    real(wp), intent(in) :: cv(:, :)
+    integer, intent(in) :: ncv
+    real(wp), intent(out) :: xg(:, :), wg(:)
+    integer, intent(out) :: ng
+    real(wp) :: o(2), a(2), bb(2), area
+    integer :: k
+    real(wp), parameter :: bary(3, 3) = reshape([2.0_wp/3.0_wp, 1.0_wp/6.0_wp, &
+      1.0_wp/6.0_wp, 1.0_wp/6.0_wp, 2.0_wp/3.0_wp, 1.0_wp/6.0_wp, 1.0_wp/6.0_wp, &
+      1.0_wp/6.0_wp, 2.0_wp/3.0_wp], [3, 3])
+    integer :: q
+    o = sum(cv(:, 1:ncv), dim=2)/real(ncv, wp)
+    ng = 0
+    do k = 1, ncv
+      a = cv(:, k)
+      bb = cv(:, modulo(k, ncv) + 1)
+      area = 0.5_wp*((a(1) - o(1))*(bb(2) - o(2)) - (bb(1) - o(1))*(a(2) - o(2)))
+      if (area == 0.0_wp) cycle
+      do q = 1, 3
+        ng = ng + 1
+        xg(:, ng) = bary(1, q)*o + bary(2, q)*a + bary(3, q)*bb
+        wg(ng) = area/3.0_wp
+      end do
+    end do
+  end subroutine cell_area_points
+
+  !> Shape functions at p folded onto real particles: n1/n2 (components), dn1/dn2.
+  !! Returns the local slots of each neighbour in the accumulation map (lmap/lid, count nl).
+  subroutine folded_shape(c, twin, np, p, nf, fid, fn, fdn, ok)
+    type(rk_cloud_t), intent(in) :: c
+    integer, intent(in) :: twin(:), np
+    real(wp), intent(in) :: p(2)
+    integer, intent(out) :: nf
+    integer, intent(out) :: fid(:)
+    real(wp), intent(out) :: fn(:, :), fdn(:, :, :)
+    logical, intent(out) :: ok
+    integer :: ids(max_nb), nnb, k, j, m
+    real(wp) :: n(max_nb), dn(2, max_nb), s
+    call cloud_shape(c, p, nnb, ids, n, dn, ok)
+    nf = 0
+    if (.not. ok) return
+    do k = 1, nnb
+      j = twin(ids(k))
+      s = 1.0_wp
+      if (ids(k) > np) s = -1.0_wp
+      m = 0
+      if (ids(k) > np) then
+        do m = nf, 1, -1
+          if (fid(m) == j) exit
+        end do
+      end if
+      if (m == 0) then
+        nf = nf + 1
+        m = nf
+        fid(m) = j
+        fn(:, m) = 0.0_wp
+        fdn(:, :, m) = 0.0_wp
+      end if
+      fn(1, m) = fn(1, m) + s*n(k)
+      fn(2, m) = fn(2, m) + n(k)
+      fdn(:, 1, m) = fdn(:, 1, m) + s*dn(:, k)
+      fdn(:, 2, m) = fdn(:, 2, m) + dn(:, k)
+    end do
+  end subroutine folded_shape
+
+  subroutine build_scni(b, c, twin, np, rho0, t, err)
+    type(body_t), intent(in) :: b
+    type(rk_cloud_t), intent(in) :: c
+    integer, intent(in) :: twin(:), np
+    real(wp), intent(in) :: rho0
+    type(tl_tables_t), intent(inout) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: gl(:, :, :), hl(:, :), ml(:, :)
+    integer, allocatable :: idl(:, :), nl(:), slot(:)
+    real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), p(2), nrm(2), e(2), len_e
+    real(wp) :: vol_l, area, fn(2, max_nb), fdn(2, 2, max_nb), rw, gw
+    integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad
+    logical :: ok
+    real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
+    t%nq = np
+    maxk = union_bound(b, c)
+    allocate(gl(4, maxk, np), hl(maxk, np), ml(maxk, np), idl(maxk, np), nl(np))
+    allocate(t%xq(2, np), t%owner(np), t%wgt(np))
+    bad = 0
+    !$omp parallel default(none) shared(b, c, twin, np, t, gl, hl, ml, idl, nl, maxk, rho0) &
+    !$omp private(cv, ncv, xg, wg, ngp, k, q, p, nrm, e, len_e, vol_l, area, fn, fdn, nf, fid, &
+    !$omp ok, s, slot, rw, gw) reduction(max: bad)
+    allocate(slot(np))
+    slot = 0
+    !$omp do schedule(dynamic, 64)
+    do i = 1, np
+      call particle_cell(b, i, cv, ncv)
+      area = polygon_area(cv, ncv)
+      call cell_area_points(cv, ncv, xg, wg, ngp)
+      nl(i) = 0
+      ! area integrals: V_L, int N dA (hoop) and int rho0 N r dA (mass)
+      vol_l = 0.0_wp
+      do q = 1, ngp
+        rw = 1.0_wp
+        if (t%axisym) rw = xg(1, q)
+        vol_l = vol_l + wg(q)*rw
+        call folded_shape(c, twin, np, xg(:, q), nf, fid, fn, fdn, ok)
+        if (.not. ok) then
+          bad = max(bad, i)
+          cycle
+        end if
+        do k = 1, nf
+          call add_slot(fid(k))
+          ml(s, i) = ml(s, i) + wg(q)*rw*fn(2, k)
+          hl(s, i) = hl(s, i) + wg(q)*fn(1, k)
+          if (t%axisym) gl(1, s, i) = gl(1, s, i) - wg(q)*fn(1, k)
+          if (t%axisym) gl(3, s, i) = gl(3, s, i) - wg(q)*fn(2, k)
+        end do
+      end do
+      ! boundary integrals: two Gauss points per edge, outward normal of a CCW cell
+      do k = 1, ncv
+        e = cv(:, modulo(k, ncv) + 1) - cv(:, k)
+        len_e = norm2(e)
+        if (len_e == 0.0_wp) cycle
+        nrm = [e(2), -e(1)]/len_e
+        do q = 1, 2
+          p = cv(:, k) + gx(q)*e
+          rw = 1.0_wp
+          if (t%axisym) rw = p(1)
+          gw = 0.5_wp*len_e*rw
+          call folded_shape(c, twin, np, p, nf, fid, fn, fdn, ok)
+          if (.not. ok) then
+            bad = max(bad, i)
+            cycle
+          end if
+          call add_boundary(nf, fid, fn, nrm, gw)
+        end do
+      end do
+      t%xq(:, i) = b%x(:, i)
+      t%owner(i) = i
+      gl(:, 1:nl(i), i) = gl(:, 1:nl(i), i)/vol_l
+      if (t%axisym) then
+        hl(1:nl(i), i) = hl(1:nl(i), i)/vol_l
+        t%wgt(i) = 2.0_wp*pi*vol_l
+        ml(1:nl(i), i) = 2.0_wp*pi*rho0*ml(1:nl(i), i)
+      else
+        hl(1:nl(i), i) = 0.0_wp
+        t%wgt(i) = vol_l
+        ml(1:nl(i), i) = rho0*ml(1:nl(i), i)
+      end if
+      do k = 1, nl(i)
+        slot(idl(k, i)) = 0
+      end do
+    end do
+    !$omp end do
+    deallocate(slot)
+    !$omp end parallel
+    if (bad > 0) then
+      call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined in the "// &
+        "cell of particle "//itoa(bad)//" (moment matrix singular): increase support_factor")
+      return
+    end if
+    call compress(t, gl, hl, ml, idl, nl)
+  contains
+    subroutine add_slot(j)
+      integer, intent(in) :: j
+      s = slot(j)
+      if (s == 0) then
+        nl(i) = nl(i) + 1
+        s = nl(i)
+        slot(j) = s
+        idl(s, i) = j
+        gl(:, s, i) = 0.0_wp
+        hl(s, i) = 0.0_wp
+        ml(s, i) = 0.0_wp
+      end if
+    end subroutine add_slot
+    subroutine add_boundary(nf_, fid_, fn_, nrm_, w_)
+      integer, intent(in) :: nf_, fid_(:)
+      real(wp), intent(in) :: fn_(:, :), nrm_(2), w_
+      integer :: kk
+      do kk = 1, nf_
+        call add_slot(fid_(kk))
+        gl(1:2, s, i) = gl(1:2, s, i) + w_*fn_(1, kk)*nrm_
+        gl(3:4, s, i) = gl(3:4, s, i) + w_*fn_(2, kk)*nrm_
+      end do
+    end subroutine add_boundary
+  end subroutine build_scni
+
+  !> Upper bound of the particles touching one cell (its box grown by the largest support).
+  function union_bound(b, c) result(maxk)
+    type(body_t), intent(in) :: b
+    type(rk_cloud_t), intent(in) :: c
+    integer :: maxk
+    integer, allocatable :: cand(:)
+    integer :: i, n
+    allocate(cand(c%np))
+    maxk = 1
+    do i = 1, b%np
+      call bins_candidates(c%bins, b%x(:, i), c%rmax(1:2) + 0.5_wp*b%spacing(1:2), cand, n)
+      maxk = max(maxk, n)
+    end do
+  end function union_bound
+
+  subroutine build_gauss(b, c, twin, np, rho0, t, err)
+    type(body_t), intent(in) :: b
+    type(rk_cloud_t), intent(in) :: c
+    integer, intent(in) :: twin(:), np
+    real(wp), intent(in) :: rho0
+    type(tl_tables_t), intent(inout) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: xq(:, :), wq(:), gl(:, :, :), hl(:, :), ml(:, :)
+    integer, allocatable :: owner(:), idl(:, :), nl(:)
+    real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), fn(2, max_nb), fdn(2, 2, max_nb)
+    real(wp) :: rw
+    integer :: i, ncv, ngp, q, nq, k, nf, fid(max_nb), maxk, bad
+    logical :: ok
+    ! count the points first
+    nq = 0
+    do i = 1, np
+      call particle_cell(b, i, cv, ncv)
+      call cell_area_points(cv, ncv, xg, wg, ngp)
+      nq = nq + ngp
+    end do
+    allocate(xq(2, nq), wq(nq), owner(nq))
+    nq = 0
+    do i = 1, np
+      call particle_cell(b, i, cv, ncv)
+      call cell_area_points(cv, ncv, xg, wg, ngp)
+      xq(:, nq + 1:nq + ngp) = xg(:, 1:ngp)
+      wq(nq + 1:nq + ngp) = wg(1:ngp)
+      owner(nq + 1:nq + ngp) = i
+      nq = nq + ngp
+    end do
+    maxk = union_bound(b, c)
+    allocate(gl(4, maxk, nq), hl(maxk, nq), ml(maxk, nq), idl(maxk, nq), nl(nq))
+    t%nq = nq
+    t%xq = xq
+    t%owner = owner
+    allocate(t%wgt(nq))
+    bad = 0
+    !$omp parallel do default(none) shared(c, twin, np, t, xq, wq, gl, hl, ml, idl, nl, rho0) &
+    !$omp private(fn, fdn, nf, fid, ok, rw, k) reduction(max: bad) schedule(dynamic, 64)
+    do q = 1, nq
+      call folded_shape(c, twin, np, xq(:, q), nf, fid, fn, fdn, ok)
+      nl(q) = 0
+      if (.not. ok) then
+        bad = max(bad, q)
+        cycle
+      end if
+      rw = 1.0_wp
+      if (t%axisym) rw = 2.0_wp*pi*xq(1, q)
+      t%wgt(q) = wq(q)*rw
+      nl(q) = nf
+      do k = 1, nf
+        idl(k, q) = fid(k)
+        gl(1:2, k, q) = fdn(:, 1, k)
+        gl(3:4, k, q) = fdn(:, 2, k)
+        hl(k, q) = 0.0_wp
+        if (t%axisym) hl(k, q) = fn(1, k)/xq(1, q)
+        ml(k, q) = rho0*t%wgt(q)*fn(2, k)
+      end do
+    end do
+    !$omp end parallel do
+    if (bad > 0) then
+      call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined at Gauss "// &
+        "point "//itoa(bad)//": increase support_factor")
+      return
+    end if
+    call compress(t, gl, hl, ml, idl, nl)
+  end subroutine build_gauss
+
+  subroutine build_direct(b, c, twin, np, rho0, t, err)
+    type(body_t), intent(in) :: b
+    type(rk_cloud_t), intent(in) :: c
+    integer, intent(in) :: twin(:), np
+    real(wp), intent(in) :: rho0
+    type(tl_tables_t), intent(inout) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: gl(:, :, :), hl(:, :), ml(:, :)
+    integer, allocatable :: idl(:, :), nl(:)
+    real(wp) :: fn(2, max_nb), fdn(2, 2, max_nb)
+    integer :: i, k, nf, fid(max_nb), maxk, bad
+    logical :: ok
+    maxk = union_bound(b, c)
+    t%nq = np
+    allocate(gl(4, maxk, np), hl(maxk, np), ml(maxk, np), idl(maxk, np), nl(np))
+    t%xq = b%x
+    t%owner = [(i, i = 1, np)]
+    t%wgt = b%vol
+    bad = 0
+    do i = 1, np
+      call folded_shape(c, twin, np, b%x(:, i), nf, fid, fn, fdn, ok)
+      nl(i) = 0
+      if (.not. ok) then
+        bad = i
+        cycle
+      end if
+      nl(i) = nf
+      do k = 1, nf
+        idl(k, i) = fid(k)
+        gl(1:2, k, i) = fdn(:, 1, k)
+        gl(3:4, k, i) = fdn(:, 2, k)
+        hl(k, i) = 0.0_wp
+        ml(k, i) = rho0*b%vol(i)*fn(2, k)
+      end do
+    end do
+    if (bad > 0) then
+      call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined at "// &
+        "particle "//itoa(bad)//": increase support_factor")
+      return
+    end if
+    call compress(t, gl, hl, ml, idl, nl)
+  end subroutine build_direct
+
+  !> Dense per-point work arrays into CSR; masses summed per particle.
+  subroutine compress(t, gl, hl, ml, idl, nl)
+    type(tl_tables_t), intent(inout) :: t
+    real(wp), intent(in) :: gl(:, :, :), hl(:, :), ml(:, :)
+    integer, intent(in) :: idl(:, :), nl(:)
+    integer :: q, k, e, nnz
+    nnz = sum(nl)
+    allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(4, nnz), t%h(nnz), t%mass(t%np))
+    t%mass = 0.0_wp
+    t%ptr(1) = 1
+    do q = 1, t%nq
+      t%ptr(q + 1) = t%ptr(q) + nl(q)
+      do k = 1, nl(q)
+        e = t%ptr(q) + k - 1
+        t%nbr(e) = idl(k, q)
+        t%g(:, e) = gl(:, k, q)
+        t%h(e) = hl(k, q)
+        t%mass(idl(k, q)) = t%mass(idl(k, q)) + ml(k, q)
+      end do
+    end do
+  end subroutine compress
+
+  !> N^c_I(X_J) for the physical positions x_J = X_J + sum_I N^c_I(X_J) d_cI.
+  subroutine build_positions(b, c, twin, np, t, err)
+    type(body_t), intent(in) :: b
+    type(rk_cloud_t), intent(in) :: c
+    integer, intent(in) :: twin(:), np
+    type(tl_tables_t), intent(inout) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: cnt(:), idl(:, :)
+    real(wp), allocatable :: nl(:, :, :)
+    real(wp) :: fn(2, max_nb), fdn(2, 2, max_nb)
+    integer :: j, nf, fid(max_nb), maxk, bad, k, e
+    logical :: ok
+    maxk = union_bound(b, c)
+    allocate(cnt(np), idl(maxk, np), nl(2, maxk, np))
+    bad = 0
+    !$omp parallel do default(none) shared(b, c, twin, np, cnt, idl, nl) &
+    !$omp private(fn, fdn, nf, fid, ok) reduction(max: bad) schedule(dynamic, 64)
+    do j = 1, np
+      call folded_shape(c, twin, np, b%x(:, j), nf, fid, fn, fdn, ok)
+      cnt(j) = nf
+      if (.not. ok) bad = max(bad, j)
+      idl(1:nf, j) = fid(1:nf)
+      nl(:, 1:nf, j) = fn(:, 1:nf)
+    end do
+    !$omp end parallel do
+    if (bad > 0) then
+      call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined at "// &
+        "particle "//itoa(bad)//": increase support_factor")
+      return
+    end if
+    allocate(t%pptr(np + 1), t%pnbr(sum(cnt)), t%pn(2, sum(cnt)))
+    t%pptr(1) = 1
+    do j = 1, np
+      t%pptr(j + 1) = t%pptr(j) + cnt(j)
+      do k = 1, cnt(j)
+        e = t%pptr(j) + k - 1
+        t%pnbr(e) = idl(k, j)
+        t%pn(:, e) = nl(:, k, j)
+      end do
+    end do
+  end subroutine build_positions
+
+  !> For each particle, the entries (and their points) that involve it.
+  subroutine build_transpose(t)
+    type(tl_tables_t), intent(inout) :: t
+    integer, allocatable :: fill(:)
+    integer :: q, e, i, nnz
+    nnz = size(t%nbr)
+    allocate(t%tptr(t%np + 1), t%tent(nnz), t%tq(nnz), fill(t%np))
+    fill = 0
+    do e = 1, nnz
+      fill(t%nbr(e)) = fill(t%nbr(e)) + 1
+    end do
+    t%tptr(1) = 1
+    do i = 1, t%np
+      t%tptr(i + 1) = t%tptr(i) + fill(i)
+    end do
+    fill = 0
+    do q = 1, t%nq
+      do e = t%ptr(q), t%ptr(q + 1) - 1
+        i = t%nbr(e)
+        t%tent(t%tptr(i) + fill(i)) = e
+        t%tq(t%tptr(i) + fill(i)) = q
+        fill(i) = fill(i) + 1
+      end do
+    end do
+  end subroutine build_transpose
+end module rkpm_tl_m
