@@ -247,7 +247,7 @@ contains
     integer, allocatable :: idl(:, :), nl(:), slot(:)
     real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), p(2), nrm(2), e(2), len_e
     real(wp) :: vol_l, area, fn(2, max_nb), fdn(2, 2, max_nb), rw, gw
-    integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad
+    integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad, j
     logical :: ok
     real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
     t%nq = np
@@ -257,7 +257,7 @@ contains
     bad = 0
     !$omp parallel default(none) shared(b, c, twin, np, t, gl, hl, ml, idl, nl, maxk, rho0) &
     !$omp private(cv, ncv, xg, wg, ngp, k, q, p, nrm, e, len_e, vol_l, area, fn, fdn, nf, fid, &
-    !$omp ok, s, slot, rw, gw) reduction(max: bad)
+    !$omp ok, s, slot, rw, gw, j) reduction(max: bad)
     allocate(slot(np))
     slot = 0
     !$omp do schedule(dynamic, 64)
@@ -278,7 +278,7 @@ contains
           cycle
         end if
         do k = 1, nf
-          call add_slot(fid(k))
+          call add_slot(fid(k), i, slot, nl, idl, gl, hl, ml, s)
           ml(s, i) = ml(s, i) + wg(q)*rw*fn(2, k)
           hl(s, i) = hl(s, i) + wg(q)*fn(1, k)
           if (t%axisym) gl(1, s, i) = gl(1, s, i) - wg(q)*fn(1, k)
@@ -301,7 +301,11 @@ contains
             bad = max(bad, i)
             cycle
           end if
-          call add_boundary(nf, fid, fn, nrm, gw)
+          do j = 1, nf
+            call add_slot(fid(j), i, slot, nl, idl, gl, hl, ml, s)
+            gl(1:2, s, i) = gl(1:2, s, i) + gw*fn(1, j)*nrm
+            gl(3:4, s, i) = gl(3:4, s, i) + gw*fn(2, j)*nrm
+          end do
         end do
       end do
       t%xq(:, i) = b%x(:, i)
@@ -329,31 +333,26 @@ contains
       return
     end if
     call compress(t, gl, hl, ml, idl, nl)
-  contains
-    subroutine add_slot(j)
-      integer, intent(in) :: j
-      s = slot(j)
-      if (s == 0) then
-        nl(i) = nl(i) + 1
-        s = nl(i)
-        slot(j) = s
-        idl(s, i) = j
-        gl(:, s, i) = 0.0_wp
-        hl(s, i) = 0.0_wp
-        ml(s, i) = 0.0_wp
-      end if
-    end subroutine add_slot
-    subroutine add_boundary(nf_, fid_, fn_, nrm_, w_)
-      integer, intent(in) :: nf_, fid_(:)
-      real(wp), intent(in) :: fn_(:, :), nrm_(2), w_
-      integer :: kk
-      do kk = 1, nf_
-        call add_slot(fid_(kk))
-        gl(1:2, s, i) = gl(1:2, s, i) + w_*fn_(1, kk)*nrm_
-        gl(3:4, s, i) = gl(3:4, s, i) + w_*fn_(2, kk)*nrm_
-      end do
-    end subroutine add_boundary
   end subroutine build_scni
+
+  !> Local slot s of particle j in the accumulation arrays of point i (new slots zeroed).
+  !! slot(:) maps particles to slots and must be reset by the caller after point i.
+  pure subroutine add_slot(j, i, slot, nl, idl, gl, hl, ml, s)
+    integer, intent(in) :: j, i
+    integer, intent(inout) :: slot(:), nl(:), idl(:, :)
+    real(wp), intent(inout) :: gl(:, :, :), hl(:, :), ml(:, :)
+    integer, intent(out) :: s
+    s = slot(j)
+    if (s == 0) then
+      nl(i) = nl(i) + 1
+      s = nl(i)
+      slot(j) = s
+      idl(s, i) = j
+      gl(:, s, i) = 0.0_wp
+      hl(s, i) = 0.0_wp
+      ml(s, i) = 0.0_wp
+    end if
+  end subroutine add_slot
 
   !> Upper bound of the particles touching one cell (its box grown by the largest support).
   function union_bound(b, c) result(maxk)

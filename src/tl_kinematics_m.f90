@@ -1,0 +1,153 @@
+!> Hot kernels of the total-Lagrangian RKPM solver on the tables of rkpm_tl_m:
+!! deformation gradients at the integration points, rate of deformation and spin between
+!! two configurations, first Piola-Kirchhoff stress from Kirchhoff stress, the internal force
+!! (eq. 72) gathered per particle, and physical positions x_J = X_J + sum_I N_I(X_J) d_I.
+!!
+!! Layouts (plane strain and axisymmetric share them; the hoop terms vanish in plane strain):
+!!  F(5, nq), P(5, nq): components 11, 12, 21, 22, 33 (33 = hoop r/R in axisymmetry);
+!!  tau(4, nq), d(4, nq): 11, 22, 33, 12 (symmetric); d(2, np): coefficients (m).
+module tl_kinematics_m
+  use kinds_m, only: wp
+  use rkpm_tl_m, only: tl_tables_t
+  implicit none
+  private
+  public :: deformation_gradient, rate_of_deformation, piola_stress, internal_force
+  public :: physical_positions, jacobian
+
+contains
+
+  !> F at every integration point from the coefficients d (2, np).
+  subroutine deformation_gradient(t, d, f)
+    type(tl_tables_t), intent(in) :: t
+    real(wp), intent(in) :: d(:, :)
+    real(wp), intent(out) :: f(:, :)
+    integer :: q, e, i
+    real(wp) :: a11, a12, a21, a22, a33
+    !$omp parallel do default(none) shared(t, d, f) private(e, i, a11, a12, a21, a22, a33) &
+    !$omp schedule(static)
+    do q = 1, t%nq
+      a11 = 0.0_wp
+      a12 = 0.0_wp
+      a21 = 0.0_wp
+      a22 = 0.0_wp
+      a33 = 0.0_wp
+      do e = t%ptr(q), t%ptr(q + 1) - 1
+        i = t%nbr(e)
+        a11 = a11 + d(1, i)*t%g(1, e)
+        a12 = a12 + d(1, i)*t%g(2, e)
+        a21 = a21 + d(2, i)*t%g(3, e)
+        a22 = a22 + d(2, i)*t%g(4, e)
+        a33 = a33 + d(1, i)*t%h(e)
+      end do
+      f(:, q) = [1.0_wp + a11, a12, a21, 1.0_wp + a22, 1.0_wp + a33]
+    end do
+    !$omp end parallel do
+  end subroutine deformation_gradient
+
+  !> J = det F.
+  pure real(wp) function jacobian(f) result(j)
+    real(wp), intent(in) :: f(5)
+    j = (f(1)*f(4) - f(2)*f(3))*f(5)
+  end function jacobian
+
+  !> D (4, nq) and W12 (nq) between F0 and F1 a step dt apart: L dt = (F1 - F0) Fm^-1 with
+  !! the midpoint Fm = (F0 + F1)/2, so a rigid rotation gives D = 0 exactly (Cayley form).
+  subroutine rate_of_deformation(nq, dt, f0, f1, d, w12)
+    integer, intent(in) :: nq
+    real(wp), intent(in) :: dt, f0(:, :), f1(:, :)
+    real(wp), intent(out) :: d(:, :), w12(:)
+    integer :: q
+    real(wp) :: fm(5), df(5), det, inv(4), l11, l12, l21, l22, rdt
+    rdt = 1.0_wp/dt
+    !$omp parallel do default(none) shared(nq, f0, f1, d, w12, rdt) &
+    !$omp private(fm, df, det, inv, l11, l12, l21, l22) schedule(static)
+    do q = 1, nq
+      fm = 0.5_wp*(f0(:, q) + f1(:, q))
+      df = f1(:, q) - f0(:, q)
+      det = fm(1)*fm(4) - fm(2)*fm(3)
+      inv = [fm(4), -fm(2), -fm(3), fm(1)]/det
+      l11 = df(1)*inv(1) + df(2)*inv(3)
+      l12 = df(1)*inv(2) + df(2)*inv(4)
+      l21 = df(3)*inv(1) + df(4)*inv(3)
+      l22 = df(3)*inv(2) + df(4)*inv(4)
+      d(1, q) = l11*rdt
+      d(2, q) = l22*rdt
+      d(3, q) = df(5)/fm(5)*rdt
+      d(4, q) = 0.5_wp*(l12 + l21)*rdt
+      w12(q) = 0.5_wp*(l12 - l21)*rdt
+    end do
+    !$omp end parallel do
+  end subroutine rate_of_deformation
+
+  !> P = tau F^-T (P_iJ = tau_ik Finv_Jk); P33 = tau33/F33.
+  subroutine piola_stress(nq, f, tau, p)
+    integer, intent(in) :: nq
+    real(wp), intent(in) :: f(:, :), tau(:, :)
+    real(wp), intent(out) :: p(:, :)
+    integer :: q
+    real(wp) :: det, i11, i12, i21, i22
+    !$omp parallel do default(none) shared(nq, f, tau, p) private(det, i11, i12, i21, i22) &
+    !$omp schedule(static)
+    do q = 1, nq
+      det = f(1, q)*f(4, q) - f(2, q)*f(3, q)
+      i11 = f(4, q)/det
+      i12 = -f(2, q)/det
+      i21 = -f(3, q)/det
+      i22 = f(1, q)/det
+      ! P_iJ = tau_i1 Finv_J1 + tau_i2 Finv_J2
+      p(1, q) = tau(1, q)*i11 + tau(4, q)*i12
+      p(2, q) = tau(1, q)*i21 + tau(4, q)*i22
+      p(3, q) = tau(4, q)*i11 + tau(2, q)*i12
+      p(4, q) = tau(4, q)*i21 + tau(2, q)*i22
+      p(5, q) = tau(3, q)/f(5, q)
+    end do
+    !$omp end parallel do
+  end subroutine piola_stress
+
+  !> f_int (2, np) = sum_L W_L P_L : grad N_I (eq. 72), gathered per particle (no races).
+  subroutine internal_force(t, p, fint)
+    type(tl_tables_t), intent(in) :: t
+    real(wp), intent(in) :: p(:, :)
+    real(wp), intent(out) :: fint(:, :)
+    integer :: i, k, e, q
+    real(wp) :: f1, f2, w
+    !$omp parallel do default(none) shared(t, p, fint) private(k, e, q, f1, f2, w) &
+    !$omp schedule(static)
+    do i = 1, t%np
+      f1 = 0.0_wp
+      f2 = 0.0_wp
+      do k = t%tptr(i), t%tptr(i + 1) - 1
+        e = t%tent(k)
+        q = t%tq(k)
+        w = t%wgt(q)
+        f1 = f1 + w*(p(1, q)*t%g(1, e) + p(2, q)*t%g(2, e) + p(5, q)*t%h(e))
+        f2 = f2 + w*(p(3, q)*t%g(3, e) + p(4, q)*t%g(4, e))
+      end do
+      fint(1, i) = f1
+      fint(2, i) = f2
+    end do
+    !$omp end parallel do
+  end subroutine internal_force
+
+  !> Physical positions x (2, np) of the particles from reference X and coefficients d.
+  subroutine physical_positions(t, x0, d, x)
+    type(tl_tables_t), intent(in) :: t
+    real(wp), intent(in) :: x0(:, :), d(:, :)
+    real(wp), intent(out) :: x(:, :)
+    integer :: j, e, i
+    real(wp) :: u1, u2
+    !$omp parallel do default(none) shared(t, x0, d, x) private(e, i, u1, u2) schedule(static)
+    do j = 1, t%np
+      u1 = 0.0_wp
+      u2 = 0.0_wp
+      do e = t%pptr(j), t%pptr(j + 1) - 1
+        i = t%pnbr(e)
+        u1 = u1 + t%pn(1, e)*d(1, i)
+        u2 = u2 + t%pn(2, e)*d(2, i)
+      end do
+      x(1, j) = x0(1, j) + u1
+      x(2, j) = x0(2, j) + u2
+    end do
+    !$omp end parallel do
+  end subroutine physical_positions
+end module tl_kinematics_m
