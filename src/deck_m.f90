@@ -8,10 +8,12 @@ module deck_m
   use errors_m, only: error_t, set_error
   use kernels_m, only: kernel_id, kernel_names, window_shape_id, window_shape_names
   use basis_m, only: basis_id, basis_names, basis_order
+  use material_m, only: material_params_t, check_material_params
   use, intrinsic :: iso_fortran_env, only: iostat_end
   implicit none
   private
   public :: deck_t, run_params_t, body_spec_t, detection_spec_t, output_spec_t
+  public :: material_spec_t, solver_spec_t, bc_spec_t
   public :: read_deck, max_vertices, max_points, unset
 
   integer, parameter :: max_vertices = 64
@@ -21,9 +23,15 @@ module deck_m
   !> Marks an array entry the deck did not set.
   real(wp), parameter :: unset = -huge(1.0_wp)
 
-  character(len=*), parameter :: known_groups(4) = [character(len=9) :: &
-    'run', 'body', 'detection', 'output']
-  character(len=*), parameter :: modes(1) = [character(len=8) :: 'detect']
+  character(len=*), parameter :: known_groups(7) = [character(len=9) :: &
+    'run', 'body', 'detection', 'output', 'material', 'solver', 'bc']
+  character(len=*), parameter :: modes(2) = [character(len=8) :: 'detect', 'dynamic']
+  character(len=*), parameter :: roles(2) = [character(len=10) :: 'deformable', 'rigid']
+  character(len=*), parameter :: integrations(3) = [character(len=6) :: &
+    'scni', 'gauss', 'direct']
+  integer, parameter :: max_materials = 8
+  integer, parameter :: max_bcs = 32
+  integer, parameter :: max_snapshots = 256
   character(len=*), parameter :: geometries(2) = [character(len=12) :: &
     'plane', 'axisymmetric']
   character(len=*), parameter :: shapes(5) = [character(len=14) :: &
@@ -53,8 +61,42 @@ module deck_m
     character(len=8) :: window = 'tensor'
     character(len=20) :: basis = 'bilinear'
     real(wp) :: support_factor(3) = unset
+    character(len=10) :: role = 'deformable'
+    character(len=64) :: material = ''
+    real(wp) :: velocity(3) = 0.0_wp       !< initial velocity (m/s)
+    character(len=6) :: integration = 'scni'
     integer :: kid = 0, wshape = 0, bid = 0
+    integer :: imat = 0                    !< index into deck%materials
   end type body_spec_t
+
+  !> A named material (&material): its constitutive model and parameters.
+  type :: material_spec_t
+    character(len=64) :: name = ''
+    type(material_params_t) :: params
+  end type material_spec_t
+
+  !> Time integration and run control (&solver).
+  type :: solver_spec_t
+    real(wp) :: t_end = 0.0_wp            !< end time (s)
+    real(wp) :: dt = 0.0_wp               !< fixed step (s); 0: cfl x critical step
+    real(wp) :: cfl = 0.5_wp              !< fraction of the estimated critical step
+    integer :: log_every = 0              !< log line every N steps (0: about 50 lines a run)
+    integer :: history_every = 0          !< history row every N steps (0: as log_every)
+    real(wp) :: snapshot_times(max_snapshots) = unset
+    integer :: nsnap = 0
+    real(wp) :: energy_tol = 0.05_wp      !< stop when |residual| > tol x energy scale
+    integer :: max_steps = 100000000
+  end type solver_spec_t
+
+  !> A kinematic condition (&bc) on the particles of a body inside a reference box.
+  type :: bc_spec_t
+    character(len=64) :: body = ''
+    real(wp) :: region_lo(3) = -huge(1.0_wp), region_hi(3) = huge(1.0_wp)
+    integer :: component = 0              !< 1 or 2
+    character(len=10) :: kind = 'fixed'   !< 'fixed' or 'velocity'
+    real(wp) :: value = 0.0_wp            !< prescribed velocity (m/s)
+    integer :: ibody = 0
+  end type bc_spec_t
 
   type :: detection_spec_t
     logical :: present = .false.
@@ -82,6 +124,11 @@ module deck_m
     type(body_spec_t), allocatable :: bodies(:)
     type(detection_spec_t) :: detection
     type(output_spec_t) :: output
+    integer :: nmaterials = 0
+    type(material_spec_t), allocatable :: materials(:)
+    type(solver_spec_t) :: solver
+    integer :: nbcs = 0
+    type(bc_spec_t), allocatable :: bcs(:)
   end type deck_t
 
 contains
@@ -110,8 +157,11 @@ contains
       return
     end if
     call read_run(u, deck, err)
+    if (.not. allocated(err)) call read_materials(u, deck, err)
     if (.not. allocated(err)) call read_bodies(u, deck, err)
     if (.not. allocated(err)) call read_detection(u, deck, err)
+    if (.not. allocated(err)) call read_solver(u, deck, err)
+    if (.not. allocated(err)) call read_bcs(u, deck, err)
     if (.not. allocated(err)) call read_output(u, deck, err)
     close(u)
   end subroutine read_deck
@@ -351,13 +401,17 @@ contains
     character(len=20) :: basis
     character(len=path_len) :: file
     real(wp) :: lo(3), hi(3), vertices(2, max_vertices), spacing(3), origin(2), center(2)
-    real(wp) :: r_inner, r_outer, theta_start, theta_end, support_factor(3)
+    real(wp) :: r_inner, r_outer, theta_start, theta_end, support_factor(3), velocity(3)
+    character(len=10) :: role
+    character(len=64) :: material
+    character(len=6) :: integration
     integer :: n(3), ios, k
     character(len=512) :: msg
     type(body_spec_t) :: s, dflt
     type(body_spec_t), allocatable :: tmp(:)
     namelist /body/ name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, &
-      r_outer, theta_start, theta_end, file, kernel, window, basis, support_factor
+      r_outer, theta_start, theta_end, file, kernel, window, basis, support_factor, role, &
+      material, velocity, integration
     allocate(tmp(max_bodies))
     rewind(u)
     k = 0
@@ -380,6 +434,10 @@ contains
       window = dflt%window
       basis = dflt%basis
       support_factor = dflt%support_factor
+      role = dflt%role
+      material = dflt%material
+      velocity = dflt%velocity
+      integration = dflt%integration
       read(u, nml=body, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -412,6 +470,10 @@ contains
       s%window = lower(window)
       s%basis = lower(basis)
       s%support_factor = support_factor
+      s%role = lower(role)
+      s%material = material
+      s%velocity = velocity
+      s%integration = lower(integration)
       call check_body(deck, k, s, err)
       if (allocated(err)) return
       tmp(k) = s
@@ -447,6 +509,33 @@ contains
       call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", 'use one of: '// &
         join_names(shapes), err)
       return
+    end if
+    if (.not. any(roles == s%role)) then
+      call bad(deck, grp, 'role', "'"//trim(s%role)//"'", 'use one of: '// &
+        join_names(roles), err)
+      return
+    end if
+    if (.not. any(integrations == s%integration)) then
+      call bad(deck, grp, 'integration', "'"//trim(s%integration)//"'", 'use one of: '// &
+        join_names(integrations)//" (scni is the default; direct is a negative control)", err)
+      return
+    end if
+    if (deck%run%mode == 'dynamic' .and. s%role == 'deformable') then
+      s%imat = 0
+      do j = 1, deck%nmaterials
+        if (deck%materials(j)%name == s%material) s%imat = j
+      end do
+      if (s%imat == 0) then
+        if (deck%nmaterials == 0) then
+          call bad(deck, grp, 'material', "'"//trim(s%material)//"'", 'a deformable body '// &
+            "needs a material: add a &material group (name = 'steel', model = "// &
+            "'viscoplastic', ...) and give its name here", err)
+        else
+          call bad(deck, grp, 'material', "'"//trim(s%material)//"'", 'name one of the '// &
+            '&material groups: '//join_names(deck%materials(1:deck%nmaterials)%name), err)
+        end if
+        return
+      end if
     end if
     s%kid = kernel_id(s%kernel)
     if (s%kid == 0) then
@@ -644,6 +733,215 @@ contains
     deck%detection = d
   end subroutine read_detection
 
+  subroutine read_materials(u, deck, err)
+    integer, intent(in) :: u
+    type(deck_t), intent(inout) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=64) :: name
+    character(len=32) :: model
+    real(wp) :: density, youngs_modulus, poisson_ratio, sigma0, hardening_n, rate_m, eps0, eps1
+    real(wp) :: epsdot0, back_stress_b, theta, yield_stress, hardening_modulus
+    integer :: ios, k, j
+    character(len=512) :: msg
+    type(material_params_t) :: dflt
+    type(material_spec_t) :: tmp(max_materials)
+    type(error_t), allocatable :: e2
+    namelist /material/ name, model, density, youngs_modulus, poisson_ratio, sigma0, &
+      hardening_n, rate_m, eps0, eps1, epsdot0, back_stress_b, theta, yield_stress, &
+      hardening_modulus
+    rewind(u)
+    k = 0
+    do
+      name = ''
+      model = dflt%model
+      density = dflt%density
+      youngs_modulus = dflt%youngs_modulus
+      poisson_ratio = dflt%poisson_ratio
+      sigma0 = dflt%sigma0
+      hardening_n = dflt%hardening_n
+      rate_m = dflt%rate_m
+      eps0 = dflt%eps0
+      eps1 = unset
+      epsdot0 = dflt%epsdot0
+      back_stress_b = dflt%back_stress_b
+      theta = dflt%theta
+      yield_stress = dflt%yield_stress
+      hardening_modulus = dflt%hardening_modulus
+      read(u, nml=material, iostat=ios, iomsg=msg)
+      if (ios == iostat_end) exit
+      k = k + 1
+      if (ios /= 0) then
+        call nml_error(deck, 'material', ' (material '//itoa(k)//')', msg, err)
+        return
+      end if
+      if (k > max_materials) then
+        call set_error(err, "deck '"//deck%path//"': more than "//itoa(max_materials)// &
+          " &material groups")
+        return
+      end if
+      if (len_trim(name) == 0) name = 'material'//itoa(k)
+      do j = 1, k - 1
+        if (tmp(j)%name == name) then
+          call bad(deck, 'material', 'name', "'"//trim(name)//"'", &
+            'give every material its own name', err)
+          return
+        end if
+      end do
+      tmp(k)%name = name
+      tmp(k)%params%model = lower(model)
+      tmp(k)%params%density = density
+      tmp(k)%params%youngs_modulus = youngs_modulus
+      tmp(k)%params%poisson_ratio = poisson_ratio
+      tmp(k)%params%sigma0 = sigma0
+      tmp(k)%params%hardening_n = hardening_n
+      tmp(k)%params%rate_m = rate_m
+      tmp(k)%params%eps0 = eps0
+      ! eps1 defaults to 100 eps0 (Table 1)
+      if (eps1 == unset) eps1 = 100.0_wp*eps0
+      tmp(k)%params%eps1 = eps1
+      tmp(k)%params%epsdot0 = epsdot0
+      tmp(k)%params%back_stress_b = back_stress_b
+      tmp(k)%params%theta = theta
+      tmp(k)%params%yield_stress = yield_stress
+      tmp(k)%params%hardening_modulus = hardening_modulus
+      call check_material_params(tmp(k)%params, e2)
+      if (allocated(e2)) then
+        call set_error(err, "deck '"//deck%path//"', group &material (material "//itoa(k)// &
+          ", '"//trim(name)//"'): "//e2%message)
+        return
+      end if
+    end do
+    deck%nmaterials = k
+    deck%materials = tmp(1:k)
+  end subroutine read_materials
+
+  subroutine read_solver(u, deck, err)
+    integer, intent(in) :: u
+    type(deck_t), intent(inout) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: t_end, dt, cfl, energy_tol, snapshot_times(max_snapshots)
+    integer :: log_every, history_every, max_steps, ios, j
+    character(len=512) :: msg
+    type(solver_spec_t) :: sv
+    namelist /solver/ t_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, &
+      max_steps
+    t_end = sv%t_end
+    dt = sv%dt
+    cfl = sv%cfl
+    log_every = sv%log_every
+    history_every = sv%history_every
+    snapshot_times = unset
+    energy_tol = sv%energy_tol
+    max_steps = sv%max_steps
+    rewind(u)
+    read(u, nml=solver, iostat=ios, iomsg=msg)
+    if (ios == iostat_end) then
+      if (deck%run%mode == 'dynamic') call set_error(err, "deck '"//deck%path// &
+        "': mode = 'dynamic' needs a &solver group with t_end (see doc/deck.md)")
+      return
+    else if (ios /= 0) then
+      call nml_error(deck, 'solver', '', msg, err)
+      return
+    end if
+    sv%t_end = t_end
+    sv%dt = dt
+    sv%cfl = cfl
+    sv%log_every = log_every
+    sv%history_every = history_every
+    sv%energy_tol = energy_tol
+    sv%max_steps = max_steps
+    sv%nsnap = 0
+    do j = 1, max_snapshots
+      if (snapshot_times(j) /= unset) sv%nsnap = j
+    end do
+    sv%snapshot_times(1:sv%nsnap) = snapshot_times(1:sv%nsnap)
+    if (.not. (t_end > 0.0_wp)) then
+      call bad(deck, 'solver', 't_end', rtoa(t_end), 'give the end time in s (> 0)', err)
+    else if (dt < 0.0_wp .or. dt > t_end) then
+      call bad(deck, 'solver', 'dt', rtoa(dt), 'give 0 (automatic: cfl x critical step) '// &
+        'or a fixed step in (0, t_end] s', err)
+    else if (.not. (cfl > 0.0_wp .and. cfl <= 1.0_wp)) then
+      call bad(deck, 'solver', 'cfl', rtoa(cfl), 'give a fraction of the critical step in '// &
+        '(0, 1]; 0.5 is safe', err)
+    else if (log_every < 0 .or. history_every < 0) then
+      call bad(deck, 'solver', 'log_every/history_every', itoa(min(log_every, history_every)), &
+        'give 0 (automatic) or a positive number of steps', err)
+    else if (any(snapshot_times(1:sv%nsnap) == unset) .or. &
+      any(snapshot_times(1:sv%nsnap) < 0.0_wp) .or. any(snapshot_times(1:sv%nsnap) > t_end)) then
+      call bad(deck, 'solver', 'snapshot_times', itoa(sv%nsnap)//' values', &
+        'give snapshot times in [0, t_end] s, one after another', err)
+    else if (.not. (energy_tol > 0.0_wp)) then
+      call bad(deck, 'solver', 'energy_tol', rtoa(energy_tol), 'give a positive tolerance '// &
+        'on the relative energy residual, e.g. 0.05', err)
+    else if (max_steps < 1) then
+      call bad(deck, 'solver', 'max_steps', itoa(max_steps), 'give a positive step limit', err)
+    end if
+    if (sv%nsnap > 1) then
+      if (any(sv%snapshot_times(2:sv%nsnap) <= sv%snapshot_times(1:sv%nsnap - 1))) &
+        call bad(deck, 'solver', 'snapshot_times', 'not increasing', &
+        'give the snapshot times in increasing order', err)
+    end if
+    deck%solver = sv
+  end subroutine read_solver
+
+  subroutine read_bcs(u, deck, err)
+    integer, intent(in) :: u
+    type(deck_t), intent(inout) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=64) :: body
+    character(len=10) :: kind
+    real(wp) :: region_lo(3), region_hi(3), value
+    integer :: component, ios, k, j
+    character(len=512) :: msg
+    type(bc_spec_t) :: dflt, tmp(max_bcs)
+    character(len=:), allocatable :: grp
+    namelist /bc/ body, region_lo, region_hi, component, kind, value
+    rewind(u)
+    k = 0
+    do
+      body = dflt%body
+      kind = dflt%kind
+      region_lo = dflt%region_lo
+      region_hi = dflt%region_hi
+      component = dflt%component
+      value = dflt%value
+      read(u, nml=bc, iostat=ios, iomsg=msg)
+      if (ios == iostat_end) exit
+      k = k + 1
+      grp = 'bc (bc '//itoa(k)//')'
+      if (ios /= 0) then
+        call nml_error(deck, 'bc', ' (bc '//itoa(k)//')', msg, err)
+        return
+      end if
+      if (k > max_bcs) then
+        call set_error(err, "deck '"//deck%path//"': more than "//itoa(max_bcs)//" &bc groups")
+        return
+      end if
+      tmp(k)%body = body
+      tmp(k)%kind = lower(kind)
+      tmp(k)%region_lo = region_lo
+      tmp(k)%region_hi = region_hi
+      tmp(k)%component = component
+      tmp(k)%value = value
+      tmp(k)%ibody = 0
+      do j = 1, deck%nbodies
+        if (deck%bodies(j)%name == body) tmp(k)%ibody = j
+      end do
+      if (tmp(k)%ibody == 0) then
+        call bad(deck, grp, 'body', "'"//trim(body)//"'", 'name one of the bodies: '// &
+          join_names(deck%bodies%name), err)
+      else if (component < 1 .or. component > deck%run%ndim) then
+        call bad(deck, grp, 'component', itoa(component), 'give the velocity component, 1 .. '// &
+          itoa(deck%run%ndim), err)
+      else if (tmp(k)%kind /= 'fixed' .and. tmp(k)%kind /= 'velocity') then
+        call bad(deck, grp, 'kind', "'"//trim(kind)//"'", "use 'fixed' or 'velocity'", err)
+      end if
+      if (allocated(err)) return
+    end do
+    deck%nbcs = k
+    deck%bcs = tmp(1:k)
+  end subroutine read_bcs
+
   subroutine read_output(u, deck, err)
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
@@ -687,11 +985,19 @@ contains
       s = 'title, mode, ndim, geometry'
     case ('body')
       s = 'name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, r_outer, '// &
-        'theta_start, theta_end, file, kernel, window, basis, support_factor'
+        'theta_start, theta_end, file, kernel, window, basis, support_factor, role, '// &
+        'material, velocity, integration'
     case ('detection')
       s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
     case ('output')
       s = 'file, overwrite'
+    case ('material')
+      s = 'name, model, density, youngs_modulus, poisson_ratio, sigma0, hardening_n, '// &
+        'rate_m, eps0, eps1, epsdot0, back_stress_b, theta, yield_stress, hardening_modulus'
+    case ('solver')
+      s = 't_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, max_steps'
+    case ('bc')
+      s = 'body, region_lo, region_hi, component, kind, value'
     case default
       s = ''
     end select

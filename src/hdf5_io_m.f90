@@ -9,11 +9,13 @@ module hdf5_io_m
     h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5acreate_f, h5awrite_f, &
     h5aclose_f, h5oopen_f, h5oclose_f, h5tcopy_f, h5tset_size_f, h5tclose_f, h5lexists_f, &
     H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
-    H5T_FORTRAN_S1, H5S_SCALAR_F, h5eset_auto_f
+    H5T_FORTRAN_S1, H5S_SCALAR_F, h5eset_auto_f, h5pcreate_f, h5pset_chunk_f, h5pclose_f, &
+    H5P_DATASET_CREATE_F, H5S_UNLIMITED_F, h5dset_extent_f, h5sselect_hyperslab_f, &
+    H5S_SELECT_SET_F, h5fflush_f, H5F_SCOPE_GLOBAL_F
   implicit none
   private
   public :: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text
-  public :: read_particle_file_h5
+  public :: read_particle_file_h5, h5_series_create, h5_series_append, h5_flush
 
   type :: h5file_t
     integer(hid_t) :: id = -1
@@ -149,6 +151,65 @@ contains
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine write_i1
 
+  !> An extendible 1D real dataset (a time series), empty at creation.
+  subroutine h5_series_create(f, path, units, err, descr)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, units
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: descr
+    integer(hid_t) :: space, dset, plist
+    integer(hsize_t) :: dims(1), maxdims(1), chunk(1)
+    integer :: st, s2
+    dims = 0
+    maxdims = H5S_UNLIMITED_F
+    chunk = 1024
+    call h5screate_simple_f(1, dims, space, st, maxdims)
+    call h5pcreate_f(H5P_DATASET_CREATE_F, plist, st)
+    call h5pset_chunk_f(plist, 1, chunk, st)
+    call h5dcreate_f(f%id, path, H5T_NATIVE_DOUBLE, space, dset, st, plist)
+    call h5pclose_f(plist, s2)
+    call finish_dataset(f, path, dset, space, units, descr, st, err)
+  end subroutine h5_series_create
+
+  !> Append values to an extendible 1D dataset made by h5_series_create.
+  subroutine h5_series_append(f, path, values, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    real(wp), intent(in) :: values(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: dset, fspace, mspace
+    integer(hsize_t) :: dims(1), maxdims(1), newdims(1), offset(1), count(1)
+    integer :: st, s2
+    if (size(values) == 0) return
+    call h5dopen_f(f%id, path, dset, st)
+    if (st /= 0) then
+      call fail(f, path, 'open', err)
+      return
+    end if
+    call h5dget_space_f(dset, fspace, st)
+    call h5sget_simple_extent_dims_f(fspace, dims, maxdims, st)
+    call h5sclose_f(fspace, s2)
+    newdims = dims + size(values, kind=hsize_t)
+    call h5dset_extent_f(dset, newdims, st)
+    call h5dget_space_f(dset, fspace, st)
+    offset = dims
+    count = size(values, kind=hsize_t)
+    call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, offset, count, st)
+    call h5screate_simple_f(1, count, mspace, st)
+    call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, values, count, st, mspace, fspace)
+    call h5sclose_f(mspace, s2)
+    call h5sclose_f(fspace, s2)
+    call h5dclose_f(dset, s2)
+    if (st /= 0) call fail(f, path, 'append', err)
+  end subroutine h5_series_append
+
+  !> Push everything written so far to disk (a later crash keeps it).
+  subroutine h5_flush(f)
+    type(h5file_t), intent(in) :: f
+    integer :: st
+    call h5fflush_f(f%id, H5F_SCOPE_GLOBAL_F, st)
+  end subroutine h5_flush
+
   !> A text dataset (e.g. the deck verbatim).
   subroutine h5_text(f, path, text, err)
     type(h5file_t), intent(in) :: f
@@ -191,7 +252,8 @@ contains
     call h5tset_size_f(t, int(max(len(val), 1), size_t), st)
     call h5screate_f(H5S_SCALAR_F, space, st)
     call h5acreate_f(obj, name, t, space, a, st)
-    if (st == 0) call h5awrite_f(a, t, val, dims, st)
+    ! an empty text is stored as one blank (HDF5 strings have at least one character)
+    if (st == 0) call h5awrite_f(a, t, val//repeat(' ', merge(1, 0, len(val) == 0)), dims, st)
     call h5aclose_f(a, s2)
     call h5sclose_f(space, s2)
     call h5tclose_f(t, s2)

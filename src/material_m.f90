@@ -99,11 +99,11 @@ module material_m
       import :: material_t, material_state_t, wp
       class(material_t), intent(in) :: this
       real(wp), intent(in) :: dt
-      real(wp), intent(in) :: d(:, :)
-      real(wp), intent(in) :: w12(:)
+      real(wp), intent(in), contiguous :: d(:, :)
+      real(wp), intent(in), contiguous :: w12(:)
       type(material_state_t), intent(inout) :: st
       integer, intent(in) :: i0, i1
-      real(wp), intent(inout) :: dwp(:)
+      real(wp), intent(inout), contiguous :: dwp(:)
     end subroutine update_i
 
     !> The model's deck name (one of material_names).
@@ -195,7 +195,7 @@ contains
   end subroutine elastic_rate
 
   !> Range checks of the parameters params%model uses; err names the variable, its value
-  !! and the fix. Messages start with 'material: ' so a caller can prefix the deck path.
+  !! and the fix. Messages start with 'material' so a caller can prefix the deck path.
   subroutine check_material_params(params, err)
     type(material_params_t), intent(in) :: params
     type(error_t), allocatable, intent(inout) :: err

@@ -10,6 +10,7 @@ program mfcd
   use bodies_m, only: build_bodies
   use run_output_m, only: check_output_path, timestamp
   use detect_run_m, only: run_detect
+  use explicit_driver_m, only: run_dynamic
   implicit none
   type(deck_t) :: deck
   type(body_t), allocatable :: bodies(:)
@@ -68,6 +69,8 @@ program mfcd
   select case (trim(deck%run%mode))
   case ('detect')
     call run_detect(deck, bodies, err)
+  case ('dynamic')
+    call run_dynamic(deck, bodies, err)
   end select
   if (allocated(err)) call fail(err)
 

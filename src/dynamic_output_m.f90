@@ -1,0 +1,197 @@
+!> Output of a dynamic run: particle snapshots at the deck's times (with an XDMF file so
+!! ParaView opens the series), the energy history as extendible time series, and the run
+!! summary as attributes of /summary. Layout: doc/output.md.
+module dynamic_output_m
+  use kinds_m, only: wp
+  use errors_m, only: error_t
+  use strings_m, only: itoa
+  use body_m, only: body_t
+  use tl_body_m, only: tl_body_t
+  use tl_kinematics_m, only: physical_positions, jacobian
+  use hdf5_io_m, only: h5file_t, h5_group, h5_write, h5_attr, h5_series_create, &
+    h5_series_append, h5_flush
+  implicit none
+  private
+  public :: history_t, history_names, snapshot_write, history_create, history_flush
+  public :: history_push, xdmf_write
+
+  !> Columns of /history, one row per history step.
+  character(len=*), parameter :: history_names(10) = [character(len=12) :: &
+    'step', 'time', 'dt', 'ke', 'w_int', 'w_plastic', 'w_ext', 'w_contact', 'residual', &
+    'n_contact']
+  character(len=*), parameter :: history_units(10) = [character(len=4) :: &
+    '1', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1']
+  character(len=*), parameter :: history_descr(10) = [character(len=80) :: &
+    'step number', 'time', 'time step', 'kinetic energy', &
+    'internal work, int P:dF dV0 (stored plus dissipated)', 'plastic dissipation', &
+    'work of external forces and kinematic conditions', 'work of contact forces', &
+    'energy residual ke + w_int - ke(0) - w_ext - w_contact', &
+    'slave particles in contact']
+
+  !> History rows kept in memory until flushed to the file.
+  type :: history_t
+    real(wp), allocatable :: rows(:, :)   !< (10, capacity)
+    integer :: n = 0                      !< rows held
+    integer :: nflushed = 0               !< rows already in the file
+  end type history_t
+
+contains
+
+  !> Create /history with one extendible dataset per column.
+  subroutine history_create(f, h, plane, err)
+    type(h5file_t), intent(in) :: f
+    type(history_t), intent(out) :: h
+    logical, intent(in) :: plane
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    character(len=:), allocatable :: u
+    allocate(h%rows(size(history_names), 1024))
+    call h5_group(f, '/history', err)
+    do k = 1, size(history_names)
+      if (allocated(err)) return
+      u = trim(history_units(k))
+      if (plane .and. u == 'J') u = 'J/m'
+      call h5_series_create(f, '/history/'//trim(history_names(k)), u, err, &
+        trim(history_descr(k)))
+    end do
+  end subroutine history_create
+
+  !> Keep one row.
+  subroutine history_push(h, row)
+    type(history_t), intent(inout) :: h
+    real(wp), intent(in) :: row(:)
+    real(wp), allocatable :: tmp(:, :)
+    if (h%n == size(h%rows, 2)) then
+      allocate(tmp(size(h%rows, 1), 2*size(h%rows, 2)))
+      tmp(:, 1:h%n) = h%rows(:, 1:h%n)
+      call move_alloc(tmp, h%rows)
+    end if
+    h%n = h%n + 1
+    h%rows(:, h%n) = row
+  end subroutine history_push
+
+  !> Append the rows not yet in the file, and flush the file.
+  subroutine history_flush(f, h, err)
+    type(h5file_t), intent(in) :: f
+    type(history_t), intent(inout) :: h
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    do k = 1, size(history_names)
+      if (allocated(err)) return
+      call h5_series_append(f, '/history/'//trim(history_names(k)), &
+        h%rows(k, h%nflushed + 1:h%n), err)
+    end do
+    h%nflushed = h%n
+    call h5_flush(f)
+  end subroutine history_flush
+
+  !> /snapshots/<label>/<body>: physical positions, displacements and velocities of the
+  !! particles, Cauchy stress, effective plastic strain and J (averaged over each particle's
+  !! integration points with their weights; for SCNI the particle's own point).
+  subroutine snapshot_write(f, label, time, step, bodies, tbs, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: label
+    real(wp), intent(in) :: time
+    integer, intent(in) :: step
+    type(body_t), intent(in) :: bodies(:)
+    type(tl_body_t), intent(inout) :: tbs(:)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: g, gb
+    real(wp), allocatable :: vphys(:, :), sig(:, :), eps(:), jj(:), w(:)
+    integer :: k, q, i, np
+    real(wp) :: jq
+    g = '/snapshots/'//label
+    call h5_group(f, g, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'time', time, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'step', step, err)
+    do k = 1, size(tbs)
+      if (allocated(err)) return
+      associate (tb => tbs(k))
+        np = tb%np
+        gb = g//'/'//trim(bodies(tb%ibody)%name)
+        call physical_positions(tb%t, tb%x0, tb%d, tb%x)
+        allocate(vphys(2, np), sig(4, np), eps(np), jj(np), w(np))
+        call physical_positions(tb%t, 0.0_wp*tb%x0, tb%v, vphys)
+        sig = 0.0_wp
+        eps = 0.0_wp
+        jj = 0.0_wp
+        w = 0.0_wp
+        do q = 1, tb%nq
+          i = tb%t%owner(q)
+          jq = jacobian(tb%f(:, q))
+          sig(:, i) = sig(:, i) + tb%t%wgt(q)*tb%st%tau(:, q)/jq
+          eps(i) = eps(i) + tb%t%wgt(q)*tb%st%epsbar(q)
+          jj(i) = jj(i) + tb%t%wgt(q)*jq
+          w(i) = w(i) + tb%t%wgt(q)
+        end do
+        do i = 1, np
+          sig(:, i) = sig(:, i)/w(i)
+          eps(i) = eps(i)/w(i)
+          jj(i) = jj(i)/w(i)
+        end do
+        call h5_group(f, gb, err)
+        if (.not. allocated(err)) call h5_write(f, gb//'/x', tb%x, 'm', err, &
+          'physical particle positions (2, np)')
+        if (.not. allocated(err)) call h5_write(f, gb//'/u', tb%x - tb%x0, 'm', err, &
+          'particle displacements (2, np)')
+        if (.not. allocated(err)) call h5_write(f, gb//'/v', vphys, 'm/s', err, &
+          'particle velocities (2, np)')
+        if (.not. allocated(err)) call h5_write(f, gb//'/stress', sig, 'Pa', err, &
+          'Cauchy stress 11, 22, 33, 12 (33: hoop in axisymmetry) (4, np)')
+        if (.not. allocated(err)) call h5_write(f, gb//'/epsbar', eps, '1', err, &
+          'effective plastic strain')
+        if (.not. allocated(err)) call h5_write(f, gb//'/J', jj, '1', err, &
+          'volume ratio det F')
+        deallocate(vphys, sig, eps, jj, w)
+      end associate
+    end do
+    call h5_flush(f)
+  end subroutine snapshot_write
+
+  !> The XDMF companion of the HDF5 file: a temporal collection of polyvertex grids, one
+  !! per snapshot and body, pointing at the datasets in the HDF5 file (ParaView opens it).
+  subroutine xdmf_write(path, h5name, labels, times, bodies, tbs)
+    character(len=*), intent(in) :: path, h5name
+    character(len=*), intent(in) :: labels(:)
+    real(wp), intent(in) :: times(:)
+    type(body_t), intent(in) :: bodies(:)
+    type(tl_body_t), intent(in) :: tbs(:)
+    integer :: u, s, k, np
+    character(len=:), allocatable :: g, nps
+    open(newunit=u, file=path, status='replace', action='write')
+    write(u, '(a)') '<?xml version="1.0" ?>'
+    write(u, '(a)') '<Xdmf Version="3.0"><Domain>'
+    write(u, '(a)') '<Grid Name="mfcd" GridType="Collection" CollectionType="Temporal">'
+    do s = 1, size(labels)
+      write(u, '(a)') '<Grid Name="t'//trim(labels(s))//'" GridType="Collection" '// &
+        'CollectionType="Spatial">'
+      write(u, '(a,es24.16,a)') '<Time Value="', times(s), '"/>'
+      do k = 1, size(tbs)
+        np = tbs(k)%np
+        nps = itoa(np)
+        g = h5name//':/snapshots/'//trim(labels(s))//'/'//trim(bodies(tbs(k)%ibody)%name)
+        write(u, '(a)') '<Grid Name="'//trim(bodies(tbs(k)%ibody)%name)//'" GridType="Uniform">'
+        write(u, '(a)') '<Topology TopologyType="Polyvertex" NumberOfElements="'//nps//'"/>'
+        write(u, '(a)') '<Geometry GeometryType="XY"><DataItem Dimensions="'//nps// &
+          ' 2" Format="HDF" NumberType="Float" Precision="8">'//g//'/x</DataItem></Geometry>'
+        call attr(u, 'u', 'Vector', nps//' 2', g//'/u')
+        call attr(u, 'v', 'Vector', nps//' 2', g//'/v')
+        call attr(u, 'stress', 'Matrix', nps//' 4', g//'/stress')
+        call attr(u, 'epsbar', 'Scalar', nps, g//'/epsbar')
+        call attr(u, 'J', 'Scalar', nps, g//'/J')
+        write(u, '(a)') '</Grid>'
+      end do
+      write(u, '(a)') '</Grid>'
+    end do
+    write(u, '(a)') '</Grid></Domain></Xdmf>'
+    close(u)
+  contains
+    subroutine attr(unit, name, kind, dims, item)
+      integer, intent(in) :: unit
+      character(len=*), intent(in) :: name, kind, dims, item
+      write(unit, '(a)') '<Attribute Name="'//name//'" AttributeType="'//kind// &
+        '" Center="Node"><DataItem Dimensions="'//dims//'" Format="HDF" '// &
+        'NumberType="Float" Precision="8">'//item//'</DataItem></Attribute>'
+    end subroutine attr
+  end subroutine xdmf_write
+end module dynamic_output_m

@@ -1,0 +1,299 @@
+!> The explicit central-difference driver of a dynamic run, eqs. (62)-(64):
+!!   u_{n+1} = u_n + dt v_n + dt^2/2 a_n                      (64)
+!!   a_{n+1} = M^-1 (f_ext - f_int(u_{n+1}))                  (62)
+!!   v_{n+1} = v_n + dt/2 (a_n + a_{n+1})                     (63)
+!! with the row-sum lumped mass (70). Each step: predict, [contact], internal forces,
+!! update, energy balance, guards, log, output. A run that goes unstable (non-finite
+!! values, J <= 0, energy residual above the deck's tolerance) stops with a diagnostic
+!! snapshot and exit code 1, keeping everything written so far.
+module explicit_driver_m
+  use, intrinsic :: iso_fortran_env, only: output_unit
+  use omp_lib, only: omp_get_wtime, omp_get_max_threads
+  use kinds_m, only: wp, i64
+  use errors_m, only: error_t, set_error, exit_run_failed
+  use strings_m, only: itoa, rtoa
+  use deck_m, only: deck_t
+  use body_m, only: body_t
+  use tl_body_m, only: tl_body_t, tl_body_init, tl_body_forces, tl_apply_bc, tl_kinetic_energy
+  use stable_step_m, only: critical_step, spacing_step
+  use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_attr, h5_flush
+  use run_output_m, only: write_header, write_bodies
+  use dynamic_output_m, only: history_t, history_create, history_push, history_flush, &
+    snapshot_write, xdmf_write
+  implicit none
+  private
+  public :: run_dynamic
+
+  !> Energy totals over the bodies (J; J/m in plane strain).
+  type :: energies_t
+    real(wp) :: ke = 0.0_wp, ke0 = 0.0_wp, w_int = 0.0_wp, w_plastic = 0.0_wp
+    real(wp) :: w_ext = 0.0_wp, w_contact = 0.0_wp, residual = 0.0_wp, scale = 0.0_wp
+  end type energies_t
+
+contains
+
+  !> Run the deck's dynamic problem. bodies are built and checked already.
+  subroutine run_dynamic(deck, bodies, err)
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(tl_body_t), allocatable :: tbs(:)
+    type(h5file_t) :: f
+    type(history_t) :: hist
+    type(energies_t) :: en
+    character(len=8), allocatable :: labels(:)
+    real(wp), allocatable :: snap_t(:)
+    character(len=:), allocatable :: reason, xdmf
+    real(wp) :: dt, t, dtc, dts, wall0, wall, twrite
+    integer :: k, ndef, n, nsnap_done, log_every, hist_every, nsteps_est, bad_q, kb
+    logical :: axisym, failed
+    real(wp) :: bad_j
+    integer(i64) :: psteps
+    wall0 = omp_get_wtime()
+    axisym = deck%run%geometry == 'axisymmetric'
+    ndef = count(deck%bodies(1:deck%nbodies)%role == 'deformable')
+    allocate(tbs(ndef))
+    n = 0
+    do k = 1, deck%nbodies
+      if (deck%bodies(k)%role /= 'deformable') cycle
+      n = n + 1
+      call tl_body_init(deck, k, bodies(k), axisym, tbs(n), err)
+      if (allocated(err)) return
+      write(output_unit, '(a)') 'dynamic: body '''//trim(bodies(k)%name)//''': '// &
+        itoa(tbs(n)%np)//' particles, '//itoa(tbs(n)%nq)//' integration points ('// &
+        trim(deck%bodies(k)%integration)//'), material '''// &
+        trim(deck%materials(deck%bodies(k)%imat)%name)//''' ('// &
+        tbs(n)%mat%model_name()//'), mass '//rtoa(tbs(n)%t%total_mass)//' kg'// &
+        merge('/m', '  ', .not. axisym)
+    end do
+    if (ndef == 0) then
+      call set_error(err, "deck '"//deck%path//"': mode = 'dynamic' needs at least one "// &
+        "deformable body (role = 'deformable')")
+      return
+    end if
+    ! time step: fixed, or cfl x the critical step of the stiffest body
+    dtc = huge(1.0_wp)
+    dts = huge(1.0_wp)
+    do k = 1, ndef
+      dtc = min(dtc, critical_step(tbs(k)))
+      dts = min(dts, spacing_step(tbs(k)))
+    end do
+    if (deck%solver%dt > 0.0_wp) then
+      dt = deck%solver%dt
+      write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,f6.3,a)') 'dynamic: dt = ', dt, &
+        ' s fixed by the deck; critical step 2/omega_max = ', dtc, ' s (h_min/c_d = ', dts, &
+        ' s): dt is ', dt/dtc, ' of critical'
+    else
+      dt = deck%solver%cfl*dtc
+      write(output_unit, '(a,es10.3,a,f5.2,a,es10.3,a,es10.3,a)') 'dynamic: dt = ', dt, &
+        ' s = cfl ', deck%solver%cfl, ' x critical step 2/omega_max = ', dtc, &
+        ' s (power iteration; h_min/c_d = ', dts, ' s)'
+    end if
+    if (dt > dtc) write(output_unit, '(a)') 'dynamic: warning: dt exceeds the estimated '// &
+      'critical step; the run is likely to go unstable'
+    nsteps_est = ceiling(deck%solver%t_end/dt - 1.0e-9_wp)
+    log_every = deck%solver%log_every
+    if (log_every == 0) log_every = max(1, nsteps_est/50)
+    hist_every = deck%solver%history_every
+    if (hist_every == 0) hist_every = max(1, min(log_every, nsteps_est/1000))
+    ! output
+    call h5_create(f, trim(deck%output%file), err)
+    if (allocated(err)) return
+    call write_header(f, deck, err)
+    if (.not. allocated(err)) call write_bodies(f, bodies, deck, err)
+    if (.not. allocated(err)) call h5_group(f, '/snapshots', err)
+    if (.not. allocated(err)) call history_create(f, hist, .not. axisym, err)
+    if (allocated(err)) return
+    xdmf = trim(deck%output%file)
+    xdmf = xdmf(1:index(xdmf, '.', back=.true.) - 1)//'.xdmf'
+    allocate(labels(0), snap_t(0))
+    ! initial state: forces at u = 0
+    do k = 1, ndef
+      call tl_body_forces(tbs(k), dt, bad_q, bad_j)
+      call tl_apply_bc(tbs(k))
+    end do
+    call energy_totals(tbs, en)
+    t = 0.0_wp
+    n = 0
+    nsnap_done = 0
+    call snapshots_due()
+    call history_push(hist, history_row())
+    write(output_unit, '(a)') 'dynamic:   cycle      time (s)     dt (s)       KE (J)'// &
+      '     W_int (J)    W_plas (J)   W_ext (J)  residual    ETA (s)'
+    call log_line()
+    failed = .false.
+    reason = ''
+    psteps = 0
+    do while (t < deck%solver%t_end - 0.5_wp*dt .and. n < deck%solver%max_steps)
+      do k = 1, ndef
+        call step_body(tbs(k), dt, bad_q, bad_j)
+        psteps = psteps + tbs(k)%np
+        if (bad_q > 0 .and. .not. failed) then
+          failed = .true.
+          kb = tbs(k)%ibody
+          reason = 'step '//itoa(n + 1)//', body '''//trim(bodies(kb)%name)// &
+            ''', integration point '//itoa(bad_q)//' (particle '//itoa(tbs(k)%t%owner(bad_q))// &
+            '): J = '//rtoa(bad_j)//' (must stay > 0) or non-finite stress'
+        end if
+        if (.not. failed .and. .not. all(abs(tbs(k)%d) < huge(1.0_wp) .and. &
+          abs(tbs(k)%v) < huge(1.0_wp))) then
+          failed = .true.
+          reason = 'step '//itoa(n + 1)//', body '''//trim(bodies(tbs(k)%ibody)%name)// &
+            ''': non-finite displacement or velocity (particle '// &
+            itoa(first_bad(tbs(k)))//')'
+        end if
+      end do
+      t = t + dt
+      n = n + 1
+      call energy_totals(tbs, en)
+      if (.not. failed .and. abs(en%residual) > deck%solver%energy_tol*en%scale) then
+        failed = .true.
+        reason = 'step '//itoa(n)//': energy residual '//rtoa(en%residual)//' exceeds '// &
+          'energy_tol x energy scale = '//rtoa(deck%solver%energy_tol*en%scale)
+      end if
+      if (mod(n, hist_every) == 0 .or. failed) call history_push(hist, history_row())
+      if (mod(n, log_every) == 0 .or. failed) call log_line()
+      if (failed) exit
+      call snapshots_due()
+      if (allocated(err)) return
+    end do
+    wall = omp_get_wtime() - wall0
+    if (failed) then
+      write(output_unit, '(a)') 'dynamic: FAILED at '//reason
+      call snapshot_write(f, 'failure', t, n, bodies, tbs, err)
+      labels = [labels, 'failure ']
+      snap_t = [snap_t, t]
+      call xdmf_write(xdmf, basename(trim(deck%output%file)), labels, snap_t, bodies, tbs)
+    else if (mod(n, hist_every) /= 0) then
+      call history_push(hist, history_row())
+    end if
+    if (.not. allocated(err)) call history_flush(f, hist, err)
+    if (.not. allocated(err)) call write_summary()
+    call h5_close(f, err)
+    write(output_unit, '(a,i0,a,es12.5,a,f9.2,a,es10.3,a)') 'summary: ', n, ' steps to t = ', &
+      t, ' s in ', wall, ' s wall, ', real(psteps, wp)/max(wall, 1.0e-9_wp), &
+      ' particle-steps/s'
+    write(output_unit, '(a,es11.4,a,es11.4,a,es10.3)') 'summary: energy residual ', &
+      en%residual, ' J of scale ', en%scale, ' J: relative ', en%residual/max(en%scale, &
+      tiny(1.0_wp))
+    write(output_unit, '(a)') 'summary: wrote '//trim(deck%output%file)//' and '//xdmf
+    if (failed .and. .not. allocated(err)) call set_error(err, 'run failed at '//reason// &
+      '; diagnostic snapshot /snapshots/failure written', exit_run_failed)
+
+  contains
+
+    subroutine snapshots_due()
+      character(len=8) :: lab
+      do while (nsnap_done < deck%solver%nsnap)
+        if (deck%solver%snapshot_times(nsnap_done + 1) > t + 0.5_wp*dt) exit
+        nsnap_done = nsnap_done + 1
+        write(lab, '(i4.4)') nsnap_done
+        call snapshot_write(f, trim(lab), t, n, bodies, tbs, err)
+        if (allocated(err)) return
+        labels = [labels, lab]
+        snap_t = [snap_t, t]
+        call history_flush(f, hist, err)
+        call xdmf_write(xdmf, basename(trim(deck%output%file)), labels, snap_t, bodies, tbs)
+        write(output_unit, '(a,es12.5,a)') 'dynamic: snapshot '//trim(lab)//' at t = ', t, ' s'
+      end do
+    end subroutine snapshots_due
+
+    function history_row() result(row)
+      real(wp) :: row(10)
+      row = [real(n, wp), t, dt, en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, &
+        en%residual, 0.0_wp]
+    end function history_row
+
+    subroutine log_line()
+      real(wp) :: eta
+      twrite = omp_get_wtime() - wall0
+      eta = 0.0_wp
+      if (n > 0) eta = twrite/real(n, wp)*real(max(nsteps_est - n, 0), wp)
+      write(output_unit, '(a,i9,es14.6,es11.3,5es13.4,f9.1)') 'dynamic: ', n, t, dt, en%ke, &
+        en%w_int, en%w_plastic, en%w_ext, en%residual, eta
+    end subroutine log_line
+
+    subroutine write_summary()
+      call h5_group(f, '/summary', err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'status', &
+        merge('failed   ', 'completed', failed), err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'failure', reason, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'steps', n, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'time', t, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt', dt, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical', dtc, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'wall_time', wall, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'threads', omp_get_max_threads(), &
+        err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'particle_steps_per_second', &
+        real(psteps, wp)/max(wall, 1.0e-9_wp), err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'energy_residual', en%residual, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'energy_scale', en%scale, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'kinetic_energy', en%ke, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'internal_work', en%w_int, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'plastic_dissipation', &
+        en%w_plastic, err)
+    end subroutine write_summary
+  end subroutine run_dynamic
+
+  !> One central-difference step of one body (contact corrections enter between the
+  !! prediction and the force evaluation, Section 5).
+  subroutine step_body(tb, dt, bad_q, bad_j)
+    type(tl_body_t), intent(inout) :: tb
+    real(wp), intent(in) :: dt
+    integer, intent(out) :: bad_q
+    real(wp), intent(out) :: bad_j
+    call tl_apply_bc(tb)
+    tb%d_old = tb%d
+    tb%d = tb%d + dt*tb%v + 0.5_wp*dt*dt*tb%a                      ! (64)
+    tb%a_old = tb%a
+    call tl_body_forces(tb, dt, bad_q, bad_j)                       ! (62)
+    call tl_apply_bc(tb)
+    tb%v = tb%v + 0.5_wp*dt*(tb%a_old + tb%a)                       ! (63)
+    ! work of the kinematic conditions: their reactions R = f_int - f_ext times the motion
+    tb%freac = merge(tb%fint - tb%fext, 0.0_wp, tb%pres)
+    tb%w_bc = tb%w_bc + 0.5_wp*sum((tb%freac_old + tb%freac)*(tb%d - tb%d_old))
+    tb%freac_old = tb%freac
+  end subroutine step_body
+
+  pure integer function first_bad(tb) result(i)
+    type(tl_body_t), intent(in) :: tb
+    integer :: j
+    i = 0
+    do j = 1, tb%np
+      if (.not. all(abs(tb%d(:, j)) < huge(1.0_wp) .and. abs(tb%v(:, j)) < huge(1.0_wp))) then
+        i = j
+        return
+      end if
+    end do
+  end function first_bad
+
+  subroutine energy_totals(tbs, en)
+    type(tl_body_t), intent(in) :: tbs(:)
+    type(energies_t), intent(inout) :: en
+    integer :: k
+    en%ke = 0.0_wp
+    en%ke0 = 0.0_wp
+    en%w_int = 0.0_wp
+    en%w_plastic = 0.0_wp
+    en%w_ext = 0.0_wp
+    en%w_contact = 0.0_wp
+    do k = 1, size(tbs)
+      en%ke = en%ke + tl_kinetic_energy(tbs(k))
+      en%ke0 = en%ke0 + tbs(k)%ke0
+      en%w_int = en%w_int + tbs(k)%w_int
+      en%w_plastic = en%w_plastic + tbs(k)%w_plastic
+      en%w_ext = en%w_ext + tbs(k)%w_ext + tbs(k)%w_bc
+      en%w_contact = en%w_contact + tbs(k)%w_contact
+    end do
+    en%residual = en%ke + en%w_int - en%ke0 - en%w_ext - en%w_contact
+    en%scale = max(en%ke0, en%ke, abs(en%w_int), abs(en%w_ext), abs(en%w_contact), &
+      tiny(1.0_wp))
+  end subroutine energy_totals
+
+  pure function basename(path) result(b)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: b
+    b = path(index(path, '/', back=.true.) + 1:)
+  end function basename
+end module explicit_driver_m

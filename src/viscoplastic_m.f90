@@ -1,0 +1,147 @@
+!> The paper's J2 overstress viscoplastic model, eqs. (73)-(81), advanced by the rate tangent
+!! method of Peirce, Shih and Needleman, eqs. (82)-(88).
+!!
+!! Model (Kirchhoff stress tau, Jaumann rate, eqs. 58-59):
+!!   s = dev(tau) (74),  s' = s - alpha (75),  sbar^2 = 3/2 s':s' (76),  P = 3/2 s'/sbar (78),
+!!   D^p = epsdot P (73),  epsdot = epsdot0 (sbar/g(epsbar))^(1/m) (79),
+!!   g = sigma0 (1 + epsbar/eps0)^N / (1 + (epsbar/eps1)^2) (80),  alpha_jaumann = b D^p (81),
+!!   tau_jaumann = C : (D - D^p) (58).
+!! Rate tangent step (doc/materials.md), everything at t_n after the Hughes-Winget rotation:
+!!   H0  = 3G + b P:P + sbar g'/g     (84; P:P = 3/2, and -(d epsdot/d epsbar)/(d epsdot/d sbar)
+!!                                     = sbar g'/g for the power law)
+!!   xi  = theta dt (epsdot_n/(m sbar)) H0                                   (86)
+!!   epsdot_theta = epsdot_n/(1 + xi) + xi/((1 + xi) H0) (2G P):D            (83)
+!!   tau_jaumann  = C:D - epsdot_theta 2G P     (87-88: C_tan:D - epsdot_n/(1+xi) 2G P)
+!!   alpha_jaumann = b epsdot_theta P,  epsbar_{n+1} = epsbar_n + dt epsdot_theta,
+!! with epsdot_n from eq. (79) at the state of step n, and epsdot_theta stored as the rate.
+!!
+!! Numerical guards (all documented in doc/materials.md):
+!! - sbar = 0, or x = log(sbar/g)/m < -230 (epsdot_n < 1e-100 epsdot0; sbar < 0.1 g at
+!!   m = 0.01): no flow, the step is elastic, and no denormal numbers arise.
+!! - (sbar/g)^(1/m) has exponent 100 for m = 0.01: it is evaluated as exp(x),
+!!   x = log(sbar/g)/m, with x capped at 300 (sbar/g = exp(300 m), i.e. 20 at m = 0.01) so it
+!!   never overflows. Harmless: where the cap acts, xi >> 1 and epsdot_theta tends to
+!!   P:D 2G/H0 + m sbar/(theta dt H0), independent of epsdot_n.
+!! - epsdot_theta < 0 (strong unloading with xi >> 1) is set to 0: elastic unloading.
+!! - H0 is kept >= G (reached only for a softening slope sbar g'/g < -2G, far outside metals).
+module viscoplastic_m
+  use kinds_m, only: wp
+  use material_m, only: material_t, material_params_t, material_state_t, ncomp, &
+    jaumann_rotate, elastic_rate
+  implicit none
+  private
+  public :: viscoplastic_t
+
+  real(wp), parameter :: x_cap = 300.0_wp    !< cap on log(sbar/g)/m (see the module notes)
+  real(wp), parameter :: x_floor = -230.0_wp !< below it epsdot_n < 1e-100 epsdot0: no flow
+
+  !> Overstress power-law viscoplasticity with isotropic (g) and kinematic (b) hardening.
+  type, extends(material_t) :: viscoplastic_t
+    real(wp) :: sigma0 = 0.0_wp   !< sigma_0 of eq. (80) (Pa)
+    real(wp) :: n = 0.0_wp        !< hardening exponent N of eq. (80)
+    real(wp) :: m = 1.0_wp        !< rate sensitivity m of eq. (79)
+    real(wp) :: eps0 = 1.0_wp     !< epsilon_0 of eq. (80)
+    real(wp) :: eps1 = 1.0_wp     !< epsilon_1 of eq. (80)
+    real(wp) :: epsdot0 = 0.0_wp  !< reference rate of eq. (79) (1/s)
+    real(wp) :: b = 0.0_wp        !< back-stress modulus of eq. (81) (Pa)
+    real(wp) :: theta = 0.5_wp    !< time-integration parameter of eq. (86)
+  contains
+    procedure :: init => vp_init
+    procedure :: update => vp_update
+    procedure, nopass :: model_name => vp_name
+    procedure :: flow_stress => vp_flow_stress
+  end type viscoplastic_t
+
+contains
+
+  !> Elastic constants and the parameters of eqs. (79)-(81), (86) from params.
+  subroutine vp_init(this, params)
+    class(viscoplastic_t), intent(inout) :: this
+    type(material_params_t), intent(in) :: params
+    call this%set_elastic_constants(params%density, params%youngs_modulus, &
+      params%poisson_ratio)
+    this%sigma0 = params%sigma0
+    this%n = params%hardening_n
+    this%m = params%rate_m
+    this%eps0 = params%eps0
+    this%eps1 = params%eps1
+    this%epsdot0 = params%epsdot0
+    this%b = params%back_stress_b
+    this%theta = params%theta
+  end subroutine vp_init
+
+  !> Flow stress g(epsbar) of eq. (80) (Pa).
+  pure real(wp) function vp_flow_stress(this, epsbar) result(gv)
+    class(viscoplastic_t), intent(in) :: this
+    real(wp), intent(in) :: epsbar
+    gv = this%sigma0*(1.0_wp + epsbar/this%eps0)**this%n/(1.0_wp + (epsbar/this%eps1)**2)
+  end function vp_flow_stress
+
+  !> One rate-tangent step for points i0..i1 (arguments: see update_i).
+  subroutine vp_update(this, dt, d, w12, st, i0, i1, dwp)
+    class(viscoplastic_t), intent(in) :: this
+    real(wp), intent(in) :: dt
+    real(wp), intent(in), contiguous :: d(:, :)
+    real(wp), intent(in), contiguous :: w12(:)
+    type(material_state_t), intent(inout) :: st
+    integer, intent(in) :: i0, i1
+    real(wp), intent(inout), contiguous :: dwp(:)
+    real(wp) :: t(ncomp), a(ncomp), r(ncomp), s(ncomp), pdir(ncomp), tn(ncomp)
+    real(wp) :: p, sbar, eb, gv, dlng, x, edn, h0, xi, pd, edot
+    real(wp) :: g2, g3, rm, bpp, h0min
+    integer :: i
+    g2 = 2.0_wp*this%g
+    g3 = 3.0_wp*this%g
+    rm = 1.0_wp/this%m
+    bpp = 1.5_wp*this%b     ! b P:P with P:P = 3/2
+    h0min = this%g
+    do i = i0, i1
+      t = st%tau(:, i)
+      a = st%alpha(:, i)
+      call jaumann_rotate(dt, w12(i), t)
+      call jaumann_rotate(dt, w12(i), a)
+      call elastic_rate(this%lambda, this%g, d(:, i), r)
+      eb = st%epsbar(i)
+      edot = 0.0_wp
+      ! s' = dev(tau) - alpha and sbar, eqs. (74)-(76)
+      p = (t(1) + t(2) + t(3))/3.0_wp
+      s(1:3) = t(1:3) - p - a(1:3)
+      s(4) = t(4) - a(4)
+      sbar = sqrt(1.5_wp*(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_wp*s(4)**2))
+      if (sbar > 0.0_wp) then
+        gv = this%sigma0*(1.0_wp + eb/this%eps0)**this%n/(1.0_wp + (eb/this%eps1)**2)
+        x = log(sbar/gv)*rm
+        if (x > x_floor) then
+          edn = this%epsdot0*exp(min(x, x_cap))                        ! eq. (79)
+          dlng = this%n/(this%eps0 + eb) - 2.0_wp*eb/(this%eps1**2 + eb**2)  ! g'/g
+          pdir = (1.5_wp/sbar)*s                                        ! eq. (78)
+          h0 = max(g3 + bpp + sbar*dlng, h0min)                         ! eq. (84)
+          xi = this%theta*dt*edn*rm/sbar*h0                             ! eq. (86)
+          pd = g2*(pdir(1)*d(1, i) + pdir(2)*d(2, i) + pdir(3)*d(3, i) &
+            + 2.0_wp*pdir(4)*d(4, i))                                   ! (C:P):D
+          edot = max(0.0_wp, (edn + xi*pd/h0)/(1.0_wp + xi))            ! eq. (83)
+          r = r - (edot*g2)*pdir                                        ! eqs. (87)-(88)
+        end if
+      end if
+      tn = t + dt*r
+      if (edot > 0.0_wp) then
+        st%alpha(:, i) = a + (dt*this%b*edot)*pdir                      ! eq. (81)
+        st%epsbar(i) = eb + dt*edot
+        dwp(i) = dt*edot*0.5_wp*(pdir(1)*(t(1) + tn(1)) + pdir(2)*(t(2) + tn(2)) &
+          + pdir(3)*(t(3) + tn(3)) + 2.0_wp*pdir(4)*(t(4) + tn(4)))
+      else
+        st%alpha(:, i) = a
+        dwp(i) = 0.0_wp
+      end if
+      st%tau(:, i) = tn
+      st%epsdot(i) = edot
+    end do
+  end subroutine vp_update
+
+  !> 'viscoplastic'.
+  pure function vp_name() result(name)
+    character(len=:), allocatable :: name
+    name = 'viscoplastic'
+  end function vp_name
+
+end module viscoplastic_m
