@@ -13,7 +13,7 @@ module deck_m
   implicit none
   private
   public :: deck_t, run_params_t, body_spec_t, detection_spec_t, output_spec_t
-  public :: material_spec_t, solver_spec_t, bc_spec_t
+  public :: material_spec_t, solver_spec_t, bc_spec_t, contact_spec_t
   public :: read_deck, max_vertices, max_points, unset
 
   integer, parameter :: max_vertices = 64
@@ -23,8 +23,8 @@ module deck_m
   !> Marks an array entry the deck did not set.
   real(wp), parameter :: unset = -huge(1.0_wp)
 
-  character(len=*), parameter :: known_groups(7) = [character(len=9) :: &
-    'run', 'body', 'detection', 'output', 'material', 'solver', 'bc']
+  character(len=*), parameter :: known_groups(8) = [character(len=9) :: &
+    'run', 'body', 'detection', 'output', 'material', 'solver', 'bc', 'contact']
   character(len=*), parameter :: modes(2) = [character(len=8) :: 'detect', 'dynamic']
   character(len=*), parameter :: roles(2) = [character(len=10) :: 'deformable', 'rigid']
   character(len=*), parameter :: integrations(3) = [character(len=6) :: &
@@ -32,6 +32,7 @@ module deck_m
   integer, parameter :: max_materials = 8
   integer, parameter :: max_bcs = 32
   integer, parameter :: max_snapshots = 256
+  integer, parameter :: max_contacts = 8
   character(len=*), parameter :: geometries(2) = [character(len=12) :: &
     'plane', 'axisymmetric']
   character(len=*), parameter :: shapes(5) = [character(len=14) :: &
@@ -98,6 +99,17 @@ module deck_m
     integer :: ibody = 0
   end type bc_spec_t
 
+  !> A master/slave contact pair (&contact), Sections 2 and 5.
+  type :: contact_spec_t
+    character(len=64) :: master = '', slave = ''
+    real(wp) :: eps_cr = 5.0e-10_wp        !< det(M_master) threshold (paper: 5e-10)
+    real(wp) :: eps_rel = 0.0_wp           !< or a fraction of the master's plateau
+    real(wp) :: mu = 0.0_wp                !< Coulomb friction coefficient
+    real(wp) :: edge_point(3) = -huge(1.0_wp)  !< reference point of a slave particle whose
+                                           !< contact and separation times are reported (m)
+    integer :: imaster = 0, islave = 0
+  end type contact_spec_t
+
   type :: detection_spec_t
     logical :: present = .false.
     character(len=64) :: body = ''
@@ -129,6 +141,8 @@ module deck_m
     type(solver_spec_t) :: solver
     integer :: nbcs = 0
     type(bc_spec_t), allocatable :: bcs(:)
+    integer :: ncontacts = 0
+    type(contact_spec_t), allocatable :: contacts(:)
   end type deck_t
 
 contains
@@ -162,6 +176,7 @@ contains
     if (.not. allocated(err)) call read_detection(u, deck, err)
     if (.not. allocated(err)) call read_solver(u, deck, err)
     if (.not. allocated(err)) call read_bcs(u, deck, err)
+    if (.not. allocated(err)) call read_contacts(u, deck, err)
     if (.not. allocated(err)) call read_output(u, deck, err)
     close(u)
   end subroutine read_deck
@@ -942,6 +957,80 @@ contains
     deck%bcs = tmp(1:k)
   end subroutine read_bcs
 
+  subroutine read_contacts(u, deck, err)
+    integer, intent(in) :: u
+    type(deck_t), intent(inout) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=64) :: master, slave
+    real(wp) :: eps_cr, eps_rel, mu, edge_point(3)
+    integer :: ios, k, j
+    character(len=512) :: msg
+    type(contact_spec_t) :: dflt, tmp(max_contacts)
+    character(len=:), allocatable :: grp
+    namelist /contact/ master, slave, eps_cr, eps_rel, mu, edge_point
+    rewind(u)
+    k = 0
+    do
+      master = dflt%master
+      slave = dflt%slave
+      eps_cr = dflt%eps_cr
+      eps_rel = dflt%eps_rel
+      mu = dflt%mu
+      edge_point = dflt%edge_point
+      read(u, nml=contact, iostat=ios, iomsg=msg)
+      if (ios == iostat_end) exit
+      k = k + 1
+      grp = 'contact (contact '//itoa(k)//')'
+      if (ios /= 0) then
+        call nml_error(deck, 'contact', ' (contact '//itoa(k)//')', msg, err)
+        return
+      end if
+      if (k > max_contacts) then
+        call set_error(err, "deck '"//deck%path//"': more than "//itoa(max_contacts)// &
+          " &contact groups")
+        return
+      end if
+      tmp(k) = contact_spec_t(master=master, slave=slave, eps_cr=eps_cr, eps_rel=eps_rel, &
+        mu=mu, edge_point=edge_point)
+      do j = 1, deck%nbodies
+        if (deck%bodies(j)%name == master) tmp(k)%imaster = j
+        if (deck%bodies(j)%name == slave) tmp(k)%islave = j
+      end do
+      if (tmp(k)%imaster == 0) then
+        call bad(deck, grp, 'master', "'"//trim(master)//"'", 'name one of the bodies: '// &
+          join_names(deck%bodies%name), err)
+      else if (tmp(k)%islave == 0) then
+        call bad(deck, grp, 'slave', "'"//trim(slave)//"'", 'name one of the bodies: '// &
+          join_names(deck%bodies%name), err)
+      else if (tmp(k)%imaster == tmp(k)%islave) then
+        call bad(deck, grp, 'slave', "'"//trim(slave)//"'", 'master and slave must be '// &
+          'different bodies', err)
+      else if (deck%bodies(tmp(k)%islave)%role /= 'deformable') then
+        call bad(deck, grp, 'slave', "'"//trim(slave)//"'", 'the slave must be a '// &
+          "deformable body (role = 'deformable')", err)
+      else if (deck%bodies(tmp(k)%imaster)%role /= 'rigid') then
+        call bad(deck, grp, 'master', "'"//trim(master)//"'", "the master must be a rigid "// &
+          "body (role = 'rigid'); deformable masters (both-way detection, eq. 28) are not "// &
+          "available yet", err)
+      else if (.not. (eps_cr > 0.0_wp)) then
+        call bad(deck, grp, 'eps_cr', rtoa(eps_cr), 'give a small positive threshold '// &
+          '(paper: 5e-10)', err)
+      else if (eps_rel < 0.0_wp .or. eps_rel >= 1.0_wp) then
+        call bad(deck, grp, 'eps_rel', rtoa(eps_rel), 'give 0 (off) or a fraction of the '// &
+          "master's interior plateau in (0, 1)", err)
+      else if (mu < 0.0_wp .or. mu > 10.0_wp) then
+        call bad(deck, grp, 'mu', rtoa(mu), 'give a friction coefficient in [0, 10] '// &
+          '(paper: 0.1)', err)
+      else if (deck%run%mode /= 'dynamic') then
+        call bad(deck, grp, 'master', "'"//trim(master)//"'", "contact pairs act in "// &
+          "mode = 'dynamic' only", err)
+      end if
+      if (allocated(err)) return
+    end do
+    deck%ncontacts = k
+    deck%contacts = tmp(1:k)
+  end subroutine read_contacts
+
   subroutine read_output(u, deck, err)
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
@@ -998,6 +1087,8 @@ contains
       s = 't_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, max_steps'
     case ('bc')
       s = 'body, region_lo, region_hi, component, kind, value'
+    case ('contact')
+      s = 'master, slave, eps_cr, eps_rel, mu, edge_point'
     case default
       s = ''
     end select

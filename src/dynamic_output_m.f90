@@ -16,17 +16,20 @@ module dynamic_output_m
   public :: history_push, xdmf_write
 
   !> Columns of /history, one row per history step.
-  character(len=*), parameter :: history_names(10) = [character(len=12) :: &
+  character(len=*), parameter :: history_names(13) = [character(len=14) :: &
     'step', 'time', 'dt', 'ke', 'w_int', 'w_plastic', 'w_ext', 'w_contact', 'residual', &
-    'n_contact']
-  character(len=*), parameter :: history_units(10) = [character(len=4) :: &
-    '1', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1']
-  character(len=*), parameter :: history_descr(10) = [character(len=80) :: &
+    'n_contact', 'f_contact', 'contact_radius', 'penetration']
+  character(len=*), parameter :: history_units(13) = [character(len=4) :: &
+    '1', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1', 'N', 'm', 'm']
+  character(len=*), parameter :: history_descr(13) = [character(len=80) :: &
     'step number', 'time', 'time step', 'kinetic energy', &
     'internal work, int P:dF dV0 (stored plus dissipated)', 'plastic dissipation', &
     'work of external forces and kinematic conditions', 'work of contact forces', &
     'energy residual ke + w_int - ke(0) - w_ext - w_contact', &
-    'slave particles in contact']
+    'slave particles with a contact force this step', &
+    'sum of the normal contact forces (eq. 93)', &
+    'largest x1 (r) of a slave particle in contact', &
+    'deepest penetration left after the contact correction']
 
   !> History rows kept in memory until flushed to the file.
   type :: history_t
@@ -51,6 +54,7 @@ contains
       if (allocated(err)) return
       u = trim(history_units(k))
       if (plane .and. u == 'J') u = 'J/m'
+      if (plane .and. u == 'N') u = 'N/m'
       call h5_series_create(f, '/history/'//trim(history_names(k)), u, err, &
         trim(history_descr(k)))
     end do

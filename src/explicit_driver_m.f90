@@ -15,11 +15,13 @@ module explicit_driver_m
   use deck_m, only: deck_t
   use body_m, only: body_t
   use tl_body_m, only: tl_body_t, tl_body_init, tl_body_forces, tl_apply_bc, tl_kinetic_energy
+  use tl_kinematics_m, only: physical_positions
   use stable_step_m, only: critical_step, spacing_step
   use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_attr, h5_flush
   use run_output_m, only: write_header, write_bodies
   use dynamic_output_m, only: history_t, history_create, history_push, history_flush, &
-    snapshot_write, xdmf_write
+    snapshot_write, xdmf_write, history_names
+  use contact_pair_m, only: contact_pair_t, contact_pairs_init, contact_correct
   implicit none
   private
   public :: run_dynamic
@@ -38,6 +40,7 @@ contains
     type(body_t), intent(in) :: bodies(:)
     type(error_t), allocatable, intent(inout) :: err
     type(tl_body_t), allocatable :: tbs(:)
+    type(contact_pair_t), allocatable :: pairs(:)
     type(h5file_t) :: f
     type(history_t) :: hist
     type(energies_t) :: en
@@ -47,8 +50,10 @@ contains
     real(wp) :: dt, t, dtc, dts, wall0, wall, twrite
     integer :: k, ndef, n, nsnap_done, log_every, hist_every, nsteps_est, bad_q, kb
     logical :: axisym, failed
-    real(wp) :: bad_j
+    real(wp) :: bad_j, pen_max, t_edge_first, t_edge_sep, fc_step, rad_step, pen_step
     integer(i64) :: psteps
+    integer :: nc_step
+    logical :: edge_prev
     wall0 = omp_get_wtime()
     axisym = deck%run%geometry == 'axisymmetric'
     ndef = count(deck%bodies(1:deck%nbodies)%role == 'deformable')
@@ -91,6 +96,23 @@ contains
     end if
     if (dt > dtc) write(output_unit, '(a)') 'dynamic: warning: dt exceeds the estimated '// &
       'critical step; the run is likely to go unstable'
+    call contact_pairs_init(deck, bodies, tbs, axisym, pairs, err)
+    if (allocated(err)) return
+    do k = 1, size(pairs)
+      write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,i0,a,f5.2)') 'contact: master '''// &
+        trim(bodies(pairs(k)%master)%name)//''' (rigid, det(M) plateau ', pairs(k)%plateau, &
+        '), slave '''//trim(bodies(tbs(pairs(k)%slave)%ibody)%name)//''': threshold ', &
+        pairs(k)%threshold, ' (eps_cr ', pairs(k)%eps_cr, '), ', pairs(k)%surface%nseg, &
+        ' surface segments, mu = ', pairs(k)%mu
+    end do
+    pen_max = 0.0_wp
+    t_edge_first = -1.0_wp
+    t_edge_sep = -1.0_wp
+    edge_prev = .false.
+    nc_step = 0
+    fc_step = 0.0_wp
+    rad_step = 0.0_wp
+    pen_step = 0.0_wp
     nsteps_est = ceiling(deck%solver%t_end/dt - 1.0e-9_wp)
     log_every = deck%solver%log_every
     if (log_every == 0) log_every = max(1, nsteps_est/50)
@@ -119,14 +141,18 @@ contains
     call snapshots_due()
     call history_push(hist, history_row())
     write(output_unit, '(a)') 'dynamic:   cycle      time (s)     dt (s)       KE (J)'// &
-      '     W_int (J)    W_plas (J)   W_ext (J)  residual    ETA (s)'
+      '     W_int (J)    W_plas (J)   W_ext (J)   W_cont (J)  residual  contacts  ETA (s)'
     call log_line()
     failed = .false.
     reason = ''
     psteps = 0
     do while (t < deck%solver%t_end - 0.5_wp*dt .and. n < deck%solver%max_steps)
       do k = 1, ndef
-        call step_body(tbs(k), dt, bad_q, bad_j)
+        call predict_body(tbs(k), dt)
+      end do
+      call contact_step()
+      do k = 1, ndef
+        call finish_body(tbs(k), dt, bad_q, bad_j)
         psteps = psteps + tbs(k)%np
         if (bad_q > 0 .and. .not. failed) then
           failed = .true.
@@ -176,11 +202,55 @@ contains
     write(output_unit, '(a,es11.4,a,es11.4,a,es10.3)') 'summary: energy residual ', &
       en%residual, ' J of scale ', en%scale, ' J: relative ', en%residual/max(en%scale, &
       tiny(1.0_wp))
+    do k = 1, size(pairs)
+      write(output_unit, '(a,4(i0,a))') 'summary: contact '//itoa(k)//': ', &
+        pairs(k)%count%screened, ' particles screened, ', pairs(k)%count%evaluated, &
+        ' det(M) evaluations, ', pairs(k)%count%detected, ' detections, ', &
+        pairs(k)%count%contacts, ' contact forces'
+    end do
+    if (size(pairs) > 0) write(output_unit, '(a,es10.3,a,es11.4,a,es11.4,a)') &
+      'summary: largest penetration left after a correction ', pen_max, ' m; edge particle: '// &
+      'first contact ', t_edge_first, ' s, separation ', t_edge_sep, ' s (-1: never)'
+    do k = 1, ndef
+      block
+        real(wp) :: ext(4)
+        call body_extent(tbs(k), ext)
+        write(output_unit, '(a,es12.5,a,es12.5,a,es12.5,a,f8.4)') 'summary: body '''// &
+          trim(bodies(tbs(k)%ibody)%name)//''': length ', ext(1), ' m, width ', ext(2), &
+          ' m, foot radius ', ext(3), ' m, max epsbar ', ext(4)
+      end block
+    end do
     write(output_unit, '(a)') 'summary: wrote '//trim(deck%output%file)//' and '//xdmf
     if (failed .and. .not. allocated(err)) call set_error(err, 'run failed at '//reason// &
       '; diagnostic snapshot /snapshots/failure written', exit_run_failed)
 
   contains
+
+    !> Contact corrections of every pair between the prediction and the forces.
+    subroutine contact_step()
+      integer :: kp
+      logical :: edge_now
+      do kp = 1, ndef
+        tbs(kp)%fcon = 0.0_wp
+      end do
+      nc_step = 0
+      fc_step = 0.0_wp
+      rad_step = 0.0_wp
+      pen_step = 0.0_wp
+      edge_now = .false.
+      do kp = 1, size(pairs)
+        call contact_correct(pairs(kp), tbs(pairs(kp)%slave), dt)
+        nc_step = nc_step + pairs(kp)%step%n_contact
+        fc_step = fc_step + pairs(kp)%step%force_normal
+        rad_step = max(rad_step, pairs(kp)%step%radius)
+        pen_step = max(pen_step, pairs(kp)%step%pen_after)
+        edge_now = edge_now .or. pairs(kp)%step%edge_in_contact
+      end do
+      pen_max = max(pen_max, pen_step)
+      if (edge_now .and. t_edge_first < 0.0_wp) t_edge_first = t + dt
+      if (edge_prev .and. .not. edge_now) t_edge_sep = t + dt
+      edge_prev = edge_now
+    end subroutine contact_step
 
     subroutine snapshots_due()
       character(len=8) :: lab
@@ -199,9 +269,9 @@ contains
     end subroutine snapshots_due
 
     function history_row() result(row)
-      real(wp) :: row(10)
+      real(wp) :: row(size(history_names))
       row = [real(n, wp), t, dt, en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, &
-        en%residual, 0.0_wp]
+        en%residual, real(nc_step, wp), fc_step, rad_step, pen_step]
     end function history_row
 
     subroutine log_line()
@@ -209,11 +279,13 @@ contains
       twrite = omp_get_wtime() - wall0
       eta = 0.0_wp
       if (n > 0) eta = twrite/real(n, wp)*real(max(nsteps_est - n, 0), wp)
-      write(output_unit, '(a,i9,es14.6,es11.3,5es13.4,f9.1)') 'dynamic: ', n, t, dt, en%ke, &
-        en%w_int, en%w_plastic, en%w_ext, en%residual, eta
+      write(output_unit, '(a,i9,es14.6,es11.3,6es13.4,i7,f9.1)') 'dynamic: ', n, t, dt, en%ke, &
+        en%w_int, en%w_plastic, en%w_ext, en%w_contact, en%residual, nc_step, eta
     end subroutine log_line
 
     subroutine write_summary()
+      integer :: kk
+      real(wp) :: ext(4)
       call h5_group(f, '/summary', err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'status', &
         merge('failed   ', 'completed', failed), err)
@@ -233,28 +305,71 @@ contains
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'internal_work', en%w_int, err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'plastic_dissipation', &
         en%w_plastic, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact_work', en%w_contact, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'max_remaining_penetration', &
+        pen_max, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'edge_first_contact_time', &
+        t_edge_first, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'edge_separation_time', &
+        t_edge_sep, err)
+      do kk = 1, size(pairs)
+        if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(kk)// &
+          '_counts_screened_evaluated_detected_contacts', real([pairs(kk)%count%screened, &
+          pairs(kk)%count%evaluated, pairs(kk)%count%detected, pairs(kk)%count%contacts], wp), &
+          err)
+      end do
+      do kk = 1, ndef
+        call body_extent(tbs(kk), ext)
+        if (.not. allocated(err)) call h5_attr(f, '/summary', &
+          trim(bodies(tbs(kk)%ibody)%name)//'_length_width_footradius_maxepsbar', ext, err)
+      end do
     end subroutine write_summary
   end subroutine run_dynamic
 
-  !> One central-difference step of one body (contact corrections enter between the
-  !! prediction and the force evaluation, Section 5).
-  subroutine step_body(tb, dt, bad_q, bad_j)
+  !> The prediction of eq. (64) for one body (contact corrects it afterwards).
+  subroutine predict_body(tb, dt)
+    type(tl_body_t), intent(inout) :: tb
+    real(wp), intent(in) :: dt
+    call tl_apply_bc(tb)
+    tb%d_old = tb%d
+    tb%v_old = tb%v
+    tb%d = tb%d + dt*tb%v + 0.5_wp*dt*dt*tb%a                      ! (64)
+    tb%a_old = tb%a
+  end subroutine predict_body
+
+  !> Forces at the (corrected) new coefficients, eq. (62), and the velocity, eq. (63),
+  !! with the work of kinematic conditions and of contact forces over the step.
+  subroutine finish_body(tb, dt, bad_q, bad_j)
     type(tl_body_t), intent(inout) :: tb
     real(wp), intent(in) :: dt
     integer, intent(out) :: bad_q
     real(wp), intent(out) :: bad_j
-    call tl_apply_bc(tb)
-    tb%d_old = tb%d
-    tb%d = tb%d + dt*tb%v + 0.5_wp*dt*dt*tb%a                      ! (64)
+    ! a_n as corrected by contact (eq. 63 uses it)
     tb%a_old = tb%a
     call tl_body_forces(tb, dt, bad_q, bad_j)                       ! (62)
     call tl_apply_bc(tb)
     tb%v = tb%v + 0.5_wp*dt*(tb%a_old + tb%a)                       ! (63)
-    ! work of the kinematic conditions: their reactions R = f_int - f_ext times the motion
+    ! kinematic conditions: reactions R = f_int - f_ext times the motion (trapezoid)
     tb%freac = merge(tb%fint - tb%fext, 0.0_wp, tb%pres)
     tb%w_bc = tb%w_bc + 0.5_wp*sum((tb%freac_old + tb%freac)*(tb%d - tb%d_old))
     tb%freac_old = tb%freac
-  end subroutine step_body
+    ! contact: the impulse dt/2 f_c (it enters a_n) times the step's mean velocity
+    tb%w_contact = tb%w_contact + 0.5_wp*sum(tb%fcon*(tb%d - tb%d_old))
+  end subroutine finish_body
+
+  !> Length (extent in x2), width (extent in x1), foot radius (largest x1 within one
+  !! spacing of the lowest x2) and the largest effective plastic strain of a body (m, m, m, 1).
+  subroutine body_extent(tb, ext)
+    type(tl_body_t), intent(inout) :: tb
+    real(wp), intent(out) :: ext(4)
+    real(wp) :: zmin
+    call physical_positions(tb%t, tb%x0, tb%d, tb%x)
+    zmin = minval(tb%x(2, :))
+    ext(1) = maxval(tb%x(2, :)) - zmin
+    ext(2) = maxval(tb%x(1, :)) - minval(tb%x(1, :))
+    ext(3) = maxval(tb%x(1, :), mask=tb%x(2, :) <= zmin + tb%t%hmin)
+    ext(4) = maxval(tb%st%epsbar)
+  end subroutine body_extent
 
   pure integer function first_bad(tb) result(i)
     type(tl_body_t), intent(in) :: tb

@@ -37,6 +37,8 @@ module tl_body_m
     real(wp), allocatable :: freac_old(:, :)     !< reaction at prescribed components (N)
     real(wp), allocatable :: freac(:, :)
     real(wp), allocatable :: a_old(:, :)         !< a_n during the step
+    real(wp), allocatable :: v_old(:, :)         !< v_n during the step
+    real(wp), allocatable :: fcon(:, :)          !< contact forces on the coefficients (N)
   end type tl_body_t
 
 contains
@@ -68,13 +70,15 @@ contains
     tb%x0 = b%x
     allocate(tb%d(2, b%np), tb%v(2, b%np), tb%a(2, b%np), tb%fint(2, b%np), &
       tb%fext(2, b%np), tb%x(2, b%np), tb%d_old(2, b%np), tb%pres(2, b%np), &
-      tb%vpres(2, b%np), tb%freac_old(2, b%np), tb%freac(2, b%np), tb%a_old(2, b%np))
+      tb%vpres(2, b%np), tb%freac_old(2, b%np), tb%freac(2, b%np), tb%a_old(2, b%np), &
+      tb%v_old(2, b%np), tb%fcon(2, b%np))
     allocate(tb%f(5, tb%nq), tb%f_old(5, tb%nq), tb%p(5, tb%nq), tb%p_old(5, tb%nq), &
       tb%dr(4, tb%nq), tb%w12(tb%nq), tb%dwp(tb%nq))
     tb%d = 0.0_wp
     tb%a = 0.0_wp
     tb%fext = 0.0_wp
     tb%freac_old = 0.0_wp
+    tb%fcon = 0.0_wp
     do i = 1, b%np
       tb%v(:, i) = s%velocity(1:2)
     end do

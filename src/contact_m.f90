@@ -1,0 +1,150 @@
+!> Meshfree contact (Sections 2 and 5): detection by det(M) of the master at the slave
+!! particles (eqs. 25-28), gap and normal from the master's surface polylines (eqs. 89-92,
+!! with the tangential velocity corrected to v_t = (v.t) t), the impenetrability force of
+!! the central-difference scheme (eq. 93) and Coulomb friction (eqs. 94-96).
+!!
+!! Conventions. Master polylines run counter-clockwise around the master (material on the
+!! left), so the outward normal is n = (t_y, -t_x) (the paper's e3 x t for its clockwise
+!! walk). Penetration means g < 0; only then is a force applied (detection is a screen, the
+!! gap decides). Forces are computed at the slave particles' physical positions; the caller
+!! redistributes them to RK coefficients (eq. 98).
+!!
+!! Integrator factors (SPEC 2.5): the step is u_{n+1} = u_n + dt v_n + dt^2/2 a_n, so adding
+!! f/M to a_n moves the particle by dt^2/2 f/M: the normal force 2 M |g| / dt^2 puts a
+!! predicted penetration g back on the surface exactly (eq. 93). Stick is treated the same
+!! way: the tangential force -2 M s_t / dt^2 cancels the predicted tangential slip s_t of
+!! the step relative to the master (s_t = dt v_t with v_t the step's mean relative
+!! tangential velocity, eq. 90 corrected), so a sticking particle ends the step with no
+!! relative tangential motion; slip applies mu |f_n| against the slip; the smaller force is
+!! applied (eq. 96). mu = 0 skips all tangential work.
+module contact_m
+  use kinds_m, only: wp, i64
+  use errors_m, only: error_t
+  use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
+  use geometry_m, only: segment_distance
+  implicit none
+  private
+  public :: master_surface_t, surface_build, surface_gap, contact_point_force
+  public :: contact_counters_t
+
+  !> The master's surface: segments a -> b (counter-clockwise around the master) and bins
+  !! over their midpoints.
+  type :: master_surface_t
+    integer :: nseg = 0
+    real(wp), allocatable :: a(:, :), b(:, :)    !< end points (2, nseg) (m)
+    real(wp), allocatable :: n(:, :), t(:, :)    !< outward normal, unit tangent (2, nseg)
+    real(wp), allocatable :: mid(:, :)           !< midpoints (2, nseg) (m)
+    real(wp) :: reach(2) = 0.0_wp                !< half the largest segment extent (m)
+    type(bins_t) :: bins
+  end type master_surface_t
+
+  !> Work counters, cumulative over a run.
+  type :: contact_counters_t
+    integer(i64) :: screened = 0    !< slave particles tested against the master's box
+    integer(i64) :: evaluated = 0   !< det(M_master) evaluations (inside the grown box)
+    integer(i64) :: detected = 0    !< det(M_master) > threshold
+    integer(i64) :: contacts = 0    !< detected with g < 0: force applied
+  end type contact_counters_t
+
+contains
+
+  !> Segments of the master's polylines (CSR ptr, idx over the points x), leaving out those
+  !! on the symmetry axis x1 = 0 in axisymmetry (a symmetry line is no surface).
+  subroutine surface_build(s, x, ptr, idx, closed, axisym, tol, err)
+    type(master_surface_t), intent(out) :: s
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: ptr(:), idx(:)
+    logical, intent(in) :: closed(:), axisym
+    real(wp), intent(in) :: tol
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, j, i0, i1, m
+    real(wp) :: e(2), l
+    real(wp), allocatable :: a(:, :), b(:, :)
+    allocate(a(2, size(idx)), b(2, size(idx)))
+    m = 0
+    do k = 1, size(ptr) - 1
+      do j = ptr(k), ptr(k + 1) - 1
+        i0 = idx(j)
+        if (j < ptr(k + 1) - 1) then
+          i1 = idx(j + 1)
+        else if (closed(k)) then
+          i1 = idx(ptr(k))
+        else
+          cycle
+        end if
+        if (axisym .and. abs(x(1, i0)) <= tol .and. abs(x(1, i1)) <= tol) cycle
+        if (all(x(:, i0) == x(:, i1))) cycle
+        m = m + 1
+        a(:, m) = x(:, i0)
+        b(:, m) = x(:, i1)
+      end do
+    end do
+    s%nseg = m
+    s%a = a(:, 1:m)
+    s%b = b(:, 1:m)
+    allocate(s%n(2, m), s%t(2, m), s%mid(2, m))
+    s%reach = 0.0_wp
+    do j = 1, m
+      e = s%b(:, j) - s%a(:, j)
+      l = norm2(e)
+      s%t(:, j) = e/l
+      s%n(:, j) = [s%t(2, j), -s%t(1, j)]
+      s%mid(:, j) = 0.5_wp*(s%a(:, j) + s%b(:, j))
+      s%reach = max(s%reach, 0.5_wp*abs(e))
+    end do
+    call bins_build(s%bins, s%mid, max(2.0_wp*s%reach, tiny(1.0_wp)), err)
+  end subroutine surface_build
+
+  !> The master segment closest to p among those reaching within r (per direction) of p,
+  !! and the signed gap g = (p - a) . n to it (eq. 89). found is false when none is near.
+  pure subroutine surface_gap(s, p, r, found, g, nrm, tng)
+    type(master_surface_t), intent(in) :: s
+    real(wp), intent(in) :: p(2), r(2)
+    logical, intent(out) :: found
+    real(wp), intent(out) :: g, nrm(2), tng(2)
+    integer :: list(s%nseg), nc, k, j, jbest
+    real(wp) :: dist, dbest
+    call bins_candidates(s%bins, p, r + s%reach, list, nc)
+    jbest = 0
+    dbest = huge(1.0_wp)
+    do k = 1, nc
+      j = list(k)
+      dist = segment_distance(s%a(:, j), s%b(:, j), p)
+      if (dist < dbest) then
+        dbest = dist
+        jbest = j
+      end if
+    end do
+    found = jbest > 0
+    g = 0.0_wp
+    nrm = 0.0_wp
+    tng = 0.0_wp
+    if (.not. found) return
+    nrm = s%n(:, jbest)
+    tng = s%t(:, jbest)
+    g = dot_product(p - s%a(:, jbest), nrm)
+  end subroutine surface_gap
+
+  !> Contact force on one slave particle of mass m with predicted gap g (< 0: penetration)
+  !! and predicted tangential slip s_t over the step relative to the master (m), for the
+  !! step dt and friction coefficient mu: normal 2 m |g|/dt^2 along n (eq. 93), tangential
+  !! the smaller of stick -2 m s_t/dt^2 and slip mu |f_n| against the slip (eqs. 94-96).
+  !! stick is true when the stick force was applied.
+  pure subroutine contact_point_force(g, nrm, tng, slip, m, dt, mu, f, stick)
+    real(wp), intent(in) :: g, nrm(2), tng(2), slip, m, dt, mu
+    real(wp), intent(out) :: f(2)
+    logical, intent(out) :: stick
+    real(wp) :: fn, fstick, fslip, ft
+    f = 0.0_wp
+    stick = .false.
+    if (.not. (g < 0.0_wp)) return
+    fn = 2.0_wp*m*(-g)/(dt*dt)
+    f = fn*nrm
+    if (mu <= 0.0_wp .or. slip == 0.0_wp) return
+    fstick = 2.0_wp*m*abs(slip)/(dt*dt)
+    fslip = mu*fn
+    stick = fstick <= fslip
+    ft = -sign(min(fstick, fslip), slip)
+    f = f + ft*tng
+  end subroutine contact_point_force
+end module contact_m
