@@ -25,7 +25,10 @@ module contact_pair_m
   !> What one step's contact did (for the log, history and summary).
   type :: contact_stats_t
     integer :: n_contact = 0            !< slave particles with a force this step
-    real(wp) :: force_normal = 0.0_wp   !< sum of normal forces (N, N/m in plane strain)
+    !> Mean normal contact force over the step (N, N/m in plane strain): half the sum of the
+    !! eq. (93) forces, since a force added to a_n gives the velocity the impulse dt/2 f
+    !! (eq. 63) and is absent at n+1.
+    real(wp) :: force_normal = 0.0_wp
     real(wp) :: radius = 0.0_wp         !< largest x1 of a contacting particle (m)
     real(wp) :: pen_before = 0.0_wp     !< deepest predicted penetration (m, >= 0)
     real(wp) :: pen_after = 0.0_wp      !< deepest penetration left after the correction (m)
@@ -155,7 +158,7 @@ contains
     p%count%detected = p%count%detected + ndet
     p%count%contacts = p%count%contacts + ncon
     p%step%n_contact = int(ncon)
-    p%step%force_normal = fnsum
+    p%step%force_normal = 0.5_wp*fnsum
     p%step%radius = rad
     p%step%pen_before = pen
     p%step%pen_after = 0.0_wp

@@ -27,7 +27,7 @@ module dynamic_output_m
     'work of external forces and kinematic conditions', 'work of contact forces', &
     'energy residual ke + w_int - ke(0) - w_ext - w_contact', &
     'slave particles with a contact force this step', &
-    'sum of the normal contact forces (eq. 93)', &
+    'mean normal contact force of the step (impulse / dt: half the eq. 93 sum)', &
     'largest x1 (r) of a slave particle in contact', &
     'deepest penetration left after the contact correction']
 
