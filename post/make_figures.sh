@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Draw the figures of doc/examples.md: Example 2.1 (Figs. 2-3) and Example 2.2, convex and
-# concave (Figs. 4-7, 11), from output/*.h5 into doc/figures/.
+# concave (Figs. 4-7, 11), and of doc/verification.md: the elastic stress wave's profiles
+# against the closed form and its energy history, from output/*.h5 into doc/figures/.
 #
 #   post/make_figures.sh                 # from anywhere; works in the repository root
 #   PYTHON=python3 post/make_figures.sh  # another interpreter (default .venv/bin/python)
@@ -17,6 +18,7 @@ PYTHON="${PYTHON:-.venv/bin/python}"
 MFCD="${MFCD:-build/bin/mfcd}"
 OUT="${OUT:-doc/figures}"
 examples=(example_2_1 example_2_2 example_2_2_concave)
+dynamic=(elastic_wave)
 
 if ! command -v "$PYTHON" >/dev/null 2>&1 && [ ! -x "$PYTHON" ]; then
   echo "make_figures: error: Python interpreter '$PYTHON' not found; set PYTHON=... or" \
@@ -25,7 +27,7 @@ if ! command -v "$PYTHON" >/dev/null 2>&1 && [ ! -x "$PYTHON" ]; then
 fi
 
 files=()
-for name in "${examples[@]}"; do
+for name in "${examples[@]}" "${dynamic[@]}"; do
   h5="output/${name}.h5"
   if [ ! -f "$h5" ]; then
     if [ ! -x "$MFCD" ]; then
@@ -40,5 +42,9 @@ for name in "${examples[@]}"; do
 done
 
 mkdir -p "$OUT"
-"$PYTHON" post/plot_detection.py "${files[@]}" --out "$OUT" --format png
+"$PYTHON" post/plot_detection.py "${files[@]:0:${#examples[@]}}" --out "$OUT" --format png
+# elastic wave: <stem>_profiles (closed form) and <stem>_energy (history)
+"$PYTHON" post/plot_wave.py output/elastic_wave.h5 --out "$OUT" --format png
+"$PYTHON" post/plot_snapshots.py output/elastic_wave.h5 --out "$OUT" --format png \
+  --history --no-snapshots
 echo "make_figures: figures in $OUT"

@@ -15,13 +15,15 @@ to (ny, nx) (2D) or (nz, ny, nx) (3D) with its axes.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
 
 import h5py
 import numpy as np
 
-__all__ = ["decode", "decode_attrs", "Body", "QuerySet", "MfcdFile", "open_run"]
+__all__ = ["decode", "decode_attrs", "Body", "QuerySet", "MfcdFile", "open_run",
+           "SnapshotBody", "Snapshot", "parse_deck", "deck_group", "FIELDS", "field_values"]
 
 QUERY_KINDS = ("line", "grid", "points")
 
@@ -128,6 +130,144 @@ class QuerySet:
         return np.meshgrid(*self.axes, indexing="xy")
 
 
+@dataclass
+class SnapshotBody:
+    """One body in one snapshot of a dynamic run (/snapshots/<label>/<body>)."""
+
+    name: str
+    x: np.ndarray                       #: physical particle positions (np, 2) [m]
+    u: Optional[np.ndarray] = None      #: displacements (np, 2) [m]
+    v: Optional[np.ndarray] = None      #: velocities (np, 2) [m/s]
+    stress: Optional[np.ndarray] = None  #: Cauchy stress 11, 22, 33, 12 (np, 4) [Pa]
+    epsbar: Optional[np.ndarray] = None  #: effective plastic strain (np,) [-]
+    J: Optional[np.ndarray] = None      #: volume ratio det F (np,) [-]
+
+    @property
+    def np(self) -> int:
+        return self.x.shape[0]
+
+
+@dataclass
+class Snapshot:
+    """One snapshot (/snapshots/<label>): its time, step and bodies."""
+
+    label: str
+    time: float                         #: [s]
+    step: int
+    bodies: Dict[str, SnapshotBody] = field(default_factory=dict)
+
+
+#: Fields that plot_snapshots.py can colour by: name -> (label, unit, scale to the unit).
+FIELDS = {
+    "epsbar": ("effective plastic strain", "-", 1.0),
+    "J": ("J = det F", "-", 1.0),
+    "stress_11": ("Cauchy stress 11", "MPa", 1e-6),
+    "stress_22": ("Cauchy stress 22", "MPa", 1e-6),
+    "stress_33": ("Cauchy stress 33", "MPa", 1e-6),
+    "stress_12": ("Cauchy stress 12", "MPa", 1e-6),
+    "von_mises": ("von Mises stress", "MPa", 1e-6),
+    "v_mag": ("speed |v|", "m/s", 1.0),
+    "u_mag": ("displacement |u|", "mm", 1e3),
+}
+
+
+def field_values(b: SnapshotBody, name: str) -> Optional[np.ndarray]:
+    """A per-particle field of a snapshot body in the unit of FIELDS[name] (None if absent).
+
+    stress_11 .. stress_12 are the stored components (in axisymmetry 11 = rr, 22 = zz,
+    33 = hoop); von_mises = sqrt(3/2 s:s) of the 3D stress (13 = 23 = 0).
+    """
+    if name not in FIELDS:
+        raise ValueError(f"unknown field {name!r}; use one of {', '.join(FIELDS)}")
+    scale = FIELDS[name][2]
+    if name in ("epsbar", "J"):
+        a = getattr(b, name)
+        return None if a is None else a * scale
+    if name.startswith("stress_") or name == "von_mises":
+        if b.stress is None:
+            return None
+        s = b.stress
+        if name == "von_mises":
+            p = (s[:, 0] + s[:, 1] + s[:, 2]) / 3.0
+            d = s[:, :3] - p[:, None]
+            vm = np.sqrt(1.5 * ((d ** 2).sum(axis=1) + 2.0 * s[:, 3] ** 2))
+            return vm * scale
+        k = {"stress_11": 0, "stress_22": 1, "stress_33": 2, "stress_12": 3}[name]
+        return s[:, k] * scale
+    a = b.v if name == "v_mag" else b.u
+    return None if a is None else np.hypot(a[:, 0], a[:, 1]) * scale
+
+
+# ----------------------------------------------------------------------- deck text
+_NUM = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eEdD][+-]?\d+)?$")
+
+
+def _value(tok: str):
+    tok = tok.strip()
+    if len(tok) >= 2 and tok[0] == tok[-1] and tok[0] in "'\"":
+        return tok[1:-1]
+    low = tok.lower()
+    if low in (".true.", "t", ".t.", "true"):
+        return True
+    if low in (".false.", "f", ".f.", "false"):
+        return False
+    if _NUM.match(tok):
+        v = float(re.sub("[dD]", "e", tok))
+        return int(v) if re.fullmatch(r"[+-]?\d+", tok) else v
+    return tok
+
+
+def _strip_comment(line: str) -> str:
+    q = None
+    for i, c in enumerate(line):
+        if q:
+            if c == q:
+                q = None
+        elif c in "'\"":
+            q = c
+        elif c == "!":
+            return line[:i]
+    return line
+
+
+def parse_deck(text: str) -> List[tuple]:
+    """The namelist groups of a deck text, in order: [(group, {variable: value}), ...].
+
+    A small reader for post-processing, not a Fortran namelist parser: names are lower-cased,
+    a value with one entry is a scalar (float, int, bool or str), with several a list.
+    """
+    body = "\n".join(_strip_comment(l) for l in text.splitlines())
+    groups = []
+    # a group runs from &name to the first '/' outside quotes
+    for m in re.finditer(r"&(\w+)((?:'[^']*'|\"[^\"]*\"|[^/'\"])*)/", body):
+        name, content = m.group(1).lower(), m.group(2)
+        if name == "end":
+            continue
+        vals: Dict[str, object] = {}
+        toks = re.findall(r"'[^']*'|\"[^\"]*\"|=|,|[^\s,=]+", content)
+        key, cur = None, []
+        for i, t in enumerate(toks):
+            if t not in ("=", ",") and i + 1 < len(toks) and toks[i + 1] == "=" \
+                    and re.match(r"[A-Za-z]\w*(\(.*\))?$", t):
+                if key is not None:
+                    vals[key] = cur[0] if len(cur) == 1 else cur
+                key, cur = t.lower(), []
+            elif t not in ("=", ","):
+                cur.append(_value(t))
+        if key is not None:
+            vals[key] = cur[0] if len(cur) == 1 else cur
+        groups.append((name, vals))
+    return groups
+
+
+def deck_group(text: str, group: str, **match) -> Optional[Dict[str, object]]:
+    """The first group named `group` whose variables equal `match` (e.g. name='steel')."""
+    for g, vals in parse_deck(text):
+        if g == group.lower() and all(vals.get(k) == v for k, v in match.items()):
+            return vals
+    return None
+
+
 class MfcdFile:
     """An mfcd output file opened read-only; use as a context manager or call close()."""
 
@@ -227,6 +367,64 @@ class MfcdFile:
             raise ValueError(f"{self.path}: /detection/grid axes {q.grid_shape} do not match "
                              f"{q.n} points")
         return q
+
+
+    # dynamic runs -----------------------------------------------------------------------
+    @property
+    def geometry(self) -> str:
+        return str(self.attrs.get("geometry", "plane"))
+
+    @property
+    def mode(self) -> str:
+        return str(self.attrs.get("mode", "detect"))
+
+    def snapshot_labels(self) -> List[str]:
+        """Snapshot labels in time order ('0001', '0002', ..., then 'failure' if written)."""
+        if "snapshots" not in self.h5:
+            return []
+        labs = list(self.h5["snapshots"].keys())
+        return sorted(labs, key=lambda l: float(decode(self.h5["snapshots"][l].attrs["time"])))
+
+    def snapshot(self, label: str) -> Snapshot:
+        """/snapshots/<label> with every body in it, arrays as (np, 2) / (np, 4) / (np,)."""
+        g = self.h5["snapshots"][label]
+        snap = Snapshot(label=label, time=float(decode(g.attrs["time"])),
+                        step=int(decode(g.attrs.get("step", -1))))
+        for name in g.keys():
+            gb = g[name]
+            if not isinstance(gb, h5py.Group) or "x" not in gb:
+                continue
+
+            def arr(key, cols=None):
+                if key not in gb:
+                    return None
+                a = np.asarray(gb[key][()], dtype=float)
+                return a.reshape(-1, cols) if cols else a
+
+            snap.bodies[name] = SnapshotBody(
+                name=name, x=arr("x", 2), u=arr("u", 2), v=arr("v", 2),
+                stress=arr("stress", 4), epsbar=arr("epsbar"), J=arr("J"))
+        return snap
+
+    def history(self) -> Dict[str, np.ndarray]:
+        """/history columns as arrays (time in s, energies in J or J/m); {} if none."""
+        if "history" not in self.h5:
+            return {}
+        return {k: np.asarray(v[()]) for k, v in self.h5["history"].items()}
+
+    def history_units(self) -> Dict[str, str]:
+        if "history" not in self.h5:
+            return {}
+        return {k: str(decode(v.attrs.get("units", b""))) for k, v in self.h5["history"].items()}
+
+    @property
+    def summary(self) -> Dict[str, object]:
+        """Attributes of /summary (status, steps, time, energy_residual, ...)."""
+        return decode_attrs(self.h5["summary"]) if "summary" in self.h5 else {}
+
+    def deck_groups(self) -> List[tuple]:
+        """The stored deck parsed by parse_deck."""
+        return parse_deck(self.deck)
 
 
 def open_run(path: str) -> MfcdFile:

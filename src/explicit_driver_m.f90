@@ -187,7 +187,7 @@ contains
     if (failed) then
       write(output_unit, '(a)') 'dynamic: FAILED at '//reason
       call snapshot_write(f, 'failure', t, n, bodies, tbs, err)
-      labels = [labels, 'failure ']
+      labels = [character(len=8) :: labels, 'failure']
       snap_t = [snap_t, t]
       call xdmf_write(xdmf, basename(trim(deck%output%file)), labels, snap_t, bodies, tbs)
     else if (mod(n, hist_every) /= 0) then
@@ -260,7 +260,7 @@ contains
         write(lab, '(i4.4)') nsnap_done
         call snapshot_write(f, trim(lab), t, n, bodies, tbs, err)
         if (allocated(err)) return
-        labels = [labels, lab]
+        labels = [character(len=8) :: labels, lab]
         snap_t = [snap_t, t]
         call history_flush(f, hist, err)
         call xdmf_write(xdmf, basename(trim(deck%output%file)), labels, snap_t, bodies, tbs)
