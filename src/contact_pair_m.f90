@@ -11,7 +11,7 @@ module contact_pair_m
   use strings_m, only: itoa, rtoa
   use deck_m, only: deck_t
   use body_m, only: body_t
-  use rk_cloud_m, only: rk_cloud_t, cloud_det
+  use rk_cloud_m, only: rk_cloud_t, cloud_det, cloud_init
   use bodies_m, only: body_cloud
   use detection_m, only: body_plateau, detection_threshold
   use contact_m, only: master_surface_t, surface_build, surface_gap, contact_point_force, &
@@ -21,6 +21,7 @@ module contact_pair_m
   implicit none
   private
   public :: contact_pair_t, contact_pairs_init, contact_correct, contact_stats_t
+  public :: contact_det_fields
 
   !> What one step's contact did (for the log, history and summary).
   type :: contact_stats_t
@@ -188,4 +189,40 @@ contains
       if (found) p%step%pen_after = max(p%step%pen_after, -g)
     end do
   end subroutine contact_correct
+
+  !> det(M) of the master and of the slave (built from the slave's current physical
+  !! positions with its reference volumes and supports: the Lagrangian body) on the grid
+  !! lo..hi with n points (x fastest), and det(M_master) at the slave particles
+  !! (Figs. 9-10). Work for output only, done at snapshots when the deck asks.
+  subroutine contact_det_fields(p, tb, slave, lo, hi, n, det_m, det_s, det_m_at_slave, err)
+    type(contact_pair_t), intent(in) :: p
+    type(tl_body_t), intent(inout) :: tb
+    type(body_t), intent(in) :: slave
+    real(wp), intent(in) :: lo(2), hi(2)
+    integer, intent(in) :: n(2)
+    real(wp), intent(out) :: det_m(:), det_s(:), det_m_at_slave(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(rk_cloud_t) :: cs
+    integer :: i, j, q
+    real(wp) :: x(2)
+    call physical_positions(tb%t, tb%x0, tb%d, tb%x)
+    call cloud_init(cs, tb%x, slave%rho, slave%vol, slave%kid, slave%wshape, slave%bid, &
+      slave%h(1:2), err)
+    if (allocated(err)) return
+    !$omp parallel do default(none) shared(p, cs, lo, hi, n, det_m, det_s) private(i, q, x)
+    do j = 1, n(2)
+      do i = 1, n(1)
+        q = i + (j - 1)*n(1)
+        x = lo + (hi - lo)*[real(i - 1, wp)/real(n(1) - 1, wp), real(j - 1, wp)/real(n(2) - 1, wp)]
+        det_m(q) = cloud_det(p%cloud, x)
+        det_s(q) = cloud_det(cs, x)
+      end do
+    end do
+    !$omp end parallel do
+    do j = 1, tb%np
+      det_m_at_slave(j) = 0.0_wp
+      if (all(tb%x(:, j) >= p%lo) .and. all(tb%x(:, j) <= p%hi)) &
+        det_m_at_slave(j) = cloud_det(p%cloud, tb%x(:, j))
+    end do
+  end subroutine contact_det_fields
 end module contact_pair_m

@@ -126,6 +126,10 @@ module deck_m
   type :: output_spec_t
     character(len=path_len) :: file = ''
     logical :: overwrite = .true.
+    !> det(M) of each contact pair's master and slave on a grid at every snapshot (Figs. 9-10)
+    logical :: det_fields = .false.
+    real(wp) :: det_grid_lo(2) = unset, det_grid_hi(2) = unset
+    integer :: det_grid_n(2) = [201, 101]
   end type output_spec_t
 
   type :: deck_t
@@ -1036,12 +1040,18 @@ contains
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
     character(len=path_len) :: file
-    logical :: overwrite
-    integer :: ios
+    logical :: overwrite, det_fields
+    real(wp) :: det_grid_lo(2), det_grid_hi(2)
+    integer :: ios, det_grid_n(2)
     character(len=512) :: msg
-    namelist /output/ file, overwrite
+    type(output_spec_t) :: dflt
+    namelist /output/ file, overwrite, det_fields, det_grid_lo, det_grid_hi, det_grid_n
     file = ''
     overwrite = .true.
+    det_fields = dflt%det_fields
+    det_grid_lo = dflt%det_grid_lo
+    det_grid_hi = dflt%det_grid_hi
+    det_grid_n = dflt%det_grid_n
     rewind(u)
     read(u, nml=output, iostat=ios, iomsg=msg)
     if (ios /= 0 .and. ios /= iostat_end) then
@@ -1053,8 +1063,24 @@ contains
         "give the HDF5 output path, e.g. &output file = 'output/run.h5' /", err)
       return
     end if
+    if (det_fields .and. (deck%ncontacts == 0 .or. any(det_grid_lo == unset) .or. &
+      any(det_grid_hi == unset))) then
+      call bad(deck, 'output', 'det_fields', '.true.', 'det(M) fields need a &contact pair '// &
+        'and the grid: det_grid_lo = x0, y0, det_grid_hi = x1, y1 (m)', err)
+      return
+    end if
+    if (det_fields .and. (any(det_grid_n < 2) .or. any(.not. det_grid_hi > det_grid_lo) .or. &
+      real(det_grid_n(1), wp)*det_grid_n(2) > 1.0e7_wp)) then
+      call bad(deck, 'output', 'det_grid_n/det_grid_lo/det_grid_hi', itoa(det_grid_n(1))// &
+        ', '//itoa(det_grid_n(2)), 'give 2 .. 1e7 points with det_grid_hi > det_grid_lo', err)
+      return
+    end if
     deck%output%file = file
     deck%output%overwrite = overwrite
+    deck%output%det_fields = det_fields
+    deck%output%det_grid_lo = det_grid_lo
+    deck%output%det_grid_hi = det_grid_hi
+    deck%output%det_grid_n = det_grid_n
   end subroutine read_output
 
   subroutine nml_error(deck, group, which, msg, err)
@@ -1079,7 +1105,7 @@ contains
     case ('detection')
       s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
     case ('output')
-      s = 'file, overwrite'
+      s = 'file, overwrite, det_fields, det_grid_lo, det_grid_hi, det_grid_n'
     case ('material')
       s = 'name, model, density, youngs_modulus, poisson_ratio, sigma0, hardening_n, '// &
         'rate_m, eps0, eps1, epsdot0, back_stress_b, theta, yield_stress, hardening_modulus'

@@ -16,12 +16,12 @@ module dynamic_output_m
   public :: history_push, xdmf_write
 
   !> Columns of /history, one row per history step.
-  character(len=*), parameter :: history_names(13) = [character(len=14) :: &
+  character(len=*), parameter :: history_names(15) = [character(len=14) :: &
     'step', 'time', 'dt', 'ke', 'w_int', 'w_plastic', 'w_ext', 'w_contact', 'residual', &
-    'n_contact', 'f_contact', 'contact_radius', 'penetration']
-  character(len=*), parameter :: history_units(13) = [character(len=4) :: &
-    '1', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1', 'N', 'm', 'm']
-  character(len=*), parameter :: history_descr(13) = [character(len=80) :: &
+    'n_contact', 'f_contact', 'contact_radius', 'penetration', 'length', 'foot_radius']
+  character(len=*), parameter :: history_units(15) = [character(len=4) :: &
+    '1', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1', 'N', 'm', 'm', 'm', 'm']
+  character(len=*), parameter :: history_descr(15) = [character(len=80) :: &
     'step number', 'time', 'time step', 'kinetic energy', &
     'internal work, int P:dF dV0 (stored plus dissipated)', 'plastic dissipation', &
     'work of external forces and kinematic conditions', 'work of contact forces', &
@@ -29,7 +29,9 @@ module dynamic_output_m
     'slave particles with a contact force this step', &
     'mean normal contact force of the step (impulse / dt: half the eq. 93 sum)', &
     'largest x1 (r) of a slave particle in contact', &
-    'deepest penetration left after the contact correction']
+    'deepest penetration left after the contact correction', &
+    'extent in x2 (z) of the first deformable body', &
+    'largest x1 (r) of the first deformable body within one spacing of its lowest x2']
 
   !> History rows kept in memory until flushed to the file.
   type :: history_t

@@ -21,7 +21,9 @@ module explicit_driver_m
   use run_output_m, only: write_header, write_bodies
   use dynamic_output_m, only: history_t, history_create, history_push, history_flush, &
     snapshot_write, xdmf_write, history_names
-  use contact_pair_m, only: contact_pair_t, contact_pairs_init, contact_correct
+  use contact_pair_m, only: contact_pair_t, contact_pairs_init, contact_correct, &
+    contact_det_fields
+  use hdf5_io_m, only: h5_write
   implicit none
   private
   public :: run_dynamic
@@ -226,6 +228,51 @@ contains
 
   contains
 
+    !> /snapshots/<label>/det/contact<k>: det(M_master), det(M_slave) on the deck's grid and
+    !! det(M_master) at the slave particles.
+    subroutine det_fields_out(lab)
+      character(len=*), intent(in) :: lab
+      real(wp), allocatable :: dm(:), ds(:), dms(:)
+      integer :: kp, ng(2)
+      character(len=:), allocatable :: g
+      ng = deck%output%det_grid_n
+      call h5_group(f, '/snapshots/'//lab//'/det', err)
+      do kp = 1, size(pairs)
+        if (allocated(err)) return
+        allocate(dm(product(ng)), ds(product(ng)), dms(tbs(pairs(kp)%slave)%np))
+        call contact_det_fields(pairs(kp), tbs(pairs(kp)%slave), &
+          bodies(tbs(pairs(kp)%slave)%ibody), deck%output%det_grid_lo, &
+          deck%output%det_grid_hi, ng, dm, ds, dms, err)
+        g = '/snapshots/'//lab//'/det/contact'//itoa(kp)
+        if (.not. allocated(err)) call h5_group(f, g, err)
+        if (.not. allocated(err)) call h5_write(f, g//'/master', reshape(dm, ng), '1', err, &
+          'det(M) of the master on the grid (axis1 fastest)')
+        if (.not. allocated(err)) call h5_write(f, g//'/slave', reshape(ds, ng), '1', err, &
+          'det(M) of the slave (current positions, reference volumes) on the grid')
+        if (.not. allocated(err)) call h5_write(f, g//'/master_at_slave', dms, '1', err, &
+          'det(M_master) at the slave particles (0 outside the master box)')
+        if (.not. allocated(err)) call h5_write(f, g//'/axis1', grid_axis(1), 'm', err, &
+          'grid coordinates along x1')
+        if (.not. allocated(err)) call h5_write(f, g//'/axis2', grid_axis(2), 'm', err, &
+          'grid coordinates along x2')
+        if (.not. allocated(err)) call h5_attr(f, g, 'threshold', pairs(kp)%threshold, err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'master_plateau', pairs(kp)%plateau, err)
+        deallocate(dm, ds, dms)
+      end do
+    end subroutine det_fields_out
+
+    function grid_axis(k) result(a)
+      integer, intent(in) :: k
+      real(wp), allocatable :: a(:)
+      integer :: i, nk
+      nk = deck%output%det_grid_n(k)
+      allocate(a(nk))
+      do i = 1, nk
+        a(i) = deck%output%det_grid_lo(k) + (deck%output%det_grid_hi(k) - &
+          deck%output%det_grid_lo(k))*real(i - 1, wp)/real(nk - 1, wp)
+      end do
+    end function grid_axis
+
     !> Contact corrections of every pair between the prediction and the forces.
     subroutine contact_step()
       integer :: kp
@@ -260,6 +307,8 @@ contains
         write(lab, '(i4.4)') nsnap_done
         call snapshot_write(f, trim(lab), t, n, bodies, tbs, err)
         if (allocated(err)) return
+        if (deck%output%det_fields) call det_fields_out(trim(lab))
+        if (allocated(err)) return
         labels = [character(len=8) :: labels, lab]
         snap_t = [snap_t, t]
         call history_flush(f, hist, err)
@@ -269,9 +318,10 @@ contains
     end subroutine snapshots_due
 
     function history_row() result(row)
-      real(wp) :: row(size(history_names))
+      real(wp) :: row(size(history_names)), ext(4)
+      call body_extent(tbs(1), ext)
       row = [real(n, wp), t, dt, en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, &
-        en%residual, real(nc_step, wp), fc_step, rad_step, pen_step]
+        en%residual, real(nc_step, wp), fc_step, rad_step, pen_step, ext(1), ext(3)]
     end function history_row
 
     subroutine log_line()
