@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
-# The main job: set up what is missing, build, run the example decks, draw their figures.
-# Output: output/*.h5 and doc/figures/*.png.
+# The main job: set up what is missing, build, run the paper's Taylor bar by RKPM
+# (input/taylor_bar_rkpm.nml) and draw its figures (Figs. 9, 10 and 14, contact and energy
+# histories), plus the Section 2 examples (Figs. 2-7, 11).
+# Output: output/*.h5 (+ .xdmf for ParaView) and doc/figures/*.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
 bash tools/build.sh Release
-for deck in example_2_1 example_2_2 example_2_2_concave; do
-  echo "== mfcd input/$deck.nml"
-  ./build/bin/mfcd "input/$deck.nml" | grep -v '^deck| '
-done
-PYTHON=.venv/bin/python bash post/make_figures.sh
+echo "== mfcd input/taylor_bar_rkpm.nml"
+./build/bin/mfcd input/taylor_bar_rkpm.nml | grep -v '^deck| '
+py=.venv/bin/python
+$py post/plot_taylor.py output/taylor_bar_rkpm.h5 --out doc/figures
+$py post/plot_snapshots.py output/taylor_bar_rkpm.h5 --out doc/figures --snapshots 0002,0003,0004,0005 --history
+PYTHON=$py bash post/make_figures.sh
 echo "main: done. HDF5 files in output/, figures in doc/figures/"
