@@ -177,7 +177,8 @@ contains
       if (.not. failed .and. abs(en%residual) > deck%solver%energy_tol*en%scale) then
         failed = .true.
         reason = 'step '//itoa(n)//': energy residual '//rtoa(en%residual)//' exceeds '// &
-          'energy_tol x energy scale = '//rtoa(deck%solver%energy_tol*en%scale)
+          'energy_tol x energy scale = '//rtoa(deck%solver%energy_tol*en%scale)//'; '// &
+          fastest_particle(tbs, bodies)
       end if
       if (mod(n, hist_every) == 0 .or. failed) call history_push(hist, history_row())
       if (mod(n, log_every) == 0 .or. failed) call log_line()
@@ -420,6 +421,30 @@ contains
     ext(3) = maxval(tb%x(1, :), mask=tb%x(2, :) <= zmin + tb%t%hmin)
     ext(4) = maxval(tb%st%epsbar)
   end subroutine body_extent
+
+  !> 'fastest particle J of body B (|v| = ...)': where an instability usually grows.
+  function fastest_particle(tbs, bodies) result(msg)
+    type(tl_body_t), intent(in) :: tbs(:)
+    type(body_t), intent(in) :: bodies(:)
+    character(len=:), allocatable :: msg
+    integer :: k, j, kb, jb
+    real(wp) :: vmax, v
+    vmax = -1.0_wp
+    kb = 1
+    jb = 1
+    do k = 1, size(tbs)
+      do j = 1, tbs(k)%np
+        v = norm2(tbs(k)%v(:, j))
+        if (v > vmax) then
+          vmax = v
+          kb = k
+          jb = j
+        end if
+      end do
+    end do
+    msg = 'fastest particle '//itoa(jb)//' of body '''//trim(bodies(tbs(kb)%ibody)%name)// &
+      ''' (|v| = '//rtoa(vmax)//' m/s)'
+  end function fastest_particle
 
   pure integer function first_bad(tb) result(i)
     type(tl_body_t), intent(in) :: tb

@@ -38,12 +38,12 @@ program mfcd
       if (arg(1:1) == '-') then
         write(error_unit, '(a)') 'mfcd: error: unknown option '//trim(arg)
         call usage(error_unit)
-        error stop exit_bad_input, quiet=.true.
+        stop exit_bad_input, quiet=.true.
       end if
       if (len(deck_path) > 0) then
         write(error_unit, '(a)') 'mfcd: error: give one deck only (got '''//deck_path// &
           ''' and '''//trim(arg)//''')'
-        error stop exit_bad_input, quiet=.true.
+        stop exit_bad_input, quiet=.true.
       end if
       deck_path = trim(arg)
     end select
@@ -51,7 +51,7 @@ program mfcd
   if (len(deck_path) == 0) then
     write(error_unit, '(a)') 'mfcd: error: no deck given'
     call usage(error_unit)
-    error stop exit_bad_input, quiet=.true.
+    stop exit_bad_input, quiet=.true.
   end if
 
   write(output_unit, '(a)') code_name//' '//code_version//' (git '//git_commit//') '// &
@@ -79,8 +79,8 @@ contains
   subroutine fail(e)
     type(error_t), intent(in) :: e
     write(error_unit, '(a)') 'mfcd: error: '//e%message
-    if (e%code == exit_bad_input) error stop exit_bad_input, quiet=.true.
-    error stop 1, quiet=.true.
+    if (e%code == exit_bad_input) stop exit_bad_input, quiet=.true.
+    stop 1, quiet=.true.
   end subroutine fail
 
   subroutine echo_deck(d)
