@@ -11,6 +11,15 @@ to (ny, nx) (2D) or (nz, ny, nx) (3D) with its axes.
         body = f.body()                 # the detected body (or f.body("block"))
         grid = f.query("grid")          # None when the deck asked for no grid
         print(f.detection["plateau"], grid.det2d.shape)
+
+A dynamic run (snapshots, history, summary; the deck text parsed by parse_deck):
+
+    with MfcdFile("output/elastic_wave.h5") as f:
+        snap = f.snapshot(f.snapshot_labels()[-1])   # Snapshot: time (s), step, bodies
+        bar = snap.bodies["bar"]                     # SnapshotBody: x, u, v (np, 2), ...
+        svm = field_values(bar, "von_mises")         # MPa (units in FIELDS)
+        ke = f.history()["ke"]                       # J, or J/m in plane strain
+        steel = deck_group(f.deck, "material", name="steel_elastic")   # {variable: value}
 """
 
 from __future__ import annotations
