@@ -24,7 +24,7 @@ module contact_m
   use geometry_m, only: segment_distance
   implicit none
   private
-  public :: master_surface_t, surface_build, surface_gap, contact_point_force
+  public :: master_surface_t, surface_build, surface_gap, contact_point_force, surface_update
   public :: contact_counters_t
 
   !> The master's surface: segments a -> b (counter-clockwise around the master) and bins
@@ -34,6 +34,7 @@ module contact_m
     real(wp), allocatable :: a(:, :), b(:, :)    !< end points (2, nseg) (m)
     real(wp), allocatable :: n(:, :), t(:, :)    !< outward normal, unit tangent (2, nseg)
     real(wp), allocatable :: mid(:, :)           !< midpoints (2, nseg) (m)
+    integer, allocatable :: i0(:), i1(:)         !< particles at the segment ends
     real(wp) :: reach(2) = 0.0_wp                !< half the largest segment extent (m)
     type(bins_t) :: bins
   end type master_surface_t
@@ -58,9 +59,8 @@ contains
     real(wp), intent(in) :: tol
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, j, i0, i1, m
-    real(wp) :: e(2), l
-    real(wp), allocatable :: a(:, :), b(:, :)
-    allocate(a(2, size(idx)), b(2, size(idx)))
+    integer, allocatable :: e0(:), e1(:)
+    allocate(e0(size(idx)), e1(size(idx)))
     m = 0
     do k = 1, size(ptr) - 1
       do j = ptr(k), ptr(k + 1) - 1
@@ -75,43 +75,65 @@ contains
         if (axisym .and. abs(x(1, i0)) <= tol .and. abs(x(1, i1)) <= tol) cycle
         if (all(x(:, i0) == x(:, i1))) cycle
         m = m + 1
-        a(:, m) = x(:, i0)
-        b(:, m) = x(:, i1)
+        e0(m) = i0
+        e1(m) = i1
       end do
     end do
     s%nseg = m
-    s%a = a(:, 1:m)
-    s%b = b(:, 1:m)
-    allocate(s%n(2, m), s%t(2, m), s%mid(2, m))
+    s%i0 = e0(1:m)
+    s%i1 = e1(1:m)
+    allocate(s%a(2, m), s%b(2, m), s%n(2, m), s%t(2, m), s%mid(2, m))
+    call surface_update(s, x, err)
+  end subroutine surface_build
+
+  !> Segment geometry and bins from the current positions x of the master's particles.
+  subroutine surface_update(s, x, err)
+    type(master_surface_t), intent(inout) :: s
+    real(wp), intent(in) :: x(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j
+    real(wp) :: e(2), l
     s%reach = 0.0_wp
-    do j = 1, m
+    do j = 1, s%nseg
+      s%a(:, j) = x(:, s%i0(j))
+      s%b(:, j) = x(:, s%i1(j))
       e = s%b(:, j) - s%a(:, j)
-      l = norm2(e)
+      l = max(norm2(e), tiny(1.0_wp))
       s%t(:, j) = e/l
       s%n(:, j) = [s%t(2, j), -s%t(1, j)]
       s%mid(:, j) = 0.5_wp*(s%a(:, j) + s%b(:, j))
       s%reach = max(s%reach, 0.5_wp*abs(e))
     end do
     call bins_build(s%bins, s%mid, max(2.0_wp*s%reach, tiny(1.0_wp)), err)
-  end subroutine surface_build
+  end subroutine surface_update
 
   !> The master segment closest to p among those reaching within r (per direction) of p,
   !! and the signed gap g = (p - a) . n to it (eq. 89). found is false when none is near.
-  pure subroutine surface_gap(s, p, r, found, g, nrm, tng)
+  pure subroutine surface_gap(s, p, r, found, g, nrm, tng, seg, xi)
     type(master_surface_t), intent(in) :: s
     real(wp), intent(in) :: p(2), r(2)
     logical, intent(out) :: found
     real(wp), intent(out) :: g, nrm(2), tng(2)
+    integer, intent(out), optional :: seg          !< the closest segment
+    real(wp), intent(out), optional :: xi          !< where p projects on it, 0 at a, 1 at b
     integer :: list(s%nseg), nc, k, j, jbest
+    real(wp) :: e(2), gj, gbest
+    logical :: tie
     real(wp) :: dist, dbest
     call bins_candidates(s%bins, p, r + s%reach, list, nc)
     jbest = 0
     dbest = huge(1.0_wp)
+    gbest = -huge(1.0_wp)
     do k = 1, nc
       j = list(k)
       dist = segment_distance(s%a(:, j), s%b(:, j), p)
-      if (dist < dbest) then
-        dbest = dist
+      gj = dot_product(p - s%a(:, j), s%n(:, j))
+      ! at a corner two segments are (nearly) equally close: take the one that puts p
+      ! farthest outside, so a point beside a convex corner is not read as inside it
+      tie = abs(dist - dbest) <= 1.0e-9_wp*maxval(s%reach)
+      if ((dist < dbest .and. .not. tie) .or. (tie .and. gj > gbest)) then
+        dbest = min(dist, dbest)
+        gbest = gj
         jbest = j
       end if
     end do
@@ -119,13 +141,21 @@ contains
     g = 0.0_wp
     nrm = 0.0_wp
     tng = 0.0_wp
+    if (present(seg)) seg = jbest
+    if (present(xi)) xi = 0.0_wp
     if (.not. found) return
     nrm = s%n(:, jbest)
     tng = s%t(:, jbest)
     g = dot_product(p - s%a(:, jbest), nrm)
+    if (present(xi)) then
+      e = s%b(:, jbest) - s%a(:, jbest)
+      xi = max(0.0_wp, min(1.0_wp, dot_product(p - s%a(:, jbest), e)/dot_product(e, e)))
+    end if
   end subroutine surface_gap
 
-  !> Contact force on one slave particle of mass m with predicted gap g (< 0: penetration)
+  !> Contact force on one slave particle of (effective) mass m with predicted gap g (< 0:
+  !! penetration). Against a deformable master m is the reduced mass m_s m_m/(m_s + m_m),
+  !! so that the step closes the gap between both moving surfaces.
   !! and predicted tangential slip s_t over the step relative to the master (m), for the
   !! step dt and friction coefficient mu: normal 2 m |g|/dt^2 along n (eq. 93), tangential
   !! the smaller of stick -2 m s_t/dt^2 and slip mu |f_n| against the slip (eqs. 94-96).

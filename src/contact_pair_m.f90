@@ -1,21 +1,27 @@
-!> Contact pairs of a dynamic run (deck group &contact): a rigid master body, whose
-!! det(M) cloud, bins and surface are built once (it does not move), and a deformable
-!! slave body. Each step, between the prediction (64) and the force evaluation (62):
-!! screen the slave particles by the master's grown bounding box, evaluate det(M_master)
-!! at the predicted physical positions of the survivors, measure the gap of the detected
-!! ones, compute eq. (93)-(96) forces at the particles, redistribute them to the RK
-!! coefficients by eq. (98), correct a_n and the prediction (Section 5).
+!> Contact pairs of a dynamic run (deck group &contact), Sections 2 and 5.
+!!
+!! Each side of a pair is a body with its det(M) cloud and its surface. A rigid side never
+!! moves: its cloud, bins and surface are built once. A deformable side is re-binned at its
+!! predicted positions every step. Each step, between the prediction (64) and the force
+!! evaluation (62), a pass from side A (slave) to side B (master) screens A's particles by
+!! B's grown bounding box, evaluates det(M_B) at their predicted physical positions, measures
+!! the gap of the detected ones to B's closest segment, computes the eq. (93)-(96) force at
+!! each penetrating particle (with the reduced mass when B moves), applies the reaction to
+!! the ends of B's segment, redistributes the particle forces to the RK coefficients by
+!! eq. (98), and corrects a_n and the prediction. With a rigid master one pass is made (the
+!! first condition of eq. 28); when both bodies deform, a second pass swaps the roles (both
+!! conditions of eq. 28).
 module contact_pair_m
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
-  use strings_m, only: itoa, rtoa
+  use strings_m, only: itoa
   use deck_m, only: deck_t
   use body_m, only: body_t
-  use rk_cloud_m, only: rk_cloud_t, cloud_det, cloud_init
+  use rk_cloud_m, only: rk_cloud_t, cloud_det, cloud_init, cloud_move
   use bodies_m, only: body_cloud
   use detection_m, only: body_plateau, detection_threshold
-  use contact_m, only: master_surface_t, surface_build, surface_gap, contact_point_force, &
-    contact_counters_t
+  use contact_m, only: master_surface_t, surface_build, surface_update, surface_gap, &
+    contact_point_force, contact_counters_t
   use tl_body_m, only: tl_body_t
   use tl_kinematics_m, only: physical_positions
   implicit none
@@ -25,7 +31,7 @@ module contact_pair_m
 
   !> What one step's contact did (for the log, history and summary).
   type :: contact_stats_t
-    integer :: n_contact = 0            !< slave particles with a force this step
+    integer :: n_contact = 0            !< particles with a force this step
     !> Mean normal contact force over the step (N, N/m in plane strain): half the sum of the
     !! eq. (93) forces, since a force added to a_n gives the velocity the impulse dt/2 f
     !! (eq. 63) and is absent at n+1.
@@ -36,26 +42,36 @@ module contact_pair_m
     logical :: edge_in_contact = .false.
   end type contact_stats_t
 
-  type :: contact_pair_t
-    integer :: master = 0                !< deck body index of the (rigid) master
-    integer :: slave = 0                 !< index of the slave among the deformable bodies
-    real(wp) :: eps_cr = 0.0_wp, eps_rel = 0.0_wp, mu = 0.0_wp
-    real(wp) :: plateau = 0.0_wp, threshold = 0.0_wp
-    type(rk_cloud_t) :: cloud            !< master particles for det(M)
+  !> One body of a pair as contact sees it.
+  type :: side_t
+    integer :: ibody = 0                 !< deck body index
+    integer :: itb = 0                   !< index among the deformable bodies; 0 if rigid
+    integer :: np = 0
+    type(rk_cloud_t) :: cloud            !< det(M) of this body (current positions)
     type(master_surface_t) :: surface
-    real(wp) :: lo(2) = 0.0_wp, hi(2) = 0.0_wp   !< master box grown by its largest support
+    real(wp) :: plateau = 0.0_wp, threshold = 0.0_wp
+    real(wp) :: lo(2) = 0.0_wp, hi(2) = 0.0_wp   !< box grown by the largest support
+    real(wp), allocatable :: x_old(:, :), x_pred(:, :)  !< physical positions (2, np)
+    real(wp), allocatable :: rho(:, :)   !< supports (2, np): reach of the segment search
+    real(wp), allocatable :: fphys(:, :) !< contact forces at the particles this pass (N)
+    logical, allocatable :: active(:)    !< particle carries a force this pass
+    integer, allocatable :: seg(:)       !< the segment each penetrating particle hit
+    real(wp), allocatable :: xi(:)       !< where on it
+    real(wp), allocatable :: mass(:)     !< particle masses (kg); 0 for a rigid side
+  end type side_t
+
+  type :: contact_pair_t
+    type(side_t) :: side(2)              !< 1: slave, 2: master
+    real(wp) :: eps_cr = 0.0_wp, eps_rel = 0.0_wp, mu = 0.0_wp
     integer :: edge = 0                  !< slave particle tracked for separation (0: none)
+    logical :: both_ways = .false.       !< both bodies deform: eq. (28) both conditions
     type(contact_counters_t) :: count
     type(contact_stats_t) :: step
-    ! work arrays, allocated once
-    real(wp), allocatable :: x_old(:, :), x_pred(:, :), fc(:, :)
-    logical, allocatable :: active(:)
-    real(wp), allocatable :: gap(:), rho_s(:, :)
   end type contact_pair_t
 
 contains
 
-  !> Build the pairs of the deck: master clouds, surfaces, thresholds and work arrays.
+  !> Build the pairs of the deck: clouds, surfaces, thresholds and work arrays.
   subroutine contact_pairs_init(deck, bodies, tbs, axisym, pairs, err)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
@@ -63,44 +79,31 @@ contains
     logical, intent(in) :: axisym
     type(contact_pair_t), allocatable, intent(out) :: pairs(:)
     type(error_t), allocatable, intent(inout) :: err
-    integer :: k, m, s, j, np
+    integer :: k, j, sd, ib
     real(wp) :: best
     allocate(pairs(deck%ncontacts))
     do k = 1, deck%ncontacts
       associate (p => pairs(k), cs => deck%contacts(k))
-        m = cs%imaster
-        p%master = m
-        p%slave = 0
-        do j = 1, size(tbs)
-          if (tbs(j)%ibody == cs%islave) p%slave = j
-        end do
-        s = p%slave
         p%eps_cr = cs%eps_cr
         p%eps_rel = cs%eps_rel
         p%mu = cs%mu
-        call body_cloud(bodies(m), p%cloud, err)
-        if (allocated(err)) return
-        p%plateau = body_plateau(bodies(m), p%cloud)
-        p%threshold = detection_threshold(p%eps_cr, p%eps_rel, p%plateau)
-        call surface_build(p%surface, bodies(m)%x, bodies(m)%loop_ptr, bodies(m)%loop_idx, &
-          bodies(m)%loop_closed, axisym, 1.0e-9_wp*minval(bodies(m)%spacing(1:2)), err)
-        if (allocated(err)) return
-        if (p%surface%nseg == 0) then
-          call set_error(err, "deck '"//deck%path//"', group &contact (contact "//itoa(k)// &
-            "): master body '"//trim(bodies(m)%name)//"' has no surface polyline")
-          return
-        end if
-        p%lo = minval(bodies(m)%x, dim=2) - p%cloud%rmax(1:2)
-        p%hi = maxval(bodies(m)%x, dim=2) + p%cloud%rmax(1:2)
-        np = tbs(s)%np
-        allocate(p%x_old(2, np), p%x_pred(2, np), p%fc(2, np), p%active(np), p%gap(np))
-        p%rho_s = bodies(cs%islave)%rho
+        do sd = 1, 2
+          ib = merge(cs%islave, cs%imaster, sd == 1)
+          call side_init(p%side(sd), bodies(ib), ib, tbs, axisym, p%eps_cr, p%eps_rel, err)
+          if (allocated(err)) return
+          if (p%side(sd)%surface%nseg == 0 .and. (sd == 2 .or. p%side(2)%itb > 0)) then
+            call set_error(err, "deck '"//deck%path//"', group &contact (contact "// &
+              itoa(k)//"): body '"//trim(bodies(ib)%name)//"' has no surface polyline")
+            return
+          end if
+        end do
+        p%both_ways = p%side(2)%itb > 0
         p%edge = 0
         if (cs%edge_point(1) > -huge(1.0_wp)) then
           best = huge(1.0_wp)
-          do j = 1, np
-            if (norm2(tbs(s)%x0(:, j) - cs%edge_point(1:2)) < best) then
-              best = norm2(tbs(s)%x0(:, j) - cs%edge_point(1:2))
+          do j = 1, bodies(cs%islave)%np
+            if (norm2(bodies(cs%islave)%x(:, j) - cs%edge_point(1:2)) < best) then
+              best = norm2(bodies(cs%islave)%x(:, j) - cs%edge_point(1:2))
               p%edge = j
             end if
           end do
@@ -109,120 +112,244 @@ contains
     end do
   end subroutine contact_pairs_init
 
-  !> Contact correction of one pair for the step dt: the slave's coefficients d (already
-  !! predicted by eq. 64 from d_old) and accelerations a_n are corrected in place; the
+  subroutine side_init(s, b, ib, tbs, axisym, eps_cr, eps_rel, err)
+    type(side_t), intent(out) :: s
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: ib
+    type(tl_body_t), intent(in) :: tbs(:)
+    logical, intent(in) :: axisym
+    real(wp), intent(in) :: eps_cr, eps_rel
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j
+    s%ibody = ib
+    s%np = b%np
+    s%itb = 0
+    do j = 1, size(tbs)
+      if (tbs(j)%ibody == ib) s%itb = j
+    end do
+    call body_cloud(b, s%cloud, err)
+    if (allocated(err)) return
+    s%plateau = body_plateau(b, s%cloud)
+    s%threshold = detection_threshold(eps_cr, eps_rel, s%plateau)
+    call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
+      1.0e-9_wp*minval(b%spacing(1:2)), err)
+    if (allocated(err)) return
+    s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:2)
+    s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:2)
+    allocate(s%x_old(2, b%np), s%x_pred(2, b%np), s%fphys(2, b%np), s%active(b%np), &
+      s%seg(b%np), s%xi(b%np), s%mass(b%np))
+    s%x_old = b%x
+    s%x_pred = b%x
+    s%rho = b%rho
+    s%mass = 0.0_wp
+    if (s%itb > 0) s%mass = tbs(s%itb)%t%mass
+  end subroutine side_init
+
+  !> Contact corrections of pair p for the step dt: the coefficients d (predicted by eq. 64
+  !! from d_old) and a_n of the deformable bodies in tbs are corrected in place; their
   !! redistributed contact forces are added to tb%fcon (N).
-  subroutine contact_correct(p, tb, dt)
+  subroutine contact_correct(p, tbs, dt, err)
     type(contact_pair_t), intent(inout) :: p
-    type(tl_body_t), intent(inout) :: tb
+    type(tl_body_t), intent(inout) :: tbs(:)
     real(wp), intent(in) :: dt
-    integer :: j, e, i, c
-    integer(i64) :: nscreen, neval, ndet, ncon
-    real(wp) :: det, g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: sd
+    p%step = contact_stats_t()
+    do sd = 1, 2
+      call side_positions(p%side(sd), tbs, err)
+      if (allocated(err)) return
+    end do
+    call contact_pass(p, p%side(1), p%side(2), tbs, dt, .true., err)
+    if (allocated(err)) return
+    if (p%both_ways) then
+      ! eq. (28), second condition: the master's particles against the slave
+      do sd = 1, 2
+        call side_positions(p%side(sd), tbs, err)
+        if (allocated(err)) return
+      end do
+      call contact_pass(p, p%side(2), p%side(1), tbs, dt, .false., err)
+    end if
+  end subroutine contact_correct
+
+  !> Old and predicted physical positions of a side; a deformable side is re-binned and its
+  !! surface moved to the prediction.
+  subroutine side_positions(s, tbs, err)
+    type(side_t), intent(inout) :: s
+    type(tl_body_t), intent(in) :: tbs(:)
+    type(error_t), allocatable, intent(inout) :: err
+    if (s%itb == 0) return
+    associate (tb => tbs(s%itb))
+      call physical_positions(tb%t, tb%x0, tb%d_old, s%x_old)
+      call physical_positions(tb%t, tb%x0, tb%d, s%x_pred)
+    end associate
+    call cloud_move(s%cloud, s%x_pred, err)
+    if (allocated(err)) return
+    call surface_update(s%surface, s%x_pred, err)
+    s%lo = minval(s%x_pred, dim=2) - s%cloud%rmax(1:2)
+    s%hi = maxval(s%x_pred, dim=2) + s%cloud%rmax(1:2)
+  end subroutine side_positions
+
+  !> One detection-and-force pass of side a's particles against side b (det(M_b), b's
+  !! surface). count_stats: this pass feeds the step's statistics and counters.
+  subroutine contact_pass(p, a, b, tbs, dt, count_stats, err)
+    type(contact_pair_t), intent(inout) :: p
+    type(side_t), intent(inout) :: a, b
+    type(tl_body_t), intent(inout) :: tbs(:)
+    real(wp), intent(in) :: dt
+    logical, intent(in) :: count_stats
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j, jseg, i0, i1
+    integer(i64) :: neval, ndet, ncon
+    real(wp) :: det, g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
+    real(wp) :: dxb(2)
     logical :: found, stick
-    call physical_positions(tb%t, tb%x0, tb%d_old, p%x_old)
-    call physical_positions(tb%t, tb%x0, tb%d, p%x_pred)
-    nscreen = tb%np
     neval = 0
     ndet = 0
     ncon = 0
     pen = 0.0_wp
     rad = 0.0_wp
     fnsum = 0.0_wp
-    !$omp parallel do default(none) shared(p, tb, dt) &
-    !$omp private(det, found, g, nrm, tng, slip, fj, stick) &
+    !$omp parallel do default(none) shared(a, b, dt, p) &
+    !$omp private(det, found, g, nrm, tng, slip, fj, stick, jseg, xi, i0, i1, invmb, meff, dxb) &
     !$omp reduction(+: neval, ndet, ncon, fnsum) reduction(max: pen, rad) schedule(static)
-    do j = 1, tb%np
-      p%active(j) = .false.
-      p%fc(:, j) = 0.0_wp
-      p%gap(j) = 0.0_wp
-      if (any(p%x_pred(:, j) < p%lo) .or. any(p%x_pred(:, j) > p%hi)) cycle
+    do j = 1, a%np
+      a%active(j) = .false.
+      a%fphys(:, j) = 0.0_wp
+      if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
       neval = neval + 1
-      det = cloud_det(p%cloud, p%x_pred(:, j))
-      if (.not. (det > p%threshold)) cycle
+      det = cloud_det(b%cloud, a%x_pred(:, j))
+      if (.not. (det > b%threshold)) cycle
       ndet = ndet + 1
-      call surface_gap(p%surface, p%x_pred(:, j), p%rho_s(:, j), found, g, nrm, tng)
+      call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, jseg, xi)
       if (.not. found .or. .not. (g < 0.0_wp)) cycle
-      slip = dot_product(p%x_pred(:, j) - p%x_old(:, j), tng)
-      call contact_point_force(g, nrm, tng, slip, tb%t%mass(j), dt, p%mu, fj, stick)
-      p%active(j) = .true.
-      p%fc(:, j) = fj
-      p%gap(j) = g
+      ! the master point's motion over the step and its inverse mass (0 when rigid)
+      i0 = b%surface%i0(jseg)
+      i1 = b%surface%i1(jseg)
+      dxb = (1.0_wp - xi)*(b%x_pred(:, i0) - b%x_old(:, i0)) + xi*(b%x_pred(:, i1) - &
+        b%x_old(:, i1))
+      invmb = 0.0_wp
+      if (b%itb > 0) invmb = (1.0_wp - xi)**2/b%mass(i0) + xi**2/b%mass(i1)
+      meff = 1.0_wp/(1.0_wp/a%mass(j) + invmb)
+      slip = dot_product(a%x_pred(:, j) - a%x_old(:, j) - dxb, tng)
+      call contact_point_force(g, nrm, tng, slip, meff, dt, p%mu, fj, stick)
+      a%active(j) = .true.
+      a%fphys(:, j) = fj
+      a%seg(j) = jseg
+      a%xi(j) = xi
       ncon = ncon + 1
       fnsum = fnsum + dot_product(fj, nrm)
       pen = max(pen, -g)
-      rad = max(rad, p%x_pred(1, j))
+      rad = max(rad, a%x_pred(1, j))
     end do
     !$omp end parallel do
-    p%count%screened = p%count%screened + nscreen
+    p%count%screened = p%count%screened + a%np
     p%count%evaluated = p%count%evaluated + neval
     p%count%detected = p%count%detected + ndet
     p%count%contacts = p%count%contacts + ncon
-    p%step%n_contact = int(ncon)
-    p%step%force_normal = 0.5_wp*fnsum
-    p%step%radius = rad
-    p%step%pen_before = pen
-    p%step%pen_after = 0.0_wp
-    p%step%edge_in_contact = .false.
-    if (p%edge > 0) p%step%edge_in_contact = p%active(p%edge)
+    if (count_stats) then
+      p%step%n_contact = int(ncon)
+      p%step%force_normal = 0.5_wp*fnsum
+      p%step%radius = rad
+      p%step%pen_before = pen
+      if (p%edge > 0) p%step%edge_in_contact = a%active(p%edge)
+    else
+      p%step%n_contact = p%step%n_contact + int(ncon)
+      p%step%force_normal = p%step%force_normal + 0.5_wp*fnsum
+      p%step%radius = max(p%step%radius, rad)
+      p%step%pen_before = max(p%step%pen_before, pen)
+    end if
     if (ncon == 0) return
-    ! eq. (98): f_I = sum_J N_I(X_J) f_J, component by component (few particles: serial)
+    ! reactions on b at the ends of the segments hit (serial: few particles)
+    if (b%itb > 0) then
+      b%fphys = 0.0_wp
+      do j = 1, a%np
+        if (.not. a%active(j)) cycle
+        i0 = b%surface%i0(a%seg(j))
+        i1 = b%surface%i1(a%seg(j))
+        b%fphys(:, i0) = b%fphys(:, i0) - (1.0_wp - a%xi(j))*a%fphys(:, j)
+        b%fphys(:, i1) = b%fphys(:, i1) - a%xi(j)*a%fphys(:, j)
+      end do
+      call redistribute_and_correct(tbs(b%itb), b%fphys, dt)
+    end if
+    call redistribute_and_correct(tbs(a%itb), a%fphys, dt)
+    ! penetration left after the correction (redistribution spreads the forces)
+    call side_positions(a, tbs, err)
+    if (allocated(err)) return
+    if (b%itb > 0) call side_positions(b, tbs, err)
+    if (allocated(err)) return
+    do j = 1, a%np
+      if (.not. a%active(j)) cycle
+      call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+      if (found) p%step%pen_after = max(p%step%pen_after, -g)
+    end do
+  end subroutine contact_pass
+
+  !> eq. (98): f_I = sum_J N_I(X_J) f_J component by component, added to tb%fcon; then the
+  !! corrected a_n and prediction of eq. (64).
+  subroutine redistribute_and_correct(tb, fphys, dt)
+    type(tl_body_t), intent(inout) :: tb
+    real(wp), intent(in) :: fphys(:, :), dt
+    integer :: j, e, i
     do j = 1, tb%np
-      if (.not. p%active(j)) cycle
+      if (all(fphys(:, j) == 0.0_wp)) cycle
       do e = tb%t%pptr(j), tb%t%pptr(j + 1) - 1
         i = tb%t%pnbr(e)
-        do c = 1, 2
-          tb%fcon(c, i) = tb%fcon(c, i) + tb%t%pn(c, e)*p%fc(c, j)
-        end do
+        tb%fcon(:, i) = tb%fcon(:, i) + tb%t%pn(:, e)*fphys(:, j)
       end do
     end do
-    ! corrected a_n and prediction (eq. 64 again)
     tb%a(1, :) = tb%a_old(1, :) + tb%fcon(1, :)/tb%t%mass
     tb%a(2, :) = tb%a_old(2, :) + tb%fcon(2, :)/tb%t%mass
     where (tb%pres) tb%a = 0.0_wp
     tb%d = tb%d_old + dt*tb%v + 0.5_wp*dt*dt*tb%a
-    ! penetration left after the correction (redistribution spreads the forces)
-    call physical_positions(tb%t, tb%x0, tb%d, p%x_pred)
-    do j = 1, tb%np
-      if (.not. p%active(j)) cycle
-      call surface_gap(p%surface, p%x_pred(:, j), p%rho_s(:, j), found, g, nrm, tng)
-      if (found) p%step%pen_after = max(p%step%pen_after, -g)
-    end do
-  end subroutine contact_correct
+  end subroutine redistribute_and_correct
 
   !> det(M) of the master and of the slave (built from the slave's current physical
   !! positions with its reference volumes and supports: the Lagrangian body) on the grid
   !! lo..hi with n points (x fastest), and det(M_master) at the slave particles
   !! (Figs. 9-10). Work for output only, done at snapshots when the deck asks.
-  subroutine contact_det_fields(p, tb, slave, lo, hi, n, det_m, det_s, det_m_at_slave, err)
+  subroutine contact_det_fields(p, tbs, bodies, lo, hi, n, det_m, det_s, det_m_at_slave, err)
     type(contact_pair_t), intent(in) :: p
-    type(tl_body_t), intent(inout) :: tb
-    type(body_t), intent(in) :: slave
+    type(tl_body_t), intent(inout) :: tbs(:)
+    type(body_t), intent(in) :: bodies(:)
     real(wp), intent(in) :: lo(2), hi(2)
     integer, intent(in) :: n(2)
     real(wp), intent(out) :: det_m(:), det_s(:), det_m_at_slave(:)
     type(error_t), allocatable, intent(inout) :: err
-    type(rk_cloud_t) :: cs
+    type(rk_cloud_t) :: cs, cm
     integer :: i, j, q
     real(wp) :: x(2)
-    call physical_positions(tb%t, tb%x0, tb%d, tb%x)
-    call cloud_init(cs, tb%x, slave%rho, slave%vol, slave%kid, slave%wshape, slave%bid, &
-      slave%h(1:2), err)
+    call current_cloud(p%side(1), cs)
     if (allocated(err)) return
-    !$omp parallel do default(none) shared(p, cs, lo, hi, n, det_m, det_s) private(i, q, x)
+    call current_cloud(p%side(2), cm)
+    if (allocated(err)) return
+    !$omp parallel do default(none) shared(cm, cs, lo, hi, n, det_m, det_s) private(i, q, x)
     do j = 1, n(2)
       do i = 1, n(1)
         q = i + (j - 1)*n(1)
         x = lo + (hi - lo)*[real(i - 1, wp)/real(n(1) - 1, wp), real(j - 1, wp)/real(n(2) - 1, wp)]
-        det_m(q) = cloud_det(p%cloud, x)
+        det_m(q) = cloud_det(cm, x)
         det_s(q) = cloud_det(cs, x)
       end do
     end do
     !$omp end parallel do
-    do j = 1, tb%np
-      det_m_at_slave(j) = 0.0_wp
-      if (all(tb%x(:, j) >= p%lo) .and. all(tb%x(:, j) <= p%hi)) &
-        det_m_at_slave(j) = cloud_det(p%cloud, tb%x(:, j))
-    end do
+    associate (tb => tbs(p%side(1)%itb))
+      call physical_positions(tb%t, tb%x0, tb%d, tb%x)
+      do j = 1, tb%np
+        det_m_at_slave(j) = cloud_det(cm, tb%x(:, j))
+      end do
+    end associate
+  contains
+    subroutine current_cloud(s, c)
+      type(side_t), intent(in) :: s
+      type(rk_cloud_t), intent(out) :: c
+      associate (b => bodies(s%ibody))
+        if (s%itb == 0) then
+          call cloud_init(c, b%x, b%rho, b%vol, b%kid, b%wshape, b%bid, b%h(1:2), err)
+        else
+          call physical_positions(tbs(s%itb)%t, tbs(s%itb)%x0, tbs(s%itb)%d, tbs(s%itb)%x)
+          call cloud_init(c, tbs(s%itb)%x, b%rho, b%vol, b%kid, b%wshape, b%bid, b%h(1:2), err)
+        end if
+      end associate
+    end subroutine current_cloud
   end subroutine contact_det_fields
 end module contact_pair_m

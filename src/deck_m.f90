@@ -1012,10 +1012,6 @@ contains
       else if (deck%bodies(tmp(k)%islave)%role /= 'deformable') then
         call bad(deck, grp, 'slave', "'"//trim(slave)//"'", 'the slave must be a '// &
           "deformable body (role = 'deformable')", err)
-      else if (deck%bodies(tmp(k)%imaster)%role /= 'rigid') then
-        call bad(deck, grp, 'master', "'"//trim(master)//"'", "the master must be a rigid "// &
-          "body (role = 'rigid'); deformable masters (both-way detection, eq. 28) are not "// &
-          "available yet", err)
       else if (.not. (eps_cr > 0.0_wp)) then
         call bad(deck, grp, 'eps_cr', rtoa(eps_cr), 'give a small positive threshold '// &
           '(paper: 5e-10)', err)

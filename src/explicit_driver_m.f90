@@ -101,11 +101,14 @@ contains
     call contact_pairs_init(deck, bodies, tbs, axisym, pairs, err)
     if (allocated(err)) return
     do k = 1, size(pairs)
-      write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,i0,a,f5.2)') 'contact: master '''// &
-        trim(bodies(pairs(k)%master)%name)//''' (rigid, det(M) plateau ', pairs(k)%plateau, &
-        '), slave '''//trim(bodies(tbs(pairs(k)%slave)%ibody)%name)//''': threshold ', &
-        pairs(k)%threshold, ' (eps_cr ', pairs(k)%eps_cr, '), ', pairs(k)%surface%nseg, &
-        ' surface segments, mu = ', pairs(k)%mu
+      write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,i0,a,f5.2,a)') 'contact: master '''// &
+        trim(bodies(pairs(k)%side(2)%ibody)%name)//''' ('// &
+        trim(merge('deformable', 'rigid     ', pairs(k)%both_ways))//', det(M) plateau ', &
+        pairs(k)%side(2)%plateau, '), slave '''//trim(bodies(pairs(k)%side(1)%ibody)%name)// &
+        ''': threshold ', pairs(k)%side(2)%threshold, ' (eps_cr ', pairs(k)%eps_cr, '), ', &
+        pairs(k)%side(2)%surface%nseg, ' surface segments, mu = ', pairs(k)%mu, &
+        trim(merge('; detection both ways (eq. 28)', '                              ', &
+        pairs(k)%both_ways))
     end do
     pen_max = 0.0_wp
     t_edge_first = -1.0_wp
@@ -240,9 +243,8 @@ contains
       call h5_group(f, '/snapshots/'//lab//'/det', err)
       do kp = 1, size(pairs)
         if (allocated(err)) return
-        allocate(dm(product(ng)), ds(product(ng)), dms(tbs(pairs(kp)%slave)%np))
-        call contact_det_fields(pairs(kp), tbs(pairs(kp)%slave), &
-          bodies(tbs(pairs(kp)%slave)%ibody), deck%output%det_grid_lo, &
+        allocate(dm(product(ng)), ds(product(ng)), dms(tbs(pairs(kp)%side(1)%itb)%np))
+        call contact_det_fields(pairs(kp), tbs, bodies, deck%output%det_grid_lo, &
           deck%output%det_grid_hi, ng, dm, ds, dms, err)
         g = '/snapshots/'//lab//'/det/contact'//itoa(kp)
         if (.not. allocated(err)) call h5_group(f, g, err)
@@ -256,8 +258,10 @@ contains
           'grid coordinates along x1')
         if (.not. allocated(err)) call h5_write(f, g//'/axis2', grid_axis(2), 'm', err, &
           'grid coordinates along x2')
-        if (.not. allocated(err)) call h5_attr(f, g, 'threshold', pairs(kp)%threshold, err)
-        if (.not. allocated(err)) call h5_attr(f, g, 'master_plateau', pairs(kp)%plateau, err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'threshold', pairs(kp)%side(2)%threshold, &
+          err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'master_plateau', &
+          pairs(kp)%side(2)%plateau, err)
         deallocate(dm, ds, dms)
       end do
     end subroutine det_fields_out
@@ -287,7 +291,8 @@ contains
       pen_step = 0.0_wp
       edge_now = .false.
       do kp = 1, size(pairs)
-        call contact_correct(pairs(kp), tbs(pairs(kp)%slave), dt)
+        call contact_correct(pairs(kp), tbs, dt, err)
+        if (allocated(err)) return
         nc_step = nc_step + pairs(kp)%step%n_contact
         fc_step = fc_step + pairs(kp)%step%force_normal
         rad_step = max(rad_step, pairs(kp)%step%radius)

@@ -13,6 +13,7 @@ module rk_cloud_m
   implicit none
   private
   public :: rk_cloud_t, cloud_init, cloud_det, cloud_moment, cloud_shape, cloud_count_cover
+  public :: cloud_move
 
   type :: rk_cloud_t
     integer :: ndim = 0, np = 0
@@ -71,6 +72,27 @@ contains
     end do
     if (any(c%rho <= 0.0_wp)) call set_error(err, 'rk cloud: support radius must be positive')
   end subroutine cloud_init
+
+  !> The same particles at new positions x (caller order): re-binned and re-packed (a
+  !! deformable contact master moves every step; a rigid one is never moved).
+  subroutine cloud_move(c, x, err)
+    type(rk_cloud_t), intent(inout) :: c
+    real(wp), intent(in) :: x(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: rho(:, :), vol(:)
+    real(wp) :: h(3)
+    integer :: q, kid, wshape, bid
+    allocate(rho(c%ndim, c%np), vol(c%np))
+    do q = 1, c%np
+      rho(:, c%perm(q)) = c%rho(:, q)
+      vol(c%perm(q)) = c%vol(q)
+    end do
+    h = 1.0_wp/c%hinv
+    kid = c%kid
+    wshape = c%wshape
+    bid = c%bid
+    call cloud_init(c, x, rho, vol, kid, wshape, bid, h(1:size(x, 1)), err)
+  end subroutine cloud_move
 
   !> Moment matrix M(p) (full, symmetric) and the number of particles covering p.
   pure subroutine cloud_moment(c, p, mm, ncover)
