@@ -339,12 +339,23 @@ contains
         en%w_int, en%w_plastic, en%w_ext, en%w_contact, en%residual, nc_step, eta
     end subroutine log_line
 
+    function run_status() result(st)
+      character(len=:), allocatable :: st
+      if (failed) then
+        st = 'failed'
+      else if (t < deck%solver%t_end - 0.5_wp*dt) then
+        st = 'stopped at max_steps'
+      else
+        st = 'completed'
+      end if
+    end function run_status
+
     subroutine write_summary()
       integer :: kk
       real(wp) :: ext(4)
       call h5_group(f, '/summary', err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'status', &
-        merge('failed   ', 'completed', failed), err)
+        trim(run_status()), err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'failure', reason, err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'steps', n, err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'time', t, err)
