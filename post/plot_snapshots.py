@@ -154,7 +154,9 @@ def reference_triangles(f: MfcdFile, name: str, npart: int):
 
 
 def draw_snapshots(f: MfcdFile, field: str, labels: list, mirror: bool, out: str,
-                   layout: str, fmt: str, cmap_name: str | None, style: str = "surface") -> str:
+                   layout: str, fmt: str, cmap_name: str | None, style: str = "surface",
+                   vmax_user: float | None = None, window: list | None = None,
+                   suffix: str = "") -> str:
     axisym = f.geometry == "axisymmetric"
     if mirror and not axisym:
         print("plot_snapshots: --mirror ignored: the run is not axisymmetric")
@@ -194,6 +196,8 @@ def draw_snapshots(f: MfcdFile, field: str, labels: list, mirror: bool, out: str
     if signed(field) and vmin < 0 < vmax:
         m = max(-vmin, vmax)
         vmin, vmax = -m, m
+    if vmax_user is not None:
+        vmax = vmax_user
     if vmax - vmin <= 1e-12 * max(abs(vmax), 1.0):      # a constant field
         pad = max(abs(vmax) * 0.05, 1e-6)
         vmin, vmax = vmin - pad, vmax + pad
@@ -207,6 +211,8 @@ def draw_snapshots(f: MfcdFile, field: str, labels: list, mirror: bool, out: str
     hmax = max(spacing.values()) if spacing else 0.0
     pad = np.maximum(0.03 * (hi - lo), 1.5 * hmax)
     lo, hi = lo - pad, hi + pad
+    if window is not None:                             # x0, x1, y0, y1 in the file's units (m)
+        lo, hi = np.array(window[0::2], float), np.array(window[1::2], float)
     ext = hi - lo
     sc = 1e3 if mm else 1.0
     unit = "mm" if mm else "m"
@@ -281,7 +287,7 @@ def draw_snapshots(f: MfcdFile, field: str, labels: list, mirror: bool, out: str
         c.set_sizes(d * d)
     os.makedirs(out, exist_ok=True)
     stem = os.path.splitext(os.path.basename(f.path))[0]
-    path = os.path.join(out, f"{stem}_{field}{'_mirror' if mirror else ''}.{fmt}")
+    path = os.path.join(out, f"{stem}_{field}{'_mirror' if mirror else ''}{suffix}.{fmt}")
     fig.savefig(path)
     plt.close(fig)
     return path
@@ -357,6 +363,11 @@ def main(argv=None) -> int:
                          "particle lattice, drawn at the physical positions (default); "
                          "points: one square marker per particle")
     ap.add_argument("--cmap", default=None, help="matplotlib colour map")
+    ap.add_argument("--vmax", type=float, default=None,
+                    help="upper end of the colour scale (default: the largest value)")
+    ap.add_argument("--window", default=None,
+                    help="x0,x1,y0,y1 (m): zoom to this window, e.g. the Taylor bar's foot")
+    ap.add_argument("--suffix", default="", help="added to the figure's file name")
     ap.add_argument("--format", default="png", help="image format (default png)")
     a = ap.parse_args(argv)
     plt.rcParams.update(STYLE)
@@ -367,8 +378,9 @@ def main(argv=None) -> int:
             if not a.no_snapshots:
                 try:
                     labels = pick_labels(f, a.snapshots)
+                    win = [float(v) for v in a.window.split(",")] if a.window else None
                     p = draw_snapshots(f, a.field, labels, a.mirror, out, a.layout, a.format,
-                                       a.cmap, a.style)
+                                       a.cmap, a.style, a.vmax, win, a.suffix)
                     print(f"plot_snapshots: wrote {p}")
                 except SystemExit as e:
                     print(e, file=sys.stderr)
