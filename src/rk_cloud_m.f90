@@ -53,7 +53,11 @@ contains
     c%hinv(1:ndim) = 1.0_wp/h(1:ndim)
     c%rmax = 0.0_wp
     if (c%np > 0) c%rmax(1:ndim) = maxval(rho, dim=2)
-    call bins_build(b0, x, max(c%rmax(1:ndim), tiny(1.0_wp)), err)
+    ! 2D cells a third of the largest support: a query then scans 7 x 7 small cells instead
+    ! of 3 x 3 large ones, about 27 candidates instead of 43 per hit set of 20 (bench/:
+    ! 25% more det(M) queries per second); 1D and 3D keep cells of one support
+    call bins_build(b0, x, max(c%rmax(1:ndim), tiny(1.0_wp))/merge(3.0_wp, 1.0_wp, ndim == 2), &
+      err)
     if (allocated(err)) return
     allocate(c%x(ndim, c%np), c%rho(ndim, c%np), c%rinv(ndim, c%np), c%vol(c%np))
     allocate(c%perm(c%np))
@@ -163,7 +167,9 @@ contains
     real(wp) :: dx, dy, w, z1, z2, z12, h1, h2
     real(wp) :: m11, m12, m13, m14, m22, m24, m33, m34, m44
     real(wp) :: l11, l21, l31, l41, l22, l32, l42, l33, l43, l44, s, tol
+    logical :: cubic
     det = 0.0_wp
+    cubic = c%kid == kernel_cubic
     call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
     if (empty) return
     h1 = c%hinv(1)
@@ -176,8 +182,13 @@ contains
         dx = c%x(1, q) - p(1)
         dy = c%x(2, q) - p(2)
         if (abs(dx) >= c%rho(1, q) .or. abs(dy) >= c%rho(2, q)) cycle
-        w = 4.0_wp*c%rinv(1, q)*c%rinv(2, q)*c%vol(q) &
-          *window_1d(c%kid, 2.0_wp*dx*c%rinv(1, q))*window_1d(c%kid, 2.0_wp*dy*c%rinv(2, q))
+        if (cubic) then
+          w = 4.0_wp*c%rinv(1, q)*c%rinv(2, q)*c%vol(q) &
+            *cubic_w(2.0_wp*abs(dx)*c%rinv(1, q))*cubic_w(2.0_wp*abs(dy)*c%rinv(2, q))
+        else
+          w = 4.0_wp*c%rinv(1, q)*c%rinv(2, q)*c%vol(q) &
+            *window_1d(c%kid, 2.0_wp*dx*c%rinv(1, q))*window_1d(c%kid, 2.0_wp*dy*c%rinv(2, q))
+        end if
         z1 = dx*h1
         z2 = dy*h2
         z12 = z1*z2
@@ -213,6 +224,18 @@ contains
     l44 = sqrt(s)
     det = (l11*l22*l33*l44)**2
   end function det_2d_bilinear_tensor
+
+  !> The cubic spline of eq. (8) at a = |s| < 2 (the caller has checked the support); the
+  !! hot loop calls it directly, which lets the compiler inline it (window_1d's select case
+  !! over kernels does not).
+  pure real(wp) function cubic_w(a) result(w)
+    real(wp), intent(in) :: a
+    if (a < 1.0_wp) then
+      w = 2.0_wp/3.0_wp - a*a*(1.0_wp - 0.5_wp*a)
+    else
+      w = (2.0_wp - a)**3/6.0_wp
+    end if
+  end function cubic_w
 
   !> RKPM shape functions N_I(p) = P(0)^T M^-1 P(z_I) phi_I V_I and gradients dN(ndim, :)
   !! with respect to p, for every particle covering p. ids are caller indices (perm).
