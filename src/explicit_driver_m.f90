@@ -56,6 +56,7 @@ contains
     integer(i64) :: psteps
     integer :: nc_step
     logical :: edge_prev
+    real(wp) :: t_contact, t_output, t_loop0, t_loop, tw
     wall0 = omp_get_wtime()
     axisym = deck%run%geometry == 'axisymmetric'
     ndef = count(deck%bodies(1:deck%nbodies)%role == 'deformable')
@@ -151,11 +152,16 @@ contains
     failed = .false.
     reason = ''
     psteps = 0
+    t_contact = 0.0_wp
+    t_output = 0.0_wp
+    t_loop0 = omp_get_wtime()
     do while (t < deck%solver%t_end - 0.5_wp*dt .and. n < deck%solver%max_steps)
       do k = 1, ndef
         call predict_body(tbs(k), dt)
       end do
+      tw = omp_get_wtime()
       call contact_step()
+      t_contact = t_contact + (omp_get_wtime() - tw)
       do k = 1, ndef
         call finish_body(tbs(k), dt, bad_q, bad_j)
         psteps = psteps + tbs(k)%np
@@ -186,9 +192,12 @@ contains
       if (mod(n, hist_every) == 0 .or. failed) call history_push(hist, history_row())
       if (mod(n, log_every) == 0 .or. failed) call log_line()
       if (failed) exit
+      tw = omp_get_wtime()
       call snapshots_due()
+      t_output = t_output + (omp_get_wtime() - tw)
       if (allocated(err)) return
     end do
+    t_loop = omp_get_wtime() - t_loop0
     wall = omp_get_wtime() - wall0
     if (failed) then
       write(output_unit, '(a)') 'dynamic: FAILED at '//reason
@@ -202,9 +211,9 @@ contains
     if (.not. allocated(err)) call history_flush(f, hist, err)
     if (.not. allocated(err)) call write_summary()
     call h5_close(f, err)
-    write(output_unit, '(a,i0,a,es12.5,a,f9.2,a,es10.3,a)') 'summary: ', n, ' steps to t = ', &
-      t, ' s in ', wall, ' s wall, ', real(psteps, wp)/max(wall, 1.0e-9_wp), &
-      ' particle-steps/s'
+    write(output_unit, '(a,i0,a,es12.5,a,f9.2,a,f7.2,a,es10.3,a)') 'summary: ', n, &
+      ' steps to t = ', t, ' s in ', wall, ' s wall (set-up ', wall - t_loop, ' s), ', &
+      real(psteps, wp)/max(t_loop, 1.0e-9_wp), ' particle-steps/s in the time loop'
     write(output_unit, '(a,es11.4,a,es11.4,a,es10.3)') 'summary: energy residual ', &
       en%residual, ' J of scale ', en%scale, ' J: relative ', en%residual/max(en%scale, &
       tiny(1.0_wp))
@@ -226,6 +235,12 @@ contains
           ' m, foot radius ', ext(3), ' m, max epsbar ', ext(4)
       end block
     end do
+    write(output_unit, '(a,f8.2,a,6(a,f5.1,a))') 'summary: time loop ', t_loop, ' s: ', &
+      'kinematics ', 100.0_wp*time_share(1), '%, ', 'material ', 100.0_wp*time_share(2), &
+      '%, ', 'internal force ', 100.0_wp*time_share(3), '%, ', 'contact ', &
+      100.0_wp*t_contact/max(t_loop, 1.0e-9_wp), '%, ', 'snapshots ', &
+      100.0_wp*t_output/max(t_loop, 1.0e-9_wp), '%, ', 'rest ', 100.0_wp*(1.0_wp - &
+      sum(time_share()) - (t_contact + t_output)/max(t_loop, 1.0e-9_wp)), '%'
     write(output_unit, '(a)') 'summary: wrote '//trim(deck%output%file)//' and '//xdmf
     if (failed .and. .not. allocated(err)) call set_error(err, 'run failed at '//reason// &
       '; diagnostic snapshot /snapshots/failure written', exit_run_failed)
@@ -339,6 +354,24 @@ contains
         en%w_int, en%w_plastic, en%w_ext, en%w_contact, en%residual, nc_step, eta
     end subroutine log_line
 
+    !> Shares of the time loop spent in kinematics, material update and internal force.
+    function time_share(i) result(share)
+      integer, intent(in), optional :: i
+      real(wp), allocatable :: share(:)
+      real(wp) :: tot(3)
+      integer :: kk
+      tot = 0.0_wp
+      do kk = 1, ndef
+        tot = tot + tbs(kk)%wall
+      end do
+      tot = tot/max(t_loop, 1.0e-9_wp)
+      if (present(i)) then
+        share = [tot(i)]
+      else
+        share = tot
+      end if
+    end function time_share
+
     function run_status() result(st)
       character(len=:), allocatable :: st
       if (failed) then
@@ -362,10 +395,13 @@ contains
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt', dt, err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical', dtc, err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'wall_time', wall, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', &
+        'time_loop_kinematics_material_force_contact_snapshots', [t_loop, time_share(), &
+        t_contact, t_output], err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'threads', omp_get_max_threads(), &
         err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'particle_steps_per_second', &
-        real(psteps, wp)/max(wall, 1.0e-9_wp), err)
+        real(psteps, wp)/max(t_loop, 1.0e-9_wp), err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'energy_residual', en%residual, err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'energy_scale', en%scale, err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'kinetic_energy', en%ke, err)

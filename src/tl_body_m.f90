@@ -2,6 +2,7 @@
 !! tables, material and state, the coefficient vectors of eqs. (62)-(64), kinematic
 !! conditions, and the energy accounts of the step.
 module tl_body_m
+  use omp_lib, only: omp_get_wtime
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
@@ -36,6 +37,7 @@ module tl_body_m
     real(wp) :: w_ext = 0.0_wp, w_contact = 0.0_wp
     real(wp), allocatable :: freac_old(:, :)     !< reaction at prescribed components (N)
     real(wp), allocatable :: freac(:, :)
+    real(wp) :: wall(3) = 0.0_wp                 !< seconds in kinematics, material, forces
     real(wp), allocatable :: a_old(:, :)         !< a_n during the step
     real(wp), allocatable :: v_old(:, :)         !< v_n during the step
     real(wp), allocatable :: fcon(:, :)          !< contact forces on the coefficients (N)
@@ -140,12 +142,14 @@ contains
     integer, intent(out) :: bad_q
     real(wp), intent(out) :: bad_j
     integer :: q, nthreads_blocks, i0, i1, blk
-    real(wp) :: dw, dwp, jq
+    real(wp) :: dw, dwp, jq, t0, t1, t2
     integer, parameter :: block = 256
+    t0 = omp_get_wtime()
     tb%f_old = tb%f
     tb%p_old = tb%p
     call deformation_gradient(tb%t, tb%d, tb%f)
     call rate_of_deformation(tb%nq, dt, tb%f_old, tb%f, tb%dr, tb%w12)
+    t1 = omp_get_wtime()
     nthreads_blocks = (tb%nq + block - 1)/block
     !$omp parallel do default(none) shared(tb, dt, nthreads_blocks) private(i0, i1) &
     !$omp schedule(dynamic, 4)
@@ -155,6 +159,7 @@ contains
       call tb%mat%update(dt, tb%dr, tb%w12, tb%st, i0, i1, tb%dwp)
     end do
     !$omp end parallel do
+    t2 = omp_get_wtime()
     call piola_stress(tb%nq, tb%f, tb%st%tau, tb%p)
     call internal_force(tb%t, tb%p, tb%fint)
     bad_q = 0
@@ -176,5 +181,6 @@ contains
     tb%w_plastic = tb%w_plastic + dwp
     tb%a(1, :) = (tb%fext(1, :) - tb%fint(1, :))/tb%t%mass
     tb%a(2, :) = (tb%fext(2, :) - tb%fint(2, :))/tb%t%mass
+    tb%wall = tb%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
   end subroutine tl_body_forces
 end module tl_body_m
