@@ -47,9 +47,9 @@ program bench_detect
   !! chol_small or dpotrf, and the experiments of det_variants_m.
   integer, parameter :: k_lib = 1, k_generic = 2, k_lapack = 3, k_copy = 4, k_inline = 5, &
     k_branchless = 6, k_soa = 7
-  !> Variants timed: a kernel, on the library's bins (cells rmax) or on bins of cells rmax/2
-  !! (fine), with the queries in random or in cell order (sorted). Names starting 'x_' are
-  !! experiments, not library code.
+  !> Variants timed: a kernel, on the cloud as cloud_init built it (vcell = 0) or repacked
+  !! on bins of cells rmax/vcell, with the queries in random or in cell order (sorted).
+  !! Names starting 'x_' are experiments, not library code.
   integer, parameter :: nvar = 13
   integer, parameter :: v_special = 1, v_generic = 2, v_lapack = 3
   character(len=*), parameter :: vname(nvar) = [character(len=13) :: &
@@ -57,8 +57,8 @@ program bench_detect
     'x_soa', 'x_lib_c2', 'x_inline_c2', 'x_inline_c3', 'x_soa_c2', 'x_soa_c2_sort']
   integer, parameter :: vkern(nvar) = [k_lib, k_generic, k_lapack, k_lib, k_copy, &
     k_inline, k_branchless, k_soa, k_lib, k_inline, k_inline, k_soa, k_soa]
-  !> bins cell size = rmax / vcell (the library: 1)
-  integer, parameter :: vcell(nvar) = [1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 3, 2, 2]
+  !> 0: the library's own bins; k > 0: bins of cell size rmax/k
+  integer, parameter :: vcell(nvar) = [0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 3, 2, 2]
   logical, parameter :: vsort(nvar) = [.false., .false., .false., .true., .false., &
     .false., .false., .false., .false., .false., .false., .false., .true.]
   integer, parameter :: nquery = 1000000
@@ -70,12 +70,12 @@ program bench_detect
   real(wp), parameter :: agree_tol = 1.0e-10_wp   !< relative det difference allowed
   real(wp), parameter :: det_floor = 1.0e-20_wp   !< compare det only above this
   integer :: nround
-  logical :: do_accuracy
+  logical :: do_throughput, do_accuracy
 
   write(output_unit, '(a)') '# bench_detect: meshfree contact detection (Li et al. 2001)'
   write(output_unit, '(a,i0)') '# OpenMP max threads: ', omp_get_max_threads()
-  call read_args(nround, do_accuracy)
-  call throughput(nround)
+  call read_args(nround, do_throughput, do_accuracy)
+  if (do_throughput) call throughput(nround)
   if (do_accuracy) call accuracy()
 
 contains
@@ -85,8 +85,9 @@ contains
     integer, intent(in) :: nround
     type(body_t) :: b
     type(rk_cloud_t) :: c
-    type(rk_cloud_t), target :: cf(3)   !< c on bins of cells rmax/k, k = 1, 2, 3
-    type(soa_cloud_t), target :: sf(3)
+    !> cf(0): c as cloud_init built it; cf(k): c repacked on bins of cells rmax/k
+    type(rk_cloud_t), target :: cf(0:3)
+    type(soa_cloud_t), target :: sf(0:3)
     type(rk_cloud_t), pointer :: cv
     type(soa_cloud_t), pointer :: sv
     type(error_t), allocatable :: err
@@ -104,17 +105,18 @@ contains
     b%bid = basis_bilinear
     call body_cloud(b, c, err)
     call check(err)
-    cf(1) = c
-    call soa_build(cf(1), sf(1))
-    do k = 2, 3
+    cf(0) = c
+    call soa_build(cf(0), sf(0))
+    do k = 1, 3
       call fine_cloud(c, k, cf(k), err)
       call check(err)
       call soa_build(cf(k), sf(k))
     end do
     write(output_unit, '(/,a)') '## A. Throughput: Taylor bar half-section, det(M) queries'
-    write(output_unit, '(a,i0,a,es10.3,a,es10.3,a,i0,a,i0,a,i0,a)') '# particles ', b%np, &
-      ', dx = ', b%spacing(1), ' m, rho = ', b%rho(1, 1), ' m, bins ', c%bins%nc(1), &
-      ' x ', c%bins%nc(2), '; ', nquery, ' queries, best of 5 after a warm-up'
+    write(output_unit, '(a,i0,a,es10.3,a,es10.3,a,i0,a,i0,a,f0.2,a,i0,a)') '# particles ', &
+      b%np, ', dx = ', b%spacing(1), ' m, rho = ', b%rho(1, 1), ' m, library bins ', &
+      c%bins%nc(1), ' x ', c%bins%nc(2), ' (cell = rmax/', c%rmax(1)/c%bins%cell(1), '); ', &
+      nquery, ' queries, best of 5 after a warm-up'
     write(output_unit, '(a,es12.5)') '# interior plateau of det(M): ', body_plateau(b, c)
     allocate(p(2, nquery), ps(2, nquery), d_ref(nquery), d(nquery))
     ctr = 0.5_wp*(lo + hi)
@@ -128,9 +130,9 @@ contains
         trim(setname(iset)), ': box ', ctr - half, ' ..', ctr + half, &
         '; candidates/query ', cand, ', in support ', hits
       write(output_unit, '(a,a,a,f0.2,a,f0.2)') 'RESULT bench=neighbours set=', &
-        trim(setname(iset)), ' cells=rmax candidates_per_query=', cand, &
+        trim(setname(iset)), ' cells=library candidates_per_query=', cand, &
         ' hits_per_query=', hits
-      do k = 2, 3
+      do k = 1, 3
         call neighbour_counts(cf(k), p, cand, hits)
         write(output_unit, '(a,a,a,i0,a,f0.2,a,f0.2)') 'RESULT bench=neighbours set=', &
           trim(setname(iset)), ' cells=rmax/', k, ' candidates_per_query=', cand, &
@@ -214,7 +216,7 @@ contains
       'cloud_moment + chol_small; lapack: cloud_moment + dpotrf; sorted: library on '// &
       'cell-ordered queries'
     write(output_unit, '(a)') '# x_*: experiments in bench/det_variants_m.f90 (not library '// &
-      'code); _c2/_c3: bins with cells rmax/2, rmax/3; _sort: cell-ordered queries'
+      'code) on bins of cells rmax; _c2/_c3: cells rmax/2, rmax/3; _sort: cell-ordered queries'
     do iset = 1, 2
       write(output_unit, '(a,a,a,f0.2,a,f0.2,a,f4.2)') 'RESULT bench=summary set=', &
         trim(setname(iset)), ' specialised_1t_mqps=', qps(v_special, 1, iset)*1.0e-6_wp, &
@@ -666,13 +668,14 @@ contains
       .and. width < rbuf)
   end subroutine classify_case
 
-  !> Command line: [--rounds N] (default 1) [--no-accuracy].
-  subroutine read_args(nround, do_accuracy)
+  !> Command line: [--rounds N] (default 1) [--no-throughput] [--no-accuracy].
+  subroutine read_args(nround, do_throughput, do_accuracy)
     integer, intent(out) :: nround
-    logical, intent(out) :: do_accuracy
+    logical, intent(out) :: do_throughput, do_accuracy
     integer :: i, ios
     character(len=64) :: arg
     nround = 1
+    do_throughput = .true.
     do_accuracy = .true.
     i = 1
     do while (i <= command_argument_count())
@@ -686,11 +689,13 @@ contains
           write(error_unit, '(a)') 'bench_detect: --rounds needs a positive integer'
           error stop 2
         end if
+      case ('--no-throughput')
+        do_throughput = .false.
       case ('--no-accuracy')
         do_accuracy = .false.
       case default
         write(error_unit, '(a)') 'bench_detect: unknown argument '''//trim(arg)// &
-          '''; usage: bench_detect [--rounds N] [--no-accuracy]'
+          '''; usage: bench_detect [--rounds N] [--no-throughput] [--no-accuracy]'
         error stop 2
       end select
       i = i + 1

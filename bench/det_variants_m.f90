@@ -11,7 +11,7 @@
 !!                the row loop vectorizes;
 !!   soa        - branchless, on structure-of-arrays copies with 4 V/(rho_x rho_y) and
 !!                2/rho precomputed (built once per body, as bins are).
-!! fine_cloud repacks a cloud on bins of cell size rmax/k (the library uses k = 1), so any
+!! fine_cloud repacks a cloud on bins of cell size rmax/k (whatever cloud_init chose), so any
 !! kernel above can be timed with fewer wasted candidates per query.
 !! Not part of mfcd_core: the lead decides what moves to src/.
 module det_variants_m

@@ -155,8 +155,9 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: sd
     p%step = contact_stats_t()
+    ! the slave's det(M) and surface are needed only when both bodies deform
     do sd = 1, 2
-      call side_positions(p%side(sd), tbs, err)
+      call side_positions(p%side(sd), tbs, sd == 2 .or. p%both_ways, err)
       if (allocated(err)) return
     end do
     call contact_pass(p, p%side(1), p%side(2), tbs, dt, .true., err)
@@ -164,7 +165,7 @@ contains
     if (p%both_ways) then
       ! eq. (28), second condition: the master's particles against the slave
       do sd = 1, 2
-        call side_positions(p%side(sd), tbs, err)
+        call side_positions(p%side(sd), tbs, .true., err)
         if (allocated(err)) return
       end do
       call contact_pass(p, p%side(2), p%side(1), tbs, dt, .false., err)
@@ -173,15 +174,17 @@ contains
 
   !> Old and predicted physical positions of a side; a deformable side is re-binned and its
   !! surface moved to the prediction.
-  subroutine side_positions(s, tbs, err)
+  subroutine side_positions(s, tbs, move, err)
     type(side_t), intent(inout) :: s
     type(tl_body_t), intent(in) :: tbs(:)
+    logical, intent(in) :: move      !< the side acts as a master: move its cloud and surface
     type(error_t), allocatable, intent(inout) :: err
     if (s%itb == 0) return
     associate (tb => tbs(s%itb))
       call physical_positions(tb%t, tb%x0, tb%d_old, s%x_old)
       call physical_positions(tb%t, tb%x0, tb%d, s%x_pred)
     end associate
+    if (.not. move) return
     call cloud_move(s%cloud, s%x_pred, err)
     if (allocated(err)) return
     call surface_update(s%surface, s%x_pred, err)
@@ -272,17 +275,31 @@ contains
       call redistribute_and_correct(tbs(b%itb), b%fphys, dt)
     end if
     call redistribute_and_correct(tbs(a%itb), a%fphys, dt)
-    ! penetration left after the correction (redistribution spreads the forces)
-    call side_positions(a, tbs, err)
+    ! penetration left after the correction (redistribution spreads the forces): the
+    ! corrected positions of the particles that had a force (and of b when it moves)
+    if (b%itb > 0) call side_positions(b, tbs, .true., err)
     if (allocated(err)) return
-    if (b%itb > 0) call side_positions(b, tbs, err)
-    if (allocated(err)) return
-    do j = 1, a%np
-      if (.not. a%active(j)) cycle
-      call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
-      if (found) p%step%pen_after = max(p%step%pen_after, -g)
-    end do
+    associate (ta => tbs(a%itb))
+      do j = 1, a%np
+        if (.not. a%active(j)) cycle
+        a%x_pred(:, j) = position_of(ta, j)
+        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+        if (found) p%step%pen_after = max(p%step%pen_after, -g)
+      end do
+    end associate
   end subroutine contact_pass
+
+  !> Physical position of particle j of a body from its current coefficients.
+  pure function position_of(tb, j) result(x)
+    type(tl_body_t), intent(in) :: tb
+    integer, intent(in) :: j
+    real(wp) :: x(2)
+    integer :: e
+    x = tb%x0(:, j)
+    do e = tb%t%pptr(j), tb%t%pptr(j + 1) - 1
+      x = x + tb%t%pn(:, e)*tb%d(:, tb%t%pnbr(e))
+    end do
+  end function position_of
 
   !> eq. (98): f_I = sum_J N_I(X_J) f_J component by component, added to tb%fcon; then the
   !! corrected a_n and prediction of eq. (64).

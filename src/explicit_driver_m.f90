@@ -14,7 +14,7 @@ module explicit_driver_m
   use strings_m, only: itoa, rtoa
   use deck_m, only: deck_t
   use body_m, only: body_t
-  use tl_body_m, only: tl_body_t, tl_body_init, tl_body_forces, tl_apply_bc, tl_kinetic_energy
+  use tl_body_m, only: tl_body_t, tl_body_init, tl_body_forces, tl_apply_bc
   use tl_kinematics_m, only: physical_positions
   use stable_step_m, only: critical_step, spacing_step
   use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_attr, h5_flush
@@ -433,31 +433,59 @@ contains
   subroutine predict_body(tb, dt)
     type(tl_body_t), intent(inout) :: tb
     real(wp), intent(in) :: dt
-    call tl_apply_bc(tb)
-    tb%d_old = tb%d
-    tb%v_old = tb%v
-    tb%d = tb%d + dt*tb%v + 0.5_wp*dt*dt*tb%a                      ! (64)
-    tb%a_old = tb%a
+    integer :: i
+    !$omp parallel do default(none) shared(tb, dt) schedule(static)
+    do i = 1, tb%np
+      where (tb%pres(:, i))
+        tb%v(:, i) = tb%vpres(:, i)
+        tb%a(:, i) = 0.0_wp
+      end where
+      tb%d_old(:, i) = tb%d(:, i)
+      tb%v_old(:, i) = tb%v(:, i)
+      tb%d(:, i) = tb%d(:, i) + dt*tb%v(:, i) + 0.5_wp*dt*dt*tb%a(:, i)   ! (64)
+      tb%a_old(:, i) = tb%a(:, i)
+    end do
+    !$omp end parallel do
   end subroutine predict_body
 
   !> Forces at the (corrected) new coefficients, eq. (62), and the velocity, eq. (63),
-  !! with the work of kinematic conditions and of contact forces over the step.
+  !! with the work of kinematic conditions and of contact forces over the step (trapezoid
+  !! 1/2 f . du, like the internal work; a contact force acts at n only) and the kinetic
+  !! energy.
   subroutine finish_body(tb, dt, bad_q, bad_j)
     type(tl_body_t), intent(inout) :: tb
     real(wp), intent(in) :: dt
     integer, intent(out) :: bad_q
     real(wp), intent(out) :: bad_j
+    integer :: i
+    real(wp) :: wbc, wc, ke, du(2)
     ! a_n as corrected by contact (eq. 63 uses it)
     tb%a_old = tb%a
     call tl_body_forces(tb, dt, bad_q, bad_j)                       ! (62)
-    call tl_apply_bc(tb)
-    tb%v = tb%v + 0.5_wp*dt*(tb%a_old + tb%a)                       ! (63)
-    ! kinematic conditions: reactions R = f_int - f_ext times the motion (trapezoid)
-    tb%freac = merge(tb%fint - tb%fext, 0.0_wp, tb%pres)
-    tb%w_bc = tb%w_bc + 0.5_wp*sum((tb%freac_old + tb%freac)*(tb%d - tb%d_old))
-    tb%freac_old = tb%freac
-    ! contact: the impulse dt/2 f_c (it enters a_n) times the step's mean velocity
-    tb%w_contact = tb%w_contact + 0.5_wp*sum(tb%fcon*(tb%d - tb%d_old))
+    wbc = 0.0_wp
+    wc = 0.0_wp
+    ke = 0.0_wp
+    !$omp parallel do default(none) shared(tb, dt) private(du) reduction(+: wbc, wc, ke) &
+    !$omp schedule(static)
+    do i = 1, tb%np
+      where (tb%pres(:, i))
+        tb%v(:, i) = tb%vpres(:, i)
+        tb%a(:, i) = 0.0_wp
+      end where
+      tb%v(:, i) = tb%v(:, i) + 0.5_wp*dt*(tb%a_old(:, i) + tb%a(:, i))   ! (63)
+      where (tb%pres(:, i)) tb%v(:, i) = tb%vpres(:, i)
+      ! kinematic conditions: reactions R = f_int - f_ext times the motion
+      tb%freac(:, i) = merge(tb%fint(:, i) - tb%fext(:, i), 0.0_wp, tb%pres(:, i))
+      du = tb%d(:, i) - tb%d_old(:, i)
+      wbc = wbc + 0.5_wp*sum((tb%freac_old(:, i) + tb%freac(:, i))*du)
+      tb%freac_old(:, i) = tb%freac(:, i)
+      wc = wc + 0.5_wp*sum(tb%fcon(:, i)*du)
+      ke = ke + 0.5_wp*tb%t%mass(i)*sum(tb%v(:, i)**2)
+    end do
+    !$omp end parallel do
+    tb%w_bc = tb%w_bc + wbc
+    tb%w_contact = tb%w_contact + wc
+    tb%ke = ke
   end subroutine finish_body
 
   !> Length (extent in x2), width (extent in x1), foot radius (largest x1 within one
@@ -521,7 +549,7 @@ contains
     en%w_ext = 0.0_wp
     en%w_contact = 0.0_wp
     do k = 1, size(tbs)
-      en%ke = en%ke + tl_kinetic_energy(tbs(k))
+      en%ke = en%ke + tbs(k)%ke
       en%ke0 = en%ke0 + tbs(k)%ke0
       en%w_int = en%w_int + tbs(k)%w_int
       en%w_plastic = en%w_plastic + tbs(k)%w_plastic

@@ -33,7 +33,7 @@ module tl_body_m
     logical, allocatable :: pres(:, :)           !< prescribed velocity component (2, np)
     real(wp), allocatable :: vpres(:, :)         !< its value (m/s)
     ! energy accounts since t = 0 (J, or J/m in plane strain)
-    real(wp) :: ke0 = 0.0_wp, w_int = 0.0_wp, w_plastic = 0.0_wp, w_bc = 0.0_wp
+    real(wp) :: ke0 = 0.0_wp, ke = 0.0_wp, w_int = 0.0_wp, w_plastic = 0.0_wp, w_bc = 0.0_wp
     real(wp) :: w_ext = 0.0_wp, w_contact = 0.0_wp
     real(wp), allocatable :: freac_old(:, :)     !< reaction at prescribed components (N)
     real(wp), allocatable :: freac(:, :)
@@ -116,7 +116,20 @@ contains
     tb%p = 0.0_wp
     tb%fint = 0.0_wp
     tb%ke0 = tl_kinetic_energy(tb)
+    tb%ke = tb%ke0
   end subroutine tl_body_init
+
+  !> F and P of the last step kept for the step's work and rates (parallel copy).
+  subroutine copy_state(tb)
+    type(tl_body_t), intent(inout) :: tb
+    integer :: q
+    !$omp parallel do default(none) shared(tb) schedule(static)
+    do q = 1, tb%nq
+      tb%f_old(:, q) = tb%f(:, q)
+      tb%p_old(:, q) = tb%p(:, q)
+    end do
+    !$omp end parallel do
+  end subroutine copy_state
 
   !> Prescribed components: velocity set, acceleration zero.
   subroutine tl_apply_bc(tb)
@@ -145,8 +158,7 @@ contains
     real(wp) :: dw, dwp, jq, t0, t1, t2
     integer, parameter :: block = 256
     t0 = omp_get_wtime()
-    tb%f_old = tb%f
-    tb%p_old = tb%p
+    call copy_state(tb)
     call deformation_gradient(tb%t, tb%d, tb%f)
     call rate_of_deformation(tb%nq, dt, tb%f_old, tb%f, tb%dr, tb%w12)
     t1 = omp_get_wtime()
@@ -179,8 +191,11 @@ contains
     if (bad_q > 0) bad_j = jacobian(tb%f(:, bad_q))
     tb%w_int = tb%w_int + dw
     tb%w_plastic = tb%w_plastic + dwp
-    tb%a(1, :) = (tb%fext(1, :) - tb%fint(1, :))/tb%t%mass
-    tb%a(2, :) = (tb%fext(2, :) - tb%fint(2, :))/tb%t%mass
+    !$omp parallel do default(none) shared(tb) schedule(static)
+    do q = 1, tb%np
+      tb%a(:, q) = (tb%fext(:, q) - tb%fint(:, q))/tb%t%mass(q)
+    end do
+    !$omp end parallel do
     tb%wall = tb%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
   end subroutine tl_body_forces
 end module tl_body_m
