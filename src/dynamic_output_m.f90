@@ -16,12 +16,13 @@ module dynamic_output_m
   public :: history_push, xdmf_write
 
   !> Columns of /history, one row per history step.
-  character(len=*), parameter :: history_names(15) = [character(len=14) :: &
+  character(len=*), parameter :: history_names(16) = [character(len=14) :: &
     'step', 'time', 'dt', 'ke', 'w_int', 'w_plastic', 'w_ext', 'w_contact', 'residual', &
-    'n_contact', 'f_contact', 'contact_radius', 'penetration', 'length', 'foot_radius']
-  character(len=*), parameter :: history_units(15) = [character(len=4) :: &
-    '1', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1', 'N', 'm', 'm', 'm', 'm']
-  character(len=*), parameter :: history_descr(15) = [character(len=80) :: &
+    'n_contact', 'f_contact', 'contact_radius', 'penetration', 'length', 'foot_radius', &
+    'impulse']
+  character(len=*), parameter :: history_units(16) = [character(len=4) :: &
+    '1', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1', 'N', 'm', 'm', 'm', 'm', 'N s']
+  character(len=*), parameter :: history_descr(16) = [character(len=80) :: &
     'step number', 'time', 'time step', 'kinetic energy', &
     'internal work, int P:dF dV0 (stored plus dissipated)', 'plastic dissipation', &
     'work of external forces and kinematic conditions', 'work of contact forces', &
@@ -31,7 +32,8 @@ module dynamic_output_m
     'largest x1 (r) of a slave particle in contact', &
     'deepest penetration left after the contact correction', &
     'extent in x2 (z) of the first deformable body', &
-    'largest x1 (r) of the first deformable body within one spacing of its lowest x2']
+    'largest x1 (r) of the first deformable body within one spacing of its lowest x2', &
+    'normal contact impulse since t = 0, the sum of f_contact dt over every step']
 
   !> History rows kept in memory until flushed to the file.
   type :: history_t
@@ -57,6 +59,7 @@ contains
       u = trim(history_units(k))
       if (plane .and. u == 'J') u = 'J/m'
       if (plane .and. u == 'N') u = 'N/m'
+      if (plane .and. u == 'N s') u = 'N s/m'
       call h5_series_create(f, '/history/'//trim(history_names(k)), u, err, &
         trim(history_descr(k)))
     end do

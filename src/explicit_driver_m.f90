@@ -56,7 +56,7 @@ contains
     integer(i64) :: psteps
     integer :: nc_step
     logical :: edge_prev
-    real(wp) :: t_contact, t_output, t_loop0, t_loop, tw
+    real(wp) :: t_contact, t_output, t_loop0, t_loop, tw, impulse
     wall0 = omp_get_wtime()
     axisym = deck%run%geometry == 'axisymmetric'
     ndef = count(deck%bodies(1:deck%nbodies)%role == 'deformable')
@@ -112,6 +112,7 @@ contains
         pairs(k)%both_ways))
     end do
     pen_max = 0.0_wp
+    impulse = 0.0_wp
     t_edge_first = -1.0_wp
     t_edge_sep = -1.0_wp
     edge_prev = .false.
@@ -122,8 +123,10 @@ contains
     nsteps_est = ceiling(deck%solver%t_end/dt - 1.0e-9_wp)
     log_every = deck%solver%log_every
     if (log_every == 0) log_every = max(1, nsteps_est/50)
+    ! a history row costs about one pass over the particles (physical positions for the
+    ! body's extent): by default one row every 10 steps, at most about 1000 rows
     hist_every = deck%solver%history_every
-    if (hist_every == 0) hist_every = max(1, min(log_every, nsteps_est/1000))
+    if (hist_every == 0) hist_every = max(1, min(log_every, max(10, nsteps_est/1000)))
     ! output
     call h5_create(f, trim(deck%output%file), err)
     if (allocated(err)) return
@@ -315,6 +318,7 @@ contains
         edge_now = edge_now .or. pairs(kp)%step%edge_in_contact
       end do
       pen_max = max(pen_max, pen_step)
+      impulse = impulse + fc_step*dt
       if (edge_now .and. t_edge_first < 0.0_wp) t_edge_first = t + dt
       if (edge_prev .and. .not. edge_now) t_edge_sep = t + dt
       edge_prev = edge_now
@@ -342,7 +346,7 @@ contains
       real(wp) :: row(size(history_names)), ext(4)
       call body_extent(tbs(1), ext)
       row = [real(n, wp), t, dt, en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, &
-        en%residual, real(nc_step, wp), fc_step, rad_step, pen_step, ext(1), ext(3)]
+        en%residual, real(nc_step, wp), fc_step, rad_step, pen_step, ext(1), ext(3), impulse]
     end function history_row
 
     subroutine log_line()
