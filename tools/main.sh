@@ -12,5 +12,7 @@ echo "== mfcd input/taylor_bar_rkpm.nml"
 py=.venv/bin/python
 $py post/plot_taylor.py output/taylor_bar_rkpm.h5 --out doc/figures
 $py post/plot_snapshots.py output/taylor_bar_rkpm.h5 --out doc/figures --snapshots 0002,0003,0004,0005 --history
+$py post/plot_snapshots.py output/taylor_bar_rkpm.h5 --out doc/figures --snapshots 0002,0003,0004,0005 \
+  --mirror --vmax 2.0 --window=-0.012,0.012,-0.003,0.012 --suffix _foot
 PYTHON=$py bash post/make_figures.sh
 echo "main: done. HDF5 files in output/, figures in doc/figures/"
