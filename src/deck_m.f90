@@ -66,6 +66,7 @@ module deck_m
     character(len=64) :: material = ''
     real(wp) :: velocity(3) = 0.0_wp       !< initial velocity (m/s)
     character(len=6) :: integration = 'scni'
+    real(wp) :: stabilization = 0.1_wp     !< SCNI sub-cell stabilization alpha (0: off)
     integer :: kid = 0, wshape = 0, bid = 0
     integer :: imat = 0                    !< index into deck%materials
   end type body_spec_t
@@ -421,6 +422,7 @@ contains
     character(len=path_len) :: file
     real(wp) :: lo(3), hi(3), vertices(2, max_vertices), spacing(3), origin(2), center(2)
     real(wp) :: r_inner, r_outer, theta_start, theta_end, support_factor(3), velocity(3)
+    real(wp) :: stabilization
     character(len=10) :: role
     character(len=64) :: material
     character(len=6) :: integration
@@ -430,7 +432,7 @@ contains
     type(body_spec_t), allocatable :: tmp(:)
     namelist /body/ name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, &
       r_outer, theta_start, theta_end, file, kernel, window, basis, support_factor, role, &
-      material, velocity, integration
+      material, velocity, integration, stabilization
     allocate(tmp(max_bodies))
     rewind(u)
     k = 0
@@ -457,6 +459,7 @@ contains
       material = dflt%material
       velocity = dflt%velocity
       integration = dflt%integration
+      stabilization = dflt%stabilization
       read(u, nml=body, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -493,6 +496,7 @@ contains
       s%material = material
       s%velocity = velocity
       s%integration = lower(integration)
+      s%stabilization = stabilization
       call check_body(deck, k, s, err)
       if (allocated(err)) return
       tmp(k) = s
@@ -537,6 +541,11 @@ contains
     if (.not. any(integrations == s%integration)) then
       call bad(deck, grp, 'integration', "'"//trim(s%integration)//"'", 'use one of: '// &
         join_names(integrations)//" (scni is the default; direct is a negative control)", err)
+      return
+    end if
+    if (s%stabilization < 0.0_wp .or. s%stabilization > 10.0_wp) then
+      call bad(deck, grp, 'stabilization', rtoa(s%stabilization), 'give the SCNI sub-cell '// &
+        'stabilization coefficient in [0, 10] (0 switches it off; 0.1 is the default)', err)
       return
     end if
     if (deck%run%mode == 'dynamic' .and. s%role == 'deformable') then
@@ -1097,7 +1106,7 @@ contains
     case ('body')
       s = 'name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, r_outer, '// &
         'theta_start, theta_end, file, kernel, window, basis, support_factor, role, '// &
-        'material, velocity, integration'
+        'material, velocity, integration, stabilization'
     case ('detection')
       s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
     case ('output')

@@ -555,7 +555,7 @@ contains
     do k = 1, size(tbs)
       en%ke = en%ke + tbs(k)%ke
       en%ke0 = en%ke0 + tbs(k)%ke0
-      en%w_int = en%w_int + tbs(k)%w_int
+      en%w_int = en%w_int + tbs(k)%w_int + tbs(k)%e_stab
       en%w_plastic = en%w_plastic + tbs(k)%w_plastic
       en%w_ext = en%w_ext + tbs(k)%w_ext + tbs(k)%w_bc
       en%w_contact = en%w_contact + tbs(k)%w_contact

@@ -56,6 +56,10 @@ module rkpm_tl_m
     integer, allocatable :: nbr(:)       !< particle of each entry
     real(wp), allocatable :: g(:, :)     !< (4, nnz): dN^1/dX1, dN^1/dX2, dN^2/dX1, dN^2/dX2 (1/m)
     real(wp), allocatable :: h(:)        !< (nnz): hoop term of N^1 (1/m), 0 in plane strain
+    !> SCNI sub-cell stabilization (nnz): the right half-cell's smoothed d/dX1 of N^1, N^2
+    !! and the upper half-cell's d/dX2 of N^1, N^2, each minus the whole cell's (1/m)
+    real(wp), allocatable :: gs(:, :)
+    real(wp), allocatable :: ws(:, :)    !< (2, nq) weights W_r (1 + W_r/W_l), W_u (1 + W_u/W_d)
     integer, allocatable :: tptr(:)      !< transpose pointer over particles (np + 1)
     integer, allocatable :: tent(:)      !< entries touching particle I
     integer, allocatable :: tq(:)        !< their integration points
@@ -243,21 +247,25 @@ contains
     real(wp), intent(in) :: rho0
     type(tl_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: gl(:, :, :), hl(:, :), ml(:, :)
+    real(wp), allocatable :: gl(:, :, :), hl(:, :), ml(:, :), sub(:, :, :), wsub(:, :)
     integer, allocatable :: idl(:, :), nl(:), slot(:)
     real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), p(2), nrm(2), e(2), len_e
-    real(wp) :: vol_l, area, fn(2, max_nb), fdn(2, 2, max_nb), rw, gw
-    integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad, j
+    real(wp) :: vol_l, area, fn(2, max_nb), fdn(2, 2, max_nb), rw, gw, hv(2), vh(2), big
+    real(wp) :: hc(2, max_cv)
+    integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad, j, nhc, dir
     logical :: ok
     real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
     t%nq = np
     maxk = union_bound(b, c)
     allocate(gl(4, maxk, np), hl(maxk, np), ml(maxk, np), idl(maxk, np), nl(np))
+    allocate(sub(4, maxk, np), wsub(2, np))
     allocate(t%xq(2, np), t%owner(np), t%wgt(np))
+    big = 1.0e3_wp*maxval(abs(b%x)) + 1.0_wp
     bad = 0
-    !$omp parallel default(none) shared(b, c, twin, np, t, gl, hl, ml, idl, nl, maxk, rho0) &
+    !$omp parallel default(none) shared(b, c, twin, np, t, gl, hl, ml, idl, nl, maxk, rho0, &
+    !$omp sub, wsub, big) &
     !$omp private(cv, ncv, xg, wg, ngp, k, q, p, nrm, e, len_e, vol_l, area, fn, fdn, nf, fid, &
-    !$omp ok, s, slot, rw, gw, j) reduction(max: bad)
+    !$omp ok, s, slot, rw, gw, j, hc, nhc, dir, hv, vh) reduction(max: bad)
     allocate(slot(np))
     slot = 0
     !$omp do schedule(dynamic, 64)
@@ -266,6 +274,7 @@ contains
       area = polygon_area(cv, ncv)
       call cell_area_points(cv, ncv, xg, wg, ngp)
       nl(i) = 0
+      sub(:, :, i) = 0.0_wp
       ! area integrals: V_L, int N dA (hoop) and int rho0 N r dA (mass)
       vol_l = 0.0_wp
       do q = 1, ngp
@@ -308,9 +317,38 @@ contains
           end do
         end do
       end do
+      ! the half cells right of and above the particle (stabilization): the same smoothing
+      ! on each, for d/dX1 (right half) and d/dX2 (upper half)
+      do dir = 1, 2
+        if (dir == 1) then
+          call clip_polygon_box(cv(:, 1:ncv), [b%x(1, i), -big], [big, big], hc, nhc)
+        else
+          call clip_polygon_box(cv(:, 1:ncv), [-big, b%x(2, i)], [big, big], hc, nhc)
+        end if
+        hv(dir) = 0.0_wp
+        if (nhc < 3) cycle
+        call half_cell(c, twin, np, t%axisym, hc, nhc, dir, i, slot, nl, idl, gl, hl, ml, &
+          sub, hv(dir), ok)
+        if (.not. ok) bad = max(bad, i)
+      end do
       t%xq(:, i) = b%x(:, i)
       t%owner(i) = i
       gl(:, 1:nl(i), i) = gl(:, 1:nl(i), i)/vol_l
+      ! sub-cell minus cell gradients and the weights W_h (1 + W_h/(W - W_h)); a half that
+      ! is (nearly) empty, as for particles on the boundary, gets no stabilization
+      do dir = 1, 2
+        vh(dir) = vol_l - hv(dir)
+        if (hv(dir) > 1.0e-9_wp*vol_l .and. vh(dir) > 1.0e-9_wp*vol_l) then
+          sub(2*dir - 1:2*dir, 1:nl(i), i) = sub(2*dir - 1:2*dir, 1:nl(i), i)/hv(dir)
+          sub(2*dir - 1, 1:nl(i), i) = sub(2*dir - 1, 1:nl(i), i) - gl(dir, 1:nl(i), i)
+          sub(2*dir, 1:nl(i), i) = sub(2*dir, 1:nl(i), i) - gl(dir + 2, 1:nl(i), i)
+          wsub(dir, i) = hv(dir)*(1.0_wp + hv(dir)/vh(dir))
+        else
+          sub(2*dir - 1:2*dir, 1:nl(i), i) = 0.0_wp
+          wsub(dir, i) = 0.0_wp
+        end if
+      end do
+      if (t%axisym) wsub(:, i) = 2.0_wp*pi*wsub(:, i)
       if (t%axisym) then
         hl(1:nl(i), i) = hl(1:nl(i), i)/vol_l
         t%wgt(i) = 2.0_wp*pi*vol_l
@@ -332,8 +370,61 @@ contains
         "cell of particle "//itoa(bad)//" (moment matrix singular): increase support_factor")
       return
     end if
-    call compress(t, gl, hl, ml, idl, nl)
+    call compress(t, gl, hl, ml, idl, nl, sub, wsub)
   end subroutine build_scni
+
+  !> Smoothed derivative along dir of N^1 and N^2 over a half cell hc (r-weighted in
+  !! axisymmetry, as the whole cell's), unnormalised, into sub(2 dir - 1 : 2 dir, :, i);
+  !! hv returns its (r-weighted) area.
+  subroutine half_cell(c, twin, np, axisym, hc, nhc, dir, i, slot, nl, idl, gl, hl, ml, sub, &
+    hv, ok)
+    type(rk_cloud_t), intent(in) :: c
+    integer, intent(in) :: twin(:), np, nhc, dir, i
+    logical, intent(in) :: axisym
+    real(wp), intent(in) :: hc(:, :)
+    integer, intent(inout) :: slot(:), nl(:), idl(:, :)
+    real(wp), intent(inout) :: gl(:, :, :), hl(:, :), ml(:, :), sub(:, :, :)
+    real(wp), intent(out) :: hv
+    logical, intent(out) :: ok
+    real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), fn(2, max_nb), fdn(2, 2, max_nb), e(2), nrm(2)
+    real(wp) :: p(2), len_e, rw, gw
+    integer :: ngp, q, k, nf, fid(max_nb), s, j
+    real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
+    ok = .true.
+    hv = 0.0_wp
+    call cell_area_points(hc, nhc, xg, wg, ngp)
+    do q = 1, ngp
+      rw = 1.0_wp
+      if (axisym) rw = xg(1, q)
+      hv = hv + wg(q)*rw
+      if (.not. (axisym .and. dir == 1)) cycle
+      call folded_shape(c, twin, np, xg(:, q), nf, fid, fn, fdn, ok)
+      if (.not. ok) return
+      do k = 1, nf
+        call add_slot(fid(k), i, slot, nl, idl, gl, hl, ml, s)
+        sub(1:2, s, i) = sub(1:2, s, i) - wg(q)*fn(:, k)
+      end do
+    end do
+    do k = 1, nhc
+      e = hc(:, modulo(k, nhc) + 1) - hc(:, k)
+      len_e = norm2(e)
+      if (len_e == 0.0_wp) cycle
+      nrm = [e(2), -e(1)]/len_e
+      if (nrm(dir) == 0.0_wp) cycle
+      do q = 1, 2
+        p = hc(:, k) + gx(q)*e
+        rw = 1.0_wp
+        if (axisym) rw = p(1)
+        gw = 0.5_wp*len_e*rw*nrm(dir)
+        call folded_shape(c, twin, np, p, nf, fid, fn, fdn, ok)
+        if (.not. ok) return
+        do j = 1, nf
+          call add_slot(fid(j), i, slot, nl, idl, gl, hl, ml, s)
+          sub(2*dir - 1:2*dir, s, i) = sub(2*dir - 1:2*dir, s, i) + gw*fn(:, j)
+        end do
+      end do
+    end do
+  end subroutine half_cell
 
   !> Local slot s of particle j in the accumulation arrays of point i (new slots zeroed).
   !! slot(:) maps particles to slots and must be reset by the caller after point i.
@@ -481,13 +572,18 @@ contains
   end subroutine build_direct
 
   !> Dense per-point work arrays into CSR; masses summed per particle.
-  subroutine compress(t, gl, hl, ml, idl, nl)
+  subroutine compress(t, gl, hl, ml, idl, nl, sub, wsub)
     type(tl_tables_t), intent(inout) :: t
     real(wp), intent(in) :: gl(:, :, :), hl(:, :), ml(:, :)
     integer, intent(in) :: idl(:, :), nl(:)
+    real(wp), intent(in), optional :: sub(:, :, :), wsub(:, :)
     integer :: q, k, e, nnz
     nnz = sum(nl)
     allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(4, nnz), t%h(nnz), t%mass(t%np))
+    allocate(t%gs(4, nnz), t%ws(2, t%nq))
+    t%gs = 0.0_wp
+    t%ws = 0.0_wp
+    if (present(wsub)) t%ws = wsub
     t%mass = 0.0_wp
     t%ptr(1) = 1
     do q = 1, t%nq
@@ -497,6 +593,7 @@ contains
         t%nbr(e) = idl(k, q)
         t%g(:, e) = gl(:, k, q)
         t%h(e) = hl(k, q)
+        if (present(sub)) t%gs(:, e) = sub(:, k, q)
         t%mass(idl(k, q)) = t%mass(idl(k, q)) + ml(k, q)
       end do
     end do

@@ -5,7 +5,7 @@
 module stable_step_m
   use kinds_m, only: wp
   use tl_body_m, only: tl_body_t
-  use tl_kinematics_m, only: deformation_gradient, internal_force
+  use tl_kinematics_m, only: deformation_gradient, internal_force, stabilization_force
   implicit none
   private
   public :: critical_step, spacing_step
@@ -25,10 +25,10 @@ contains
   function critical_step(tb) result(dt)
     type(tl_body_t), intent(in) :: tb
     real(wp) :: dt
-    real(wp), allocatable :: x(:, :), y(:, :), f(:, :), p(:, :)
-    real(wp) :: lam, mu, eps(4), tr, omega2, nrm
+    real(wp), allocatable :: x(:, :), y(:, :), f(:, :), p(:, :), sw(:, :)
+    real(wp) :: lam, mu, eps(4), tr, omega2, nrm, es
     integer :: it, q, i
-    allocate(x(2, tb%np), y(2, tb%np), f(5, tb%nq), p(5, tb%nq))
+    allocate(x(2, tb%np), y(2, tb%np), f(5, tb%nq), p(5, tb%nq), sw(4, tb%nq))
     lam = tb%mat%lambda
     mu = tb%mat%g
     do i = 1, tb%np
@@ -47,6 +47,8 @@ contains
           lam*tr + 2.0_wp*mu*eps(2), lam*tr + 2.0_wp*mu*eps(3)]
       end do
       call internal_force(tb%t, p, y)
+      if (tb%stab_normal > 0.0_wp) call stabilization_force(tb%t, x, tb%stab_normal, &
+        tb%stab_shear, sw, y, es)
       where (tb%pres) y = 0.0_wp
       omega2 = sum(x*y)
       x(1, :) = y(1, :)/tb%t%mass

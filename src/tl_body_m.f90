@@ -11,7 +11,7 @@ module tl_body_m
   use material_m, only: material_t, material_state_t, make_material
   use rkpm_tl_m, only: tl_tables_t, tl_build, scheme_id
   use tl_kinematics_m, only: deformation_gradient, rate_of_deformation, piola_stress, &
-    internal_force, physical_positions, jacobian
+    internal_force, physical_positions, jacobian, stabilization_force
   implicit none
   private
   public :: tl_body_t, tl_body_init, tl_body_forces, tl_apply_bc, tl_kinetic_energy
@@ -38,6 +38,9 @@ module tl_body_m
     real(wp), allocatable :: freac_old(:, :)     !< reaction at prescribed components (N)
     real(wp), allocatable :: freac(:, :)
     real(wp) :: wall(3) = 0.0_wp                 !< seconds in kinematics, material, forces
+    real(wp) :: stab_normal = 0.0_wp, stab_shear = 0.0_wp  !< alpha (lambda + 2 mu), alpha mu
+    real(wp) :: e_stab = 0.0_wp                  !< stabilization energy (J)
+    real(wp), allocatable :: stab(:, :)          !< its stresses (4, nq), work space
     real(wp), allocatable :: a_old(:, :)         !< a_n during the step
     real(wp), allocatable :: v_old(:, :)         !< v_n during the step
     real(wp), allocatable :: fcon(:, :)          !< contact forces on the coefficients (N)
@@ -68,6 +71,10 @@ contains
     end if
     tb%np = b%np
     tb%nq = tb%t%nq
+    allocate(tb%stab(4, tb%nq))
+    tb%stab = 0.0_wp
+    tb%stab_normal = s%stabilization*(tb%mat%lambda + 2.0_wp*tb%mat%g)
+    tb%stab_shear = s%stabilization*tb%mat%g
     call tb%st%init(tb%nq)
     tb%x0 = b%x
     allocate(tb%d(2, b%np), tb%v(2, b%np), tb%a(2, b%np), tb%fint(2, b%np), &
@@ -174,6 +181,8 @@ contains
     t2 = omp_get_wtime()
     call piola_stress(tb%nq, tb%f, tb%st%tau, tb%p)
     call internal_force(tb%t, tb%p, tb%fint)
+    if (tb%stab_normal > 0.0_wp) call stabilization_force(tb%t, tb%d, tb%stab_normal, &
+      tb%stab_shear, tb%stab, tb%fint, tb%e_stab)
     bad_q = 0
     bad_j = 1.0_wp
     dw = 0.0_wp
