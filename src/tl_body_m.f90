@@ -11,7 +11,7 @@ module tl_body_m
   use material_m, only: material_t, material_state_t, make_material
   use rkpm_tl_m, only: tl_tables_t, tl_build, scheme_id
   use tl_kinematics_m, only: deformation_gradient, rate_of_deformation, piola_stress, &
-    internal_force, physical_positions, jacobian, stabilization_force
+    internal_force, physical_positions, jacobian
   implicit none
   private
   public :: tl_body_t, tl_body_init, tl_body_forces, tl_apply_bc, tl_kinetic_energy
@@ -166,7 +166,12 @@ contains
     integer, parameter :: block = 256
     t0 = omp_get_wtime()
     call copy_state(tb)
-    call deformation_gradient(tb%t, tb%d, tb%f)
+    if (tb%stab_normal > 0.0_wp) then
+      call deformation_gradient(tb%t, tb%d, tb%f, [tb%stab_normal, tb%stab_shear], tb%stab, &
+        tb%e_stab)
+    else
+      call deformation_gradient(tb%t, tb%d, tb%f)
+    end if
     call rate_of_deformation(tb%nq, dt, tb%f_old, tb%f, tb%dr, tb%w12)
     t1 = omp_get_wtime()
     nthreads_blocks = (tb%nq + block - 1)/block
@@ -180,9 +185,11 @@ contains
     !$omp end parallel do
     t2 = omp_get_wtime()
     call piola_stress(tb%nq, tb%f, tb%st%tau, tb%p)
-    call internal_force(tb%t, tb%p, tb%fint)
-    if (tb%stab_normal > 0.0_wp) call stabilization_force(tb%t, tb%d, tb%stab_normal, &
-      tb%stab_shear, tb%stab, tb%fint, tb%e_stab)
+    if (tb%stab_normal > 0.0_wp) then
+      call internal_force(tb%t, tb%p, tb%fint, tb%stab)
+    else
+      call internal_force(tb%t, tb%p, tb%fint)
+    end if
     bad_q = 0
     bad_j = 1.0_wp
     dw = 0.0_wp

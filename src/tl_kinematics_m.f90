@@ -16,32 +16,60 @@ module tl_kinematics_m
 
 contains
 
-  !> F at every integration point from the coefficients d (2, np).
-  subroutine deformation_gradient(t, d, f)
+  !> F at every integration point from the coefficients d (2, np). With stab = [c_normal,
+  !! c_shear] given, the same pass also forms the SCNI stabilization stresses s (4, nq) and
+  !! their energy (see stabilization_force).
+  subroutine deformation_gradient(t, d, f, stab, s, energy)
     type(tl_tables_t), intent(in) :: t
     real(wp), intent(in) :: d(:, :)
     real(wp), intent(out) :: f(:, :)
+    real(wp), intent(in), optional :: stab(2)
+    real(wp), intent(inout), optional :: s(:, :)
+    real(wp), intent(out), optional :: energy
     integer :: q, e, i
-    real(wp) :: a11, a12, a21, a22, a33
-    !$omp parallel do default(none) shared(t, d, f) private(e, i, a11, a12, a21, a22, a33) &
-    !$omp schedule(static)
+    real(wp) :: a11, a12, a21, a22, a33, dh(4), en
+    logical :: with_stab
+    with_stab = present(stab)
+    en = 0.0_wp
+    !$omp parallel do default(none) shared(t, d, f, stab, s, with_stab) &
+    !$omp private(e, i, a11, a12, a21, a22, a33, dh) reduction(+: en) schedule(static)
     do q = 1, t%nq
       a11 = 0.0_wp
       a12 = 0.0_wp
       a21 = 0.0_wp
       a22 = 0.0_wp
       a33 = 0.0_wp
-      do e = t%ptr(q), t%ptr(q + 1) - 1
-        i = t%nbr(e)
-        a11 = a11 + d(1, i)*t%g(1, e)
-        a12 = a12 + d(1, i)*t%g(2, e)
-        a21 = a21 + d(2, i)*t%g(3, e)
-        a22 = a22 + d(2, i)*t%g(4, e)
-        a33 = a33 + d(1, i)*t%h(e)
-      end do
+      dh = 0.0_wp
+      if (with_stab) then
+        do e = t%ptr(q), t%ptr(q + 1) - 1
+          i = t%nbr(e)
+          a11 = a11 + d(1, i)*t%g(1, e)
+          a12 = a12 + d(1, i)*t%g(2, e)
+          a21 = a21 + d(2, i)*t%g(3, e)
+          a22 = a22 + d(2, i)*t%g(4, e)
+          a33 = a33 + d(1, i)*t%h(e)
+          dh(1) = dh(1) + d(1, i)*t%gs(1, e)
+          dh(2) = dh(2) + d(2, i)*t%gs(2, e)
+          dh(3) = dh(3) + d(1, i)*t%gs(3, e)
+          dh(4) = dh(4) + d(2, i)*t%gs(4, e)
+        end do
+        s(:, q) = [t%ws(1, q)*stab(1)*dh(1), t%ws(1, q)*stab(2)*dh(2), &
+          t%ws(2, q)*stab(2)*dh(3), t%ws(2, q)*stab(1)*dh(4)]
+        en = en + 0.5_wp*sum(s(:, q)*dh)
+      else
+        do e = t%ptr(q), t%ptr(q + 1) - 1
+          i = t%nbr(e)
+          a11 = a11 + d(1, i)*t%g(1, e)
+          a12 = a12 + d(1, i)*t%g(2, e)
+          a21 = a21 + d(2, i)*t%g(3, e)
+          a22 = a22 + d(2, i)*t%g(4, e)
+          a33 = a33 + d(1, i)*t%h(e)
+        end do
+      end if
       f(:, q) = [1.0_wp + a11, a12, a21, 1.0_wp + a22, 1.0_wp + a33]
     end do
     !$omp end parallel do
+    if (present(energy)) energy = en
   end subroutine deformation_gradient
 
   !> J = det F.
@@ -104,15 +132,20 @@ contains
     !$omp end parallel do
   end subroutine piola_stress
 
-  !> f_int (2, np) = sum_L W_L P_L : grad N_I (eq. 72), gathered per particle (no races).
-  subroutine internal_force(t, p, fint)
+  !> f_int (2, np) = sum_L W_L P_L : grad N_I (eq. 72), gathered per particle (no races);
+  !! with s given (stabilization stresses from deformation_gradient) their forces are added
+  !! in the same pass.
+  subroutine internal_force(t, p, fint, s)
     type(tl_tables_t), intent(in) :: t
     real(wp), intent(in) :: p(:, :)
     real(wp), intent(out) :: fint(:, :)
+    real(wp), intent(in), optional :: s(:, :)
     integer :: i, k, e, q
     real(wp) :: f1, f2, w
-    !$omp parallel do default(none) shared(t, p, fint) private(k, e, q, f1, f2, w) &
-    !$omp schedule(static)
+    logical :: with_stab
+    with_stab = present(s)
+    !$omp parallel do default(none) shared(t, p, fint, s, with_stab) &
+    !$omp private(k, e, q, f1, f2, w) schedule(static)
     do i = 1, t%np
       f1 = 0.0_wp
       f2 = 0.0_wp
@@ -122,6 +155,10 @@ contains
         w = t%wgt(q)
         f1 = f1 + w*(p(1, q)*t%g(1, e) + p(2, q)*t%g(2, e) + p(5, q)*t%h(e))
         f2 = f2 + w*(p(3, q)*t%g(3, e) + p(4, q)*t%g(4, e))
+        if (with_stab) then
+          f1 = f1 + s(1, q)*t%gs(1, e) + s(3, q)*t%gs(3, e)
+          f2 = f2 + s(2, q)*t%gs(2, e) + s(4, q)*t%gs(4, e)
+        end if
       end do
       fint(1, i) = f1
       fint(2, i) = f2
