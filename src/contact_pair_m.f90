@@ -14,7 +14,7 @@
 module contact_pair_m
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
-  use strings_m, only: itoa
+  use strings_m, only: itoa, rtoa
   use deck_m, only: deck_t
   use body_m, only: body_t
   use rk_cloud_m, only: rk_cloud_t, cloud_det, cloud_init, cloud_move
@@ -50,6 +50,7 @@ module contact_pair_m
     type(rk_cloud_t) :: cloud            !< det(M) of this body (current positions)
     type(master_surface_t) :: surface
     real(wp) :: plateau = 0.0_wp, threshold = 0.0_wp
+    real(wp) :: surface_det = 0.0_wp     !< median det(M) at the body's own boundary particles
     real(wp) :: lo(2) = 0.0_wp, hi(2) = 0.0_wp   !< box grown by the largest support
     real(wp), allocatable :: x_old(:, :), x_pred(:, :)  !< physical positions (2, np)
     real(wp), allocatable :: rho(:, :)   !< supports (2, np): reach of the segment search
@@ -98,6 +99,17 @@ contains
           end if
         end do
         p%both_ways = p%side(2)%itb > 0
+        ! a threshold at or above the master's interior plateau detects nothing: the bar
+        ! would pass through the target silently (bench/sweeps.py, eps_cr = 1e-4)
+        if (.not. (p%side(2)%threshold < p%side(2)%plateau)) then
+          call set_error(err, "deck '"//deck%path//"', group &contact (contact "//itoa(k)// &
+            "), variable "//trim(merge('eps_rel', 'eps_cr ', cs%eps_rel > 0.0_wp))// &
+            ": the threshold "//rtoa(p%side(2)%threshold)//" is not below the interior "// &
+            "plateau of det(M) of '"//trim(bodies(cs%imaster)%name)//"', "// &
+            rtoa(p%side(2)%plateau)//", so no penetration could be detected; give a "// &
+            "threshold well below the plateau (paper: eps_cr = 5e-10)")
+          return
+        end if
         p%edge = 0
         if (cs%edge_point(1) > -huge(1.0_wp)) then
           best = huge(1.0_wp)
@@ -131,6 +143,7 @@ contains
     if (allocated(err)) return
     s%plateau = body_plateau(b, s%cloud)
     s%threshold = detection_threshold(eps_cr, eps_rel, s%plateau)
+    s%surface_det = surface_det_median(b, s%cloud)
     call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
       1.0e-9_wp*minval(b%spacing(1:2)), err)
     if (allocated(err)) return
@@ -144,6 +157,44 @@ contains
     s%mass = 0.0_wp
     if (s%itb > 0) s%mass = tbs(s%itb)%t%mass
   end subroutine side_init
+
+  !> Median det(M) of a body at its own boundary particles (off the symmetry axis): about
+  !! what a particle touching the surface sees; a threshold above it misses shallow
+  !! penetrations.
+  function surface_det_median(b, c) result(dmed)
+    type(body_t), intent(in) :: b
+    type(rk_cloud_t), intent(in) :: c
+    real(wp) :: dmed
+    real(wp), allocatable :: dets(:)
+    integer :: i, n
+    allocate(dets(count(b%boundary)))
+    n = 0
+    do i = 1, b%np
+      if (.not. b%boundary(i)) cycle
+      n = n + 1
+      dets(n) = cloud_det(c, b%x(:, i))
+    end do
+    dmed = 0.0_wp
+    if (n == 0) return
+    call sort_in_place(dets(1:n))
+    dmed = dets((n + 1)/2)
+  end function surface_det_median
+
+  pure subroutine sort_in_place(a)
+    real(wp), intent(inout) :: a(:)
+    integer :: i, j
+    real(wp) :: v
+    do i = 2, size(a)
+      v = a(i)
+      j = i - 1
+      do while (j >= 1)
+        if (a(j) <= v) exit
+        a(j + 1) = a(j)
+        j = j - 1
+      end do
+      a(j + 1) = v
+    end do
+  end subroutine sort_in_place
 
   !> Contact corrections of pair p for the step dt: the coefficients d (predicted by eq. 64
   !! from d_old) and a_n of the deformable bodies in tbs are corrected in place; their

@@ -3,7 +3,8 @@
 fixed time step five times the critical one must stop with exit code 1 and a message naming
 the step, the body and the quantity, keep the output written so far, and add a diagnostic
 snapshot /snapshots/failure and a /summary whose status is 'failed'. A bad deck for the
-dynamic mode (unknown material) exits 2 and writes nothing.
+dynamic mode (unknown material, a detection threshold above the master's det(M) plateau)
+exits 2 and writes nothing.
 Usage: check_guards.py /path/to/mfcd /path/to/input/elastic_wave.nml
 """
 import os
@@ -59,6 +60,19 @@ def main():
     check("unknown material: exit 2 naming the valid ones", p.returncode == 2 and "'steal'" in
           p.stderr and "steel_elastic" in p.stderr, p.stderr)
     check("unknown material: nothing written", not os.path.exists(os.path.join(work, "out2")))
+    # a detection threshold at or above the master's plateau would let the slave pass
+    # through the master silently (bench/sweeps.py): refused before any output
+    taylor = os.path.join(os.path.dirname(DECK), "taylor_bar_rkpm_coarse.nml")
+    text = open(taylor).read().replace("eps_cr = 5.0e-10", "eps_cr = 1.0e-4")
+    text = text.replace("output/taylor_bar_rkpm_coarse.h5", "out3/t.h5")
+    path = os.path.join(work, "eps.nml")
+    open(path, "w").write(text)
+    p = subprocess.run([MFCD, path], cwd=work, capture_output=True, text=True, timeout=120)
+    check("threshold above the plateau: exit 2 naming &contact eps_cr and the plateau",
+          p.returncode == 2 and "&contact" in p.stderr and "eps_cr" in p.stderr and
+          "plateau" in p.stderr, p.stderr)
+    check("threshold above the plateau: nothing written",
+          not os.path.exists(os.path.join(work, "out3", "t.h5")))
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if all(results) else 1)
 
