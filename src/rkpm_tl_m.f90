@@ -29,12 +29,13 @@ module rkpm_tl_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
   use body_m, only: body_t
+  use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_polygon, clip_polygon_box, polygon_area
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape
   use neighbour_bins_m, only: bins_candidates
   implicit none
   private
-  public :: tl_tables_t, tl_build, scheme_scni, scheme_gauss, scheme_direct, scheme_names
+  public :: solid_tables_t, tl_build, scheme_scni, scheme_gauss, scheme_direct, scheme_names
   public :: scheme_id
 
   integer, parameter :: scheme_scni = 1, scheme_gauss = 2, scheme_direct = 3
@@ -42,35 +43,6 @@ module rkpm_tl_m
     'scni', 'gauss', 'direct']
   integer, parameter :: max_nb = 512    !< particles covering one evaluation point
   integer, parameter :: max_cv = 64     !< vertices of one clipped cell
-
-  type :: tl_tables_t
-    integer :: np = 0                    !< particles (coefficient pairs)
-    integer :: nq = 0                    !< integration points
-    integer :: scheme = scheme_scni
-    logical :: axisym = .false.
-    real(wp), allocatable :: xq(:, :)    !< integration points, reference (2, nq) (m)
-    integer, allocatable :: owner(:)     !< particle whose cell holds point L
-    real(wp), allocatable :: wgt(:)      !< W_L (m^3 axisymmetric, m^2 per unit thickness)
-    real(wp), allocatable :: mass(:)     !< lumped mass (kg, or kg/m in plane strain)
-    integer, allocatable :: ptr(:)       !< CSR pointer over points (nq + 1)
-    integer, allocatable :: nbr(:)       !< particle of each entry
-    real(wp), allocatable :: g(:, :)     !< (4, nnz): dN^1/dX1, dN^1/dX2, dN^2/dX1, dN^2/dX2 (1/m)
-    real(wp), allocatable :: h(:)        !< (nnz): hoop term of N^1 (1/m), 0 in plane strain
-    !> SCNI sub-cell stabilization (nnz): the right half-cell's smoothed d/dX1 of N^1, N^2
-    !! and the upper half-cell's d/dX2 of N^1, N^2, each minus the whole cell's (1/m)
-    real(wp), allocatable :: gs(:, :)
-    real(wp), allocatable :: ws(:, :)    !< (2, nq) weights W_r (1 + W_r/W_l), W_u (1 + W_u/W_d)
-    integer, allocatable :: tptr(:)      !< transpose pointer over particles (np + 1)
-    integer, allocatable :: tent(:)      !< entries touching particle I
-    integer, allocatable :: tq(:)        !< their integration points
-    integer, allocatable :: pptr(:)      !< position table pointer (np + 1)
-    integer, allocatable :: pnbr(:)
-    real(wp), allocatable :: pn(:, :)    !< (2, nnzp): N^1_I(X_J), N^2_I(X_J)
-    logical, allocatable :: fix1(:)      !< component 1 held at 0 (on the axis)
-    real(wp) :: hmin = 0.0_wp            !< smallest particle spacing (m)
-    real(wp) :: total_mass = 0.0_wp
-    real(wp) :: total_volume = 0.0_wp
-  end type tl_tables_t
 
 contains
 
@@ -90,7 +62,7 @@ contains
     logical, intent(in) :: axisym
     integer, intent(in) :: scheme
     real(wp), intent(in) :: rho0
-    type(tl_tables_t), intent(out) :: t
+    type(solid_tables_t), intent(out) :: t
     type(error_t), allocatable, intent(inout) :: err
     type(rk_cloud_t) :: c
     real(wp), allocatable :: xe(:, :), rhoe(:, :), vole(:)
@@ -157,7 +129,7 @@ contains
     if (allocated(err)) return
     call build_positions(b, c, twin, np, t, err)
     if (allocated(err)) return
-    call build_transpose(t)
+    call tables_transpose(t)
     t%total_mass = sum(t%mass)
     t%total_volume = sum(t%wgt)
   end subroutine tl_build
@@ -245,7 +217,7 @@ contains
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: twin(:), np
     real(wp), intent(in) :: rho0
-    type(tl_tables_t), intent(inout) :: t
+    type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: gl(:, :, :), hl(:, :), ml(:, :), sub(:, :, :), wsub(:, :)
     integer, allocatable :: idl(:, :), nl(:), slot(:)
@@ -465,7 +437,7 @@ contains
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: twin(:), np
     real(wp), intent(in) :: rho0
-    type(tl_tables_t), intent(inout) :: t
+    type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: xq(:, :), wq(:), gl(:, :, :), hl(:, :), ml(:, :)
     integer, allocatable :: owner(:), idl(:, :), nl(:)
@@ -533,7 +505,7 @@ contains
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: twin(:), np
     real(wp), intent(in) :: rho0
-    type(tl_tables_t), intent(inout) :: t
+    type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: gl(:, :, :), hl(:, :), ml(:, :)
     integer, allocatable :: idl(:, :), nl(:)
@@ -573,7 +545,7 @@ contains
 
   !> Dense per-point work arrays into CSR; masses summed per particle.
   subroutine compress(t, gl, hl, ml, idl, nl, sub, wsub)
-    type(tl_tables_t), intent(inout) :: t
+    type(solid_tables_t), intent(inout) :: t
     real(wp), intent(in) :: gl(:, :, :), hl(:, :), ml(:, :)
     integer, intent(in) :: idl(:, :), nl(:)
     real(wp), intent(in), optional :: sub(:, :, :), wsub(:, :)
@@ -604,7 +576,7 @@ contains
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: twin(:), np
-    type(tl_tables_t), intent(inout) :: t
+    type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: cnt(:), idl(:, :)
     real(wp), allocatable :: nl(:, :, :)
@@ -641,29 +613,4 @@ contains
     end do
   end subroutine build_positions
 
-  !> For each particle, the entries (and their points) that involve it.
-  subroutine build_transpose(t)
-    type(tl_tables_t), intent(inout) :: t
-    integer, allocatable :: fill(:)
-    integer :: q, e, i, nnz
-    nnz = size(t%nbr)
-    allocate(t%tptr(t%np + 1), t%tent(nnz), t%tq(nnz), fill(t%np))
-    fill = 0
-    do e = 1, nnz
-      fill(t%nbr(e)) = fill(t%nbr(e)) + 1
-    end do
-    t%tptr(1) = 1
-    do i = 1, t%np
-      t%tptr(i + 1) = t%tptr(i) + fill(i)
-    end do
-    fill = 0
-    do q = 1, t%nq
-      do e = t%ptr(q), t%ptr(q + 1) - 1
-        i = t%nbr(e)
-        t%tent(t%tptr(i) + fill(i)) = e
-        t%tq(t%tptr(i) + fill(i)) = q
-        fill(i) = fill(i) + 1
-      end do
-    end do
-  end subroutine build_transpose
 end module rkpm_tl_m

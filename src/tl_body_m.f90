@@ -9,7 +9,8 @@ module tl_body_m
   use body_m, only: body_t
   use deck_m, only: deck_t, body_spec_t
   use material_m, only: material_t, material_state_t, make_material
-  use rkpm_tl_m, only: tl_tables_t, tl_build, scheme_id
+  use solid_tables_m, only: solid_tables_t
+  use rkpm_tl_m, only: tl_build, scheme_id
   use tl_kinematics_m, only: deformation_gradient, rate_of_deformation, piola_stress, &
     internal_force, physical_positions, jacobian
   implicit none
@@ -19,7 +20,7 @@ module tl_body_m
   type :: tl_body_t
     integer :: ibody = 0                         !< index among the deck's bodies
     integer :: np = 0, nq = 0
-    type(tl_tables_t) :: t
+    type(solid_tables_t) :: t
     class(material_t), allocatable :: mat
     type(material_state_t) :: st
     real(wp), allocatable :: x0(:, :)            !< reference positions (2, np) (m)

@@ -8,7 +8,7 @@
 !!  tau(4, nq), d(4, nq): 11, 22, 33, 12 (symmetric); d(2, np): coefficients (m).
 module tl_kinematics_m
   use kinds_m, only: wp
-  use rkpm_tl_m, only: tl_tables_t
+  use solid_tables_m, only: solid_tables_t
   implicit none
   private
   public :: deformation_gradient, rate_of_deformation, piola_stress, internal_force
@@ -20,7 +20,7 @@ contains
   !! c_shear] given, the same pass also forms the SCNI stabilization stresses s (4, nq) and
   !! their energy (see stabilization_force).
   subroutine deformation_gradient(t, d, f, stab, s, energy)
-    type(tl_tables_t), intent(in) :: t
+    type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: d(:, :)
     real(wp), intent(out) :: f(:, :)
     real(wp), intent(in), optional :: stab(2)
@@ -136,7 +136,7 @@ contains
   !! with s given (stabilization stresses from deformation_gradient) their forces are added
   !! in the same pass.
   subroutine internal_force(t, p, fint, s)
-    type(tl_tables_t), intent(in) :: t
+    type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: p(:, :)
     real(wp), intent(out) :: fint(:, :)
     real(wp), intent(in), optional :: s(:, :)
@@ -173,7 +173,7 @@ contains
   !! the modes the cell average cannot see (the saw-tooth of a uniform lattice). Adds its
   !! forces to fint and returns its energy (J, J/m in plane strain); s (4, nq) is work space.
   subroutine stabilization_force(t, d, c_normal, c_shear, s, fint, energy)
-    type(tl_tables_t), intent(in) :: t
+    type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: d(:, :), c_normal, c_shear
     real(wp), intent(inout) :: s(:, :), fint(:, :)
     real(wp), intent(out) :: energy
@@ -212,13 +212,22 @@ contains
     !$omp end parallel do
   end subroutine stabilization_force
 
-  !> Physical positions x (2, np) of the particles from reference X and coefficients d.
+  !> Physical positions x (2, np) of the particles from reference X and coefficients d
+  !! (for interpolating tables, finite-element nodes, simply X + d).
   subroutine physical_positions(t, x0, d, x)
-    type(tl_tables_t), intent(in) :: t
+    type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: x0(:, :), d(:, :)
     real(wp), intent(out) :: x(:, :)
     integer :: j, e, i
     real(wp) :: u1, u2
+    if (t%interpolating) then
+      !$omp parallel do default(none) shared(t, x0, d, x) schedule(static)
+      do j = 1, t%np
+        x(:, j) = x0(:, j) + d(:, j)
+      end do
+      !$omp end parallel do
+      return
+    end if
     !$omp parallel do default(none) shared(t, x0, d, x) private(e, i, u1, u2) schedule(static)
     do j = 1, t%np
       u1 = 0.0_wp

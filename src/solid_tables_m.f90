@@ -1,0 +1,77 @@
+!> The discretization-neutral tables of the total-Lagrangian solid (Section 4): everything
+!! that depends only on the reference configuration, computed once before the time loop,
+!! whatever built them (RKPM with SCNI, Gauss or direct integration in rkpm_tl_m; CST4
+!! finite elements in cst4_m).
+!!
+!! For each integration point L (an SCNI cell, a Gauss point, a triangle) the tables hold the
+!! nodes I (RK particles or element nodes) whose shape functions touch it (CSR: ptr, nbr)
+!! with the reference gradients g of their shape functions, the hoop term h (axisymmetry),
+!! the weight W_L, plus the lumped masses (eq. 70), the table N_I(X_J) that turns
+!! coefficients into physical positions (the identity for interpolating elements), and the
+!! transpose that lets the internal force be gathered per node without write races.
+module solid_tables_m
+  use kinds_m, only: wp
+  implicit none
+  private
+  public :: solid_tables_t, tables_transpose
+
+  type :: solid_tables_t
+    integer :: np = 0                    !< particles (coefficient pairs)
+    integer :: nq = 0                    !< integration points
+    integer :: scheme = 0                !< how the tables were built (builder-specific id)
+    logical :: axisym = .false.
+    !> nodal interpolation (finite elements): the physical position of node J is X_J + d_J,
+    !! the position table is the identity and point forces need no redistribution (eq. 99)
+    logical :: interpolating = .false.
+    real(wp), allocatable :: xq(:, :)    !< integration points, reference (2, nq) (m)
+    integer, allocatable :: owner(:)     !< node whose cell holds point L (0: none, e.g. an element)
+    real(wp), allocatable :: wgt(:)      !< W_L (m^3 axisymmetric, m^2 per unit thickness)
+    real(wp), allocatable :: mass(:)     !< lumped mass (kg, or kg/m in plane strain)
+    integer, allocatable :: ptr(:)       !< CSR pointer over points (nq + 1)
+    integer, allocatable :: nbr(:)       !< particle of each entry
+    real(wp), allocatable :: g(:, :)     !< (4, nnz): dN^1/dX1, dN^1/dX2, dN^2/dX1, dN^2/dX2 (1/m)
+    real(wp), allocatable :: h(:)        !< (nnz): hoop term of N^1 (1/m), 0 in plane strain
+    !> SCNI sub-cell stabilization (nnz): the right half-cell's smoothed d/dX1 of N^1, N^2
+    !! and the upper half-cell's d/dX2 of N^1, N^2, each minus the whole cell's (1/m)
+    real(wp), allocatable :: gs(:, :)
+    real(wp), allocatable :: ws(:, :)    !< (2, nq) weights W_r (1 + W_r/W_l), W_u (1 + W_u/W_d)
+    integer, allocatable :: tptr(:)      !< transpose pointer over particles (np + 1)
+    integer, allocatable :: tent(:)      !< entries touching particle I
+    integer, allocatable :: tq(:)        !< their integration points
+    integer, allocatable :: pptr(:)      !< position table pointer (np + 1)
+    integer, allocatable :: pnbr(:)
+    real(wp), allocatable :: pn(:, :)    !< (2, nnzp): N^1_I(X_J), N^2_I(X_J)
+    logical, allocatable :: fix1(:)      !< component 1 held at 0 (on the axis)
+    real(wp) :: hmin = 0.0_wp            !< smallest particle spacing (m)
+    real(wp) :: total_mass = 0.0_wp
+    real(wp) :: total_volume = 0.0_wp
+  end type solid_tables_t
+
+contains
+
+  !> For each particle, the entries (and their points) that involve it.
+  subroutine tables_transpose(t)
+    type(solid_tables_t), intent(inout) :: t
+    integer, allocatable :: fill(:)
+    integer :: q, e, i, nnz
+    nnz = size(t%nbr)
+    allocate(t%tptr(t%np + 1), t%tent(nnz), t%tq(nnz), fill(t%np))
+    fill = 0
+    do e = 1, nnz
+      fill(t%nbr(e)) = fill(t%nbr(e)) + 1
+    end do
+    t%tptr(1) = 1
+    do i = 1, t%np
+      t%tptr(i + 1) = t%tptr(i) + fill(i)
+    end do
+    fill = 0
+    do q = 1, t%nq
+      do e = t%ptr(q), t%ptr(q + 1) - 1
+        i = t%nbr(e)
+        t%tent(t%tptr(i) + fill(i)) = e
+        t%tq(t%tptr(i) + fill(i)) = q
+        fill(i) = fill(i) + 1
+      end do
+    end do
+  end subroutine tables_transpose
+end module solid_tables_m
