@@ -21,7 +21,7 @@ program bench_detect
   use errors_m, only: error_t
   use body_m, only: body_t
   use generators_m, only: make_rectangle, make_polygon, make_annulus, set_supports
-  use bodies_m, only: body_cloud
+  use detection_m, only: body_cloud
   use kernels_m, only: kernel_cubic, window_tensor
   use basis_m, only: basis_bilinear, mmax
   use rk_cloud_m, only: rk_cloud_t, cloud_moment

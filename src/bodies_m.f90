@@ -14,9 +14,10 @@ module bodies_m
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
   use hdf5_io_m, only: read_particle_file_h5
+  use detection_m, only: body_cloud
   implicit none
   private
-  public :: build_bodies, build_body, lattice_admissible, min_support_factor, body_cloud
+  public :: build_bodies, build_body, lattice_admissible, min_support_factor
   public :: read_particle_columns
 
   !> Relative pivot below which M counts as singular in the admissibility checks: far above
@@ -142,14 +143,6 @@ contains
         'at least '//itoa(basis_size(b%bid))//' in general position): increase support_factor')
     end if
   end subroutine check_particles
-
-  !> The packed cloud of a body (reference positions).
-  subroutine body_cloud(b, c, err)
-    type(body_t), intent(in) :: b
-    type(rk_cloud_t), intent(out) :: c
-    type(error_t), allocatable, intent(inout) :: err
-    call cloud_init(c, b%x, b%rho, b%vol, b%kid, b%wshape, b%bid, b%h(1:b%ndim), err)
-  end subroutine body_cloud
 
   !> True when M is non-singular at every probe of a lattice patch with these supports.
   !! The patch is a corner of a lattice (indices 0 .. 2K per direction), the worst place on

@@ -7,7 +7,7 @@
 !! left), so the outward normal is n = (t_y, -t_x) (the paper's e3 x t for its clockwise
 !! walk). Penetration means g < 0; only then is a force applied (detection is a screen, the
 !! gap decides). Forces are computed at the slave particles' physical positions; the caller
-!! redistributes them to RK coefficients (eq. 98).
+!! spreads them onto the nodal coefficients (eq. 98, or eq. 99 for element nodes).
 !!
 !! Integrator factors (SPEC 2.5): the step is u_{n+1} = u_n + dt v_n + dt^2/2 a_n, so adding
 !! f/M to a_n moves the particle by dt^2/2 f/M: the normal force 2 M |g| / dt^2 puts a

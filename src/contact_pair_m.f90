@@ -7,27 +7,38 @@
 !! B's grown bounding box, evaluates det(M_B) at their predicted physical positions, measures
 !! the gap of the detected ones to B's closest segment, computes the eq. (93)-(96) force at
 !! each penetrating particle (with the reduced mass when B moves), applies the reaction to
-!! the ends of B's segment, redistributes the particle forces to the RK coefficients by
-!! eq. (98), and corrects a_n and the prediction. With a rigid master one pass is made (the
-!! first condition of eq. 28); when both bodies deform, a second pass swaps the roles (both
-!! conditions of eq. 28).
+!! the ends of B's segment, has the solid spread the point forces onto its nodal
+!! coefficients (eq. 98 for particles, eq. 99 for element nodes), and corrects a_n and the
+!! prediction. With a rigid master one pass is made (the first condition of eq. 28); when
+!! both bodies deform, a second pass swaps the roles (both conditions of eq. 28).
+!!
+!! Contact sees a deformable body only through the solid interface (solid_m): the points it
+!! detects are the nodes' physical points, whatever the discretization behind them. Its
+!! inputs are plain parameters (contact_params_t) and bodies; the caller names the deck.
 module contact_pair_m
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
-  use deck_m, only: deck_t
   use body_m, only: body_t
   use rk_cloud_m, only: rk_cloud_t, cloud_det, cloud_init, cloud_move
-  use bodies_m, only: body_cloud
-  use detection_m, only: body_plateau, detection_threshold
+  use detection_m, only: body_plateau, detection_threshold, body_cloud
   use contact_m, only: master_surface_t, surface_build, surface_update, surface_gap, &
     contact_point_force, contact_counters_t
-  use tl_body_m, only: tl_body_t
-  use tl_kinematics_m, only: physical_positions
+  use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
+    solid_correct, at_step_start, at_prediction
   implicit none
   private
-  public :: contact_pair_t, contact_pairs_init, contact_correct, contact_stats_t
-  public :: contact_det_fields
+  public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
+  public :: contact_stats_t, contact_det_fields, contact_step
+
+  !> A pair's parameters (deck group &contact).
+  type :: contact_params_t
+    real(wp) :: eps_cr = 5.0e-10_wp      !< det(M_master) threshold (paper: 5e-10)
+    real(wp) :: eps_rel = 0.0_wp         !< or this fraction of the master's plateau (> 0)
+    real(wp) :: mu = 0.0_wp              !< Coulomb friction coefficient
+    logical :: track_edge = .false.      !< report contact/separation of one slave node
+    real(wp) :: edge_point(2) = 0.0_wp   !< its reference position: the nearest node (m)
+  end type contact_params_t
 
   !> What one step's contact did (for the log, history and summary).
   type :: contact_stats_t
@@ -44,8 +55,8 @@ module contact_pair_m
 
   !> One body of a pair as contact sees it.
   type :: side_t
-    integer :: ibody = 0                 !< deck body index
-    integer :: itb = 0                   !< index among the deformable bodies; 0 if rigid
+    character(len=64) :: name = ''
+    integer :: isolid = 0                !< index of its solid; 0 if rigid
     integer :: np = 0
     type(rk_cloud_t) :: cloud            !< det(M) of this body (current positions)
     type(master_surface_t) :: surface
@@ -54,6 +65,9 @@ module contact_pair_m
     real(wp) :: lo(2) = 0.0_wp, hi(2) = 0.0_wp   !< box grown by the largest support
     real(wp), allocatable :: x_old(:, :), x_pred(:, :)  !< physical positions (2, np)
     real(wp), allocatable :: rho(:, :)   !< supports (2, np): reach of the segment search
+    real(wp), allocatable :: x_ref(:, :), vol(:)   !< reference positions (m), volumes (m^2)
+    integer :: kid = 0, wshape = 0, bid = 0
+    real(wp) :: h(2) = 1.0_wp
     real(wp), allocatable :: fphys(:, :) !< contact forces at the particles this pass (N)
     logical, allocatable :: active(:)    !< particle carries a force this pass
     integer, allocatable :: seg(:)       !< the segment each penetrating particle hit
@@ -72,73 +86,65 @@ module contact_pair_m
 
 contains
 
-  !> Build the pairs of the deck: clouds, surfaces, thresholds and work arrays.
-  subroutine contact_pairs_init(deck, bodies, tbs, axisym, pairs, err)
-    type(deck_t), intent(in) :: deck
-    type(body_t), intent(in) :: bodies(:)
-    type(tl_body_t), intent(in) :: tbs(:)
+  !> Pair p between the slave body bs and the master body bm; isolid_s, isolid_m index their
+  !! solids in solids (0: the body is rigid). Errors name the variable; the caller adds the
+  !! deck and group.
+  subroutine contact_pair_init(p, prm, bs, isolid_s, bm, isolid_m, solids, axisym, err)
+    type(contact_pair_t), intent(out) :: p
+    type(contact_params_t), intent(in) :: prm
+    type(body_t), intent(in) :: bs, bm
+    integer, intent(in) :: isolid_s, isolid_m
+    type(solid_t), intent(in) :: solids(:)
     logical, intent(in) :: axisym
-    type(contact_pair_t), allocatable, intent(out) :: pairs(:)
     type(error_t), allocatable, intent(inout) :: err
-    integer :: k, j, sd, ib
+    integer :: j
     real(wp) :: best
-    allocate(pairs(deck%ncontacts))
-    do k = 1, deck%ncontacts
-      associate (p => pairs(k), cs => deck%contacts(k))
-        p%eps_cr = cs%eps_cr
-        p%eps_rel = cs%eps_rel
-        p%mu = cs%mu
-        do sd = 1, 2
-          ib = merge(cs%islave, cs%imaster, sd == 1)
-          call side_init(p%side(sd), bodies(ib), ib, tbs, axisym, p%eps_cr, p%eps_rel, err)
-          if (allocated(err)) return
-          if (p%side(sd)%surface%nseg == 0 .and. (sd == 2 .or. p%side(2)%itb > 0)) then
-            call set_error(err, "deck '"//deck%path//"', group &contact (contact "// &
-              itoa(k)//"): body '"//trim(bodies(ib)%name)//"' has no surface polyline")
-            return
-          end if
-        end do
-        p%both_ways = p%side(2)%itb > 0
-        ! a threshold at or above the master's interior plateau detects nothing: the bar
-        ! would pass through the target silently (bench/sweeps.py, eps_cr = 1e-4)
-        if (.not. (p%side(2)%threshold < p%side(2)%plateau)) then
-          call set_error(err, "deck '"//deck%path//"', group &contact (contact "//itoa(k)// &
-            "), variable "//trim(merge('eps_rel', 'eps_cr ', cs%eps_rel > 0.0_wp))// &
-            ": the threshold "//rtoa(p%side(2)%threshold)//" is not below the interior "// &
-            "plateau of det(M) of '"//trim(bodies(cs%imaster)%name)//"', "// &
-            rtoa(p%side(2)%plateau)//", so no penetration could be detected; give a "// &
-            "threshold well below the plateau (paper: eps_cr = 5e-10)")
-          return
+    p%eps_cr = prm%eps_cr
+    p%eps_rel = prm%eps_rel
+    p%mu = prm%mu
+    call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err)
+    if (allocated(err)) return
+    call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
+    if (allocated(err)) return
+    if (p%side(2)%surface%nseg == 0 .or. (isolid_m > 0 .and. p%side(1)%surface%nseg == 0)) then
+      call set_error(err, "body '"//trim(merge(bm%name, bs%name, &
+        p%side(2)%surface%nseg == 0))//"' has no surface polyline")
+      return
+    end if
+    p%both_ways = isolid_m > 0
+    ! a threshold at or above the master's interior plateau detects nothing: the bar
+    ! would pass through the target silently (bench/sweeps.py, eps_cr = 1e-4)
+    if (.not. (p%side(2)%threshold < p%side(2)%plateau)) then
+      call set_error(err, "variable "//trim(merge('eps_rel', 'eps_cr ', prm%eps_rel > &
+        0.0_wp))//": the threshold "//rtoa(p%side(2)%threshold)//" is not below the "// &
+        "interior plateau of det(M) of '"//trim(bm%name)//"', "//rtoa(p%side(2)%plateau)// &
+        ", so no penetration could be detected; give a threshold well below the plateau "// &
+        "(paper: eps_cr = 5e-10)")
+      return
+    end if
+    p%edge = 0
+    if (prm%track_edge) then
+      best = huge(1.0_wp)
+      do j = 1, bs%np
+        if (norm2(bs%x(:, j) - prm%edge_point) < best) then
+          best = norm2(bs%x(:, j) - prm%edge_point)
+          p%edge = j
         end if
-        p%edge = 0
-        if (cs%edge_point(1) > -huge(1.0_wp)) then
-          best = huge(1.0_wp)
-          do j = 1, bodies(cs%islave)%np
-            if (norm2(bodies(cs%islave)%x(:, j) - cs%edge_point(1:2)) < best) then
-              best = norm2(bodies(cs%islave)%x(:, j) - cs%edge_point(1:2))
-              p%edge = j
-            end if
-          end do
-        end if
-      end associate
-    end do
-  end subroutine contact_pairs_init
+      end do
+    end if
+  end subroutine contact_pair_init
 
-  subroutine side_init(s, b, ib, tbs, axisym, eps_cr, eps_rel, err)
+  subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err)
     type(side_t), intent(out) :: s
     type(body_t), intent(in) :: b
-    integer, intent(in) :: ib
-    type(tl_body_t), intent(in) :: tbs(:)
+    integer, intent(in) :: isolid
+    type(solid_t), intent(in) :: solids(:)
     logical, intent(in) :: axisym
     real(wp), intent(in) :: eps_cr, eps_rel
     type(error_t), allocatable, intent(inout) :: err
-    integer :: j
-    s%ibody = ib
+    s%name = b%name
     s%np = b%np
-    s%itb = 0
-    do j = 1, size(tbs)
-      if (tbs(j)%ibody == ib) s%itb = j
-    end do
+    s%isolid = isolid
     call body_cloud(b, s%cloud, err)
     if (allocated(err)) return
     s%plateau = body_plateau(b, s%cloud)
@@ -154,8 +160,16 @@ contains
     s%x_old = b%x
     s%x_pred = b%x
     s%rho = b%rho
+    s%x_ref = b%x
+    s%vol = b%vol
+    s%kid = b%kid
+    s%wshape = b%wshape
+    s%bid = b%bid
+    s%h = b%h(1:2)
+    s%fphys = 0.0_wp
+    s%active = .false.
     s%mass = 0.0_wp
-    if (s%itb > 0) s%mass = tbs(s%itb)%t%mass
+    if (isolid > 0) s%mass = solids(isolid)%t%mass
   end subroutine side_init
 
   !> Median det(M) of a body at its own boundary particles (off the symmetry axis): about
@@ -197,44 +211,64 @@ contains
   end subroutine sort_in_place
 
   !> Contact corrections of pair p for the step dt: the coefficients d (predicted by eq. 64
-  !! from d_old) and a_n of the deformable bodies in tbs are corrected in place; their
-  !! redistributed contact forces are added to tb%fcon (N).
-  subroutine contact_correct(p, tbs, dt, err)
+  !! from d_old) and a_n of the deformable bodies in solids are corrected in place; the
+  !! contact forces spread onto their nodes are added to their fcon (N).
+  subroutine contact_correct(p, solids, dt, err)
     type(contact_pair_t), intent(inout) :: p
-    type(tl_body_t), intent(inout) :: tbs(:)
+    type(solid_t), intent(inout) :: solids(:)
     real(wp), intent(in) :: dt
     type(error_t), allocatable, intent(inout) :: err
     integer :: sd
     p%step = contact_stats_t()
     ! the slave's det(M) and surface are needed only when both bodies deform
     do sd = 1, 2
-      call side_positions(p%side(sd), tbs, sd == 2 .or. p%both_ways, err)
+      call side_positions(p%side(sd), solids, sd == 2 .or. p%both_ways, err)
       if (allocated(err)) return
     end do
-    call contact_pass(p, p%side(1), p%side(2), tbs, dt, .true., err)
+    call contact_pass(p, p%side(1), p%side(2), solids, dt, .true., err)
     if (allocated(err)) return
     if (p%both_ways) then
       ! eq. (28), second condition: the master's particles against the slave
       do sd = 1, 2
-        call side_positions(p%side(sd), tbs, .true., err)
+        call side_positions(p%side(sd), solids, .true., err)
         if (allocated(err)) return
       end do
-      call contact_pass(p, p%side(2), p%side(1), tbs, dt, .false., err)
+      call contact_pass(p, p%side(2), p%side(1), solids, dt, .false., err)
     end if
   end subroutine contact_correct
 
+  !> The contact corrections of every pair for the step dt, between the prediction (64) and
+  !! the forces (62), and what they did together: contacts and mean normal force summed,
+  !! radius and remaining penetration the largest, the tracked edge in contact in any pair.
+  subroutine contact_step(pairs, solids, dt, total, err)
+    type(contact_pair_t), intent(inout) :: pairs(:)
+    type(solid_t), intent(inout) :: solids(:)
+    real(wp), intent(in) :: dt
+    type(contact_stats_t), intent(out) :: total
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    do k = 1, size(pairs)
+      call contact_correct(pairs(k), solids, dt, err)
+      if (allocated(err)) return
+      total%n_contact = total%n_contact + pairs(k)%step%n_contact
+      total%force_normal = total%force_normal + pairs(k)%step%force_normal
+      total%radius = max(total%radius, pairs(k)%step%radius)
+      total%pen_before = max(total%pen_before, pairs(k)%step%pen_before)
+      total%pen_after = max(total%pen_after, pairs(k)%step%pen_after)
+      total%edge_in_contact = total%edge_in_contact .or. pairs(k)%step%edge_in_contact
+    end do
+  end subroutine contact_step
+
   !> Old and predicted physical positions of a side; a deformable side is re-binned and its
   !! surface moved to the prediction.
-  subroutine side_positions(s, tbs, move, err)
+  subroutine side_positions(s, solids, move, err)
     type(side_t), intent(inout) :: s
-    type(tl_body_t), intent(in) :: tbs(:)
+    type(solid_t), intent(in) :: solids(:)
     logical, intent(in) :: move      !< the side acts as a master: move its cloud and surface
     type(error_t), allocatable, intent(inout) :: err
-    if (s%itb == 0) return
-    associate (tb => tbs(s%itb))
-      call physical_positions(tb%t, tb%x0, tb%d_old, s%x_old)
-      call physical_positions(tb%t, tb%x0, tb%d, s%x_pred)
-    end associate
+    if (s%isolid == 0) return
+    call solid_positions(solids(s%isolid), at_step_start, s%x_old)
+    call solid_positions(solids(s%isolid), at_prediction, s%x_pred)
     if (.not. move) return
     call cloud_move(s%cloud, s%x_pred, err)
     if (allocated(err)) return
@@ -245,10 +279,10 @@ contains
 
   !> One detection-and-force pass of side a's particles against side b (det(M_b), b's
   !! surface). count_stats: this pass feeds the step's statistics and counters.
-  subroutine contact_pass(p, a, b, tbs, dt, count_stats, err)
+  subroutine contact_pass(p, a, b, solids, dt, count_stats, err)
     type(contact_pair_t), intent(inout) :: p
     type(side_t), intent(inout) :: a, b
-    type(tl_body_t), intent(inout) :: tbs(:)
+    type(solid_t), intent(inout) :: solids(:)
     real(wp), intent(in) :: dt
     logical, intent(in) :: count_stats
     type(error_t), allocatable, intent(inout) :: err
@@ -282,7 +316,7 @@ contains
       dxb = (1.0_wp - xi)*(b%x_pred(:, i0) - b%x_old(:, i0)) + xi*(b%x_pred(:, i1) - &
         b%x_old(:, i1))
       invmb = 0.0_wp
-      if (b%itb > 0) invmb = (1.0_wp - xi)**2/b%mass(i0) + xi**2/b%mass(i1)
+      if (b%isolid > 0) invmb = (1.0_wp - xi)**2/b%mass(i0) + xi**2/b%mass(i1)
       meff = 1.0_wp/(1.0_wp/a%mass(j) + invmb)
       slip = dot_product(a%x_pred(:, j) - a%x_old(:, j) - dxb, tng)
       call contact_point_force(g, nrm, tng, slip, meff, dt, p%mu, fj, stick)
@@ -314,7 +348,7 @@ contains
     end if
     if (ncon == 0) return
     ! reactions on b at the ends of the segments hit (serial: few particles)
-    if (b%itb > 0) then
+    if (b%isolid > 0) then
       b%fphys = 0.0_wp
       do j = 1, a%np
         if (.not. a%active(j)) cycle
@@ -323,70 +357,39 @@ contains
         b%fphys(:, i0) = b%fphys(:, i0) - (1.0_wp - a%xi(j))*a%fphys(:, j)
         b%fphys(:, i1) = b%fphys(:, i1) - a%xi(j)*a%fphys(:, j)
       end do
-      call redistribute_and_correct(tbs(b%itb), b%fphys, dt)
+      call solid_add_point_forces(solids(b%isolid), b%fphys)
+      call solid_correct(solids(b%isolid), dt)
     end if
-    call redistribute_and_correct(tbs(a%itb), a%fphys, dt)
-    ! penetration left after the correction (redistribution spreads the forces): the
+    call solid_add_point_forces(solids(a%isolid), a%fphys)
+    call solid_correct(solids(a%isolid), dt)
+    ! penetration left after the correction (eq. 98 spreads the forces): the
     ! corrected positions of the particles that had a force (and of b when it moves)
-    if (b%itb > 0) call side_positions(b, tbs, .true., err)
+    if (b%isolid > 0) call side_positions(b, solids, .true., err)
     if (allocated(err)) return
-    associate (ta => tbs(a%itb))
-      do j = 1, a%np
-        if (.not. a%active(j)) cycle
-        a%x_pred(:, j) = position_of(ta, j)
-        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
-        if (found) p%step%pen_after = max(p%step%pen_after, -g)
-      end do
-    end associate
+    do j = 1, a%np
+      if (.not. a%active(j)) cycle
+      a%x_pred(:, j) = solid_point_position(solids(a%isolid), j)
+      call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+      if (found) p%step%pen_after = max(p%step%pen_after, -g)
+    end do
   end subroutine contact_pass
-
-  !> Physical position of particle j of a body from its current coefficients.
-  pure function position_of(tb, j) result(x)
-    type(tl_body_t), intent(in) :: tb
-    integer, intent(in) :: j
-    real(wp) :: x(2)
-    integer :: e
-    x = tb%x0(:, j)
-    do e = tb%t%pptr(j), tb%t%pptr(j + 1) - 1
-      x = x + tb%t%pn(:, e)*tb%d(:, tb%t%pnbr(e))
-    end do
-  end function position_of
-
-  !> eq. (98): f_I = sum_J N_I(X_J) f_J component by component, added to tb%fcon; then the
-  !! corrected a_n and prediction of eq. (64).
-  subroutine redistribute_and_correct(tb, fphys, dt)
-    type(tl_body_t), intent(inout) :: tb
-    real(wp), intent(in) :: fphys(:, :), dt
-    integer :: j, e, i
-    do j = 1, tb%np
-      if (all(fphys(:, j) == 0.0_wp)) cycle
-      do e = tb%t%pptr(j), tb%t%pptr(j + 1) - 1
-        i = tb%t%pnbr(e)
-        tb%fcon(:, i) = tb%fcon(:, i) + tb%t%pn(:, e)*fphys(:, j)
-      end do
-    end do
-    tb%a(1, :) = tb%a_old(1, :) + tb%fcon(1, :)/tb%t%mass
-    tb%a(2, :) = tb%a_old(2, :) + tb%fcon(2, :)/tb%t%mass
-    where (tb%pres) tb%a = 0.0_wp
-    tb%d = tb%d_old + dt*tb%v + 0.5_wp*dt*dt*tb%a
-  end subroutine redistribute_and_correct
 
   !> det(M) of the master and of the slave (built from the slave's current physical
   !! positions with its reference volumes and supports: the Lagrangian body) on the grid
-  !! lo..hi with n points (x fastest), and det(M_master) at the slave particles
-  !! (Figs. 9-10). Work for output only, done at snapshots when the deck asks.
-  subroutine contact_det_fields(p, tbs, bodies, lo, hi, n, det_m, det_s, det_m_at_slave, err)
+  !! lo..hi with n points (x fastest), and det(M_master) at the slave's nodes (Figs. 9-10).
+  !! Work for output only, done at snapshots when the deck asks.
+  subroutine contact_det_fields(p, solids, lo, hi, n, det_m, det_s, det_m_at_slave, err)
     type(contact_pair_t), intent(in) :: p
-    type(tl_body_t), intent(inout) :: tbs(:)
-    type(body_t), intent(in) :: bodies(:)
+    type(solid_t), intent(in) :: solids(:)
     real(wp), intent(in) :: lo(2), hi(2)
     integer, intent(in) :: n(2)
     real(wp), intent(out) :: det_m(:), det_s(:), det_m_at_slave(:)
     type(error_t), allocatable, intent(inout) :: err
     type(rk_cloud_t) :: cs, cm
+    real(wp), allocatable :: xs(:, :)
     integer :: i, j, q
     real(wp) :: x(2)
-    call current_cloud(p%side(1), cs)
+    call current_cloud(p%side(1), cs, xs)
     if (allocated(err)) return
     call current_cloud(p%side(2), cm)
     if (allocated(err)) return
@@ -400,24 +403,19 @@ contains
       end do
     end do
     !$omp end parallel do
-    associate (tb => tbs(p%side(1)%itb))
-      call physical_positions(tb%t, tb%x0, tb%d, tb%x)
-      do j = 1, tb%np
-        det_m_at_slave(j) = cloud_det(cm, tb%x(:, j))
-      end do
-    end associate
+    do j = 1, p%side(1)%np
+      det_m_at_slave(j) = cloud_det(cm, xs(:, j))
+    end do
   contains
-    subroutine current_cloud(s, c)
+    subroutine current_cloud(s, c, xc)
       type(side_t), intent(in) :: s
       type(rk_cloud_t), intent(out) :: c
-      associate (b => bodies(s%ibody))
-        if (s%itb == 0) then
-          call cloud_init(c, b%x, b%rho, b%vol, b%kid, b%wshape, b%bid, b%h(1:2), err)
-        else
-          call physical_positions(tbs(s%itb)%t, tbs(s%itb)%x0, tbs(s%itb)%d, tbs(s%itb)%x)
-          call cloud_init(c, tbs(s%itb)%x, b%rho, b%vol, b%kid, b%wshape, b%bid, b%h(1:2), err)
-        end if
-      end associate
+      real(wp), allocatable, intent(out), optional :: xc(:, :)
+      real(wp), allocatable :: x(:, :)
+      x = s%x_ref
+      if (s%isolid > 0) call solid_positions(solids(s%isolid), at_prediction, x)
+      call cloud_init(c, x, s%rho, s%vol, s%kid, s%wshape, s%bid, s%h, err)
+      if (present(xc)) call move_alloc(x, xc)
     end subroutine current_cloud
   end subroutine contact_det_fields
 end module contact_pair_m

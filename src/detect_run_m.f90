@@ -10,8 +10,7 @@ module detect_run_m
   use deck_m, only: deck_t, detection_spec_t
   use body_m, only: body_t
   use rk_cloud_m, only: rk_cloud_t
-  use bodies_m, only: body_cloud
-  use detection_m, only: det_at_points, body_plateau, classify, buffer_stats, &
+  use detection_m, only: body_cloud, det_at_points, body_plateau, classify, buffer_stats, &
     buffer_stats_t, detection_threshold
   use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr
   use run_output_m, only: write_header, write_bodies

@@ -7,13 +7,14 @@ module detection_m
   use kinds_m, only: wp, i64
   use body_m, only: body_t
   use geometry_m, only: geom_none, signed_distance
-  use rk_cloud_m, only: rk_cloud_t, cloud_det
+  use errors_m, only: error_t
+  use rk_cloud_m, only: rk_cloud_t, cloud_det, cloud_init
   use sorting_m, only: sort_index
   use neighbour_bins_m, only: bins_candidates
   implicit none
   private
   public :: det_at_points, body_plateau, classify, buffer_stats, buffer_stats_t
-  public :: detection_threshold
+  public :: detection_threshold, body_cloud
 
   !> What the classification says about the buffer zone (all distances in m).
   type :: buffer_stats_t
@@ -26,6 +27,14 @@ module detection_m
   end type buffer_stats_t
 
 contains
+
+  !> The packed cloud of a body (reference positions).
+  subroutine body_cloud(b, c, err)
+    type(body_t), intent(in) :: b
+    type(rk_cloud_t), intent(out) :: c
+    type(error_t), allocatable, intent(inout) :: err
+    call cloud_init(c, b%x, b%rho, b%vol, b%kid, b%wshape, b%bid, b%h(1:b%ndim), err)
+  end subroutine body_cloud
 
   !> det(M) of cloud c at every column of p(ndim, n). OpenMP over points.
   subroutine det_at_points(c, p, det)

@@ -5,8 +5,7 @@ module dynamic_output_m
   use kinds_m, only: wp
   use errors_m, only: error_t
   use strings_m, only: itoa
-  use body_m, only: body_t
-  use tl_body_m, only: tl_body_t
+  use solid_m, only: solid_t, solid_positions, at_prediction
   use tl_kinematics_m, only: physical_positions, jacobian
   use hdf5_io_m, only: h5file_t, h5_group, h5_write, h5_attr, h5_series_create, &
     h5_series_append, h5_flush
@@ -97,41 +96,44 @@ contains
   !> /snapshots/<label>/<body>: physical positions, displacements and velocities of the
   !! particles, Cauchy stress, effective plastic strain and J (averaged over each particle's
   !! integration points with their weights; for SCNI the particle's own point).
-  subroutine snapshot_write(f, label, time, step, bodies, tbs, err)
+  subroutine snapshot_write(f, label, time, step, solids, err)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: label
     real(wp), intent(in) :: time
     integer, intent(in) :: step
-    type(body_t), intent(in) :: bodies(:)
-    type(tl_body_t), intent(inout) :: tbs(:)
+    type(solid_t), intent(inout) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: g, gb
     real(wp), allocatable :: vphys(:, :), sig(:, :), eps(:), jj(:), w(:)
-    integer :: k, q, i, np
+    integer :: k, q, np, e, i
     real(wp) :: jq
     g = '/snapshots/'//label
     call h5_group(f, g, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'time', time, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'step', step, err)
-    do k = 1, size(tbs)
+    do k = 1, size(solids)
       if (allocated(err)) return
-      associate (tb => tbs(k))
+      associate (tb => solids(k))
         np = tb%np
-        gb = g//'/'//trim(bodies(tb%ibody)%name)
-        call physical_positions(tb%t, tb%x0, tb%d, tb%x)
+        gb = g//'/'//trim(tb%name)
+        call solid_positions(tb, at_prediction, tb%x)
         allocate(vphys(2, np), sig(4, np), eps(np), jj(np), w(np))
         call physical_positions(tb%t, 0.0_wp*tb%x0, tb%v, vphys)
         sig = 0.0_wp
         eps = 0.0_wp
         jj = 0.0_wp
         w = 0.0_wp
+        ! nodal values: the weighted mean over the points a node owns (an SCNI cell), or
+        ! over the points it belongs to when points have no owner (elements)
         do q = 1, tb%nq
-          i = tb%t%owner(q)
           jq = jacobian(tb%f(:, q))
-          sig(:, i) = sig(:, i) + tb%t%wgt(q)*tb%st%tau(:, q)/jq
-          eps(i) = eps(i) + tb%t%wgt(q)*tb%st%epsbar(q)
-          jj(i) = jj(i) + tb%t%wgt(q)*jq
-          w(i) = w(i) + tb%t%wgt(q)
+          if (tb%t%owner(q) > 0) then
+            call accumulate(tb%t%owner(q))
+          else
+            do e = tb%t%ptr(q), tb%t%ptr(q + 1) - 1
+              call accumulate(tb%t%nbr(e))
+            end do
+          end if
         end do
         do i = 1, np
           sig(:, i) = sig(:, i)/w(i)
@@ -151,20 +153,47 @@ contains
           'effective plastic strain')
         if (.not. allocated(err)) call h5_write(f, gb//'/J', jj, '1', err, &
           'volume ratio det F')
+        if (tb%t%interpolating .and. .not. allocated(err)) call cell_fields(tb, gb)
         deallocate(vphys, sig, eps, jj, w)
       end associate
     end do
     call h5_flush(f)
+  contains
+    subroutine accumulate(i)
+      integer, intent(in) :: i
+      sig(:, i) = sig(:, i) + solids(k)%t%wgt(q)*solids(k)%st%tau(:, q)/jq
+      eps(i) = eps(i) + solids(k)%t%wgt(q)*solids(k)%st%epsbar(q)
+      jj(i) = jj(i) + solids(k)%t%wgt(q)*jq
+      w(i) = w(i) + solids(k)%t%wgt(q)
+    end subroutine accumulate
+
+    !> Element (cell-centred) values of a finite-element body: the integration point's own.
+    subroutine cell_fields(s, gb)
+      type(solid_t), intent(in) :: s
+      character(len=*), intent(in) :: gb
+      real(wp), allocatable :: sc(:, :), jc(:)
+      integer :: qq
+      allocate(sc(4, s%nq), jc(s%nq))
+      do qq = 1, s%nq
+        jc(qq) = jacobian(s%f(:, qq))
+        sc(:, qq) = s%st%tau(:, qq)/jc(qq)
+      end do
+      call h5_write(f, gb//'/stress_cells', sc, 'Pa', err, &
+        'Cauchy stress 11, 22, 33, 12 of each element (4, ne)')
+      if (.not. allocated(err)) call h5_write(f, gb//'/epsbar_cells', s%st%epsbar, '1', err, &
+        'effective plastic strain of each element')
+      if (.not. allocated(err)) call h5_write(f, gb//'/J_cells', jc, '1', err, &
+        'volume ratio det F of each element')
+    end subroutine cell_fields
   end subroutine snapshot_write
 
   !> The XDMF companion of the HDF5 file: a temporal collection of polyvertex grids, one
   !! per snapshot and body, pointing at the datasets in the HDF5 file (ParaView opens it).
-  subroutine xdmf_write(path, h5name, labels, times, bodies, tbs)
+  subroutine xdmf_write(path, h5name, labels, times, solids)
     character(len=*), intent(in) :: path, h5name
     character(len=*), intent(in) :: labels(:)
     real(wp), intent(in) :: times(:)
-    type(body_t), intent(in) :: bodies(:)
-    type(tl_body_t), intent(in) :: tbs(:)
+    type(solid_t), intent(in) :: solids(:)
     integer :: u, s, k, np
     character(len=:), allocatable :: g, nps
     open(newunit=u, file=path, status='replace', action='write')
@@ -175,11 +204,11 @@ contains
       write(u, '(a)') '<Grid Name="t'//trim(labels(s))//'" GridType="Collection" '// &
         'CollectionType="Spatial">'
       write(u, '(a,es24.16,a)') '<Time Value="', times(s), '"/>'
-      do k = 1, size(tbs)
-        np = tbs(k)%np
+      do k = 1, size(solids)
+        np = solids(k)%np
         nps = itoa(np)
-        g = h5name//':/snapshots/'//trim(labels(s))//'/'//trim(bodies(tbs(k)%ibody)%name)
-        write(u, '(a)') '<Grid Name="'//trim(bodies(tbs(k)%ibody)%name)//'" GridType="Uniform">'
+        g = h5name//':/snapshots/'//trim(labels(s))//'/'//trim(solids(k)%name)
+        write(u, '(a)') '<Grid Name="'//trim(solids(k)%name)//'" GridType="Uniform">'
         write(u, '(a)') '<Topology TopologyType="Polyvertex" NumberOfElements="'//nps//'"/>'
         write(u, '(a)') '<Geometry GeometryType="XY"><DataItem Dimensions="'//nps// &
           ' 2" Format="HDF" NumberType="Float" Precision="8">'//g//'/x</DataItem></Geometry>'

@@ -4,7 +4,7 @@
 !! h_min/c_d (smallest spacing over the dilatational wave speed) for the log.
 module stable_step_m
   use kinds_m, only: wp
-  use tl_body_m, only: tl_body_t
+  use solid_m, only: solid_t
   use tl_kinematics_m, only: deformation_gradient, internal_force, stabilization_force
   implicit none
   private
@@ -14,7 +14,7 @@ contains
 
   !> h_min / c_d (s).
   pure real(wp) function spacing_step(tb) result(dt)
-    type(tl_body_t), intent(in) :: tb
+    type(solid_t), intent(in) :: tb
     dt = tb%t%hmin/tb%mat%dilatational_speed()
   end function spacing_step
 
@@ -23,7 +23,7 @@ contains
   !! The Rayleigh quotient converges from below, so the step is padded by 2% (the result
   !! of 60 iterations is within 1% of a converged value on lattice bodies).
   function critical_step(tb) result(dt)
-    type(tl_body_t), intent(in) :: tb
+    type(solid_t), intent(in) :: tb
     real(wp) :: dt
     real(wp), allocatable :: x(:, :), y(:, :), f(:, :), p(:, :), sw(:, :)
     real(wp) :: lam, mu, eps(4), tr, omega2, nrm, es

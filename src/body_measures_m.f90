@@ -1,0 +1,38 @@
+!> Measures of a deformed body for the log, the history and the summary, for any solid
+!! whatever its discretization: extent along x2 (length) and x1 (width), the largest x1
+!! within one nominal spacing of the lowest x2 (the foot radius of a body standing on, or
+!! striking, a surface below it), and the largest effective plastic strain. All lengths are
+!! taken at the physical positions of the nodes.
+module body_measures_m
+  use kinds_m, only: wp
+  use solid_m, only: solid_t, solid_positions, at_prediction
+  implicit none
+  private
+  public :: measures_t, body_measures, measure_names, measure_units
+
+  type :: measures_t
+    real(wp) :: length = 0.0_wp       !< extent in x2 (m)
+    real(wp) :: width = 0.0_wp        !< extent in x1 (m)
+    real(wp) :: foot_radius = 0.0_wp  !< largest x1 within one spacing of the lowest x2 (m)
+    real(wp) :: max_epsbar = 0.0_wp   !< largest effective plastic strain (1)
+  end type measures_t
+
+  character(len=*), parameter :: measure_names(4) = [character(len=11) :: &
+    'length', 'width', 'foot_radius', 'max_epsbar']
+  character(len=*), parameter :: measure_units(4) = [character(len=1) :: 'm', 'm', 'm', '1']
+
+contains
+
+  !> The measures of solid s at its current coefficients; s%x is used as work space.
+  function body_measures(s) result(m)
+    type(solid_t), intent(inout) :: s
+    type(measures_t) :: m
+    real(wp) :: zmin
+    call solid_positions(s, at_prediction, s%x)
+    zmin = minval(s%x(2, :))
+    m%length = maxval(s%x(2, :)) - zmin
+    m%width = maxval(s%x(1, :)) - minval(s%x(1, :))
+    m%foot_radius = maxval(s%x(1, :), mask=s%x(2, :) <= zmin + s%spacing(2))
+    m%max_epsbar = maxval(s%st%epsbar)
+  end function body_measures
+end module body_measures_m

@@ -1,0 +1,212 @@
+!> Set-up of a dynamic run: the one place that turns the deck into the plain inputs of the
+!! lower layers. For each deformable body it builds the discretization tables (RKPM by
+!! rkpm_tl_m; CST4 elements by cst4_m), the kinematic-condition masks from the deck's &bc
+!! boxes, and the solid; for each &contact group a contact pair; and it chooses the time
+!! step. Every error names the deck, the group and the variable.
+module dynamic_setup_m
+  use, intrinsic :: iso_fortran_env, only: output_unit
+  use kinds_m, only: wp
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa, rtoa
+  use deck_m, only: deck_t, body_spec_t
+  use body_m, only: body_t
+  use solid_tables_m, only: solid_tables_t
+  use rkpm_tl_m, only: tl_build, scheme_id
+  use solid_m, only: solid_t, solid_init
+  use stable_step_m, only: critical_step, spacing_step
+  use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init
+  implicit none
+  private
+  public :: setup_solids, setup_contacts, setup_time_step
+
+contains
+
+  !> The solids of the deck's deformable bodies, in deck order; isolid(k) is body k's solid
+  !! (0 for a rigid body).
+  subroutine setup_solids(deck, bodies, solids, isolid, err)
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(solid_t), allocatable, intent(out) :: solids(:)
+    integer, allocatable, intent(out) :: isolid(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, n, ndef
+    logical :: axisym
+    axisym = deck%run%geometry == 'axisymmetric'
+    allocate(isolid(deck%nbodies))
+    isolid = 0
+    ndef = 0
+    do k = 1, deck%nbodies
+      if (deck%bodies(k)%role /= 'deformable') cycle
+      ndef = ndef + 1
+      isolid(k) = ndef
+    end do
+    if (ndef == 0) then
+      call set_error(err, "deck '"//deck%path//"': mode = 'dynamic' needs at least one "// &
+        "deformable body (role = 'deformable')")
+      return
+    end if
+    allocate(solids(ndef))
+    do k = 1, deck%nbodies
+      n = isolid(k)
+      if (n == 0) cycle
+      call setup_solid(deck, k, bodies(k), axisym, solids(n), err)
+      if (allocated(err)) return
+      write(output_unit, '(a)') 'dynamic: body '''//trim(bodies(k)%name)//''': '// &
+        itoa(solids(n)%np)//' nodes, '//itoa(solids(n)%nq)//' integration points ('// &
+        discretization_text(deck%bodies(k))//'), material '''// &
+        trim(deck%materials(deck%bodies(k)%imat)%name)//''' ('// &
+        solids(n)%mat%model_name()//'), mass '//rtoa(solids(n)%t%total_mass)//' kg'// &
+        merge('/m', '  ', .not. axisym)
+    end do
+  end subroutine setup_solids
+
+  pure function discretization_text(s) result(txt)
+    type(body_spec_t), intent(in) :: s
+    character(len=:), allocatable :: txt
+    txt = 'RKPM, '//trim(s%integration)
+  end function discretization_text
+
+  !> The solid of deformable body k.
+  subroutine setup_solid(deck, k, b, axisym, s, err)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    type(body_t), intent(in) :: b
+    logical, intent(in) :: axisym
+    type(solid_t), intent(out) :: s
+    type(error_t), allocatable, intent(inout) :: err
+    type(body_spec_t) :: bs
+    type(solid_tables_t) :: t
+    type(error_t), allocatable :: e2
+    logical, allocatable :: pres(:, :)
+    real(wp), allocatable :: vpres(:, :)
+    character(len=:), allocatable :: where
+    bs = deck%bodies(k)
+    where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
+    call tl_build(b, axisym, scheme_id(bs%integration), &
+      deck%materials(bs%imat)%params%density, t, e2)
+    if (allocated(e2)) then
+      call set_error(err, where//": "//e2%message)
+      return
+    end if
+    call kinematic_masks(deck, k, b, pres, vpres, err)
+    if (allocated(err)) return
+    call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, bs%stabilization, &
+      bs%velocity(1:2), pres, vpres, e2)
+    if (allocated(e2)) then
+      call set_error(err, where//": "//e2%message)
+      return
+    end if
+    ! the foot-radius band of body_measures: one nominal spacing
+    s%spacing = minval(b%spacing(1:2))
+  end subroutine setup_solid
+
+  !> The deck's &bc groups of body k as masks over the nodes' reference positions: a node
+  !! inside a group's box has that component prescribed (held at 0 for 'fixed', moved at
+  !! the given velocity for 'velocity').
+  subroutine kinematic_masks(deck, k, b, pres, vpres, err)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    type(body_t), intent(in) :: b
+    logical, allocatable, intent(out) :: pres(:, :)
+    real(wp), allocatable, intent(out) :: vpres(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j, i, c, nsel
+    allocate(pres(2, b%np), vpres(2, b%np))
+    pres = .false.
+    vpres = 0.0_wp
+    do j = 1, deck%nbcs
+      if (deck%bcs(j)%ibody /= k) cycle
+      c = deck%bcs(j)%component
+      nsel = 0
+      do i = 1, b%np
+        if (all(b%x(:, i) >= deck%bcs(j)%region_lo(1:2)) .and. &
+          all(b%x(:, i) <= deck%bcs(j)%region_hi(1:2))) then
+          pres(c, i) = .true.
+          vpres(c, i) = merge(deck%bcs(j)%value, 0.0_wp, deck%bcs(j)%kind == 'velocity')
+          nsel = nsel + 1
+        end if
+      end do
+      if (nsel == 0) then
+        call set_error(err, "deck '"//deck%path//"', group &bc (bc "//itoa(j)// &
+          "), variable region_lo/region_hi: the box holds no node of body '"// &
+          trim(b%name)//"'; enlarge it (reference coordinates, m)")
+        return
+      end if
+    end do
+  end subroutine kinematic_masks
+
+  !> The contact pairs of the deck's &contact groups, with their log lines.
+  subroutine setup_contacts(deck, bodies, solids, isolid, pairs, err)
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(solid_t), intent(in) :: solids(:)
+    integer, intent(in) :: isolid(:)
+    type(contact_pair_t), allocatable, intent(out) :: pairs(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(contact_params_t) :: prm
+    type(error_t), allocatable :: e2
+    integer :: k, im, is
+    allocate(pairs(deck%ncontacts))
+    do k = 1, deck%ncontacts
+      associate (cs => deck%contacts(k))
+        prm%eps_cr = cs%eps_cr
+        prm%eps_rel = cs%eps_rel
+        prm%mu = cs%mu
+        prm%track_edge = cs%edge_point(1) > -huge(1.0_wp)
+        if (prm%track_edge) prm%edge_point = cs%edge_point(1:2)
+        im = cs%imaster
+        is = cs%islave
+        call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
+          isolid(im), solids, deck%run%geometry == 'axisymmetric', e2)
+        if (allocated(e2)) then
+          call set_error(err, "deck '"//deck%path//"', group &contact (contact "// &
+            itoa(k)//"): "//e2%message)
+          return
+        end if
+      end associate
+      associate (p => pairs(k))
+        write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,i0,a,f5.2,a)') 'contact: master '''// &
+          trim(p%side(2)%name)//''' ('//trim(merge('deformable', 'rigid     ', p%both_ways))// &
+          ', det(M) plateau ', p%side(2)%plateau, '), slave '''//trim(p%side(1)%name)// &
+          ''': threshold ', p%side(2)%threshold, ' (eps_cr ', p%eps_cr, '), ', &
+          p%side(2)%surface%nseg, ' surface segments, mu = ', p%mu, &
+          trim(merge('; detection both ways (eq. 28)', '                              ', &
+          p%both_ways))
+        write(output_unit, '(a,es10.3,a)') 'contact: det(M_master) at its surface '// &
+          'particles (median) ', p%side(2)%surface_det, trim(merge( &
+          '; warning: the threshold is above it, shallow penetrations go undetected', &
+          '                                                                        ', &
+          p%side(2)%threshold > p%side(2)%surface_det))
+      end associate
+    end do
+  end subroutine setup_contacts
+
+  !> The time step: the deck's fixed dt, or cfl x the critical step 2/omega_max of the
+  !! stiffest solid (power iteration); dtc is that critical step. The log says which.
+  subroutine setup_time_step(deck, solids, dt, dtc)
+    type(deck_t), intent(in) :: deck
+    type(solid_t), intent(in) :: solids(:)
+    real(wp), intent(out) :: dt, dtc
+    real(wp) :: dts
+    integer :: k
+    dtc = huge(1.0_wp)
+    dts = huge(1.0_wp)
+    do k = 1, size(solids)
+      dtc = min(dtc, critical_step(solids(k)))
+      dts = min(dts, spacing_step(solids(k)))
+    end do
+    if (deck%solver%dt > 0.0_wp) then
+      dt = deck%solver%dt
+      write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,f6.3,a)') 'dynamic: dt = ', dt, &
+        ' s fixed by the deck; critical step 2/omega_max = ', dtc, ' s (h_min/c_d = ', dts, &
+        ' s): dt is ', dt/dtc, ' of critical'
+    else
+      dt = deck%solver%cfl*dtc
+      write(output_unit, '(a,es10.3,a,f5.2,a,es10.3,a,es10.3,a)') 'dynamic: dt = ', dt, &
+        ' s = cfl ', deck%solver%cfl, ' x critical step 2/omega_max = ', dtc, &
+        ' s (power iteration; h_min/c_d = ', dts, ' s)'
+    end if
+    if (dt > dtc) write(output_unit, '(a)') 'dynamic: warning: dt exceeds the estimated '// &
+      'critical step; the run is likely to go unstable'
+  end subroutine setup_time_step
+end module dynamic_setup_m

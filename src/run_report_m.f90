@@ -1,0 +1,248 @@
+!> What a dynamic run reports while it runs and when it ends: the record of the run (step,
+!! time, counters, timers, contact events), the log lines, the history rows, the det(M)
+!! fields of the contact pairs at snapshots (Figs. 9-10), and the summary on standard
+!! output and in /summary. Layout of the file: doc/output.md.
+module run_report_m
+  use, intrinsic :: iso_fortran_env, only: output_unit
+  use omp_lib, only: omp_get_wtime, omp_get_max_threads
+  use kinds_m, only: wp, i64
+  use errors_m, only: error_t
+  use strings_m, only: itoa
+  use solid_m, only: solid_t
+  use run_health_m, only: energies_t
+  use body_measures_m, only: measures_t, body_measures
+  use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_det_fields
+  use hdf5_io_m, only: h5file_t, h5_group, h5_attr, h5_write
+  use dynamic_output_m, only: history_names
+  implicit none
+  private
+  public :: run_record_t, record_contact, log_header, log_line, history_row, &
+    det_fields_out, report_summary, run_status
+
+  !> The running record of a dynamic run.
+  type :: run_record_t
+    integer :: n = 0                      !< steps taken
+    real(wp) :: t = 0.0_wp                !< time (s)
+    real(wp) :: dt = 0.0_wp, dtc = 0.0_wp !< step and critical step (s)
+    real(wp) :: t_end = 0.0_wp            !< the deck's end time (s)
+    integer :: nsteps_est = 0             !< steps to t_end
+    logical :: failed = .false.
+    character(len=:), allocatable :: reason
+    integer(i64) :: node_steps = 0        !< nodes x steps over all solids
+    integer(i64) :: point_steps = 0       !< integration points (triangles) x steps
+    real(wp) :: wall0 = 0.0_wp            !< wall clock at the start (s)
+    real(wp) :: t_loop = 0.0_wp, t_contact = 0.0_wp, t_output = 0.0_wp   !< timers (s)
+    type(contact_stats_t) :: contact      !< what contact did in the last step
+    real(wp) :: pen_max = 0.0_wp          !< deepest penetration left by a correction (m)
+    real(wp) :: impulse = 0.0_wp          !< normal contact impulse since t = 0 (N s)
+    real(wp) :: t_edge_first = -1.0_wp    !< first contact of the tracked edge node (s)
+    real(wp) :: t_edge_sep = -1.0_wp      !< its last separation (s)
+    logical :: edge_prev = .false.
+  end type run_record_t
+
+contains
+
+  !> Keep what the step's contact did (c) in the record; t_new is the time at its end.
+  subroutine record_contact(r, c, t_new)
+    type(run_record_t), intent(inout) :: r
+    type(contact_stats_t), intent(in) :: c
+    real(wp), intent(in) :: t_new
+    r%contact = c
+    r%pen_max = max(r%pen_max, c%pen_after)
+    r%impulse = r%impulse + c%force_normal*r%dt
+    if (c%edge_in_contact .and. r%t_edge_first < 0.0_wp) r%t_edge_first = t_new
+    if (r%edge_prev .and. .not. c%edge_in_contact) r%t_edge_sep = t_new
+    r%edge_prev = c%edge_in_contact
+  end subroutine record_contact
+
+  subroutine log_header()
+    write(output_unit, '(a)') 'dynamic:   cycle      time (s)     dt (s)       KE (J)'// &
+      '     W_int (J)    W_plas (J)   W_ext (J)   W_cont (J)  residual  contacts  ETA (s)'
+  end subroutine log_header
+
+  subroutine log_line(r, en)
+    type(run_record_t), intent(in) :: r
+    type(energies_t), intent(in) :: en
+    real(wp) :: eta, elapsed
+    elapsed = omp_get_wtime() - r%wall0
+    eta = 0.0_wp
+    if (r%n > 0) eta = elapsed/real(r%n, wp)*real(max(r%nsteps_est - r%n, 0), wp)
+    write(output_unit, '(a,i9,es14.6,es11.3,6es13.4,i7,f9.1)') 'dynamic: ', r%n, r%t, r%dt, &
+      en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, en%residual, &
+      r%contact%n_contact, eta
+  end subroutine log_line
+
+  !> One history row (history_names): energies, contact and the measures of solid s.
+  function history_row(r, en, s) result(row)
+    type(run_record_t), intent(in) :: r
+    type(energies_t), intent(in) :: en
+    type(solid_t), intent(inout) :: s
+    real(wp) :: row(size(history_names))
+    type(measures_t) :: m
+    m = body_measures(s)
+    row = [real(r%n, wp), r%t, r%dt, en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, &
+      en%residual, real(r%contact%n_contact, wp), r%contact%force_normal, r%contact%radius, &
+      r%contact%pen_after, m%length, m%foot_radius, r%impulse]
+  end function history_row
+
+  !> /snapshots/<lab>/det/contact<k>: det(M_master), det(M_slave) on the grid lo..hi with
+  !! n points and det(M_master) at the slave's nodes.
+  subroutine det_fields_out(f, lab, pairs, solids, lo, hi, n, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: lab
+    type(contact_pair_t), intent(in) :: pairs(:)
+    type(solid_t), intent(in) :: solids(:)
+    real(wp), intent(in) :: lo(2), hi(2)
+    integer, intent(in) :: n(2)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: dm(:), ds(:), dms(:)
+    integer :: kp
+    character(len=:), allocatable :: g
+    call h5_group(f, '/snapshots/'//lab//'/det', err)
+    do kp = 1, size(pairs)
+      if (allocated(err)) return
+      allocate(dm(product(n)), ds(product(n)), dms(pairs(kp)%side(1)%np))
+      call contact_det_fields(pairs(kp), solids, lo, hi, n, dm, ds, dms, err)
+      g = '/snapshots/'//lab//'/det/contact'//itoa(kp)
+      if (.not. allocated(err)) call h5_group(f, g, err)
+      if (.not. allocated(err)) call h5_write(f, g//'/master', reshape(dm, n), '1', err, &
+        'det(M) of the master on the grid (axis1 fastest)')
+      if (.not. allocated(err)) call h5_write(f, g//'/slave', reshape(ds, n), '1', err, &
+        'det(M) of the slave (current positions, reference volumes) on the grid')
+      if (.not. allocated(err)) call h5_write(f, g//'/master_at_slave', dms, '1', err, &
+        'det(M_master) at the slave particles (0 outside the master box)')
+      if (.not. allocated(err)) call h5_write(f, g//'/axis1', grid_axis(1), 'm', err, &
+        'grid coordinates along x1')
+      if (.not. allocated(err)) call h5_write(f, g//'/axis2', grid_axis(2), 'm', err, &
+        'grid coordinates along x2')
+      if (.not. allocated(err)) call h5_attr(f, g, 'threshold', pairs(kp)%side(2)%threshold, &
+        err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'master_plateau', &
+        pairs(kp)%side(2)%plateau, err)
+      deallocate(dm, ds, dms)
+    end do
+  contains
+    function grid_axis(k) result(a)
+      integer, intent(in) :: k
+      real(wp), allocatable :: a(:)
+      integer :: i
+      allocate(a(n(k)))
+      do i = 1, n(k)
+        a(i) = lo(k) + (hi(k) - lo(k))*real(i - 1, wp)/real(n(k) - 1, wp)
+      end do
+    end function grid_axis
+  end subroutine det_fields_out
+
+  function run_status(r) result(st)
+    type(run_record_t), intent(in) :: r
+    character(len=:), allocatable :: st
+    if (r%failed) then
+      st = 'failed'
+    else if (r%t < r%t_end - 0.5_wp*r%dt) then
+      st = 'stopped at max_steps'
+    else
+      st = 'completed'
+    end if
+  end function run_status
+
+  !> Shares of the time loop spent in kinematics, material update and internal force.
+  function time_shares(r, solids) result(share)
+    type(run_record_t), intent(in) :: r
+    type(solid_t), intent(in) :: solids(:)
+    real(wp) :: share(3)
+    integer :: k
+    share = 0.0_wp
+    do k = 1, size(solids)
+      share = share + solids(k)%wall
+    end do
+    share = share/max(r%t_loop, 1.0e-9_wp)
+  end function time_shares
+
+  !> The summary: on standard output and as attributes of /summary in f.
+  subroutine report_summary(f, r, en, pairs, solids, files, err)
+    type(h5file_t), intent(in) :: f
+    type(run_record_t), intent(in) :: r
+    type(energies_t), intent(in) :: en
+    type(contact_pair_t), intent(in) :: pairs(:)
+    type(solid_t), intent(inout) :: solids(:)
+    character(len=*), intent(in) :: files
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    real(wp) :: wall, rate, sh(3), tl
+    type(measures_t) :: m
+    wall = omp_get_wtime() - r%wall0
+    tl = max(r%t_loop, 1.0e-9_wp)
+    rate = real(r%node_steps, wp)/tl
+    sh = time_shares(r, solids)
+    call h5_group(f, '/summary', err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'status', run_status(r), err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'failure', r%reason, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'steps', r%n, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'time', r%t, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt', r%dt, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical', r%dtc, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'wall_time', wall, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', &
+      'time_loop_kinematics_material_force_contact_snapshots', [r%t_loop, sh, &
+      r%t_contact, r%t_output], err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'threads', omp_get_max_threads(), &
+      err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'particle_steps_per_second', rate, &
+      err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'point_steps_per_second', &
+      real(r%point_steps, wp)/tl, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'energy_residual', en%residual, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'energy_scale', en%scale, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'kinetic_energy', en%ke, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'internal_work', en%w_int, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'plastic_dissipation', &
+      en%w_plastic, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact_work', en%w_contact, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'max_remaining_penetration', &
+      r%pen_max, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'edge_first_contact_time', &
+      r%t_edge_first, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'edge_separation_time', &
+      r%t_edge_sep, err)
+    do k = 1, size(pairs)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
+        '_counts_screened_evaluated_detected_contacts', real([pairs(k)%count%screened, &
+        pairs(k)%count%evaluated, pairs(k)%count%detected, pairs(k)%count%contacts], wp), err)
+    end do
+    do k = 1, size(solids)
+      m = body_measures(solids(k))
+      if (.not. allocated(err)) call h5_attr(f, '/summary', trim(solids(k)%name)// &
+        '_length_width_footradius_maxepsbar', [m%length, m%width, m%foot_radius, &
+        m%max_epsbar], err)
+    end do
+    write(output_unit, '(a,i0,a,es12.5,a,f9.2,a,f7.2,a,es10.3,a,es10.3,a)') 'summary: ', &
+      r%n, ' steps to t = ', r%t, ' s in ', wall, ' s wall (set-up ', wall - r%t_loop, &
+      ' s), ', rate, ' particle-steps/s (nodes), ', real(r%point_steps, wp)/tl, &
+      ' point-steps/s (integration points) in the time loop'
+    write(output_unit, '(a,es11.4,a,es11.4,a,es10.3)') 'summary: energy residual ', &
+      en%residual, ' J of scale ', en%scale, ' J: relative ', en%residual/max(en%scale, &
+      tiny(1.0_wp))
+    do k = 1, size(pairs)
+      write(output_unit, '(a,4(i0,a))') 'summary: contact '//itoa(k)//': ', &
+        pairs(k)%count%screened, ' particles screened, ', pairs(k)%count%evaluated, &
+        ' det(M) evaluations, ', pairs(k)%count%detected, ' detections, ', &
+        pairs(k)%count%contacts, ' contact forces'
+    end do
+    if (size(pairs) > 0) write(output_unit, '(a,es10.3,a,es11.4,a,es11.4,a)') &
+      'summary: largest penetration left after a correction ', r%pen_max, ' m; edge '// &
+      'particle: first contact ', r%t_edge_first, ' s, separation ', r%t_edge_sep, &
+      ' s (-1: never)'
+    do k = 1, size(solids)
+      m = body_measures(solids(k))
+      write(output_unit, '(a,es12.5,a,es12.5,a,es12.5,a,f8.4)') 'summary: body '''// &
+        trim(solids(k)%name)//''': length ', m%length, ' m, width ', m%width, &
+        ' m, foot radius ', m%foot_radius, ' m, max epsbar ', m%max_epsbar
+    end do
+    write(output_unit, '(a,f8.2,a,6(a,f5.1,a))') 'summary: time loop ', r%t_loop, ' s: ', &
+      'kinematics ', 100.0_wp*sh(1), '%, ', 'material ', 100.0_wp*sh(2), '%, ', &
+      'internal force ', 100.0_wp*sh(3), '%, ', 'contact ', 100.0_wp*r%t_contact/tl, '%, ', &
+      'snapshots ', 100.0_wp*r%t_output/tl, '%, ', 'rest ', &
+      100.0_wp*(1.0_wp - sum(sh) - (r%t_contact + r%t_output)/tl), '%'
+    write(output_unit, '(a)') 'summary: wrote '//files
+  end subroutine report_summary
+end module run_report_m

@@ -1,0 +1,384 @@
+!> A deformable solid in the explicit total-Lagrangian scheme, whatever its discretization:
+!! the state and the central-difference steps of eqs. (62)-(64), with the row-sum lumped
+!! mass (70),
+!!   u_{n+1} = u_n + dt v_n + dt^2/2 a_n                      (64)  solid_predict
+!!   a_{n+1} = M^-1 (f_ext - f_int(u_{n+1}))                  (62)  solid_internal_force
+!!   v_{n+1} = v_n + dt/2 (a_n + a_{n+1})                     (63)  solid_update
+!! and the hooks contact uses between (64) and (62): the nodes' physical points at the start
+!! of the step and at the prediction, the spreading of point forces onto the nodal
+!! coefficients (eq. 98 for RK particles, the identity of eq. 99 for element nodes), and the
+!! corrected a_n and prediction.
+!!
+!! The solid sees its discretization only through solid_tables_t: RKPM (rkpm_tl_m) and CST4
+!! elements (cst4_m) fill the same tables (point-to-node gradients, hoop terms, weights,
+!! lumped masses, position table), so one code path serves both; what differs between
+!! them is data (the position table is the identity for elements), not behaviour.
+!! Kinematic conditions arrive as masks (pres) and values (vpres) per node component.
+module solid_m
+  use omp_lib, only: omp_get_wtime
+  use kinds_m, only: wp
+  use errors_m, only: error_t
+  use material_m, only: material_t, material_state_t, material_params_t, make_material
+  use solid_tables_m, only: solid_tables_t
+  use tl_kinematics_m, only: deformation_gradient, rate_of_deformation, piola_stress, &
+    internal_force, physical_positions, jacobian
+  implicit none
+  private
+  public :: solid_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
+  public :: solid_kinetic_energy, solid_positions, solid_point_position
+  public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_first_bad
+  public :: at_step_start, at_prediction
+
+  integer, parameter :: at_step_start = 1   !< solid_positions: x at the start of the step
+  integer, parameter :: at_prediction = 2   !< solid_positions: x at the (corrected) prediction
+
+  !> Material points are updated in blocks of this many (dynamic scheduling over blocks).
+  integer, parameter :: material_block = 256
+
+  type :: solid_t
+    character(len=64) :: name = ''
+    real(wp) :: spacing(2) = 0.0_wp              !< nominal node spacing (m), for measures
+    integer :: np = 0                            !< nodes (RK particles or element nodes)
+    integer :: nq = 0                            !< integration points
+    type(solid_tables_t) :: t
+    class(material_t), allocatable :: mat
+    type(material_state_t) :: st
+    real(wp), allocatable :: x0(:, :)            !< reference positions (2, np) (m)
+    real(wp), allocatable :: d(:, :), v(:, :), a(:, :)   !< nodal coefficients, eqs. (65)-(67)
+    real(wp), allocatable :: d_old(:, :)         !< d at the start of the step
+    real(wp), allocatable :: a_old(:, :)         !< a_n during the step
+    real(wp), allocatable :: fint(:, :), fext(:, :)      !< (2, np) (N)
+    real(wp), allocatable :: fcon(:, :)          !< contact forces on the coefficients (N)
+    real(wp), allocatable :: x(:, :)             !< physical positions (2, np) (m), work space
+    real(wp), allocatable :: f(:, :), f_old(:, :)        !< F (5, nq)
+    real(wp), allocatable :: p(:, :), p_old(:, :)        !< first Piola-Kirchhoff (5, nq) (Pa)
+    real(wp), allocatable :: dr(:, :), w12(:), dwp(:)    !< D (4, nq), W12, plastic work
+    logical, allocatable :: pres(:, :)           !< prescribed velocity component (2, np)
+    real(wp), allocatable :: vpres(:, :)         !< its value (m/s)
+    real(wp), allocatable :: freac(:, :), freac_old(:, :)  !< reactions there (N)
+    ! energy accounts since t = 0 (J, or J/m in plane strain)
+    real(wp) :: ke0 = 0.0_wp, ke = 0.0_wp, w_int = 0.0_wp, w_plastic = 0.0_wp, w_bc = 0.0_wp
+    real(wp) :: w_ext = 0.0_wp, w_contact = 0.0_wp
+    real(wp) :: e_stab = 0.0_wp                  !< stabilization energy (J)
+    real(wp) :: stab_normal = 0.0_wp, stab_shear = 0.0_wp  !< alpha (lambda + 2 mu), alpha mu
+    real(wp), allocatable :: stab(:, :)          !< stabilization stresses (4, nq), work space
+    real(wp) :: wall(3) = 0.0_wp                 !< seconds in kinematics, material, forces
+  end type solid_t
+
+contains
+
+  !> A solid on the tables t (moved in: t is deallocated on return) with the material of
+  !! params, the SCNI stabilization coefficient alpha (0: none; meaningful for RKPM tables
+  !! only), the initial velocity v0 (m/s) and the kinematic conditions pres/vpres (2, np).
+  !! Components on the symmetry axis (t%fix1) are held at zero in addition.
+  subroutine solid_init(s, name, t, x0, params, alpha, v0, pres, vpres, err)
+    type(solid_t), intent(out) :: s
+    character(len=*), intent(in) :: name
+    type(solid_tables_t), intent(inout) :: t
+    real(wp), intent(in) :: x0(:, :)
+    type(material_params_t), intent(in) :: params
+    real(wp), intent(in) :: alpha, v0(2)
+    logical, intent(in) :: pres(:, :)
+    real(wp), intent(in) :: vpres(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, np, nq
+    call make_material(params, s%mat, err)
+    if (allocated(err)) return
+    s%name = name
+    call move_tables(t, s%t)
+    np = s%t%np
+    nq = s%t%nq
+    s%np = np
+    s%nq = nq
+    s%stab_normal = alpha*(s%mat%lambda + 2.0_wp*s%mat%g)
+    s%stab_shear = alpha*s%mat%g
+    allocate(s%stab(4, nq))
+    s%stab = 0.0_wp
+    call s%st%init(nq)
+    s%x0 = x0
+    s%x = x0
+    allocate(s%d(2, np), s%v(2, np), s%a(2, np), s%d_old(2, np), s%a_old(2, np), &
+      s%fint(2, np), s%fext(2, np), s%fcon(2, np), s%freac(2, np), s%freac_old(2, np))
+    s%d = 0.0_wp
+    s%d_old = 0.0_wp
+    s%a = 0.0_wp
+    s%a_old = 0.0_wp
+    s%fint = 0.0_wp
+    s%fext = 0.0_wp
+    s%fcon = 0.0_wp
+    s%freac = 0.0_wp
+    s%freac_old = 0.0_wp
+    do i = 1, np
+      s%v(:, i) = v0
+    end do
+    s%pres = pres
+    s%vpres = vpres
+    s%pres(1, :) = s%pres(1, :) .or. s%t%fix1
+    where (s%t%fix1) s%vpres(1, :) = 0.0_wp
+    where (s%pres) s%v = s%vpres
+    allocate(s%f(5, nq), s%f_old(5, nq), s%p(5, nq), s%p_old(5, nq), s%dr(4, nq), &
+      s%w12(nq), s%dwp(nq))
+    s%f = 0.0_wp
+    s%f(1, :) = 1.0_wp
+    s%f(4, :) = 1.0_wp
+    s%f(5, :) = 1.0_wp
+    s%f_old = s%f
+    s%p = 0.0_wp
+    s%p_old = 0.0_wp
+    s%dr = 0.0_wp
+    s%w12 = 0.0_wp
+    s%dwp = 0.0_wp
+    s%ke0 = solid_kinetic_energy(s)
+    s%ke = s%ke0
+  end subroutine solid_init
+
+  !> The tables moved component by component (no copy of the large arrays).
+  subroutine move_tables(a, b)
+    type(solid_tables_t), intent(inout) :: a
+    type(solid_tables_t), intent(out) :: b
+    b%np = a%np
+    b%nq = a%nq
+    b%scheme = a%scheme
+    b%axisym = a%axisym
+    b%interpolating = a%interpolating
+    b%hmin = a%hmin
+    b%total_mass = a%total_mass
+    b%total_volume = a%total_volume
+    call move_alloc(a%xq, b%xq)
+    call move_alloc(a%owner, b%owner)
+    call move_alloc(a%wgt, b%wgt)
+    call move_alloc(a%mass, b%mass)
+    call move_alloc(a%ptr, b%ptr)
+    call move_alloc(a%nbr, b%nbr)
+    call move_alloc(a%g, b%g)
+    call move_alloc(a%h, b%h)
+    call move_alloc(a%gs, b%gs)
+    call move_alloc(a%ws, b%ws)
+    call move_alloc(a%tptr, b%tptr)
+    call move_alloc(a%tent, b%tent)
+    call move_alloc(a%tq, b%tq)
+    call move_alloc(a%pptr, b%pptr)
+    call move_alloc(a%pnbr, b%pnbr)
+    call move_alloc(a%pn, b%pn)
+    call move_alloc(a%fix1, b%fix1)
+  end subroutine move_tables
+
+  !> 1/2 sum m |v|^2 (J; J/m in plane strain).
+  pure real(wp) function solid_kinetic_energy(s) result(ke)
+    type(solid_t), intent(in) :: s
+    ke = 0.5_wp*sum(s%t%mass*(s%v(1, :)**2 + s%v(2, :)**2))
+  end function solid_kinetic_energy
+
+  !> The state at t = 0: forces and accelerations at u = 0, prescribed components at rest.
+  subroutine solid_start(s, dt, bad_q, bad_j)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer, intent(out) :: bad_q
+    real(wp), intent(out) :: bad_j
+    call solid_internal_force(s, dt, bad_q, bad_j)
+    where (s%pres)
+      s%v = s%vpres
+      s%a = 0.0_wp
+    end where
+  end subroutine solid_start
+
+  !> The prediction of eq. (64); contact may correct it (solid_correct) before the forces.
+  subroutine solid_predict(s, dt)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer :: i
+    !$omp parallel do default(none) shared(s, dt) schedule(static)
+    do i = 1, s%np
+      where (s%pres(:, i))
+        s%v(:, i) = s%vpres(:, i)
+        s%a(:, i) = 0.0_wp
+      end where
+      s%d_old(:, i) = s%d(:, i)
+      s%d(:, i) = s%d(:, i) + dt*s%v(:, i) + 0.5_wp*dt*dt*s%a(:, i)   ! (64)
+      s%a_old(:, i) = s%a(:, i)
+      s%fcon(:, i) = 0.0_wp
+    end do
+    !$omp end parallel do
+  end subroutine solid_predict
+
+  !> At the new coefficients d: F, D and W from the old F, the material update, P, the
+  !! internal force and a_{n+1} = (f_ext - f_int)/m (eq. 62), with the step's internal and
+  !! plastic work. a_n (as corrected by contact) is kept in a_old for eq. (63). bad_q: the
+  !! last integration point with J <= 0 or a non-finite stress (0 if none), bad_j its J.
+  subroutine solid_internal_force(s, dt, bad_q, bad_j)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer, intent(out) :: bad_q
+    real(wp), intent(out) :: bad_j
+    integer :: q, nblocks, i0, i1, blk
+    real(wp) :: dw, dwp, jq, t0, t1, t2
+    t0 = omp_get_wtime()
+    !$omp parallel do default(none) shared(s) schedule(static)
+    do q = 1, s%nq
+      s%f_old(:, q) = s%f(:, q)
+      s%p_old(:, q) = s%p(:, q)
+    end do
+    !$omp end parallel do
+    if (s%stab_normal > 0.0_wp) then
+      call deformation_gradient(s%t, s%d, s%f, [s%stab_normal, s%stab_shear], s%stab, &
+        s%e_stab)
+    else
+      call deformation_gradient(s%t, s%d, s%f)
+    end if
+    call rate_of_deformation(s%nq, dt, s%f_old, s%f, s%dr, s%w12)
+    t1 = omp_get_wtime()
+    nblocks = (s%nq + material_block - 1)/material_block
+    !$omp parallel do default(none) shared(s, dt, nblocks) private(i0, i1) &
+    !$omp schedule(dynamic, 4)
+    do blk = 1, nblocks
+      i0 = (blk - 1)*material_block + 1
+      i1 = min(blk*material_block, s%nq)
+      call s%mat%update(dt, s%dr, s%w12, s%st, i0, i1, s%dwp)
+    end do
+    !$omp end parallel do
+    t2 = omp_get_wtime()
+    call piola_stress(s%nq, s%f, s%st%tau, s%p)
+    if (s%stab_normal > 0.0_wp) then
+      call internal_force(s%t, s%p, s%fint, s%stab)
+    else
+      call internal_force(s%t, s%p, s%fint)
+    end if
+    bad_q = 0
+    bad_j = 1.0_wp
+    dw = 0.0_wp
+    dwp = 0.0_wp
+    !$omp parallel do default(none) shared(s) private(jq) reduction(+: dw, dwp) &
+    !$omp reduction(max: bad_q) schedule(static)
+    do q = 1, s%nq
+      dw = dw + s%t%wgt(q)*0.5_wp*sum((s%p_old(:, q) + s%p(:, q))*(s%f(:, q) - s%f_old(:, q)))
+      dwp = dwp + s%t%wgt(q)*s%dwp(q)
+      jq = jacobian(s%f(:, q))
+      if (.not. (jq > 0.0_wp) .or. .not. all(abs(s%st%tau(:, q)) < huge(1.0_wp))) &
+        bad_q = max(bad_q, q)
+    end do
+    !$omp end parallel do
+    if (bad_q > 0) bad_j = jacobian(s%f(:, bad_q))
+    s%w_int = s%w_int + dw
+    s%w_plastic = s%w_plastic + dwp
+    !$omp parallel do default(none) shared(s) schedule(static)
+    do q = 1, s%np
+      s%a_old(:, q) = s%a(:, q)
+      s%a(:, q) = (s%fext(:, q) - s%fint(:, q))/s%t%mass(q)
+    end do
+    !$omp end parallel do
+    s%wall = s%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
+  end subroutine solid_internal_force
+
+  !> The velocity of eq. (63), with the work of the kinematic conditions and of the contact
+  !! forces over the step (trapezoid 1/2 f . du, like the internal work; a contact force acts
+  !! at n only) and the kinetic energy.
+  subroutine solid_update(s, dt)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer :: i
+    real(wp) :: wbc, wc, ke, du(2)
+    wbc = 0.0_wp
+    wc = 0.0_wp
+    ke = 0.0_wp
+    !$omp parallel do default(none) shared(s, dt) private(du) reduction(+: wbc, wc, ke) &
+    !$omp schedule(static)
+    do i = 1, s%np
+      where (s%pres(:, i)) s%a(:, i) = 0.0_wp
+      s%v(:, i) = s%v(:, i) + 0.5_wp*dt*(s%a_old(:, i) + s%a(:, i))   ! (63)
+      where (s%pres(:, i)) s%v(:, i) = s%vpres(:, i)
+      ! kinematic conditions: reactions R = f_int - f_ext times the motion
+      s%freac(:, i) = merge(s%fint(:, i) - s%fext(:, i), 0.0_wp, s%pres(:, i))
+      du = s%d(:, i) - s%d_old(:, i)
+      wbc = wbc + 0.5_wp*sum((s%freac_old(:, i) + s%freac(:, i))*du)
+      s%freac_old(:, i) = s%freac(:, i)
+      wc = wc + 0.5_wp*sum(s%fcon(:, i)*du)
+      ke = ke + 0.5_wp*s%t%mass(i)*sum(s%v(:, i)**2)
+    end do
+    !$omp end parallel do
+    s%w_bc = s%w_bc + wbc
+    s%w_contact = s%w_contact + wc
+    s%ke = ke
+  end subroutine solid_update
+
+  !> Physical positions of every node (2, np) at the start of the step or at the current
+  !! (predicted, possibly corrected) coefficients (m).
+  subroutine solid_positions(s, which, x)
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: which
+    real(wp), intent(out) :: x(:, :)
+    if (which == at_step_start) then
+      call physical_positions(s%t, s%x0, s%d_old, x)
+    else
+      call physical_positions(s%t, s%x0, s%d, x)
+    end if
+  end subroutine solid_positions
+
+  !> Physical position of node j from the current coefficients (m).
+  pure function solid_point_position(s, j) result(x)
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: j
+    real(wp) :: x(2)
+    integer :: e
+    x = s%x0(:, j)
+    if (s%t%interpolating) then
+      x = x + s%d(:, j)
+      return
+    end if
+    do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
+      x = x + s%t%pn(:, e)*s%d(:, s%t%pnbr(e))
+    end do
+  end function solid_point_position
+
+  !> Contact forces of the step start at zero (solid_predict also clears them).
+  subroutine solid_clear_contact(s)
+    type(solid_t), intent(inout) :: s
+    s%fcon = 0.0_wp
+  end subroutine solid_clear_contact
+
+  !> Point forces fphys (2, np) acting at the physical points of the nodes, spread onto the
+  !! nodal coefficients and added to fcon (N): f_I = sum_J N_I(X_J) f_J (eq. 98); for
+  !! interpolating tables (element nodes) f_I = f_J (eq. 99). Only non-zero forces cost work.
+  subroutine solid_add_point_forces(s, fphys)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: fphys(:, :)
+    integer :: j, e, i
+    do j = 1, s%np
+      if (all(fphys(:, j) == 0.0_wp)) cycle
+      if (s%t%interpolating) then
+        s%fcon(:, j) = s%fcon(:, j) + fphys(:, j)
+        cycle
+      end if
+      do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
+        i = s%t%pnbr(e)
+        s%fcon(:, i) = s%fcon(:, i) + s%t%pn(:, e)*fphys(:, j)
+      end do
+    end do
+  end subroutine solid_add_point_forces
+
+  !> a_n corrected by the contact forces fcon and the prediction of eq. (64) redone.
+  subroutine solid_correct(s, dt)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer :: i
+    !$omp parallel do default(none) shared(s, dt) schedule(static)
+    do i = 1, s%np
+      s%a(:, i) = s%a_old(:, i) + s%fcon(:, i)/s%t%mass(i)
+      where (s%pres(:, i)) s%a(:, i) = 0.0_wp
+      s%d(:, i) = s%d_old(:, i) + dt*s%v(:, i) + 0.5_wp*dt*dt*s%a(:, i)
+    end do
+    !$omp end parallel do
+  end subroutine solid_correct
+
+  !> The first node with a non-finite coefficient or velocity (0: none).
+  pure integer function solid_first_bad(s) result(i)
+    type(solid_t), intent(in) :: s
+    integer :: j
+    i = 0
+    do j = 1, s%np
+      if (.not. all(abs(s%d(:, j)) < huge(1.0_wp) .and. abs(s%v(:, j)) < huge(1.0_wp))) then
+        i = j
+        return
+      end if
+    end do
+  end function solid_first_bad
+end module solid_m
