@@ -1,0 +1,333 @@
+!> CST4 finite elements (Section 6, second half): rectangular boxes split by their diagonals
+!! into four constant-strain triangles around a centre node, the mesh the paper uses as the
+!! finite-element counterpart of its RKPM Taylor bar (30 x 360 boxes: 43,200 triangles,
+!! 21,991 nodes). This module builds the mesh and fills the discretization-neutral tables of
+!! solid_tables_m, so the total-Lagrangian kernels of tl_kinematics_m (F, D, P, the internal
+!! force of eq. 72) run on elements exactly as on RKPM particles:
+!!  - one integration point per triangle, at its centroid, weight W = A (plane strain, per
+!!    unit thickness) or 2 pi r_c A (axisymmetric: the one-point rule for int r dA, exact
+!!    for the linear r);
+!!  - nodal interpolation: the three linear shape functions of each triangle, with constant
+!!    gradients; the hoop term of u_r/r is taken at the centroid, N_I(c)/r_c = 1/(3 r_c), as
+!!    the RKPM tables take it at the cell;
+!!  - lumped mass by the row sum of the consistent mass (eq. 70).
+!! The nodes live in a body_t, so contact and output see them as they see particles: first
+!! the box corners in make_rectangle's order (its boundary flags and counter-clockwise
+!! polyline), then the box centres.
+module cst4_m
+  use kinds_m, only: wp, pi
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa, rtoa
+  use body_m, only: body_t
+  use generators_m, only: make_rectangle, set_supports
+  use solid_tables_m, only: solid_tables_t, tables_transpose
+  implicit none
+  private
+  public :: cst4_mesh_t, cst4_rectangle, cst4_tables
+
+  !> Relative tolerance (of the nominal spacing) for "the node lies on the axis r = 0" and
+  !! for checking make_rectangle's lattice: far above round-off of X, far below a box.
+  real(wp), parameter :: geom_tol = 1.0e-9_wp
+
+  !> Triangles over the nodes of a body_t.
+  type :: cst4_mesh_t
+    integer :: ne = 0                  !< triangles
+    integer :: nbox(2) = 0             !< boxes per direction (structured meshes)
+    integer, allocatable :: tri(:, :)  !< (3, ne) node numbers, counter-clockwise
+    integer :: ncorner = 0             !< box-corner nodes (numbered first)
+  end type cst4_mesh_t
+
+contains
+
+  !> nbox(1) x nbox(2) boxes on [lo, hi] (m), each cut by its diagonals into four triangles
+  !! around a centre node. Nodes: the (nbox(1)+1) x (nbox(2)+1) corners as make_rectangle
+  !! orders them (x fastest; its boundary flags, loop and geometry), then the box centres
+  !! (x fastest, interior). b%vol is the lumped nodal area (1/3 of each touching triangle,
+  !! m^2); b%spacing(1:2) the box size (m); supports rho = support_factor(1:2) x box size,
+  !! the dilation parameters taken from the element sizes ("one can construct the moment
+  !! matrix upon the finite element mesh"). Triangles: four per box in box order (x fastest),
+  !! bottom, right, top, left.
+  subroutine cst4_rectangle(lo, hi, nbox, support_factor, b, mesh, err)
+    real(wp), intent(in) :: lo(2), hi(2)
+    integer, intent(in) :: nbox(2)
+    real(wp), intent(in) :: support_factor(:)
+    type(body_t), intent(out) :: b
+    type(cst4_mesh_t), intent(out) :: mesh
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: x(:, :)
+    logical, allocatable :: bnd(:)
+    real(wp) :: dx(2), tol, a3
+    integer :: nc, ncen, np, ib, jb, c(4), m, k, e, box
+    if (any(nbox < 1)) then
+      call set_error(err, 'CST4 rectangle: nbox = ('//itoa(nbox(1))//', '//itoa(nbox(2))// &
+        '): need at least one box in each direction')
+      return
+    end if
+    if (any(hi <= lo)) then
+      call set_error(err, 'CST4 rectangle: hi = ('//rtoa(hi(1))//', '//rtoa(hi(2))// &
+        ') must exceed lo = ('//rtoa(lo(1))//', '//rtoa(lo(2))//') in each direction')
+      return
+    end if
+    if (size(support_factor) < 2) then
+      call set_error(err, 'CST4 rectangle: support_factor needs two entries (x, y), got '// &
+        itoa(size(support_factor)))
+      return
+    end if
+    if (any(support_factor(1:2) <= 0.0_wp)) then
+      call set_error(err, 'CST4 rectangle: support_factor = ('//rtoa(support_factor(1))// &
+        ', '//rtoa(support_factor(2))//') must be positive')
+      return
+    end if
+    call make_rectangle(b, lo, hi, nbox + 1, err)
+    if (allocated(err)) return
+    nc = (nbox(1) + 1)*(nbox(2) + 1)
+    ncen = nbox(1)*nbox(2)
+    np = nc + ncen
+    dx = b%spacing(1:2)
+    ! the corner numbering below assumes make_rectangle's lattice order (x fastest)
+    tol = geom_tol*minval(dx)
+    if (b%np /= nc) then
+      call set_error(err, 'CST4 rectangle: make_rectangle gave '//itoa(b%np)// &
+        ' lattice points, expected '//itoa(nc)//' (internal error)', 1)
+      return
+    end if
+    do jb = 1, nbox(2) + 1
+      do ib = 1, nbox(1) + 1
+        k = corner(ib, jb)
+        if (any(abs(b%x(:, k) - (lo + [real(ib - 1, wp), real(jb - 1, wp)]*dx)) > tol)) then
+          call set_error(err, 'CST4 rectangle: make_rectangle point '//itoa(k)// &
+            ' is not box corner ('//itoa(ib)//', '//itoa(jb)//') (internal error)', 1)
+          return
+        end if
+      end do
+    end do
+    mesh%nbox = nbox
+    mesh%ncorner = nc
+    mesh%ne = 4*ncen
+    allocate(x(2, np), bnd(np), mesh%tri(3, mesh%ne))
+    x(:, 1:nc) = b%x
+    bnd(1:nc) = b%boundary
+    bnd(nc + 1:np) = .false.
+    do jb = 1, nbox(2)
+      do ib = 1, nbox(1)
+        box = ib + (jb - 1)*nbox(1)
+        c = [corner(ib, jb), corner(ib + 1, jb), corner(ib + 1, jb + 1), corner(ib, jb + 1)]
+        m = nc + box
+        ! the diagonals of a rectangle cross at the mean of its corners
+        x(:, m) = 0.25_wp*sum(x(:, c), dim=2)
+        e = 4*(box - 1)
+        mesh%tri(:, e + 1) = [c(1), c(2), m]
+        mesh%tri(:, e + 2) = [c(2), c(3), m]
+        mesh%tri(:, e + 3) = [c(3), c(4), m]
+        mesh%tri(:, e + 4) = [c(4), c(1), m]
+      end do
+    end do
+    call move_alloc(x, b%x)
+    call move_alloc(bnd, b%boundary)
+    b%np = np
+    ! lumped nodal area: each triangle (a quarter box) gives a third of itself to each node
+    deallocate(b%vol)
+    allocate(b%vol(np))
+    b%vol = 0.0_wp
+    a3 = 0.25_wp*dx(1)*dx(2)/3.0_wp
+    do e = 1, mesh%ne
+      b%vol(mesh%tri(:, e)) = b%vol(mesh%tri(:, e)) + a3
+    end do
+    call set_supports(b, support_factor(1:2))
+  contains
+    pure integer function corner(i, j)
+      integer, intent(in) :: i, j
+      corner = i + (j - 1)*(nbox(1) + 1)
+    end function corner
+  end subroutine cst4_rectangle
+
+  !> Tables of the total-Lagrangian solid on the triangles of mesh over the nodes of b:
+  !! one point per triangle at its centroid; axisym selects r = X1, z = X2 (nodes must lie
+  !! in r >= 0; nodes on the axis get fix1, u_r = 0). rho0: density (kg/m^3).
+  subroutine cst4_tables(b, mesh, axisym, rho0, t, err)
+    type(body_t), intent(in) :: b
+    type(cst4_mesh_t), intent(in) :: mesh
+    logical, intent(in) :: axisym
+    real(wp), intent(in) :: rho0
+    type(solid_tables_t), intent(out) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: touched(:)
+    real(wp), allocatable :: areas(:)
+    real(wp) :: tol, xt(2, 3), dn(2, 3), area, rc, alt, hmin, rsum
+    integer :: np, ne, e, k, q, bad, i
+    np = b%np
+    ne = mesh%ne
+    call check_mesh(b, mesh, err)
+    if (allocated(err)) return
+    if (.not. (rho0 > 0.0_wp)) then
+      call set_error(err, "body '"//trim(b%name)//"': CST4 density rho0 = "//rtoa(rho0)// &
+        ' must be positive')
+      return
+    end if
+    tol = geom_tol*nominal_spacing(b)
+    if (axisym) then
+      i = minloc(b%x(1, :), dim=1)
+      if (b%x(1, i) < -tol) then
+        call set_error(err, "body '"//trim(b%name)//"': axisymmetric CST4 node "//itoa(i)// &
+          ' has r = x1 = '//rtoa(b%x(1, i))//' < 0: the mesh must lie in r >= 0 '// &
+          '(x = r is the first coordinate)')
+        return
+      end if
+    end if
+    t%np = np
+    t%nq = ne
+    t%scheme = 0
+    t%axisym = axisym
+    t%interpolating = .true.
+    allocate(t%xq(2, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), t%nbr(3*ne))
+    allocate(t%g(4, 3*ne), t%h(3*ne), t%gs(4, 3*ne), t%ws(2, ne), areas(ne))
+    t%owner = 0
+    t%gs = 0.0_wp
+    t%ws = 0.0_wp
+    t%ptr = [(3*q + 1, q = 0, ne)]
+    ! each triangle writes only its own three entries: no races
+    hmin = huge(1.0_wp)
+    bad = huge(0)
+    !$omp parallel do default(none) shared(b, mesh, t, ne, axisym, areas) &
+    !$omp private(xt, dn, area, rc, alt, k, i) reduction(min: hmin, bad) schedule(static)
+    do e = 1, ne
+      xt = b%x(:, mesh%tri(:, e))
+      call triangle_gradients(xt, area, dn, alt)
+      rc = sum(xt(1, :))/3.0_wp
+      if (.not. (area > 0.0_wp) .or. (axisym .and. .not. (rc > 0.0_wp))) then
+        bad = min(bad, e)
+        cycle
+      end if
+      hmin = min(hmin, alt)
+      areas(e) = area
+      t%xq(:, e) = sum(xt, dim=2)/3.0_wp
+      do k = 1, 3
+        i = 3*(e - 1) + k
+        t%nbr(i) = mesh%tri(k, e)
+        ! both displacement components interpolate with the same N_I
+        t%g(:, i) = [dn(:, k), dn(:, k)]
+        if (axisym) then
+          t%h(i) = 1.0_wp/(3.0_wp*rc)
+        else
+          t%h(i) = 0.0_wp
+        end if
+      end do
+      if (axisym) then
+        t%wgt(e) = 2.0_wp*pi*rc*area
+      else
+        t%wgt(e) = area
+      end if
+    end do
+    !$omp end parallel do
+    if (bad <= ne) then
+      xt = b%x(:, mesh%tri(:, bad))
+      call triangle_gradients(xt, area, dn, alt)
+      call set_error(err, "body '"//trim(b%name)//"': CST4 triangle "//itoa(bad)// &
+        ' (nodes '//itoa(mesh%tri(1, bad))//', '//itoa(mesh%tri(2, bad))//', '// &
+        itoa(mesh%tri(3, bad))//') has area '//rtoa(area)//' m^2 and centroid radius '// &
+        rtoa(sum(xt(1, :))/3.0_wp)//' m: triangles need a positive area (nodes '// &
+        'counter-clockwise) and, in axisymmetry, a centroid off the axis')
+      return
+    end if
+    t%hmin = hmin
+    ! lumped mass, row sums of the consistent mass (eq. 70): rho0 int N_I dA = rho0 A/3 per
+    ! node, or 2 pi rho0 int N_I r dA = 2 pi rho0 A (2 r_I + r_J + r_K)/12 (a scatter: serial)
+    allocate(t%mass(np), touched(np))
+    t%mass = 0.0_wp
+    touched = 0
+    do e = 1, ne
+      rsum = sum(b%x(1, mesh%tri(:, e)))
+      do k = 1, 3
+        i = mesh%tri(k, e)
+        touched(i) = touched(i) + 1
+        if (axisym) then
+          t%mass(i) = t%mass(i) + 2.0_wp*pi*rho0*areas(e)*(b%x(1, i) + rsum)/12.0_wp
+        else
+          t%mass(i) = t%mass(i) + rho0*areas(e)/3.0_wp
+        end if
+      end do
+    end do
+    if (any(touched == 0)) then
+      i = findloc(touched, 0, dim=1)
+      call set_error(err, "body '"//trim(b%name)//"': CST4 node "//itoa(i)//' belongs to '// &
+        'no triangle (it would have no mass): remove it or mesh it')
+      return
+    end if
+    allocate(t%fix1(np))
+    t%fix1 = axisym .and. abs(b%x(1, :)) <= tol
+    ! nodal interpolation: the position table N_I(X_J) is the identity
+    allocate(t%pptr(np + 1), t%pnbr(np), t%pn(2, np))
+    t%pptr = [(i, i = 1, np + 1)]
+    t%pnbr = [(i, i = 1, np)]
+    t%pn = 1.0_wp
+    t%total_mass = sum(t%mass)
+    t%total_volume = sum(t%wgt)
+    call tables_transpose(t)
+  end subroutine cst4_tables
+
+  !> Area A (m^2, positive when counter-clockwise), shape-function gradients dn(:, k) =
+  !! grad N_k (1/m) and smallest altitude 2A/(longest edge) (m) of the triangle xt(2, 3).
+  pure subroutine triangle_gradients(xt, area, dn, alt)
+    real(wp), intent(in) :: xt(2, 3)
+    real(wp), intent(out) :: area, dn(2, 3), alt
+    real(wp) :: a2, lmax
+    integer :: k, k1, k2
+    a2 = (xt(1, 2) - xt(1, 1))*(xt(2, 3) - xt(2, 1)) &
+      - (xt(1, 3) - xt(1, 1))*(xt(2, 2) - xt(2, 1))
+    area = 0.5_wp*a2
+    dn = 0.0_wp
+    alt = 0.0_wp
+    if (.not. (a2 > 0.0_wp)) return
+    lmax = 0.0_wp
+    do k = 1, 3
+      k1 = modulo(k, 3) + 1
+      k2 = modulo(k + 1, 3) + 1
+      ! N_k = ((X_k1 x X_k2) + (y_k1 - y_k2) x + (x_k2 - x_k1) y)/(2A)
+      dn(1, k) = (xt(2, k1) - xt(2, k2))/a2
+      dn(2, k) = (xt(1, k2) - xt(1, k1))/a2
+      lmax = max(lmax, norm2(xt(:, k2) - xt(:, k1)))
+    end do
+    alt = a2/lmax
+  end subroutine triangle_gradients
+
+  !> Shape checks of the mesh against its body: 2D, triangles present, node numbers valid.
+  subroutine check_mesh(b, mesh, err)
+    type(body_t), intent(in) :: b
+    type(cst4_mesh_t), intent(in) :: mesh
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: e
+    if (b%ndim /= 2) then
+      call set_error(err, "body '"//trim(b%name)//"': CST4 elements need ndim = 2 (plane "// &
+        'strain or axisymmetric), got '//itoa(b%ndim))
+      return
+    end if
+    if (mesh%ne < 1 .or. .not. allocated(mesh%tri)) then
+      call set_error(err, "body '"//trim(b%name)//"': the CST4 mesh has no triangles")
+      return
+    end if
+    if (size(mesh%tri, 1) /= 3 .or. size(mesh%tri, 2) /= mesh%ne) then
+      call set_error(err, "body '"//trim(b%name)//"': the CST4 connectivity is "// &
+        itoa(size(mesh%tri, 1))//' x '//itoa(size(mesh%tri, 2))//', expected 3 x '// &
+        itoa(mesh%ne))
+      return
+    end if
+    if (any(mesh%tri < 1 .or. mesh%tri > b%np)) then
+      e = findloc(any(mesh%tri < 1 .or. mesh%tri > b%np, dim=1), .true., dim=1)
+      call set_error(err, "body '"//trim(b%name)//"': CST4 triangle "//itoa(e)// &
+        ' names a node outside 1..'//itoa(b%np))
+      return
+    end if
+  end subroutine check_mesh
+
+  !> The smaller nominal spacing of b (m), or, for a body without one, the square root of
+  !! its smallest positive nodal area (for the on-axis tolerance).
+  pure real(wp) function nominal_spacing(b) result(s)
+    type(body_t), intent(in) :: b
+    s = minval(b%spacing(1:2))
+    if (s > 0.0_wp) return
+    s = 1.0_wp
+    if (allocated(b%vol)) then
+      if (any(b%vol > 0.0_wp)) s = sqrt(minval(b%vol, mask=b%vol > 0.0_wp))
+    end if
+  end function nominal_spacing
+end module cst4_m
