@@ -15,6 +15,7 @@ module bodies_m
   use moment_matrix_m, only: chol_small
   use hdf5_io_m, only: read_particle_file_h5
   use detection_m, only: body_cloud
+  use cst4_m, only: cst4_mesh_t, cst4_rectangle
   implicit none
   private
   public :: build_bodies, build_body, lattice_admissible, min_support_factor
@@ -53,13 +54,22 @@ contains
     real(wp) :: dr, dt, fmin
     integer :: nd, i
     type(error_t), allocatable :: e2
+    type(cst4_mesh_t) :: mesh
     nd = deck%run%ndim
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(s%name)//"')"
     select case (s%shape)
     case ('segment')
       call make_segment(b, s%lo(1), s%hi(1), s%n(1), e2)
     case ('rectangle')
-      call make_rectangle(b, s%lo(1:2), s%hi(1:2), s%n(1:2), e2)
+      if (s%discretization == 'fem') then
+        ! CST4 elements on the boxes of the n(1) x n(2) lattice; nodes carry the det(M)
+        ! cloud with supports from the element sizes (Section 6)
+        call cst4_rectangle(s%lo(1:2), s%hi(1:2), s%n(1:2) - 1, s%support_factor(1:2), b, &
+          mesh, e2)
+        if (.not. allocated(e2)) call move_alloc(mesh%tri, b%cells)
+      else
+        call make_rectangle(b, s%lo(1:2), s%hi(1:2), s%n(1:2), e2)
+      end if
     case ('polygon')
       call make_polygon(b, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
     case ('annulus_sector')
@@ -92,11 +102,12 @@ contains
         local(i) = max(dr, norm2(b%x(:, i) - s%center)*dt)
       end do
       call set_supports(b, s%support_factor, local)
-    else
+    else if (.not. allocated(b%cells)) then
       call set_supports(b, s%support_factor)
     end if
     ! Theorem 3.1 on the generating lattice: name the smallest support factor that works.
-    if (any(s%shape == ['segment  ', 'rectangle', 'polygon  '])) then
+    if (any(s%shape == ['segment  ', 'rectangle', 'polygon  ']) .and. &
+      .not. allocated(b%cells)) then
       if (.not. lattice_admissible(b%kid, b%wshape, b%bid, nd, b%spacing(1:nd), &
         s%support_factor(1:nd))) then
         fmin = min_support_factor(b%kid, b%wshape, b%bid, nd, b%spacing(1:nd))

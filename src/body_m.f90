@@ -1,4 +1,4 @@
-!> A particle body: reference positions, volumes, per-direction supports, boundary flags and
+!> A particle body (or the nodes of a finite-element mesh): reference positions, volumes, per-direction supports, boundary flags and
 !! the ordered boundary polylines contact needs (master surface segments, SPEC 2.5), plus
 !! the window/basis choice and the exact geometry when a generator made it.
 module body_m
@@ -30,5 +30,8 @@ module body_m
     real(wp) :: h(3) = 1.0_wp             !< basis scale: nominal support radius (m)
     integer :: kid = 1, wshape = 1, bid = 0
     type(geometry_t) :: geom
+    !> Element connectivity (3, ne) when the body is a finite-element (CST4) mesh whose nodes
+    !! are the points above; unallocated for particle bodies
+    integer, allocatable :: cells(:, :)
   end type body_t
 end module body_m

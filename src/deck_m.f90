@@ -27,6 +27,7 @@ module deck_m
     'run', 'body', 'detection', 'output', 'material', 'solver', 'bc', 'contact']
   character(len=*), parameter :: modes(2) = [character(len=8) :: 'detect', 'dynamic']
   character(len=*), parameter :: roles(2) = [character(len=10) :: 'deformable', 'rigid']
+  character(len=*), parameter :: discretizations(2) = [character(len=4) :: 'rkpm', 'fem']
   character(len=*), parameter :: integrations(3) = [character(len=6) :: &
     'scni', 'gauss', 'direct']
   integer, parameter :: max_materials = 8
@@ -67,6 +68,8 @@ module deck_m
     real(wp) :: velocity(3) = 0.0_wp       !< initial velocity (m/s)
     character(len=6) :: integration = 'scni'
     real(wp) :: stabilization = 0.1_wp     !< SCNI sub-cell stabilization alpha (0: off)
+    !> 'rkpm' (particles) or 'fem' (CST4 elements on the n(1) x n(2) lattice's boxes)
+    character(len=4) :: discretization = 'rkpm'
     integer :: kid = 0, wshape = 0, bid = 0
     integer :: imat = 0                    !< index into deck%materials
   end type body_spec_t
@@ -426,13 +429,14 @@ contains
     character(len=10) :: role
     character(len=64) :: material
     character(len=6) :: integration
+    character(len=4) :: discretization
     integer :: n(3), ios, k
     character(len=512) :: msg
     type(body_spec_t) :: s, dflt
     type(body_spec_t), allocatable :: tmp(:)
     namelist /body/ name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, &
       r_outer, theta_start, theta_end, file, kernel, window, basis, support_factor, role, &
-      material, velocity, integration, stabilization
+      material, velocity, integration, stabilization, discretization
     allocate(tmp(max_bodies))
     rewind(u)
     k = 0
@@ -460,6 +464,7 @@ contains
       velocity = dflt%velocity
       integration = dflt%integration
       stabilization = dflt%stabilization
+      discretization = dflt%discretization
       read(u, nml=body, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -497,6 +502,7 @@ contains
       s%velocity = velocity
       s%integration = lower(integration)
       s%stabilization = stabilization
+      s%discretization = lower(discretization)
       call check_body(deck, k, s, err)
       if (allocated(err)) return
       tmp(k) = s
@@ -541,6 +547,17 @@ contains
     if (.not. any(integrations == s%integration)) then
       call bad(deck, grp, 'integration', "'"//trim(s%integration)//"'", 'use one of: '// &
         join_names(integrations)//" (scni is the default; direct is a negative control)", err)
+      return
+    end if
+    if (.not. any(discretizations == s%discretization)) then
+      call bad(deck, grp, 'discretization', "'"//trim(s%discretization)//"'", 'use one of: '// &
+        join_names(discretizations)//" (rkpm particles, the default; fem: CST4 elements)", err)
+      return
+    end if
+    if (s%discretization == 'fem' .and. (s%shape /= 'rectangle' .or. nd /= 2)) then
+      call bad(deck, grp, 'discretization', "'fem'", "CST4 meshes are generated on a "// &
+        "'rectangle' in 2D (shape = 'rectangle', n = nodes per direction: n - 1 boxes); "// &
+        "use discretization = 'rkpm' for shape '"//trim(s%shape)//"'", err)
       return
     end if
     if (s%stabilization < 0.0_wp .or. s%stabilization > 10.0_wp) then
@@ -1106,7 +1123,7 @@ contains
     case ('body')
       s = 'name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, r_outer, '// &
         'theta_start, theta_end, file, kernel, window, basis, support_factor, role, '// &
-        'material, velocity, integration, stabilization'
+        'material, velocity, integration, stabilization, discretization'
     case ('detection')
       s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
     case ('output')

@@ -187,15 +187,15 @@ contains
     end subroutine cell_fields
   end subroutine snapshot_write
 
-  !> The XDMF companion of the HDF5 file: a temporal collection of polyvertex grids, one
-  !! per snapshot and body, pointing at the datasets in the HDF5 file (ParaView opens it).
+  !> The XDMF companion of the HDF5 file: a temporal collection of grids, one per snapshot
+  !! and body (polyvertex for particles, triangles for CST4 meshes, with element fields), pointing at the datasets in the HDF5 file (ParaView opens it).
   subroutine xdmf_write(path, h5name, labels, times, solids)
     character(len=*), intent(in) :: path, h5name
     character(len=*), intent(in) :: labels(:)
     real(wp), intent(in) :: times(:)
     type(solid_t), intent(in) :: solids(:)
     integer :: u, s, k, np
-    character(len=:), allocatable :: g, nps
+    character(len=:), allocatable :: g, nps, nes
     open(newunit=u, file=path, status='replace', action='write')
     write(u, '(a)') '<?xml version="1.0" ?>'
     write(u, '(a)') '<Xdmf Version="3.0"><Domain>'
@@ -209,7 +209,15 @@ contains
         nps = itoa(np)
         g = h5name//':/snapshots/'//trim(labels(s))//'/'//trim(solids(k)%name)
         write(u, '(a)') '<Grid Name="'//trim(solids(k)%name)//'" GridType="Uniform">'
-        write(u, '(a)') '<Topology TopologyType="Polyvertex" NumberOfElements="'//nps//'"/>'
+        if (solids(k)%t%interpolating) then
+          nes = itoa(solids(k)%nq)
+          write(u, '(a)') '<Topology TopologyType="Triangle" NumberOfElements="'//nes// &
+            '"><DataItem Dimensions="'//nes//' 3" Format="HDF" NumberType="Int" '// &
+            'Precision="4">'//h5name//':/bodies/'//trim(solids(k)%name)//'/triangles'// &
+            '</DataItem></Topology>'
+        else
+          write(u, '(a)') '<Topology TopologyType="Polyvertex" NumberOfElements="'//nps//'"/>'
+        end if
         write(u, '(a)') '<Geometry GeometryType="XY"><DataItem Dimensions="'//nps// &
           ' 2" Format="HDF" NumberType="Float" Precision="8">'//g//'/x</DataItem></Geometry>'
         call attr(u, 'u', 'Vector', nps//' 2', g//'/u')
@@ -217,6 +225,11 @@ contains
         call attr(u, 'stress', 'Matrix', nps//' 4', g//'/stress')
         call attr(u, 'epsbar', 'Scalar', nps, g//'/epsbar')
         call attr(u, 'J', 'Scalar', nps, g//'/J')
+        if (solids(k)%t%interpolating) then
+          call attr(u, 'epsbar_cells', 'Scalar', nes, g//'/epsbar_cells', 'Cell')
+          call attr(u, 'stress_cells', 'Matrix', nes//' 4', g//'/stress_cells', 'Cell')
+          call attr(u, 'J_cells', 'Scalar', nes, g//'/J_cells', 'Cell')
+        end if
         write(u, '(a)') '</Grid>'
       end do
       write(u, '(a)') '</Grid>'
@@ -224,11 +237,15 @@ contains
     write(u, '(a)') '</Grid></Domain></Xdmf>'
     close(u)
   contains
-    subroutine attr(unit, name, kind, dims, item)
+    subroutine attr(unit, name, kind, dims, item, center)
       integer, intent(in) :: unit
       character(len=*), intent(in) :: name, kind, dims, item
+      character(len=*), intent(in), optional :: center
+      character(len=:), allocatable :: c
+      c = 'Node'
+      if (present(center)) c = center
       write(unit, '(a)') '<Attribute Name="'//name//'" AttributeType="'//kind// &
-        '" Center="Node"><DataItem Dimensions="'//dims//'" Format="HDF" '// &
+        '" Center="'//c//'"><DataItem Dimensions="'//dims//'" Format="HDF" '// &
         'NumberType="Float" Precision="8">'//item//'</DataItem></Attribute>'
     end subroutine attr
   end subroutine xdmf_write

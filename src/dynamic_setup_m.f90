@@ -12,6 +12,7 @@ module dynamic_setup_m
   use body_m, only: body_t
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
+  use cst4_m, only: cst4_mesh_t, cst4_tables
   use solid_m, only: solid_t, solid_init
   use stable_step_m, only: critical_step, spacing_step
   use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init
@@ -63,7 +64,11 @@ contains
   pure function discretization_text(s) result(txt)
     type(body_spec_t), intent(in) :: s
     character(len=:), allocatable :: txt
-    txt = 'RKPM, '//trim(s%integration)
+    if (s%discretization == 'fem') then
+      txt = 'CST4 elements, one point each'
+    else
+      txt = 'RKPM, '//trim(s%integration)
+    end if
   end function discretization_text
 
   !> The solid of deformable body k.
@@ -80,17 +85,27 @@ contains
     logical, allocatable :: pres(:, :)
     real(wp), allocatable :: vpres(:, :)
     character(len=:), allocatable :: where
+    type(cst4_mesh_t) :: mesh
+    real(wp) :: alpha
     bs = deck%bodies(k)
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
-    call tl_build(b, axisym, scheme_id(bs%integration), &
-      deck%materials(bs%imat)%params%density, t, e2)
+    if (allocated(b%cells)) then
+      mesh%ne = size(b%cells, 2)
+      mesh%tri = b%cells
+      call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2)
+      alpha = 0.0_wp    ! the SCNI stabilization is a particle method's; elements need none
+    else
+      call tl_build(b, axisym, scheme_id(bs%integration), &
+        deck%materials(bs%imat)%params%density, t, e2)
+      alpha = bs%stabilization
+    end if
     if (allocated(e2)) then
       call set_error(err, where//": "//e2%message)
       return
     end if
     call kinematic_masks(deck, k, b, pres, vpres, err)
     if (allocated(err)) return
-    call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, bs%stabilization, &
+    call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
       bs%velocity(1:2), pres, vpres, e2)
     if (allocated(e2)) then
       call set_error(err, where//": "//e2%message)

@@ -24,7 +24,7 @@ module hdf5_io_m
 
   !> Dataset writers: real and integer arrays of rank 1 and 2, each with its units.
   interface h5_write
-    module procedure write_r1, write_r2, write_i1
+    module procedure write_r1, write_r2, write_i1, write_i2
   end interface h5_write
 
   !> Attributes on a group or dataset: text, real or integer scalars, real rank 1.
@@ -150,6 +150,22 @@ contains
     if (st == 0) call h5dwrite_f(dset, H5T_NATIVE_INTEGER, a, dims, st)
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine write_i1
+
+  subroutine write_i2(f, path, a, units, err, descr)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, units
+    integer, intent(in) :: a(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: descr
+    integer(hid_t) :: space, dset
+    integer(hsize_t) :: dims(2)
+    integer :: st
+    dims = shape(a, kind=hsize_t)
+    call h5screate_simple_f(2, dims, space, st)
+    call h5dcreate_f(f%id, path, H5T_NATIVE_INTEGER, space, dset, st)
+    if (st == 0) call h5dwrite_f(dset, H5T_NATIVE_INTEGER, a, dims, st)
+    call finish_dataset(f, path, dset, space, units, descr, st, err)
+  end subroutine write_i2
 
   !> An extendible 1D real dataset (a time series), empty at creation.
   subroutine h5_series_create(f, path, units, err, descr)
