@@ -34,7 +34,8 @@ def main():
     if p.returncode:
         sys.exit(1)
     check("log states detection both ways", "both ways" in p.stdout)
-    f = h5py.File(os.path.join(work, "output", "bars_collision_elastic.h5"), "r")
+    out = [l for l in open(DECK) if "file" in l and ".h5" in l][0].split("'")[1]
+    f = h5py.File(os.path.join(work, out), "r")
     h = f["history"]
     t, n, fc = h["time"][:], h["n_contact"][:], h["f_contact"][:]
     on = np.nonzero(n > 0)[0]
