@@ -20,6 +20,15 @@ A dynamic run (snapshots, history, summary; the deck text parsed by parse_deck):
         svm = field_values(bar, "von_mises")         # MPa (units in FIELDS)
         ke = f.history()["ke"]                       # J, or J/m in plane strain
         steel = deck_group(f.deck, "material", name="steel_elastic")   # {variable: value}
+
+A finite-element body (&body discretization = 'fem') also has its triangles and, in each
+snapshot, element values:
+
+    with MfcdFile("output/taylor_bar_fem.h5") as f:
+        bar = f.body("bar")                          # bar.is_fem, bar.triangles (ne, 3) 0-based
+        s = f.snapshot("0005").bodies["bar"]         # s.epsbar_cells (ne,), s.stress_cells (ne, 4)
+        e = cell_field_values(s, "epsbar")           # per element, units as FIELDS
+        outline = bar.polylines(x=s.x)[0]            # deformed boundary (k, 2)
 """
 
 from __future__ import annotations
@@ -32,7 +41,8 @@ import h5py
 import numpy as np
 
 __all__ = ["decode", "decode_attrs", "Body", "QuerySet", "MfcdFile", "open_run",
-           "SnapshotBody", "Snapshot", "parse_deck", "deck_group", "FIELDS", "field_values"]
+           "SnapshotBody", "Snapshot", "parse_deck", "deck_group", "FIELDS", "field_values",
+           "CELL_FIELDS", "cell_field_values"]
 
 QUERY_KINDS = ("line", "grid", "points")
 
@@ -69,6 +79,9 @@ class Body:
     boundary: np.ndarray     #: True for boundary particles (np,)
     loops: List[np.ndarray]  #: boundary polylines, 0-based particle indices, closed loops
     attrs: Dict[str, object] = field(default_factory=dict)
+    #: finite-element bodies only: triangles (ne, 3), 0-based node indices (rows of x),
+    #: counter-clockwise; None for particle bodies
+    triangles: Optional[np.ndarray] = None
 
     @property
     def ndim(self) -> int:
@@ -78,19 +91,36 @@ class Body:
     def np(self) -> int:
         return self.x.shape[0]
 
-    def polylines(self, close: bool = True) -> List[np.ndarray]:
+    @property
+    def discretization(self) -> str:
+        """'fem' for a finite-element (CST4) body, 'rkpm' for a particle body."""
+        return str(self.attrs.get("discretization", "rkpm")).strip().lower()
+
+    @property
+    def is_fem(self) -> bool:
+        return self.triangles is not None
+
+    @property
+    def ne(self) -> int:
+        """Number of elements (0 for a particle body)."""
+        return 0 if self.triangles is None else self.triangles.shape[0]
+
+    def polylines(self, close: bool = True, x: Optional[np.ndarray] = None) -> List[np.ndarray]:
         """Boundary polylines as coordinate arrays (k, ndim); closed ones repeat the start.
 
         Every loop mfcd generates (polygon, rectangle, annulus) and every loop of a
-        particle file is closed, so close=True is right for all current output.
+        particle file is closed, so close=True is right for all current output. x: other
+        positions of the same particles or nodes, e.g. a snapshot's physical positions
+        (np, ndim), to get the deformed outline; default the reference positions.
         """
+        pos = self.x if x is None else np.asarray(x)
         out = []
         for idx in self.loops:
             if idx.size == 0:
                 continue
             if close and idx.size > 2:
                 idx = np.append(idx, idx[0])
-            out.append(self.x[idx])
+            out.append(pos[idx])
         return out
 
 
@@ -150,10 +180,22 @@ class SnapshotBody:
     stress: Optional[np.ndarray] = None  #: Cauchy stress 11, 22, 33, 12 (np, 4) [Pa]
     epsbar: Optional[np.ndarray] = None  #: effective plastic strain (np,) [-]
     J: Optional[np.ndarray] = None      #: volume ratio det F (np,) [-]
+    #: finite-element bodies only: the element values (ne, 4) / (ne,), rows as triangles
+    stress_cells: Optional[np.ndarray] = None  #: Cauchy stress 11, 22, 33, 12 [Pa]
+    epsbar_cells: Optional[np.ndarray] = None  #: effective plastic strain [-]
+    J_cells: Optional[np.ndarray] = None       #: det F [-]
 
     @property
     def np(self) -> int:
         return self.x.shape[0]
+
+    @property
+    def ne(self) -> int:
+        """Number of elements with cell values (0 for a particle body)."""
+        for a in (self.epsbar_cells, self.J_cells, self.stress_cells):
+            if a is not None:
+                return a.shape[0]
+        return 0
 
 
 @dataclass
@@ -205,6 +247,23 @@ def field_values(b: SnapshotBody, name: str) -> Optional[np.ndarray]:
         return s[:, k] * scale
     a = b.v if name == "v_mag" else b.u
     return None if a is None else np.hypot(a[:, 0], a[:, 1]) * scale
+
+
+#: Fields with element values in a finite-element snapshot (the *_cells datasets).
+CELL_FIELDS = ("epsbar", "J", "stress_11", "stress_22", "stress_33", "stress_12", "von_mises")
+
+
+def cell_field_values(b: SnapshotBody, name: str) -> Optional[np.ndarray]:
+    """A per-element field (ne,) of a finite-element snapshot body, from its epsbar_cells,
+    J_cells or stress_cells, in the unit of FIELDS[name]; None when the body has none (a
+    particle body) or the field has no element values (v_mag, u_mag)."""
+    if name not in FIELDS:
+        raise ValueError(f"unknown field {name!r}; use one of {', '.join(FIELDS)}")
+    if name not in CELL_FIELDS:
+        return None
+    cells = SnapshotBody(name=b.name, x=b.x, stress=b.stress_cells, epsbar=b.epsbar_cells,
+                         J=b.J_cells)
+    return field_values(cells, name)
 
 
 # ----------------------------------------------------------------------- deck text
@@ -329,6 +388,8 @@ class MfcdFile:
         idx = np.asarray(g["loop_idx"][()], dtype=int)
         # 1-based CSR: loop k is loop_idx[loop_ptr[k]-1 : loop_ptr[k+1]-1] (1-based values)
         loops = [idx[ptr[k] - 1:ptr[k + 1] - 1] - 1 for k in range(ptr.size - 1)]
+        tri = np.asarray(g["triangles"][()], dtype=int).reshape(-1, 3) \
+            if "triangles" in g else None
         return Body(
             name=name,
             x=x,
@@ -337,7 +398,19 @@ class MfcdFile:
             boundary=np.asarray(g["boundary"][()]) != 0,
             loops=loops,
             attrs=decode_attrs(g),
+            triangles=tri,
         )
+
+    def triangles(self, name: str) -> Optional[np.ndarray]:
+        """/bodies/<name>/triangles (ne, 3), 0-based node indices; None for a particle body."""
+        g = self.h5["bodies"][name]
+        return np.asarray(g["triangles"][()], dtype=int).reshape(-1, 3) \
+            if "triangles" in g else None
+
+    def discretization(self, name: str) -> str:
+        """'fem' or 'rkpm' (the group attribute; 'rkpm' when the file predates it)."""
+        g = self.h5["bodies"][name]
+        return str(decode(g.attrs.get("discretization", b"rkpm"))).strip().lower()
 
     # detection -------------------------------------------------------------------------
     @property
@@ -412,7 +485,9 @@ class MfcdFile:
 
             snap.bodies[name] = SnapshotBody(
                 name=name, x=arr("x", 2), u=arr("u", 2), v=arr("v", 2),
-                stress=arr("stress", 4), epsbar=arr("epsbar"), J=arr("J"))
+                stress=arr("stress", 4), epsbar=arr("epsbar"), J=arr("J"),
+                stress_cells=arr("stress_cells", 4), epsbar_cells=arr("epsbar_cells"),
+                J_cells=arr("J_cells"))
         return snap
 
     def history(self) -> Dict[str, np.ndarray]:
