@@ -237,6 +237,10 @@ contains
     write(u, '(a)') '</Grid></Domain></Xdmf>'
     close(u)
   contains
+    !> One attribute. Known limit: VTK's XDMF reader takes the 4-component stresses
+    !! (11, 22, 33, 12, 'Matrix') as one tuple of 4 np values; 'Vector' reads np tuples of 4
+    !! but warns (a VTK vector has 3), 'Scalar' flattens them. Per-component scalars would fix
+    !! it (tests/regression/check_xdmf_vtk.py reports it).
     subroutine attr(unit, name, kind, dims, item, center)
       integer, intent(in) :: unit
       character(len=*), intent(in) :: name, kind, dims, item

@@ -30,7 +30,7 @@ if [ ! -x .venv/bin/python ]; then
   echo "setup: creating .venv"
   python3 -m venv .venv
 fi
-if ! .venv/bin/python -c 'import numpy, matplotlib, h5py' >/dev/null 2>&1; then
+if ! .venv/bin/python -c 'import numpy, matplotlib, h5py, vtk' >/dev/null 2>&1; then
   echo "setup: installing post/requirements.txt into .venv"
   .venv/bin/python -m pip install -q --upgrade pip
   .venv/bin/python -m pip install -q -r post/requirements.txt
