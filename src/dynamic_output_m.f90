@@ -15,14 +15,16 @@ module dynamic_output_m
   public :: history_push, xdmf_write
 
   !> Columns of /history, one row per history step.
-  character(len=*), parameter :: history_names(16) = [character(len=14) :: &
-    'step', 'time', 'dt', 'ke', 'w_int', 'w_plastic', 'w_ext', 'w_contact', 'residual', &
+  character(len=*), parameter :: history_names(17) = [character(len=14) :: &
+    'step', 'time', 'dt', 'dt_critical', 'ke', 'w_int', 'w_plastic', 'w_ext', 'w_contact', 'residual', &
     'n_contact', 'f_contact', 'contact_radius', 'penetration', 'length', 'foot_radius', &
     'impulse']
-  character(len=*), parameter :: history_units(16) = [character(len=4) :: &
-    '1', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1', 'N', 'm', 'm', 'm', 'm', 'N s']
-  character(len=*), parameter :: history_descr(16) = [character(len=80) :: &
-    'step number', 'time', 'time step', 'kinetic energy', &
+  character(len=*), parameter :: history_units(17) = [character(len=4) :: &
+    '1', 's', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1', 'N', 'm', 'm', 'm', 'm', 'N s']
+  character(len=*), parameter :: history_descr(17) = [character(len=80) :: &
+    'step number', 'time', 'time step', &
+    'critical step estimate at the current deformation (dt_crit(0) sqrt(kappa0/kappa))', &
+    'kinetic energy', &
     'internal work, int P:dF dV0 (stored plus dissipated)', 'plastic dissipation', &
     'work of external forces and kinematic conditions', 'work of contact forces', &
     'energy residual ke + w_int - ke(0) - w_ext - w_contact', &

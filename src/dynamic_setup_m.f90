@@ -14,7 +14,7 @@ module dynamic_setup_m
   use rkpm_tl_m, only: tl_build, scheme_id
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use solid_m, only: solid_t, solid_init
-  use stable_step_m, only: critical_step, spacing_step
+  use stable_step_m, only: step_control_t, step_control_calibrate, spacing_step
   use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init
   implicit none
   private
@@ -196,32 +196,32 @@ contains
     end do
   end subroutine setup_contacts
 
-  !> The time step: the deck's fixed dt, or cfl x the critical step 2/omega_max of the
-  !! stiffest solid (power iteration); dtc is that critical step. The log says which.
-  subroutine setup_time_step(deck, solids, dt, dtc)
+  !> The time-step policy: the deck's fixed dt, or (dt = 0) cfl x the critical step that
+  !! follows the deformation; calibrated once against the power iteration.
+  subroutine setup_time_step(deck, solids, ctl)
     type(deck_t), intent(in) :: deck
-    type(solid_t), intent(in) :: solids(:)
-    real(wp), intent(out) :: dt, dtc
+    type(solid_t), intent(inout) :: solids(:)
+    type(step_control_t), intent(out) :: ctl
     real(wp) :: dts
     integer :: k
-    dtc = huge(1.0_wp)
+    call step_control_calibrate(ctl, solids)
     dts = huge(1.0_wp)
     do k = 1, size(solids)
-      dtc = min(dtc, critical_step(solids(k)))
       dts = min(dts, spacing_step(solids(k)))
     end do
-    if (deck%solver%dt > 0.0_wp) then
-      dt = deck%solver%dt
-      write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,f6.3,a)') 'dynamic: dt = ', dt, &
-        ' s fixed by the deck; critical step 2/omega_max = ', dtc, ' s (h_min/c_d = ', dts, &
-        ' s): dt is ', dt/dtc, ' of critical'
+    ctl%cfl = deck%solver%cfl
+    ctl%adaptive = .not. (deck%solver%dt > 0.0_wp)
+    if (.not. ctl%adaptive) then
+      ctl%dt_fixed = deck%solver%dt
+      write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,f6.3,a)') 'dynamic: dt = ', &
+        ctl%dt_fixed, ' s fixed by the deck; critical step 2/omega_max = ', ctl%dtc0, &
+        ' s (h_min/c_d = ', dts, ' s): dt is ', ctl%dt_fixed/ctl%dtc0, ' of critical'
+      if (ctl%dt_fixed > ctl%dtc0) write(output_unit, '(a)') 'dynamic: warning: dt '// &
+        'exceeds the estimated critical step; the run is likely to go unstable'
     else
-      dt = deck%solver%cfl*dtc
-      write(output_unit, '(a,es10.3,a,f5.2,a,es10.3,a,es10.3,a)') 'dynamic: dt = ', dt, &
-        ' s = cfl ', deck%solver%cfl, ' x critical step 2/omega_max = ', dtc, &
-        ' s (power iteration; h_min/c_d = ', dts, ' s)'
+      write(output_unit, '(a,f5.2,a,es10.3,a,es10.3,a)') 'dynamic: dt = cfl ', ctl%cfl, &
+        ' x critical step 2/omega_max (power iteration at t = 0: ', ctl%dtc0, &
+        ' s; h_min/c_d = ', dts, ' s), re-estimated every step from the deformation'
     end if
-    if (dt > dtc) write(output_unit, '(a)') 'dynamic: warning: dt exceeds the estimated '// &
-      'critical step; the run is likely to go unstable'
   end subroutine setup_time_step
 end module dynamic_setup_m

@@ -15,7 +15,9 @@ module explicit_driver_m
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, solid_update
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t
-  use run_health_m, only: energies_t, energy_totals, check_solid, check_energy
+  use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
+    set_health_limits
+  use stable_step_m, only: step_control_next, step_control_update
   use dynamic_setup_m, only: setup_solids, setup_contacts, setup_time_step
   use dynamic_output_m, only: history_t, history_push, history_flush
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
@@ -49,10 +51,12 @@ contains
     r%reason = ''
     call setup_solids(deck, bodies, solids, isolid, err)
     if (allocated(err)) return
-    call setup_time_step(deck, solids, r%dt, r%dtc)
+    call setup_time_step(deck, solids, r%step)
+    call set_health_limits(solids)
     call setup_contacts(deck, bodies, solids, isolid, pairs, err)
     if (allocated(err)) return
     r%t_end = deck%solver%t_end
+    r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
     r%nsteps_est = ceiling(r%t_end/r%dt - 1.0e-9_wp)
     log_every = deck%solver%log_every
     if (log_every == 0) log_every = max(1, r%nsteps_est/50)
@@ -74,6 +78,7 @@ contains
     call log_line(r, en)
     t_loop0 = omp_get_wtime()
     do while (r%t < r%t_end - 0.5_wp*r%dt .and. r%n < deck%solver%max_steps)
+      if (r%n > 0) r%dt = step_control_next(r%step, r%t, next_stop(deck, r%t))
       do k = 1, size(solids)
         call solid_predict(solids(k), r%dt)                                     ! (64)
       end do
@@ -85,9 +90,11 @@ contains
       r%n = r%n + 1
       r%t = r%t + r%dt
       call internal_forces_and_update(solids, r)                               ! (62), (63)
+      call step_control_update(r%step, solids)
+      call check_step(r%step, solids, r%n, r%failed, r%reason)
       call energy_totals(solids, en)
-      call check_energy(en, r%n, energy_warmup, deck%solver%energy_tol, solids, r%failed, &
-        r%reason)
+      call check_energy(en, r%n, energy_warmup, deck%solver%energy_tol, solids, &
+        r%energy_over, r%failed, r%reason)
       if (mod(r%n, hist_every) == 0 .or. r%failed) &
         call history_push(out%hist, history_row(r, en, solids(1)))
       if (mod(r%n, log_every) == 0 .or. r%failed) call log_line(r, en)
@@ -110,6 +117,18 @@ contains
     if (r%failed .and. .not. allocated(err)) call set_error(err, 'run failed at '// &
       r%reason//'; diagnostic snapshot /snapshots/failure written', exit_run_failed)
   end subroutine run_dynamic
+
+  !> The next time the run must land on after t: the next snapshot time, else t_end.
+  pure real(wp) function next_stop(deck, t) result(ts)
+    type(deck_t), intent(in) :: deck
+    real(wp), intent(in) :: t
+    integer :: k
+    ts = deck%solver%t_end
+    do k = 1, deck%solver%nsnap
+      if (deck%solver%snapshot_times(k) > t*(1.0_wp + 1.0e-12_wp) .and. &
+        deck%solver%snapshot_times(k) < ts) ts = deck%solver%snapshot_times(k)
+    end do
+  end function next_stop
 
   !> Internal forces at the corrected prediction (62), the velocities (63), and the guards
   !! on J, stresses and non-finite values, for every solid.

@@ -5,10 +5,30 @@
 module run_health_m
   use kinds_m, only: wp
   use strings_m, only: itoa, rtoa
-  use solid_m, only: solid_t, solid_first_bad
+  use solid_m, only: solid_t, solid_worst_node, health_j, health_stress, health_epsbar
+  use stable_step_m, only: step_control_t, dt_collapse, step_limit_text
   implicit none
   private
-  public :: energies_t, energy_totals, check_solid, check_energy, fastest_node
+  public :: energies_t, energy_totals, check_solid, check_energy, fastest_node, check_step
+  public :: set_health_limits
+
+  !> Local limits (set_health_limits). epsbar 50: a material fibre stretched by e^50 has no
+  !! continuum meaning; only a point chattering in a local instability accumulates it (the
+  !! Taylor bar's largest element value is 18.5 at 24 us, its particles' 3.1).
+  real(wp), parameter :: epsbar_limit = 50.0_wp
+  !> 0.2 in one step: a resolved motion strains a cell by about |dv| dt/h <= cfl |dv|/c_d
+  !! per step, so 0.2 means a velocity jump of 0.4 c_d (2400 m/s in steel) across one cell.
+  real(wp), parameter :: deps_limit = 0.2_wp
+  !> A volume change by a factor 20 needs a mean stress of 3 K (hypoelastic, tau_m = K ln J):
+  !! no solid here gets there except through an inverting or exploding cell.
+  real(wp), parameter :: j_limits(2) = [0.05_wp, 20.0_wp]
+  !> The energy guard's window (steps over the limit in a row) and burst factor (fails at
+  !! once); see check_energy.
+  integer, parameter :: energy_window = 50
+  real(wp), parameter :: energy_burst = 10.0_wp
+  !> The likely fixes of a local failure.
+  character(len=*), parameter :: fix_text = 'try a smaller cfl (or a fixed dt below the '// &
+    'critical step), a finer body there, or the SCNI stabilization (&body stabilization)'
 
   !> Energy totals over the solids (J; J/m in plane strain).
   type :: energies_t
@@ -36,9 +56,32 @@ contains
       tiny(1.0_wp))
   end subroutine energy_totals
 
-  !> After the forces of step n: a point with J <= 0 or a non-finite stress (bad_q > 0, from
-  !! solid_internal_force) or a non-finite coefficient or velocity fails the run; reason
-  !! says where. Leaves failed and reason alone when the solid is healthy.
+  !> Local health limits of every solid: node speed below 3 v_ref + 0.1 c_d, with v_ref the
+  !! fastest initial or prescribed speed of any solid and c_d the solid's dilatational wave
+  !! speed (impact and wave-induced particle speeds stay below v_ref plus a fraction of c_d:
+  !! a free-end reflection doubles v, a 1200 m/s jump in steel is 0.2 c_d); epsbar below
+  !! epsbar_limit; its increment in one step below deps_limit; J inside j_limits.
+  subroutine set_health_limits(solids)
+    type(solid_t), intent(inout) :: solids(:)
+    real(wp) :: vref
+    integer :: k
+    vref = 0.0_wp
+    do k = 1, size(solids)
+      vref = max(vref, sqrt(maxval(sum(solids(k)%v**2, dim=1))), &
+        sqrt(maxval(sum(solids(k)%vpres**2, dim=1))))
+    end do
+    do k = 1, size(solids)
+      solids(k)%v_limit = 3.0_wp*vref + 0.1_wp*solids(k)%mat%dilatational_speed()
+      solids(k)%epsbar_limit = epsbar_limit
+      solids(k)%deps_limit = deps_limit
+      solids(k)%j_bounds = j_limits
+    end do
+  end subroutine set_health_limits
+
+  !> After the forces of step n: an integration point out of its limits (bad_q > 0, from
+  !! solid_internal_force, code in s%bad_code) or a node with a non-finite coefficient or
+  !! velocity or above the speed limit fails the run; reason names the point or node, the
+  !! quantity and the likely fix. Leaves failed and reason alone when the solid is healthy.
   subroutine check_solid(s, n, bad_q, bad_j, failed, reason)
     type(solid_t), intent(in) :: s
     integer, intent(in) :: n, bad_q
@@ -46,19 +89,26 @@ contains
     logical, intent(inout) :: failed
     character(len=:), allocatable, intent(inout) :: reason
     integer :: j
+    real(wp) :: vmax
     if (failed) return
     if (bad_q > 0) then
       failed = .true.
       reason = 'step '//itoa(n)//', body '''//trim(s%name)//''', integration point '// &
-        itoa(bad_q)//trim(owner_text(bad_q))//': J = '//rtoa(bad_j)// &
-        ' (must stay > 0) or non-finite stress'
+        itoa(bad_q)//trim(owner_text(bad_q))//': '//point_text(bad_q)
       return
     end if
-    j = solid_first_bad(s)
-    if (j > 0) then
+    call solid_worst_node(s, j, vmax)
+    if (.not. (vmax <= s%v_limit)) then
       failed = .true.
-      reason = 'step '//itoa(n)//', body '''//trim(s%name)// &
-        ''': non-finite displacement or velocity (node '//itoa(j)//')'
+      if (vmax >= huge(1.0_wp)) then
+        reason = 'step '//itoa(n)//', body '''//trim(s%name)// &
+          ''': non-finite displacement or velocity (node '//itoa(j)//'); '//fix_text
+      else
+        reason = 'step '//itoa(n)//', body '''//trim(s%name)//''', node '//itoa(j)// &
+          ': speed '//rtoa(vmax)//' m/s above the limit '//rtoa(s%v_limit)// &
+          ' m/s (3 x the fastest initial or prescribed speed + 0.1 c_d): a local '// &
+          'instability; '//fix_text
+      end if
     end if
   contains
     function owner_text(q) result(txt)
@@ -67,23 +117,72 @@ contains
       txt = ''
       if (s%t%owner(q) > 0) txt = ' (particle '//itoa(s%t%owner(q))//')'
     end function owner_text
+    function point_text(q) result(txt)
+      integer, intent(in) :: q
+      character(len=:), allocatable :: txt
+      select case (s%bad_code)
+      case (health_j)
+        txt = 'J = '//rtoa(bad_j)//' outside ('//rtoa(s%j_bounds(1))//', '// &
+          rtoa(s%j_bounds(2))//'): the cell is inverting or exploding; '//fix_text
+      case (health_stress)
+        txt = 'non-finite stress (J = '//rtoa(bad_j)//'); '//fix_text
+      case (health_epsbar)
+        txt = 'effective plastic strain '//rtoa(s%st%epsbar(q))//' above the limit '// &
+          rtoa(s%epsbar_limit)//': runaway local plastic flow; '//fix_text
+      case default
+        txt = 'effective plastic strain rate '//rtoa(s%st%epsdot(q))//' /s: increment '// &
+          'in one step above '//rtoa(s%deps_limit)//', the step does not resolve the '// &
+          'motion; '//fix_text
+      end select
+    end function point_text
   end subroutine check_solid
 
-  !> The energy guard: growth of |residual| beyond tol x scale fails the run. An impulsive
-  !! start (a velocity jump at t = 0) leaves a one-time residual of order dt that is large
-  !! against the small energies of the first steps, so the guard is armed after warmup steps.
-  subroutine check_energy(en, n, warmup, tol, solids, failed, reason)
+  !> The critical step collapsing (below dt_collapse of its initial value) fails the run: a
+  !! cell or element is being crushed to nothing; reason names it.
+  subroutine check_step(c, solids, n, failed, reason)
+    type(step_control_t), intent(in) :: c
+    type(solid_t), intent(in) :: solids(:)
+    integer, intent(in) :: n
+    logical, intent(inout) :: failed
+    character(len=:), allocatable, intent(inout) :: reason
+    if (failed) return
+    if (c%dtc < dt_collapse*c%dtc0) then
+      failed = .true.
+      reason = 'step '//itoa(n)//': the critical time step fell to '//rtoa(c%dtc/c%dtc0)// &
+        ' of its initial value at '//step_limit_text(c, solids, .false.)//': that cell '// &
+        'or element is collapsing; refine the body there, raise the SCNI stabilization '// &
+        'or lower the impact speed'
+    end if
+  end subroutine check_step
+
+  !> The energy guard: |residual| above tol x scale for energy_window consecutive steps, or
+  !! above energy_burst x tol x scale at any step, fails the run. A contact onset or an
+  !! impact can lift the residual over the limit for a few steps and let it fall back (one
+  !! step's contact correction is not yet balanced by the work it does over the next); an
+  !! instability grows without bound, so it stays over the limit and soon passes the burst
+  !! level. An impulsive start (a velocity jump at t = 0) leaves a one-time residual of
+  !! order dt that is large against the small energies of the first steps, so the guard is
+  !! armed after warmup steps. over counts the consecutive steps over the limit.
+  subroutine check_energy(en, n, warmup, tol, solids, over, failed, reason)
     type(energies_t), intent(in) :: en
     integer, intent(in) :: n, warmup
     real(wp), intent(in) :: tol
     type(solid_t), intent(in) :: solids(:)
+    integer, intent(inout) :: over
     logical, intent(inout) :: failed
     character(len=:), allocatable, intent(inout) :: reason
     if (failed .or. n <= warmup) return
     if (abs(en%residual) > tol*en%scale) then
+      over = over + 1
+    else
+      over = 0
+    end if
+    if (over >= energy_window .or. .not. (abs(en%residual) <= energy_burst*tol*en%scale)) then
       failed = .true.
       reason = 'step '//itoa(n)//': energy residual '//rtoa(en%residual)//' exceeds '// &
-        'energy_tol x energy scale = '//rtoa(tol*en%scale)//'; '//fastest_node(solids)
+        'energy_tol x energy scale = '//rtoa(tol*en%scale)//' ('//itoa(over)// &
+        ' steps in a row; the limit is '//itoa(energy_window)//' steps, or '// &
+        itoa(nint(energy_burst))//' x at once); '//fastest_node(solids)//'; '//fix_text
     end if
   end subroutine check_energy
 

@@ -14,6 +14,7 @@ module run_report_m
   use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_det_fields
   use hdf5_io_m, only: h5file_t, h5_group, h5_attr, h5_write
   use dynamic_output_m, only: history_names
+  use stable_step_m, only: step_control_t, step_limit_text
   implicit none
   private
   public :: run_record_t, record_contact, log_header, log_line, history_row, &
@@ -23,10 +24,12 @@ module run_report_m
   type :: run_record_t
     integer :: n = 0                      !< steps taken
     real(wp) :: t = 0.0_wp                !< time (s)
-    real(wp) :: dt = 0.0_wp, dtc = 0.0_wp !< step and critical step (s)
+    real(wp) :: dt = 0.0_wp               !< the last step (s)
+    type(step_control_t) :: step          !< the time-step policy and its record
     real(wp) :: t_end = 0.0_wp            !< the deck's end time (s)
     integer :: nsteps_est = 0             !< steps to t_end
     logical :: failed = .false.
+    integer :: energy_over = 0            !< consecutive steps over the energy limit
     character(len=:), allocatable :: reason
     integer(i64) :: node_steps = 0        !< nodes x steps over all solids
     integer(i64) :: point_steps = 0       !< integration points (triangles) x steps
@@ -80,7 +83,7 @@ contains
     real(wp) :: row(size(history_names))
     type(measures_t) :: m
     m = body_measures(s)
-    row = [real(r%n, wp), r%t, r%dt, en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, &
+    row = [real(r%n, wp), r%t, r%dt, r%step%dtc, en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, &
       en%residual, real(r%contact%n_contact, wp), r%contact%force_normal, r%contact%radius, &
       r%contact%pen_after, m%length, m%foot_radius, r%impulse]
   end function history_row
@@ -180,7 +183,18 @@ contains
     if (.not. allocated(err)) call h5_attr(f, '/summary', 'steps', r%n, err)
     if (.not. allocated(err)) call h5_attr(f, '/summary', 'time', r%t, err)
     if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt', r%dt, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical', r%dtc, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_min', r%step%dt_min, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_max', r%step%dt_max, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_min_time', r%step%t_dt_min, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_adaptive', &
+      merge(1, 0, r%step%adaptive), err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical', r%step%dtc0, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical_min', &
+      r%step%dtc_min, err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical_min_at', &
+      step_limit_text(r%step, solids, .true.), err)
+    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_fixed_over_critical_steps', &
+      r%step%n_over, err)
     if (.not. allocated(err)) call h5_attr(f, '/summary', 'wall_time', wall, err)
     if (.not. allocated(err)) call h5_attr(f, '/summary', &
       'time_loop_kinematics_material_force_contact_snapshots', [r%t_loop, sh, &
@@ -219,6 +233,14 @@ contains
       r%n, ' steps to t = ', r%t, ' s in ', wall, ' s wall (set-up ', wall - r%t_loop, &
       ' s), ', rate, ' particle-steps/s (nodes), ', real(r%point_steps, wp)/tl, &
       ' point-steps/s (integration points) in the time loop'
+    write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,es10.3,a,es10.3,a)') 'summary: dt ', &
+      r%step%dt_min, ' to ', r%step%dt_max, ' s (smallest at t = ', r%step%t_dt_min, &
+      ' s); critical step ', r%step%dtc0, ' s at t = 0, smallest ', r%step%dtc_min, &
+      ' s, set by '//step_limit_text(r%step, solids, .true.)// &
+      merge(' (dt followed it)', ' (dt fixed)      ', r%step%adaptive)
+    if (r%step%n_over > 0) write(output_unit, '(a,i0,a)') 'summary: warning: the fixed '// &
+      'dt exceeded the critical step estimate in ', r%step%n_over, ' steps; dt = 0 lets '// &
+      'the step follow the deformation'
     write(output_unit, '(a,es11.4,a,es11.4,a,es10.3)') 'summary: energy residual ', &
       en%residual, ' J of scale ', en%scale, ' J: relative ', en%residual/max(en%scale, &
       tiny(1.0_wp))

@@ -26,8 +26,16 @@ module solid_m
   private
   public :: solid_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
   public :: solid_kinetic_energy, solid_positions, solid_point_position
-  public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_first_bad
-  public :: at_step_start, at_prediction
+  public :: solid_clear_contact, solid_add_point_forces, solid_correct
+  public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node
+  public :: health_ok, health_j, health_stress, health_epsbar, health_deps, health_names
+
+  !> point_health codes: what is wrong at an integration point
+  integer, parameter :: health_ok = 0, health_j = 1, health_stress = 2, health_epsbar = 3, &
+    health_deps = 4
+  character(len=*), parameter :: health_names(4) = [character(len=40) :: &
+    'J outside its bounds', 'non-finite stress', 'effective plastic strain above its limit', &
+    'plastic strain increment above its limit']
 
   integer, parameter :: at_step_start = 1   !< solid_positions: x at the start of the step
   integer, parameter :: at_prediction = 2   !< solid_positions: x at the (corrected) prediction
@@ -63,6 +71,18 @@ module solid_m
     real(wp) :: stab_normal = 0.0_wp, stab_shear = 0.0_wp  !< alpha (lambda + 2 mu), alpha mu
     real(wp), allocatable :: stab(:, :)          !< stabilization stresses (4, nq), work space
     real(wp) :: wall(3) = 0.0_wp                 !< seconds in kinematics, material, forces
+    ! the critical-step estimate that follows the deformation (solid_step_estimate)
+    real(wp), allocatable :: kap0(:)             !< kappa0_L of each point (1/m^2), step_metric
+    real(wp) :: kappa0 = 0.0_wp                  !< largest kappa in the reference state (1/m^2)
+    real(wp) :: kappa = 0.0_wp                   !< largest kappa at the current state (1/m^2)
+    integer :: kappa_q = 0                       !< the point where it is
+    real(wp) :: dt_cal = 0.0_wp                  !< calibration: 2/omega_max(0) sqrt(kappa0) (m s/m)
+    ! local health limits (set by the run's set-up; see run_health_m) and what broke them
+    real(wp) :: v_limit = huge(1.0_wp)           !< node speed limit (m/s)
+    real(wp) :: epsbar_limit = huge(1.0_wp)      !< effective plastic strain limit (-)
+    real(wp) :: deps_limit = huge(1.0_wp)        !< its increment in one step (-)
+    real(wp) :: j_bounds(2) = [0.0_wp, huge(1.0_wp)]   !< J must stay inside (-)
+    integer :: bad_code = 0                      !< point_health code of the failed point
   end type solid_t
 
 contains
@@ -130,7 +150,61 @@ contains
     s%dwp = 0.0_wp
     s%ke0 = solid_kinetic_energy(s)
     s%ke = s%ke0
+    call step_metric(s)
   end subroutine solid_init
+
+  !> The reference stiffness measure of each integration point L for the time-step
+  !! estimate: with the reference gradients g of the shape functions touching L (both
+  !! components) and the hoop terms h,
+  !!   kappa0_L = sum_I (|grad N^1_I|^2 + |grad N^2_I|^2 + h_I^2)   (1/m^2),
+  !! the square of an inverse length of the point's cell or element. The current gradients
+  !! are F^-T grad N and the current hoop terms h/F33, so at the deformation F of point L
+  !!   kappa_L(F) = kappa0_L / s_min(F)^2 >= sum_I (|F^-T grad N_I|^2 + h_I^2/F33^2),
+  !! s_min the smallest principal stretch (in-plane singular values of F, and F33): the
+  !! critical step of the body scales like 1/sqrt(max_L kappa_L). The bound rather than the
+  !! exact sum: measured against the power iteration on bodies built in the deformed shape
+  !! (tests/unit/test_stable_step.pf), the exact sum overestimates the step by 15-37% on
+  !! anisotropic compressions (the highest mode follows the shortest direction, not the
+  !! sum of the directions); the bound is 8-12% below it, never above (doc/solver.md).
+  subroutine step_metric(s)
+    type(solid_t), intent(inout) :: s
+    integer :: q, e
+    real(wp) :: g(4)
+    allocate(s%kap0(s%nq))
+    s%kap0 = 0.0_wp
+    do q = 1, s%nq
+      do e = s%t%ptr(q), s%t%ptr(q + 1) - 1
+        g = s%t%g(:, e)
+        s%kap0(q) = s%kap0(q) + sum(g**2)
+        if (s%t%axisym) s%kap0(q) = s%kap0(q) + s%t%h(e)**2
+      end do
+    end do
+    s%kappa_q = maxloc(s%kap0, 1)
+    s%kappa0 = s%kap0(s%kappa_q)
+    s%kappa = s%kappa0
+  end subroutine step_metric
+
+  !> The square of the smallest principal stretch of f (5): the smaller eigenvalue of the
+  !! in-plane C = F^T F, or F33^2 if smaller.
+  pure real(wp) function stretch2_min(f) result(s2)
+    real(wp), intent(in) :: f(5)
+    real(wp) :: c11, c12, c22, tr, det, lmax
+    c11 = f(1)**2 + f(3)**2
+    c22 = f(2)**2 + f(4)**2
+    c12 = f(1)*f(2) + f(3)*f(4)
+    tr = c11 + c22
+    det = (f(1)*f(4) - f(2)*f(3))**2
+    lmax = 0.5_wp*(tr + sqrt(max((c11 - c22)**2 + 4.0_wp*c12**2, 0.0_wp)))
+    s2 = min(det/lmax, f(5)**2)
+  end function stretch2_min
+
+  !> The critical step of the solid at its current state (s): dt_cal/sqrt(max_L kappa_L),
+  !! with dt_cal = (2/omega_max) sqrt(max_L kappa_L) in the reference state, omega_max from
+  !! the power iteration (stable_step_m). Current after solid_internal_force.
+  pure real(wp) function solid_step_estimate(s) result(dt)
+    type(solid_t), intent(in) :: s
+    dt = s%dt_cal/sqrt(s%kappa)
+  end function solid_step_estimate
 
   !> The tables moved component by component (no copy of the large arrays).
   subroutine move_tables(a, b)
@@ -210,8 +284,8 @@ contains
     real(wp), intent(in) :: dt
     integer, intent(out) :: bad_q
     real(wp), intent(out) :: bad_j
-    integer :: q, nblocks, i0, i1, blk
-    real(wp) :: dw, dwp, jq, t0, t1, t2
+    integer :: q, nblocks, i0, i1, blk, kq, qloc
+    real(wp) :: dw, dwp, t0, t1, t2, kmax, kloc, kp
     t0 = omp_get_wtime()
     !$omp parallel do default(none) shared(s) schedule(static)
     do q = 1, s%nq
@@ -247,17 +321,43 @@ contains
     bad_j = 1.0_wp
     dw = 0.0_wp
     dwp = 0.0_wp
-    !$omp parallel do default(none) shared(s) private(jq) reduction(+: dw, dwp) &
-    !$omp reduction(max: bad_q) schedule(static)
+    kmax = 0.0_wp
+    kq = 0
+    !$omp parallel default(none) shared(s, kmax, kq, dt) private(kp, kloc, qloc) &
+    !$omp reduction(+: dw, dwp) reduction(max: bad_q)
+    kloc = 0.0_wp
+    qloc = 0
+    !$omp do schedule(static)
     do q = 1, s%nq
       dw = dw + s%t%wgt(q)*0.5_wp*sum((s%p_old(:, q) + s%p(:, q))*(s%f(:, q) - s%f_old(:, q)))
       dwp = dwp + s%t%wgt(q)*s%dwp(q)
-      jq = jacobian(s%f(:, q))
-      if (.not. (jq > 0.0_wp) .or. .not. all(abs(s%st%tau(:, q)) < huge(1.0_wp))) &
+      if (point_health(s, q, dt) /= health_ok) then
         bad_q = max(bad_q, q)
+      else
+        kp = s%kap0(q)/stretch2_min(s%f(:, q))
+        if (kp > kloc) then
+          kloc = kp
+          qloc = q
+        end if
+      end if
     end do
-    !$omp end parallel do
-    if (bad_q > 0) bad_j = jacobian(s%f(:, bad_q))
+    !$omp end do
+    !$omp critical (solid_kappa)
+    if (kloc > kmax .or. (kloc == kmax .and. qloc < kq)) then
+      kmax = kloc
+      kq = qloc
+    end if
+    !$omp end critical (solid_kappa)
+    !$omp end parallel
+    if (kq > 0) then
+      s%kappa = kmax
+      s%kappa_q = kq
+    end if
+    s%bad_code = health_ok
+    if (bad_q > 0) then
+      bad_j = jacobian(s%f(:, bad_q))
+      s%bad_code = point_health(s, bad_q, dt)
+    end if
     s%w_int = s%w_int + dw
     s%w_plastic = s%w_plastic + dwp
     !$omp parallel do default(none) shared(s) schedule(static)
@@ -369,16 +469,48 @@ contains
     !$omp end parallel do
   end subroutine solid_correct
 
-  !> The first node with a non-finite coefficient or velocity (0: none).
-  pure integer function solid_first_bad(s) result(i)
+  !> The health of integration point q after the material update of a step dt: J inside
+  !! j_bounds, finite stress, epsbar and its increment dt epsdot under their limits.
+  pure integer function point_health(s, q, dt) result(code)
     type(solid_t), intent(in) :: s
-    integer :: j
-    i = 0
-    do j = 1, s%np
-      if (.not. all(abs(s%d(:, j)) < huge(1.0_wp) .and. abs(s%v(:, j)) < huge(1.0_wp))) then
-        i = j
+    integer, intent(in) :: q
+    real(wp), intent(in) :: dt
+    real(wp) :: jq
+    code = health_ok
+    jq = jacobian(s%f(:, q))
+    if (.not. (jq > s%j_bounds(1) .and. jq < s%j_bounds(2))) then
+      code = health_j
+    else if (.not. all(abs(s%st%tau(:, q)) < huge(1.0_wp))) then
+      code = health_stress
+    else if (.not. (s%st%epsbar(q) <= s%epsbar_limit)) then
+      code = health_epsbar
+    else if (.not. (dt*s%st%epsdot(q) <= s%deps_limit)) then
+      code = health_deps
+    end if
+  end function point_health
+
+  !> The node whose coefficient or velocity is non-finite (the first), else the fastest
+  !! node; vmax its speed (m/s, huge if non-finite).
+  subroutine solid_worst_node(s, j, vmax)
+    type(solid_t), intent(in) :: s
+    integer, intent(out) :: j
+    real(wp), intent(out) :: vmax
+    integer :: i
+    real(wp) :: v2, v2max
+    j = 1
+    v2max = -1.0_wp
+    do i = 1, s%np
+      if (.not. all(abs(s%d(:, i)) < huge(1.0_wp) .and. abs(s%v(:, i)) < huge(1.0_wp))) then
+        j = i
+        vmax = huge(1.0_wp)
         return
       end if
+      v2 = s%v(1, i)**2 + s%v(2, i)**2
+      if (v2 > v2max) then
+        v2max = v2
+        j = i
+      end if
     end do
-  end function solid_first_bad
+    vmax = sqrt(max(v2max, 0.0_wp))
+  end subroutine solid_worst_node
 end module solid_m

@@ -1,14 +1,50 @@
-!> Critical time step of the central-difference scheme for a body, dt_crit = 2/omega_max,
-!! with omega_max^2 the largest eigenvalue of M^-1 K (lumped M, small-strain elastic K built
-!! from the solver's own tables) found by power iteration. Also the simple estimate
-!! h_min/c_d (smallest spacing over the dilatational wave speed) for the log.
+!> The time step of the central-difference scheme.
+!!
+!! Critical step of a body, dt_crit = 2/omega_max, with omega_max^2 the largest eigenvalue
+!! of M^-1 K (lumped M, small-strain elastic K built from the solver's own tables) found by
+!! power iteration in the reference configuration; the simple estimate h_min/c_d for the log.
+!!
+!! During the run the critical step follows the deformation: each solid tracks
+!! kappa = max_L tr(C_L^-1 G_L) + H_L/F33^2 over its integration points (solid_m,
+!! step_metric), whose square root scales like omega_max, so
+!!   dt_crit(t) = dt_crit(0) sqrt(kappa(0)/kappa(t))
+!! calibrated once by the power iteration. With dt = 0 in the deck the step is
+!! dt_{n+1} = cfl x min over solids of dt_crit(t_{n+1}), clipped to land on the snapshot
+!! times and t_end (step_control_next). The scheme (64), (63) uses a_n computed at d_n
+!! whatever dt_n is, so each step is the same second-order velocity-Verlet map with its
+!! own dt: local error O(dt_n^3), global error O(max dt^2), no start-up or history terms
+!! to correct when dt changes.
 module stable_step_m
   use kinds_m, only: wp
-  use solid_m, only: solid_t
-  use tl_kinematics_m, only: deformation_gradient, internal_force, stabilization_force
+  use strings_m, only: itoa, rtoa
+  use solid_m, only: solid_t, solid_step_estimate
+  use tl_kinematics_m, only: deformation_gradient, internal_force, stabilization_force, &
+    jacobian
   implicit none
   private
   public :: critical_step, spacing_step
+  public :: step_control_t, step_control_calibrate, step_control_update, step_control_next
+  public :: step_limit_text
+
+  !> A run whose critical step falls below this fraction of its initial value is stopped:
+  !! some cell or element is collapsing (J -> 0 or a sliver), and stepping on would take
+  !! a thousand times the planned number of steps to go nowhere.
+  real(wp), parameter, public :: dt_collapse = 1.0e-3_wp
+
+  !> The time-step policy of a run and what it has done.
+  type :: step_control_t
+    logical :: adaptive = .true.          !< dt follows the deformation (deck dt = 0)
+    real(wp) :: cfl = 0.5_wp              !< fraction of the critical step (adaptive)
+    real(wp) :: dt_fixed = 0.0_wp         !< the deck's fixed step (s), when not adaptive
+    real(wp) :: dtc0 = 0.0_wp             !< critical step at t = 0 (power iteration) (s)
+    real(wp) :: dtc = 0.0_wp              !< current critical step estimate (s)
+    integer :: solid = 0, point = 0       !< where the current estimate is set
+    real(wp) :: dt_min = huge(1.0_wp), dt_max = 0.0_wp   !< steps taken (s)
+    real(wp) :: t_dt_min = 0.0_wp         !< time at the end of the smallest step (s)
+    real(wp) :: dtc_min = huge(1.0_wp)    !< smallest critical step estimate (s)
+    integer :: solid_min = 0, point_min = 0   !< where it was set
+    integer :: n_over = 0                 !< steps where a fixed dt exceeded the estimate
+  end type step_control_t
 
 contains
 
@@ -56,4 +92,86 @@ contains
     end do
     dt = 2.0_wp/sqrt(1.02_wp*omega2)
   end function critical_step
+
+  !> Calibrate each solid's estimate against its power-iteration critical step and set the
+  !! starting values of c: dt_cal = dt_crit(0) sqrt(kappa(0)).
+  subroutine step_control_calibrate(c, solids)
+    type(step_control_t), intent(inout) :: c
+    type(solid_t), intent(inout) :: solids(:)
+    integer :: k
+    do k = 1, size(solids)
+      solids(k)%dt_cal = critical_step(solids(k))*sqrt(solids(k)%kappa0)
+    end do
+    call step_control_update(c, solids)
+    c%dtc0 = c%dtc
+  end subroutine step_control_calibrate
+
+  !> The current critical step estimate (min over solids) and where it is set; after the
+  !! internal forces of a step.
+  subroutine step_control_update(c, solids)
+    type(step_control_t), intent(inout) :: c
+    type(solid_t), intent(in) :: solids(:)
+    integer :: k
+    real(wp) :: e
+    c%dtc = huge(1.0_wp)
+    do k = 1, size(solids)
+      e = solid_step_estimate(solids(k))
+      if (e < c%dtc) then
+        c%dtc = e
+        c%solid = k
+        c%point = solids(k)%kappa_q
+      end if
+    end do
+    if (c%dtc < c%dtc_min) then
+      c%dtc_min = c%dtc
+      c%solid_min = c%solid
+      c%point_min = c%point
+    end if
+  end subroutine step_control_update
+
+  !> The next step from time t: the fixed step, or cfl x the current critical step; clipped
+  !! so that it lands on t_target (the next snapshot time or t_end) without leaving a sliver:
+  !! when less than two steps remain, the remainder is split evenly.
+  function step_control_next(c, t, t_target) result(dt)
+    type(step_control_t), intent(inout) :: c
+    real(wp), intent(in) :: t, t_target
+    real(wp) :: dt, rest
+    if (.not. c%adaptive) then
+      dt = c%dt_fixed
+      if (dt > c%dtc) c%n_over = c%n_over + 1
+    else
+      dt = c%cfl*c%dtc
+      rest = t_target - t
+      if (rest <= dt*(1.0_wp + 1.0e-9_wp)) then
+        dt = rest
+      else if (rest < 2.0_wp*dt) then
+        dt = 0.5_wp*rest
+      end if
+    end if
+    ! the record leaves out the steps shortened to land on a snapshot time or t_end
+    c%dt_max = max(c%dt_max, dt)
+    if (dt < c%dt_min .and. (dt == c%dt_fixed .or. dt == c%cfl*c%dtc)) then
+      c%dt_min = dt
+      c%t_dt_min = t + dt
+    end if
+  end function step_control_next
+
+  !> 'body 'B', integration point L (particle I), J = .., min stretch ..': where the critical
+  !! step estimate (current, or the smallest when smallest) is set.
+  function step_limit_text(c, solids, smallest) result(txt)
+    type(step_control_t), intent(in) :: c
+    type(solid_t), intent(in) :: solids(:)
+    logical, intent(in) :: smallest
+    character(len=:), allocatable :: txt
+    integer :: k, q
+    k = merge(c%solid_min, c%solid, smallest)
+    q = merge(c%point_min, c%point, smallest)
+    if (k < 1 .or. q < 1) then
+      txt = 'nothing'
+      return
+    end if
+    txt = 'body '''//trim(solids(k)%name)//''', integration point '//itoa(q)
+    if (solids(k)%t%owner(q) > 0) txt = txt//' (particle '//itoa(solids(k)%t%owner(q))//')'
+    if (.not. smallest) txt = txt//', J = '//rtoa(jacobian(solids(k)%f(:, q)))
+  end function step_limit_text
 end module stable_step_m
