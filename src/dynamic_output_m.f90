@@ -224,12 +224,12 @@ contains
           ' 2" Format="HDF" NumberType="Float" Precision="8">'//g//'/x</DataItem></Geometry>'
         call attr(u, 'u', 'Vector', nps//' 2', g//'/u')
         call attr(u, 'v', 'Vector', nps//' 2', g//'/v')
-        call attr(u, 'stress', 'Matrix', nps//' 4', g//'/stress')
+        call components(u, 'stress', np, g//'/stress', 'Node')
         call attr(u, 'epsbar', 'Scalar', nps, g//'/epsbar')
         call attr(u, 'J', 'Scalar', nps, g//'/J')
         if (solids(k)%t%interpolating) then
           call attr(u, 'epsbar_cells', 'Scalar', nes, g//'/epsbar_cells', 'Cell')
-          call attr(u, 'stress_cells', 'Matrix', nes//' 4', g//'/stress_cells', 'Cell')
+          call components(u, 'stress_cells', solids(k)%nq, g//'/stress_cells', 'Cell')
           call attr(u, 'J_cells', 'Scalar', nes, g//'/J_cells', 'Cell')
         end if
         write(u, '(a)') '</Grid>'
@@ -239,10 +239,25 @@ contains
     write(u, '(a)') '</Grid></Domain></Xdmf>'
     close(u)
   contains
-    !> One attribute. Known limit: VTK's XDMF reader takes the 4-component stresses
-    !! (11, 22, 33, 12, 'Matrix') as one tuple of 4 np values; 'Vector' reads np tuples of 4
-    !! but warns (a VTK vector has 3), 'Scalar' flattens them. Per-component scalars would fix
-    !! it (tests/regression/check_xdmf_vtk.py reports it).
+    !> The 4 stress components (11, 22, 33, 12; axisymmetric: rr, zz, theta-theta, rz) of
+    !! the (n, 4) dataset item as 4 scalar attributes name_11, name_22, name_33, name_12,
+    !! each a HyperSlab of one column: VTK's XDMF readers take a 4-component 'Matrix' or
+    !! 'Vector' attribute as one tuple or warn, while scalars read everywhere.
+    subroutine components(unit, name, n, item, center)
+      integer, intent(in) :: unit, n
+      character(len=*), intent(in) :: name, item, center
+      character(len=2), parameter :: suffix(4) = ['11', '22', '33', '12']
+      integer :: c
+      do c = 1, 4
+        write(unit, '(a)') '<Attribute Name="'//name//'_'//suffix(c)//'" AttributeType='// &
+          '"Scalar" Center="'//center//'"><DataItem ItemType="HyperSlab" Dimensions="'// &
+          itoa(n)//' 1" Type="HyperSlab"><DataItem Dimensions="3 2" Format="XML">0 '// &
+          itoa(c - 1)//' 1 1 '//itoa(n)//' 1</DataItem><DataItem Dimensions="'//itoa(n)// &
+          ' 4" Format="HDF" NumberType="Float" Precision="8">'//item// &
+          '</DataItem></DataItem></Attribute>'
+      end do
+    end subroutine components
+
     subroutine attr(unit, name, kind, dims, item, center)
       integer, intent(in) :: unit
       character(len=*), intent(in) :: name, kind, dims, item

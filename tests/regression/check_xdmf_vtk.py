@@ -10,7 +10,10 @@ has it), checked against the .h5 it points at (input/bar_impact_elastic_fem_coar
      points (rows of /bodies/<name>/x) at the snapshot's positions x, ne cells (rows of
      triangles), every one VTK_TRIANGLE with the file's 0-based node numbers; the cell array
      epsbar_cells (ne values, equal to the file's) and the point array v (np tuples, equal to
-     the file's) exist;
+     the file's) exist, and the stress components as scalars (stress_cells_11 .. _12 per
+     cell, HyperSlabs of the file's (ne, 4) stress_cells) equal the file's columns;
+  every deformable body: the point arrays stress_11, _22, _33, _12 (np values each) equal the
+     columns of the file's stress;
   particle bodies: a deformable one (in the snapshots) is a block of np points whose cells are
      vertices over all np points; a rigid one (only in /bodies: the snapshots and the XDMF
      hold deformable bodies only, doc/output.md) has no block.
@@ -244,13 +247,21 @@ def main():
                   e is not None and e.shape == (ne, 1)
                   and np.allclose(e[:, 0], g["epsbar_cells"][()]),
                   None if e is None else e.shape)
-            for arr, n_exp in (("stress", npt), ("stress_cells", ne)):
-                s = array(ds.GetPointData() if arr == "stress" else ds.GetCellData(), arr)
-                if s is not None and s.shape != (n_exp, 4):
-                    info(f"{name}: {arr} read as {s.shape[0]} tuple(s) x {s.shape[1]} "
-                         f"components, not {n_exp} x 4 (AttributeType 'Matrix' in the XDMF; "
-                         f"not checked)")
-        else:
+            for c, comp in enumerate(("11", "22", "33", "12")):
+                sc = array(ds.GetCellData(), "stress_cells_" + comp)
+                check(f"{name}: cell array stress_cells_{comp} = column {c} of the file's "
+                      f"stress_cells", sc is not None and sc.shape == (ne, 1)
+                      and np.allclose(sc[:, 0], g["stress_cells"][()][:, c], rtol=0,
+                                      atol=1e-9 * max(1.0, np.abs(g["stress_cells"][()]).max())),
+                      None if sc is None else sc.shape)
+        for c, comp in enumerate(("11", "22", "33", "12")):
+            sp = array(ds.GetPointData(), "stress_" + comp)
+            check(f"{name}: point array stress_{comp} = column {c} of the file's stress",
+                  sp is not None and sp.shape == (npt, 1)
+                  and np.allclose(sp[:, 0], g["stress"][()][:, c], rtol=0,
+                                  atol=1e-9 * max(1.0, np.abs(g["stress"][()]).max())),
+                  None if sp is None else sp.shape)
+        if b["tri"] is None:
             vert = (vtk.VTK_VERTEX, vtk.VTK_POLY_VERTEX)
             covered = np.unique(conn) if conn is not None else None
             check(f"{name}: particle body: vertex cells over all {npt} points",
