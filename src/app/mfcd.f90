@@ -8,7 +8,8 @@ program mfcd
   use deck_m, only: deck_t, read_deck
   use body_m, only: body_t
   use bodies_m, only: build_bodies
-  use run_output_m, only: check_output_path, timestamp
+  use run_output_m, only: timestamp
+  use output_path_m, only: check_output_path
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
   implicit none
