@@ -58,6 +58,7 @@ contains
         trim(deck%materials(deck%bodies(k)%imat)%name)//''' ('// &
         solids(n)%mat%model_name()//'), mass '//rtoa(solids(n)%t%total_mass)//' kg'// &
         merge('/m', '  ', .not. axisym)
+      flush(output_unit)
     end do
   end subroutine setup_solids
 
@@ -192,6 +193,7 @@ contains
           '; warning: the threshold is above it, shallow penetrations go undetected', &
           '                                                                        ', &
           p%side(2)%threshold > p%side(2)%surface_det))
+        flush(output_unit)
       end associate
     end do
   end subroutine setup_contacts
@@ -223,5 +225,6 @@ contains
     end if
     if (dt > dtc) write(output_unit, '(a)') 'dynamic: warning: dt exceeds the estimated '// &
       'critical step; the run is likely to go unstable'
+    flush(output_unit)
   end subroutine setup_time_step
 end module dynamic_setup_m
