@@ -225,12 +225,12 @@ contains
       dst_xdmf = p%xdmf
     end if
     kept = ''
-    if (.not. move(p%tmp_h5, dst_h5)) kept = p%tmp_h5
-    if (p%with_xdmf) then
-      if (.not. move(p%tmp_xdmf, dst_xdmf)) then
-        if (len(kept) > 0) kept = kept//' and '
-        kept = kept//p%tmp_xdmf
-      end if
+    ! the HDF5 file first; should it stay behind, its XDMF file stays with it
+    if (.not. move(p%tmp_h5, dst_h5)) then
+      kept = p%tmp_h5
+      if (p%with_xdmf) kept = kept//' and '//p%tmp_xdmf
+    else if (p%with_xdmf) then
+      if (.not. move(p%tmp_xdmf, dst_xdmf)) kept = p%tmp_xdmf
     end if
     if (len(kept) > 0) then
       why = 'rename(2) failed'
