@@ -1066,6 +1066,8 @@ contains
     real(wp) :: det_grid_lo(2), det_grid_hi(2)
     integer :: ios, det_grid_n(2)
     character(len=512) :: msg
+    character(len=:), allocatable :: given
+    logical :: found
     type(output_spec_t) :: dflt
     namelist /output/ file, overwrite, det_fields, det_grid_lo, det_grid_hi, det_grid_n
     file = ''
@@ -1074,6 +1076,17 @@ contains
     det_grid_lo = dflt%det_grid_lo
     det_grid_hi = dflt%det_grid_hi
     det_grid_n = dflt%det_grid_n
+    ! gfortran reads overwrite = 'no' as an unknown name ("Cannot match namelist object
+    ! name 'no'") and overwrite = fred as .false.: check the text before it reads it
+    call group_value(deck%text, 'output', 'overwrite', given, found)
+    if (found) then
+      if (.not. is_logical_text(given)) then
+        call bad(deck, 'output', 'overwrite', given, 'not a logical; give .true. or .false. '// &
+          '(unquoted): with .false. an existing result is an error instead of being '// &
+          'replaced', err)
+        return
+      end if
+    end if
     rewind(u)
     read(u, nml=output, iostat=ios, iomsg=msg)
     if (ios /= 0 .and. ios /= iostat_end) then
@@ -1104,6 +1117,97 @@ contains
     deck%output%det_grid_hi = det_grid_hi
     deck%output%det_grid_n = det_grid_n
   end subroutine read_output
+
+  !> The value text v of variable var in the first &group of deck text t: a quoted string
+  !! with its quotes, or the characters up to the next separator ('' for a null value);
+  !! found is .false. when the group or the variable is absent. Comments and strings in
+  !! the deck are skipped.
+  subroutine group_value(t, group, var, v, found)
+    character(len=*), intent(in) :: t, group, var
+    character(len=:), allocatable, intent(out) :: v
+    logical, intent(out) :: found
+    character(len=*), parameter :: blanks = ' '//achar(9)//achar(10)//achar(13)
+    character(len=*), parameter :: ends = ' ,/!'//achar(9)//achar(10)//achar(13)
+    integer :: i, j, n
+    logical :: inside
+    n = len(t)
+    i = 1
+    inside = .false.
+    found = .false.
+    v = ''
+    do while (i <= n)
+      select case (t(i:i))
+      case ("'", '"')
+        j = index(t(i + 1:), t(i:i))
+        if (j == 0) return
+        i = i + j + 1
+      case ('!')
+        j = index(t(i:), achar(10))
+        if (j == 0) return
+        i = i + j
+      case ('&')
+        j = i + 1
+        do while (j <= n)
+          if (.not. is_name_char(t(j:j))) exit
+          j = j + 1
+        end do
+        if (inside) return
+        inside = lower(t(i + 1:j - 1)) == group
+        i = j
+      case ('/')
+        if (inside) return
+        i = i + 1
+      case default
+        if (.not. (inside .and. is_name_start(t(i:i)))) then
+          i = i + 1
+          cycle
+        end if
+        j = i
+        do while (j <= n)
+          if (.not. is_name_char(t(j:j))) exit
+          j = j + 1
+        end do
+        if (lower(t(i:j - 1)) == var .and. (i == 1 .or. .not. is_name_char(t(i - 1:i - 1)))) then
+          i = j - 1 + verify(t(j:), blanks)
+          if (i < j) return
+          if (t(i:i) == '=') then
+            found = .true.
+            j = i + verify(t(i + 1:), blanks)
+            if (j <= i) return
+            if (t(j:j) == "'" .or. t(j:j) == '"') then
+              i = index(t(j + 1:), t(j:j))
+              if (i == 0) i = n - j
+              v = t(j:j + i)
+            else
+              i = scan(t(j:), ends)
+              if (i == 0) i = n - j + 2
+              v = t(j:j + i - 2)
+            end if
+            return
+          end if
+        end if
+        i = j
+      end select
+    end do
+  end subroutine group_value
+
+  !> A Fortran logical as a deck should give it: .true., .false., t, f, true, false,
+  !! with or without the dots, any case.
+  pure logical function is_logical_text(s)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: w
+    integer :: a, z
+    w = lower(trim(adjustl(s)))
+    a = 1
+    z = len(w)
+    if (z >= 1) then
+      if (w(1:1) == '.') a = 2
+    end if
+    if (z >= a) then
+      if (w(z:z) == '.') z = z - 1
+    end if
+    is_logical_text = any(w(a:max(z, a - 1)) == [character(len=5) :: 't', 'true', 'f', 'false'])
+  end function is_logical_text
 
   subroutine nml_error(deck, group, which, msg, err)
     type(deck_t), intent(in) :: deck

@@ -2,25 +2,28 @@
 !! inside/outside classification, and the buffer-zone statistics, written to HDF5
 !! (Examples 2.1 and 2.2, Figs. 2-7 and 11). Layout: doc/output.md.
 module detect_run_m
-  use, intrinsic :: iso_fortran_env, only: output_unit
   use omp_lib, only: omp_get_wtime, omp_get_max_threads
   use kinds_m, only: wp
-  use errors_m, only: error_t
+  use errors_m, only: error_t, exit_run_failed
   use strings_m, only: itoa
   use deck_m, only: deck_t, detection_spec_t
   use body_m, only: body_t
   use rk_cloud_m, only: rk_cloud_t
   use detection_m, only: body_cloud, det_at_points, body_plateau, classify, buffer_stats, &
     buffer_stats_t, detection_threshold
-  use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr
+  use hdf5_io_m, only: h5file_t, h5_close, h5_group, h5_write, h5_attr
   use run_output_m, only: write_header, write_bodies
+  use output_path_m, only: output_path_t, output_open, output_commit
+  use log_m, only: log_print
   implicit none
   private
   public :: run_detect
 
 contains
 
-  !> Evaluate, classify, log and write. bodies are built and checked already.
+  !> Evaluate, classify, log and write. bodies are built and checked already. The file is
+  !! written under a temporary name and renamed onto &output file when it is complete
+  !! (output_path_m); a failed write leaves it under the failed-run name, with exit code 1.
   subroutine run_detect(deck, bodies, err)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
@@ -28,6 +31,10 @@ contains
     type(detection_spec_t) :: d
     type(rk_cloud_t) :: c
     type(h5file_t) :: f
+    type(output_path_t) :: path
+    type(error_t), allocatable :: e2
+    character(len=:), allocatable :: note
+    character(len=160) :: line
     real(wp) :: plateau, threshold, t0
     integer :: k, kb, nd
     d = deck%detection
@@ -42,12 +49,13 @@ contains
       if (allocated(err)) return
       plateau = body_plateau(b, c)
       threshold = detection_threshold(d%eps_cr, d%eps_rel, plateau)
-      write(output_unit, '(a)') 'detect: body '''//trim(b%name)//''', '//itoa(b%np)// &
-        ' particles, '//itoa(omp_get_max_threads())//' thread(s)'
-      write(output_unit, '(a,es12.5,a,es10.3,a,es10.3,a,es10.3)') &
+      call log_print('detect: body '''//trim(b%name)//''', '//itoa(b%np)// &
+        ' particles, '//itoa(omp_get_max_threads())//' thread(s)')
+      write(line, '(a,es12.5,a,es10.3,a,es10.3,a,es10.3)') &
         'detect: interior plateau det(M) = ', plateau, '; eps_cr = ', d%eps_cr, &
         ', eps_rel x plateau = ', d%eps_rel*plateau, '; threshold used = ', threshold
-      call h5_create(f, trim(deck%output%file), err)
+      call log_print(trim(line))
+      call output_open(deck, .false., path, f, err)
       if (allocated(err)) return
       call write_header(f, deck, err)
       if (.not. allocated(err)) call write_bodies(f, bodies, deck, err)
@@ -66,13 +74,21 @@ contains
         d=d)
       if (.not. allocated(err) .and. d%npoints > 0) call query_set(f, '/detection/points', b, &
         c, d%points(1:nd, 1:d%npoints), threshold, err)
-      if (allocated(err)) then
-        call h5_close(f, err)
+      call h5_close(f, e2)
+      if (allocated(e2) .and. .not. allocated(err)) call move_alloc(e2, err)
+      call output_commit(path, .not. allocated(err), note, e2)
+      if (allocated(e2)) then
+        if (allocated(err)) e2%message = err%message//'; '//e2%message
+        call move_alloc(e2, err)
         return
       end if
-      call h5_close(f, err)
-      write(output_unit, '(a,f8.3,a)') 'detect: done in ', omp_get_wtime() - t0, ' s; wrote '// &
-        trim(deck%output%file)
+      if (allocated(err)) then
+        err%message = err%message//'; what was written is in '//note
+        err%code = exit_run_failed
+        return
+      end if
+      write(line, '(a,f8.3,a)') 'detect: done in ', omp_get_wtime() - t0, ' s'
+      call log_print(trim(line))
     end associate
   end subroutine run_detect
 
@@ -92,6 +108,7 @@ contains
     type(buffer_stats_t) :: st
     real(wp) :: t0, t1
     integer :: n, j
+    character(len=200) :: line
     n = size(p, 2)
     allocate(det(n), dist(n), inside(n))
     t0 = omp_get_wtime()
@@ -99,13 +116,17 @@ contains
     t1 = omp_get_wtime() - t0
     call classify(det, threshold, inside)
     call buffer_stats(b, p, inside, dist, st)
-    write(output_unit, '(a,i0,a,f8.4,a,f8.2,a,i0,a)') 'detect: '//g//': ', n, &
+    write(line, '(a,i0,a,f8.4,a,f8.2,a,i0,a)') 'detect: '//g//': ', n, &
       ' points in ', t1, ' s (', real(n, wp)/max(t1, 1.0e-9_wp)/1.0e6_wp, &
       ' M/s), ', count(inside == 1), ' inside'
-    if (b%geom%kind /= 0) write(output_unit, '(a,es10.3,a,es10.3,a,i0,a,i0)') &
-      'detect:   buffer zone: farthest det > eps point outside at ', st%max_outside_inside, &
-      ' m (rho = ', st%rho_buffer, ' m); points beyond rho: ', st%n_beyond_buffer, &
-      '; interior points with det <= eps: ', st%n_false_outside
+    call log_print(trim(line))
+    if (b%geom%kind /= 0) then
+      write(line, '(a,es10.3,a,es10.3,a,i0,a,i0)') &
+        'detect:   buffer zone: farthest det > eps point outside at ', &
+        st%max_outside_inside, ' m (rho = ', st%rho_buffer, ' m); points beyond rho: ', &
+        st%n_beyond_buffer, '; interior points with det <= eps: ', st%n_false_outside
+      call log_print(trim(line))
+    end if
     call h5_group(f, g, err)
     if (.not. allocated(err)) call h5_write(f, g//'/x', p, 'm', err, 'query points (ndim, n)')
     if (.not. allocated(err)) call h5_write(f, g//'/det', det, '1', err, &

@@ -58,6 +58,7 @@ contains
         trim(deck%materials(deck%bodies(k)%imat)%name)//''' ('// &
         solids(n)%mat%model_name()//'), mass '//rtoa(solids(n)%t%total_mass)//' kg'// &
         merge('/m', '  ', .not. axisym)
+      flush(output_unit)
     end do
   end subroutine setup_solids
 
@@ -192,6 +193,7 @@ contains
           '; warning: the threshold is above it, shallow penetrations go undetected', &
           '                                                                        ', &
           p%side(2)%threshold > p%side(2)%surface_det))
+        flush(output_unit)
       end associate
     end do
   end subroutine setup_contacts
@@ -223,5 +225,6 @@ contains
         ' x critical step 2/omega_max (power iteration at t = 0: ', ctl%dtc0, &
         ' s; h_min/c_d = ', dts, ' s), re-estimated every step from the deformation'
     end if
+    flush(output_unit)
   end subroutine setup_time_step
 end module dynamic_setup_m

@@ -10,7 +10,7 @@
 module explicit_driver_m
   use omp_lib, only: omp_get_wtime
   use kinds_m, only: wp
-  use errors_m, only: error_t, set_error, exit_run_failed
+  use errors_m, only: error_t
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, solid_update
@@ -23,7 +23,7 @@ module explicit_driver_m
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
     report_summary
   use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
-    run_files_close
+    run_files_close, run_files_names
   implicit none
   private
   public :: run_dynamic
@@ -72,7 +72,10 @@ contains
     end do
     call energy_totals(solids, en)
     call snapshots_due(out, deck, r, pairs, solids, err)
-    if (allocated(err)) return
+    if (allocated(err)) then
+      call run_files_close(out, r, solids, err)
+      return
+    end if
     call history_push(out%hist, history_row(r, en, solids(1)))
     call log_header()
     call log_line(r, en)
@@ -84,7 +87,7 @@ contains
       end do
       tw = omp_get_wtime()
       call contact_step(pairs, solids, r%dt, cstep, err)                        ! (93)-(98)
-      if (allocated(err)) return
+      if (allocated(err)) exit
       call record_contact(r, cstep, r%t + r%dt)
       r%t_contact = r%t_contact + (omp_get_wtime() - tw)
       r%n = r%n + 1
@@ -102,7 +105,7 @@ contains
       tw = omp_get_wtime()
       call snapshots_due(out, deck, r, pairs, solids, err)
       r%t_output = r%t_output + (omp_get_wtime() - tw)
-      if (allocated(err)) return
+      if (allocated(err)) exit
     end do
     r%t_loop = omp_get_wtime() - t_loop0
     if (r%failed) then
@@ -112,10 +115,8 @@ contains
     end if
     if (.not. allocated(err)) call history_flush(out%f, out%hist, err)
     if (.not. allocated(err)) call report_summary(out%f, r, en, pairs, solids, &
-      trim(deck%output%file)//' and '//out%xdmf, err)
-    call run_files_close(out, err)
-    if (r%failed .and. .not. allocated(err)) call set_error(err, 'run failed at '// &
-      r%reason//'; diagnostic snapshot /snapshots/failure written', exit_run_failed)
+      run_files_names(out, r%failed), err)
+    call run_files_close(out, r, solids, err)
   end subroutine run_dynamic
 
   !> The next time the run must land on after t: the next snapshot time, else t_end.

@@ -8,7 +8,7 @@ module hdf5_io_m
     h5dwrite_f, h5dclose_f, h5dopen_f, h5dread_f, h5dget_space_f, &
     h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5acreate_f, h5awrite_f, &
     h5aclose_f, h5oopen_f, h5oclose_f, h5tcopy_f, h5tset_size_f, h5tclose_f, h5lexists_f, &
-    H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
+    H5F_ACC_EXCL_F, H5F_ACC_RDONLY_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
     H5T_FORTRAN_S1, H5S_SCALAR_F, h5eset_auto_f, h5pcreate_f, h5pset_chunk_f, h5pclose_f, &
     H5P_DATASET_CREATE_F, H5S_UNLIMITED_F, h5dset_extent_f, h5sselect_hyperslab_f, &
     H5S_SELECT_SET_F, h5fflush_f, H5F_SCOPE_GLOBAL_F
@@ -34,7 +34,8 @@ module hdf5_io_m
 
 contains
 
-  !> Create (truncate) an HDF5 file.
+  !> Create a new HDF5 file. It fails when path exists (the HDF5 library opens it with
+  !! O_EXCL): mfcd never truncates a file, it writes only names it has just created.
   subroutine h5_create(f, path, err)
     type(h5file_t), intent(out) :: f
     character(len=*), intent(in) :: path
@@ -46,10 +47,10 @@ contains
       return
     end if
     call h5eset_auto_f(0, st)
-    call h5fcreate_f(path, H5F_ACC_TRUNC_F, f%id, st)
+    call h5fcreate_f(path, H5F_ACC_EXCL_F, f%id, st)
     if (st /= 0) then
-      call set_error(err, "output file '"//path//"' cannot be created: check that its "// &
-        "directory exists and is writable (&output file)")
+      call set_error(err, "output file '"//path//"' cannot be created (it exists, or its "// &
+        "directory is not writable); check the directory of &output file", 1)
       return
     end if
     f%path = path

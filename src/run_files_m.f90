@@ -1,28 +1,32 @@
 !> The files of a dynamic run: the HDF5 file (header, deck, bodies, snapshots, history,
 !! summary) and its XDMF companion for ParaView, rewritten at every snapshot so that a run
-!! stopped at any point leaves readable files.
+!! stopped at any point leaves readable files. They are written under this run's temporary
+!! names and renamed at the end (output_path_m): onto the deck's names when the run
+!! completed, onto the failed-run names when it did not.
 module run_files_m
-  use, intrinsic :: iso_fortran_env, only: output_unit
   use kinds_m, only: wp
-  use errors_m, only: error_t
+  use errors_m, only: error_t, set_error, exit_run_failed
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t
   use contact_pair_m, only: contact_pair_t
-  use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group
+  use hdf5_io_m, only: h5file_t, h5_close, h5_group
   use run_output_m, only: write_header, write_bodies
+  use output_path_m, only: output_path_t, output_open, output_commit, output_files_text, &
+    base_name
   use dynamic_output_m, only: history_t, history_create, history_flush, snapshot_write, &
     xdmf_write
   use run_report_m, only: run_record_t, det_fields_out
+  use log_m, only: log_print
   implicit none
   private
-  public :: run_files_t, run_files_open, snapshots_due, failure_snapshot, run_files_close
+  public :: run_files_t, run_files_open, snapshots_due, failure_snapshot, run_files_close, &
+    run_files_names
 
   type :: run_files_t
     type(h5file_t) :: f
     type(history_t) :: hist
-    character(len=:), allocatable :: xdmf        !< path of the XDMF companion
-    character(len=:), allocatable :: h5name      !< the HDF5 file's name, as XDMF refers to it
+    type(output_path_t) :: path                  !< final, failed and temporary names
     character(len=8), allocatable :: labels(:)   !< snapshots written
     real(wp), allocatable :: times(:)            !< their times (s)
     integer :: nsnap_done = 0                    !< deck snapshot times passed
@@ -30,25 +34,38 @@ module run_files_m
 
 contains
 
-  !> Create the HDF5 file with its header, the deck, the bodies and the empty history.
+  !> Make the directory and create this run's HDF5 file (temporary name) with its header,
+  !! the deck, the bodies and the empty history. Called when set-up is done: a deck or body
+  !! error found before leaves nothing behind.
   subroutine run_files_open(deck, bodies, out, err)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(run_files_t), intent(out) :: out
     type(error_t), allocatable, intent(inout) :: err
-    character(len=:), allocatable :: path
-    path = trim(deck%output%file)
-    out%xdmf = path(1:index(path, '.', back=.true.) - 1)//'.xdmf'
-    out%h5name = path(index(path, '/', back=.true.) + 1:)
     allocate(out%labels(0), out%times(0))
-    call h5_create(out%f, path, err)
+    call output_open(deck, .true., out%path, out%f, err)
     if (allocated(err)) return
     call write_header(out%f, deck, err)
     if (.not. allocated(err)) call write_bodies(out%f, bodies, deck, err)
     if (.not. allocated(err)) call h5_group(out%f, '/snapshots', err)
     if (.not. allocated(err)) call history_create(out%f, out%hist, &
       deck%run%geometry /= 'axisymmetric', err)
+    if (allocated(err)) call abandon(out, err)
   end subroutine run_files_open
+
+  !> A write failed before the run started: the files go to the failed-run names.
+  subroutine abandon(out, err)
+    type(run_files_t), intent(inout) :: out
+    type(error_t), allocatable, intent(inout) :: err
+    type(error_t), allocatable :: e2
+    character(len=:), allocatable :: note
+    call h5_close(out%f, e2)
+    if (allocated(e2)) deallocate(e2)
+    call output_commit(out%path, .false., note, e2)
+    err%message = err%message//'; the files of the run are '//note
+    if (allocated(e2)) err%message = err%message//'; '//e2%message
+    err%code = exit_run_failed
+  end subroutine abandon
 
   !> The deck's snapshots due by the record's time: the state of every solid, the det(M)
   !! fields when the deck asks, the history so far, and the XDMF file.
@@ -60,6 +77,7 @@ contains
     type(solid_t), intent(inout) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
     character(len=8) :: lab
+    character(len=80) :: line
     do while (out%nsnap_done < deck%solver%nsnap)
       if (deck%solver%snapshot_times(out%nsnap_done + 1) > r%t + 0.5_wp*r%dt) exit
       out%nsnap_done = out%nsnap_done + 1
@@ -73,8 +91,10 @@ contains
       out%times = [out%times, r%t]
       call history_flush(out%f, out%hist, err)
       if (allocated(err)) return
-      call xdmf_write(out%xdmf, out%h5name, out%labels, out%times, solids)
-      write(output_unit, '(a,es12.5,a)') 'dynamic: snapshot '//trim(lab)//' at t = ', r%t, ' s'
+      call xdmf_write(out%path%tmp_xdmf, base_name(out%path%tmp_h5), out%labels, out%times, &
+        solids)
+      write(line, '(a,es12.5,a)') 'dynamic: snapshot '//trim(lab)//' at t = ', r%t, ' s'
+      call log_print(trim(line))
     end do
   end subroutine snapshots_due
 
@@ -84,16 +104,56 @@ contains
     type(run_record_t), intent(in) :: r
     type(solid_t), intent(inout) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
-    write(output_unit, '(a)') 'dynamic: FAILED at '//r%reason
+    call log_print('dynamic: FAILED at '//r%reason)
     call snapshot_write(out%f, 'failure', r%t, r%n, solids, err)
     out%labels = [character(len=8) :: out%labels, 'failure']
     out%times = [out%times, r%t]
-    call xdmf_write(out%xdmf, out%h5name, out%labels, out%times, solids)
+    call xdmf_write(out%path%tmp_xdmf, base_name(out%path%tmp_h5), out%labels, out%times, &
+      solids)
   end subroutine failure_snapshot
 
-  subroutine run_files_close(out, err)
+  !> The end of the run, however it ends: close the HDF5 file, write the XDMF file naming
+  !! the HDF5 file as it will be called, and rename both onto the final names when the run
+  !! completed (r not failed, no error). Otherwise they go to the failed-run names and err
+  !! says why the run stopped and where its files are, with exit code 1: output was written.
+  subroutine run_files_close(out, r, solids, err)
     type(run_files_t), intent(inout) :: out
+    type(run_record_t), intent(in) :: r
+    type(solid_t), intent(in) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
-    call h5_close(out%f, err)
+    type(error_t), allocatable :: e2
+    character(len=:), allocatable :: note
+    logical :: completed
+    completed = .not. (r%failed .or. allocated(err))
+    call h5_close(out%f, e2)
+    if (allocated(e2)) completed = .false.
+    if (allocated(e2) .and. .not. allocated(err)) call move_alloc(e2, err)
+    ! the XDMF file names the HDF5 file as it is called after the rename, relative to it
+    if (completed) then
+      call xdmf_write(out%path%tmp_xdmf, base_name(out%path%h5), out%labels, out%times, &
+        solids)
+    else
+      call xdmf_write(out%path%tmp_xdmf, base_name(out%path%failed_h5), out%labels, &
+        out%times, solids)
+    end if
+    call output_commit(out%path, completed, note, e2)
+    if (allocated(e2)) then
+      if (allocated(err)) e2%message = err%message//'; '//e2%message
+      call move_alloc(e2, err)
+      return
+    end if
+    if (completed) return
+    if (.not. allocated(err)) call set_error(err, 'run failed at '//r%reason// &
+      '; diagnostic snapshot /snapshots/failure')
+    err%message = err%message//'; the files of the run are '//note
+    err%code = exit_run_failed
   end subroutine run_files_close
+
+  !> The files this run leaves: 'out/run.h5 and out/run.xdmf', or the failed-run names.
+  function run_files_names(out, failed) result(s)
+    type(run_files_t), intent(in) :: out
+    logical, intent(in) :: failed
+    character(len=:), allocatable :: s
+    s = output_files_text(out%path, .not. failed)
+  end function run_files_names
 end module run_files_m

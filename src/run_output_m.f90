@@ -2,7 +2,7 @@
 !! the bodies' reference particles. Layout: doc/output.md.
 module run_output_m
   use kinds_m, only: wp
-  use errors_m, only: error_t, set_error
+  use errors_m, only: error_t
   use version_m, only: code_name, code_version, git_commit
   use deck_m, only: deck_t
   use body_m, only: body_t
@@ -10,55 +10,9 @@ module run_output_m
   use hdf5_io_m, only: h5file_t, h5_group, h5_write, h5_attr, h5_text
   implicit none
   private
-  public :: write_header, write_bodies, timestamp, check_output_path
+  public :: write_header, write_bodies, timestamp
 
 contains
-
-  !> Before any output: the directory exists (created if missing), the file may be
-  !! replaced (or overwrite is on), and a probe file can be written there.
-  subroutine check_output_path(deck, err)
-    type(deck_t), intent(in) :: deck
-    type(error_t), allocatable, intent(inout) :: err
-    character(len=:), allocatable :: path, dir
-    character(len=512) :: msg
-    logical :: exists
-    integer :: k, u, ios, stat
-    path = trim(deck%output%file)
-    k = index(path, '/', back=.true.)
-    dir = '.'
-    if (k > 1) dir = path(1:k - 1)
-    inquire(file=dir//'/.', exist=exists)
-    if (.not. exists) then
-      call execute_command_line('mkdir -p "'//dir//'" 2>/dev/null', exitstat=stat)
-      inquire(file=dir//'/.', exist=exists)
-    end if
-    if (.not. exists) then
-      call set_error(err, "deck '"//deck%path//"', group &output, variable file = '"//path// &
-        "': directory '"//dir//"' does not exist and cannot be created; give a writable path")
-      return
-    end if
-    inquire(file=path//'/.', exist=exists)
-    if (exists) then
-      call set_error(err, "deck '"//deck%path//"', group &output, variable file = '"//path// &
-        "': this is a directory; give a file name such as '"//path//"/run.h5'")
-      return
-    end if
-    inquire(file=path, exist=exists)
-    if (exists .and. .not. deck%output%overwrite) then
-      call set_error(err, "deck '"//deck%path//"', group &output, variable file = '"//path// &
-        "': the file exists and overwrite = .false.; remove it, rename the output, or set "// &
-        "overwrite = .true.")
-      return
-    end if
-    open(newunit=u, file=path//'.probe', status='replace', action='write', iostat=ios, &
-      iomsg=msg)
-    if (ios /= 0) then
-      call set_error(err, "deck '"//deck%path//"', group &output, variable file = '"//path// &
-        "': cannot write there ("//trim(msg)//"); give a writable path")
-      return
-    end if
-    close(u, status='delete')
-  end subroutine check_output_path
 
   !> ISO 8601 local time stamp.
   function timestamp() result(s)

@@ -61,6 +61,7 @@ contains
   subroutine log_header()
     write(output_unit, '(a)') 'dynamic:   cycle      time (s)     dt (s)       KE (J)'// &
       '     W_int (J)    W_plas (J)   W_ext (J)   W_cont (J)  residual  contacts  ETA (s)'
+    flush(output_unit)
   end subroutine log_header
 
   subroutine log_line(r, en)
@@ -73,6 +74,7 @@ contains
     write(output_unit, '(a,i9,es14.6,es11.3,6es13.4,i7,f9.1)') 'dynamic: ', r%n, r%t, r%dt, &
       en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, en%residual, &
       r%contact%n_contact, eta
+    flush(output_unit)
   end subroutine log_line
 
   !> One history row (history_names): energies, contact and the measures of solid s.
@@ -266,5 +268,6 @@ contains
       'snapshots ', 100.0_wp*r%t_output/tl, '%, ', 'rest ', &
       100.0_wp*(1.0_wp - sum(sh) - (r%t_contact + r%t_output)/tl), '%'
     write(output_unit, '(a)') 'summary: wrote '//files
+    flush(output_unit)
   end subroutine report_summary
 end module run_report_m

@@ -1,6 +1,7 @@
 !> mfcd: meshfree contact detection (Li, Qian, Liu, Belytschko, CMAME 190, 2001).
 !! Usage: mfcd [--check] deck.nml | --help | --version.
 !! Exit codes: 0 success, 2 bad input (nothing written), 1 a run that failed.
+!! The log (stdout) is flushed line by line; its last line says how the run ended.
 program mfcd
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use errors_m, only: error_t, exit_bad_input
@@ -8,7 +9,9 @@ program mfcd
   use deck_m, only: deck_t, read_deck
   use body_m, only: body_t
   use bodies_m, only: build_bodies
-  use run_output_m, only: check_output_path, timestamp
+  use run_output_m, only: timestamp
+  use output_path_m, only: check_output_path, output_result_text
+  use log_m, only: log_print, log_flush
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
   implicit none
@@ -54,8 +57,8 @@ program mfcd
     stop exit_bad_input, quiet=.true.
   end if
 
-  write(output_unit, '(a)') code_name//' '//code_version//' (git '//git_commit//') '// &
-    timestamp()//' deck '//deck_path
+  call log_print(code_name//' '//code_version//' (git '//git_commit//') '// &
+    timestamp()//' deck '//deck_path)
   call read_deck(deck_path, deck, err)
   if (.not. allocated(err)) call echo_deck(deck)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
@@ -73,13 +76,22 @@ program mfcd
     call run_dynamic(deck, bodies, err)
   end select
   if (allocated(err)) call fail(err)
+  call log_print('mfcd: completed: wrote '//output_result_text(deck))
 
 contains
 
+  !> Stop with the error: on stderr after every log line before it, then the log's last
+  !! line saying how the run ended, so a log file read alone tells it too.
   subroutine fail(e)
     type(error_t), intent(in) :: e
+    call log_flush()
     write(error_unit, '(a)') 'mfcd: error: '//e%message
-    if (e%code == exit_bad_input) stop exit_bad_input, quiet=.true.
+    flush(error_unit)
+    if (e%code == exit_bad_input) then
+      call log_print('mfcd: bad input (exit 2), nothing written: '//e%message)
+      stop exit_bad_input, quiet=.true.
+    end if
+    call log_print('mfcd: failed (exit 1): '//e%message)
     stop 1, quiet=.true.
   end subroutine fail
 
@@ -90,10 +102,10 @@ contains
     do while (a <= len(d%text))
       z = index(d%text(a:), new_line('a'))
       if (z == 0) then
-        write(output_unit, '(a)') 'deck| '//d%text(a:)
+        call log_print('deck| '//d%text(a:))
         exit
       end if
-      write(output_unit, '(a)') 'deck| '//d%text(a:a + z - 2)
+      call log_print('deck| '//d%text(a:a + z - 2))
       a = a + z
     end do
   end subroutine echo_deck
@@ -109,6 +121,6 @@ contains
     write(u, '(a)') '  --help      this text'
     write(u, '(a)') '  --version   code version and git commit'
     write(u, '(a)') 'Threads: OMP_NUM_THREADS. Exit codes: 0 ok, 2 bad input (nothing'
-    write(u, '(a)') 'written), 1 run failed (output so far kept).'
+    write(u, '(a)') 'written), 1 run failed (its files kept as <stem>.failed.h5 and .xdmf).'
   end subroutine usage
 end program mfcd

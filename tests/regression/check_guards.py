@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """A run that goes unstable stops cleanly (issue 3, item 7): the elastic-wave deck with a
 fixed time step five times the critical one must stop with exit code 1 and a message naming
-the step, the body and the quantity, keep the output written so far, and add a diagnostic
-snapshot /snapshots/failure and a /summary whose status is 'failed'. A bad deck for the
-dynamic mode (unknown material, a detection threshold above the master's det(M) plateau)
-exits 2 and writes nothing.
+the step, the body and the quantity, keep the output written so far under the failed-run
+name out/unstable.failed.h5 (never under the result's name out/unstable.h5), and add a
+diagnostic snapshot /snapshots/failure and a /summary whose status is 'failed'. A bad
+deck for the dynamic mode (unknown material, a detection threshold above the master's
+det(M) plateau) exits 2 and writes nothing, not even the output directory.
 Usage: check_guards.py /path/to/mfcd /path/to/input/elastic_wave.nml
 """
 import os
@@ -39,8 +40,12 @@ def main():
           and "bar" in p.stderr, p.stderr[-500:])
     check("log warns that dt exceeds the critical step", "exceeds the estimated critical" in
           p.stdout)
-    out = os.path.join(work, "out", "unstable.h5")
-    check("output kept", os.path.exists(out))
+    out = os.path.join(work, "out", "unstable.failed.h5")
+    check("output kept under the failed-run name", os.path.exists(out)
+          and os.path.exists(os.path.join(work, "out", "unstable.failed.xdmf")),
+          os.listdir(work))
+    check("nothing under the result's name", not os.path.exists(
+        os.path.join(work, "out", "unstable.h5")))
     if os.path.exists(out):
         with h5py.File(out, "r") as f:
             check("diagnostic snapshot written", "failure" in f["snapshots"])
@@ -71,8 +76,8 @@ def main():
     check("threshold above the plateau: exit 2 naming &contact eps_cr and the plateau",
           p.returncode == 2 and "&contact" in p.stderr and "eps_cr" in p.stderr and
           "plateau" in p.stderr, p.stderr)
-    check("threshold above the plateau: nothing written",
-          not os.path.exists(os.path.join(work, "out3", "t.h5")))
+    check("threshold above the plateau: nothing written, not even the directory",
+          not os.path.exists(os.path.join(work, "out3")))
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if all(results) else 1)
 

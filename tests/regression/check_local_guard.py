@@ -5,7 +5,8 @@ input/bar_impact_j2.nml with dt fixed at cfl 0.5 of the undeformed bar's critica
 particles of the impact face near the axis, while the global energy residual is still
 within energy_tol. The run must stop with exit 1 on a per-point check before the energy
 guard trips, with a message naming the step, the body, the integration point and its
-particle, the quantity and the likely fix; keep its output with a /snapshots/failure and a
+particle, the quantity and the likely fix; keep its output (under the failed run's own name,
+out/local.failed.h5, doc/deck.md) with a /snapshots/failure and a
 /summary whose status is 'failed' and whose energy residual is below energy_tol x scale.
 Usage: check_local_guard.py /path/to/mfcd /path/to/input/bar_impact_j2.nml
 """
@@ -45,7 +46,9 @@ def main():
           any(w in err for w in ("plastic strain", "J = ", "speed")), err[-800:])
     check("message names the likely fix", "smaller cfl" in err, err[-800:])
     check("not the energy guard", "energy residual" not in err, err[-800:])
-    f = h5py.File(os.path.join(work, "out", "local.h5"), "r")
+    check("no result under the final name", not os.path.exists(os.path.join(work, "out",
+                                                                          "local.h5")))
+    f = h5py.File(os.path.join(work, "out", "local.failed.h5"), "r")
     check("diagnostic snapshot written", "failure" in f["snapshots"])
     s = f["summary"].attrs
     status = s["status"].decode() if isinstance(s["status"], bytes) else str(s["status"])

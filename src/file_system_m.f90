@@ -1,0 +1,142 @@
+!> The file system through libc, never through a shell: directories made one level at a
+!! time with mkdir(2) (like mkdir -p), names resolved with realpath(3), files moved with
+!! rename(2) or link(2). A path from the deck is only ever an argument of these calls, so
+!! no character in it ($, `, ;, quotes) has any meaning but its own.
+module file_system_m
+  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_associated
+  implicit none
+  private
+  public :: make_dirs, is_dir, writable_dir, path_exists, real_path, rename_file, &
+    link_file, remove_file, process_id
+
+  integer(c_int), parameter :: f_ok = 0, w_ok = 2, x_ok = 1   !< access(2) modes (POSIX)
+  !> Permissions of a new directory before the umask: rwx for all, as mkdir(1) gives.
+  integer(c_int), parameter :: dir_mode = int(o'777', c_int)
+  !> Longest path realpath(3) returns (PATH_MAX on Linux, with room for the NUL).
+  integer, parameter :: path_max = 4096
+
+  interface
+    ! mode_t is an unsigned int on Linux (32 bits), passed by value like a C int
+    function c_mkdir(path, mode) bind(c, name='mkdir') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: mode
+      integer(c_int) :: rc
+    end function c_mkdir
+    function c_access(path, mode) bind(c, name='access') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: mode
+      integer(c_int) :: rc
+    end function c_access
+    function c_realpath(path, resolved) bind(c, name='realpath') result(p)
+      import :: c_char, c_ptr
+      character(kind=c_char), intent(in) :: path(*)
+      character(kind=c_char), intent(out) :: resolved(*)
+      type(c_ptr) :: p
+    end function c_realpath
+    function c_rename(old, new) bind(c, name='rename') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: old(*), new(*)
+      integer(c_int) :: rc
+    end function c_rename
+    function c_link(old, new) bind(c, name='link') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: old(*), new(*)
+      integer(c_int) :: rc
+    end function c_link
+    function c_unlink(path) bind(c, name='unlink') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: rc
+    end function c_unlink
+    function c_getpid() bind(c, name='getpid') result(pid)
+      import :: c_int
+      integer(c_int) :: pid
+    end function c_getpid
+  end interface
+
+contains
+
+  !> Create directory dir and its missing parents (mkdir -p), mode 0777 less the umask.
+  !! On failure ok is .false. and failed names the first directory that could not be made.
+  subroutine make_dirs(dir, ok, failed)
+    character(len=*), intent(in) :: dir
+    logical, intent(out) :: ok
+    character(len=:), allocatable, intent(out) :: failed
+    integer :: k
+    integer(c_int) :: rc
+    ok = .true.
+    failed = ''
+    do k = 1, len(dir)
+      ! every prefix that ends a component: 'a', 'a/b', 'a/b/c' of 'a/b/c'
+      if (k < len(dir)) then
+        if (dir(k + 1:k + 1) /= '/') cycle
+      end if
+      if (dir(k:k) == '/') cycle
+      if (is_dir(dir(1:k))) cycle
+      rc = c_mkdir(dir(1:k)//c_null_char, dir_mode)
+      ! another process may have made it meanwhile: only a missing directory is a failure
+      if (rc == 0) cycle
+      if (.not. is_dir(dir(1:k))) then
+        ok = .false.
+        failed = dir(1:k)
+        return
+      end if
+    end do
+  end subroutine make_dirs
+
+  !> True when path is a directory (or a link to one).
+  logical function is_dir(path)
+    character(len=*), intent(in) :: path
+    is_dir = c_access(path//'/.'//c_null_char, f_ok) == 0
+  end function is_dir
+
+  !> True when this process may create and remove entries in directory path.
+  logical function writable_dir(path)
+    character(len=*), intent(in) :: path
+    writable_dir = c_access(path//c_null_char, ior(w_ok, x_ok)) == 0
+  end function writable_dir
+
+  !> True when something is at path (links followed: a dangling link reads as absent).
+  logical function path_exists(path)
+    character(len=*), intent(in) :: path
+    path_exists = c_access(path//c_null_char, f_ok) == 0
+  end function path_exists
+
+  !> The absolute path with every link, '.' and '..' resolved, or '' when path does not
+  !! exist: two names of one file give the same real path.
+  function real_path(path) result(rp)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: rp
+    character(kind=c_char, len=path_max + 1) :: buf
+    integer :: n
+    rp = ''
+    if (.not. c_associated(c_realpath(path//c_null_char, buf))) return
+    n = index(buf, c_null_char) - 1
+    if (n > 0) rp = buf(1:n)
+  end function real_path
+
+  !> rename(2): old replaces new atomically (both in one directory here).
+  logical function rename_file(old, new) result(ok)
+    character(len=*), intent(in) :: old, new
+    ok = c_rename(old//c_null_char, new//c_null_char) == 0
+  end function rename_file
+
+  !> link(2): a second name new for old; fails, changing nothing, when new exists.
+  logical function link_file(old, new) result(ok)
+    character(len=*), intent(in) :: old, new
+    ok = c_link(old//c_null_char, new//c_null_char) == 0
+  end function link_file
+
+  !> unlink(2). Only ever called on names this run created.
+  logical function remove_file(path) result(ok)
+    character(len=*), intent(in) :: path
+    ok = c_unlink(path//c_null_char) == 0
+  end function remove_file
+
+  !> This process's id, for names no other run uses at the same time.
+  integer function process_id()
+    process_id = int(c_getpid())
+  end function process_id
+end module file_system_m
