@@ -22,7 +22,7 @@ or --times (us). A run that stopped early (/summary status 'failed') or lacks a 
 'n/a' where it has no value: history values beyond its last row, snapshot values without a
 snapshot at that time (within 1%).
 
-Figure <out>/taylor_rkpm_vs_fem.png:
+Figure <out>/<name>.png (--name, default taylor_rkpm_vs_fem):
   (a) length and foot radius against time, both methods (the snapshot times dotted);
   (b) the deformed outlines of both at each snapshot time overlaid (the bodies' boundary
       polylines /bodies/<body>/loop_idx, 1-based, applied to the snapshot positions x: for
@@ -168,10 +168,25 @@ def rel(a, b):
     return f"{100.0 * (a - b) / b:+.2f}%"
 
 
+ABOVE, BAND = 1.0e-3, 0.1e-3  # radius measured 1 mm above the impact face, in a 0.2 mm band
+
+
+def radius_above(x):
+    """Largest r of the points whose z lies within BAND of ABOVE over the lowest z: the
+    bar's radius one millimetre above the impact face, clear of the bottom row's lip."""
+    if x is None or len(x) == 0:
+        return None
+    z0 = float(np.min(x[:, 1]))
+    band = np.abs(x[:, 1] - (z0 + ABOVE)) <= BAND
+    return float(np.max(x[band, 0])) if band.any() else None
+
+
 def table(runs: dict, times: list, rows: int) -> tuple:
-    head = ["t (us)", "method", "length (mm)", "foot radius (mm)", "contact radius (mm)",
-            "max epsbar [1]", "energy residual / scale", "penetration left (um)",
-            "wall time (s)", "length FEM vs RKPM", "foot radius FEM vs RKPM"]
+    head = ["t (us)", "method", "length (mm)", "foot radius (mm)", "radius 1 mm up (mm)",
+            "largest radius (mm)", "contact radius (mm)", "max epsbar [1]",
+            "energy residual / scale", "penetration left (um)", "wall time (s)",
+            "length FEM vs RKPM", "foot radius FEM vs RKPM", "radius 1 mm up FEM vs RKPM",
+            "largest radius FEM vs RKPM"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     values = {}
     for i, t in enumerate(times):
@@ -179,8 +194,10 @@ def table(runs: dict, times: list, rows: int) -> tuple:
             r = runs[m]
             L = r.interp("length", t)
             R = r.interp("foot_radius", t)
-            values[(m, t)] = (L, R)
             snap = r.snapshot_at(t)
+            R1 = None if snap is None else radius_above(snap[2])
+            Rm = None if snap is None else float(np.max(snap[2][:, 0]))
+            values[(m, t)] = (L, R, R1, Rm)
             res = r.interp("residual", t)
             pen = r.penetration(t)
             cr = r.contact_radius(t, rows)
@@ -193,6 +210,8 @@ def table(runs: dict, times: list, rows: int) -> tuple:
             cells = [fmt_us(t), m,
                      f2(None if L is None else L * 1e3, "{:.3f}"),
                      f2(None if R is None else R * 1e3, "{:.3f}"),
+                     f2(None if R1 is None else R1 * 1e3, "{:.3f}"),
+                     f2(None if Rm is None else Rm * 1e3, "{:.3f}"),
                      f2(None if cr is None else cr * 1e3, "{:.3f}"),
                      f2(None if snap is None else snap[3], "{:.3f}")
                      + (" (el.)" if r.fem and snap is not None else
@@ -201,10 +220,10 @@ def table(runs: dict, times: list, rows: int) -> tuple:
                      f2(None if pen is None else pen * 1e6, "{:.3g}"),
                      wall]
             if m == "FEM":
-                (Lr, Rr) = values[("RKPM", t)]
-                cells += [rel(L, Lr), rel(R, Rr)]
+                (Lr, Rr, R1r, Rmr) = values[("RKPM", t)]
+                cells += [rel(L, Lr), rel(R, Rr), rel(R1, R1r), rel(Rm, Rmr)]
             else:
-                cells += ["", ""]
+                cells += ["", "", "", ""]
             lines.append("| " + " | ".join(cells) + " |")
     notes = [
         "",
@@ -212,7 +231,11 @@ def table(runs: dict, times: list, rows: int) -> tuple:
         "- " + runs["FEM"].status_line(),
         "- length and foot radius: `/history` columns `length` (extent in z) and `foot_radius` "
         "(largest r within one spacing of the lowest point) interpolated linearly at t; the "
-        "last two columns are (FEM - RKPM) / RKPM.",
+        "last four columns are (FEM - RKPM) / RKPM.",
+        "- radius 1 mm up: the largest r of the nodes (particles) within 0.1 mm of 1 mm above "
+        "the lowest point, from the snapshot at t: the foot's radius clear of the bottom row's "
+        "lip, which the foot radius picks up; largest radius: the largest r of the body (the "
+        "mushroom's widest point, the classical Taylor-test measure), from the snapshot.",
         f"- contact radius: the largest `/history/contact_radius` of the {rows} history rows "
         "nearest t (the per-step value flickers as single slave points touch and leave).",
         "- max epsbar: from the snapshot at t. **FEM: the largest element value "
@@ -232,7 +255,7 @@ def table(runs: dict, times: list, rows: int) -> tuple:
     return lines, notes
 
 
-def draw(runs: dict, times: list, out: str, fmt: str) -> str:
+def draw(runs: dict, times: list, out: str, fmt: str, name="taylor_rkpm_vs_fem") -> str:
     fig = plt.figure(figsize=(15, 10.5), layout="constrained")
     gs = fig.add_gridspec(2, 3, width_ratios=[1, 1, 0.62], height_ratios=[1, 1.05])
     ax_len = fig.add_subplot(gs[0, 0])
@@ -320,7 +343,7 @@ def draw(runs: dict, times: list, out: str, fmt: str) -> str:
                      bbox=dict(facecolor="white", edgecolor="firebrick", alpha=0.9))
     fig.suptitle("Taylor bar, RKPM vs FEM (CST4): "
                  f"{runs['RKPM'].stem} vs {runs['FEM'].stem}")
-    path = os.path.join(out, f"taylor_rkpm_vs_fem.{fmt}")
+    path = os.path.join(out, f"{name}.{fmt}")
     os.makedirs(out, exist_ok=True)
     fig.savefig(path)
     plt.close(fig)
@@ -344,6 +367,8 @@ def main(argv=None) -> int:
                     help="history rows nearest each time whose largest contact radius is "
                          "taken (default 5)")
     ap.add_argument("--format", default="png", help="image format (default png)")
+    ap.add_argument("--name", default="taylor_rkpm_vs_fem",
+                    help="figure file name without extension (default taylor_rkpm_vs_fem)")
     a = ap.parse_args(argv)
     plt.rcParams.update(STYLE)
     out = a.out or os.path.dirname(os.path.abspath(a.fem))
@@ -374,7 +399,7 @@ def main(argv=None) -> int:
                          f"{os.path.basename(a.rkpm)} {os.path.basename(a.fem)})\n\n")
                 fh.write(text)
             print(f"{PROG}: wrote {a.table}")
-        print(f"{PROG}: wrote {draw(runs, times, out, a.format)}")
+        print(f"{PROG}: wrote {draw(runs, times, out, a.format, a.name)}")
     except Exception:  # noqa: BLE001
         traceback.print_exc()
         return 1
