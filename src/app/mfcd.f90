@@ -8,6 +8,7 @@ program mfcd
   use deck_m, only: deck_t, read_deck
   use body_m, only: body_t
   use bodies_m, only: build_bodies
+  use memory_estimate_m, only: check_memory
   use run_output_m, only: check_output_path, timestamp
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
@@ -58,7 +59,10 @@ program mfcd
     timestamp()//' deck '//deck_path
   call read_deck(deck_path, deck, err)
   if (.not. allocated(err)) call echo_deck(deck)
+  if (.not. allocated(err)) call check_memory(deck, err)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
+  ! again with the particle files read: the tables of the set-up are still to come
+  if (.not. allocated(err)) call check_memory(deck, err, bodies)
   if (.not. allocated(err) .and. .not. check_only) call check_output_path(deck, err)
   if (allocated(err)) call fail(err)
   if (check_only) then
