@@ -265,8 +265,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: t, group, var, gtext
     integer :: i, n, lineno, j, k, ig, nth(size(known_groups)), first(size(known_groups))
-    integer :: last_end(size(known_groups))
-    logical :: in_group
+    integer :: last_end(size(known_groups)), nvals
+    logical :: in_group, subscripted
     character :: qc
     t = deck%text
     n = len(t)
@@ -280,6 +280,8 @@ contains
     first = 0
     last_end = 0
     ig = 0
+    nvals = 0
+    subscripted = .false.
     do while (i <= n)
       select case (t(i:i))
       case (achar(10))
@@ -299,9 +301,11 @@ contains
           end if
           j = j + 1
         end do
-        if (in_group) call check_value(deck, lineno, group, gtext, var, t(i:min(j, n)), &
-          .true., err)
-        if (allocated(err)) return
+        if (in_group) then
+          call check_value(deck, lineno, group, gtext, var, t(i:min(j, n)), .true., err)
+          if (.not. allocated(err)) call count_values(t(i:min(j, n)))
+          if (allocated(err)) return
+        end if
         i = j + 1
       case ('!')
         do while (i <= n)
@@ -375,6 +379,8 @@ contains
           if (t(k:k) == '=' .and. .not. is_value_word(lower(t(i:j - 1)))) then
             ! a variable: name [(subscript)] =
             var = lower(t(i:j - 1))
+            nvals = 0
+            subscripted = index(t(j:k), "(") > 0
             if (.not. var_known(group, var)) then
               call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
                 ", group &"//group//": unknown variable '"//var//"'"// &
@@ -398,10 +404,36 @@ contains
           return
         end if
         call check_value(deck, lineno, group, gtext, var, t(i:j - 1), .false., err)
+        if (.not. allocated(err)) call count_values(t(i:j - 1))
         if (allocated(err)) return
         i = j
       end select
     end do
+  contains
+    !> Count the values tok stands for (r*c: r of them) and refuse more than var holds,
+    !! unless a subscript placed them (lo(2) = ...).
+    subroutine count_values(tok)
+      character(len=*), intent(in) :: tok
+      integer :: star, r, ios, nmax
+      r = 1
+      star = index(tok, '*')
+      if (star > 1) then
+        read(tok(1:star - 1), *, iostat=ios) r
+        if (ios /= 0) r = 1
+      end if
+      nvals = nvals + r
+      nmax = var_size(group, var)
+      if (subscripted .or. nmax == 0 .or. nvals <= nmax) return
+      if (nmax == 1) then
+        call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//gtext// &
+          ", variable "//var//": takes one value, and the deck gives more (the last "// &
+          tok//"); remove the extra values, or the missing 'name =' before them")
+      else
+        call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//gtext// &
+          ", variable "//var//": takes at most "//itoa(nmax)//" values, and the deck "// &
+          "gives "//itoa(nvals)//"; remove the extra values")
+      end if
+    end subroutine count_values
   end subroutine check_groups
 
   !> One past the last name character from i (also past non-ASCII bytes when greedy).
@@ -1512,16 +1544,37 @@ contains
     character(len=:), allocatable :: strs, ints, logs, reals
     call typed_vars(group, strs, ints, logs, reals)
     typ = ' '
-    if (listed(strs, var)) typ = 's'
-    if (listed(ints, var)) typ = 'i'
-    if (listed(logs, var)) typ = 'l'
-    if (listed(reals, var)) typ = 'r'
-  contains
-    pure logical function listed(names, word)
-      character(len=*), intent(in) :: names, word
-      listed = index(', '//names//',', ', '//word//',') > 0
-    end function listed
+    if (entry_at(strs, var) > 0) typ = 's'
+    if (entry_at(ints, var) > 0) typ = 'i'
+    if (entry_at(logs, var) > 0) typ = 'l'
+    if (entry_at(reals, var) > 0) typ = 'r'
   end function var_type
+
+  !> How many values variable var of group holds: its array size, 1 for a scalar, 0 when
+  !! it is not listed in typed_vars (no limit known).
+  pure integer function var_size(group, var) result(n)
+    character(len=*), intent(in) :: group, var
+    character(len=:), allocatable :: strs, ints, logs, reals, listing
+    integer :: a, z
+    call typed_vars(group, strs, ints, logs, reals)
+    listing = strs//', '//ints//', '//logs//', '//reals//','
+    n = 0
+    a = entry_at(listing, var)
+    if (a == 0) return
+    n = 1
+    a = a + len(var)
+    if (listing(a:a) /= '(') return
+    z = index(listing(a:), ')')
+    read(listing(a + 1:a + z - 2), *) n
+  end function var_size
+
+  !> Where entry word starts in the list names ('a, b(3), c'), 0 if it is not there.
+  pure integer function entry_at(names, word) result(a)
+    character(len=*), intent(in) :: names, word
+    ! the position in ', '//names of ', word' is that of word in names
+    a = index(', '//names//',', ', '//word//',')
+    if (a == 0) a = index(', '//names//',', ', '//word//'(')
+  end function entry_at
 
   !> The variables of group (group_vars) that var_type does not know: '' when in step.
   pure function untyped_vars(group) result(s)
@@ -1541,7 +1594,8 @@ contains
     end do
   end function untyped_vars
 
-  !> The variables of each group by type, comma-separated.
+  !> The variables of each group by type, comma-separated; arrays with their size, as
+  !! the namelists declare them: 'lo(3)'.
   pure subroutine typed_vars(group, strs, ints, logs, reals)
     character(len=*), intent(in) :: group
     character(len=:), allocatable, intent(out) :: strs, ints, logs, reals
@@ -1556,32 +1610,34 @@ contains
     case ('body')
       strs = 'name, shape, file, kernel, window, basis, role, material, integration, '// &
         'discretization'
-      ints = 'n'
-      reals = 'lo, hi, vertices, spacing, origin, center, r_inner, r_outer, theta_start, '// &
-        'theta_end, support_factor, velocity, stabilization'
+      ints = 'n(3)'
+      reals = 'lo(3), hi(3), vertices('//itoa(2*max_vertices)//'), spacing(3), origin(2), '// &
+        'center(2), r_inner, r_outer, theta_start, theta_end, support_factor(3), '// &
+        'velocity(3), stabilization'
     case ('detection')
       strs = 'body'
-      ints = 'line_n, grid_n'
-      reals = 'eps_cr, eps_rel, line_from, line_to, grid_lo, grid_hi, points'
+      ints = 'line_n, grid_n(3)'
+      reals = 'eps_cr, eps_rel, line_from(3), line_to(3), grid_lo(3), grid_hi(3), points('// &
+        itoa(3*max_points)//')'
     case ('output')
       strs = 'file'
-      ints = 'det_grid_n'
+      ints = 'det_grid_n(2)'
       logs = 'overwrite, det_fields'
-      reals = 'det_grid_lo, det_grid_hi'
+      reals = 'det_grid_lo(2), det_grid_hi(2)'
     case ('material')
       strs = 'name, model'
       reals = 'density, youngs_modulus, poisson_ratio, sigma0, hardening_n, rate_m, eps0, '// &
         'eps1, epsdot0, back_stress_b, theta, yield_stress, hardening_modulus'
     case ('solver')
       ints = 'log_every, history_every, max_steps'
-      reals = 't_end, dt, cfl, snapshot_times, energy_tol'
+      reals = 't_end, dt, cfl, snapshot_times('//itoa(max_snapshots)//'), energy_tol'
     case ('bc')
       strs = 'body, kind'
       ints = 'component'
-      reals = 'region_lo, region_hi, value'
+      reals = 'region_lo(3), region_hi(3), value'
     case ('contact')
       strs = 'master, slave'
-      reals = 'eps_cr, eps_rel, mu, edge_point'
+      reals = 'eps_cr, eps_rel, mu, edge_point(3)'
     end select
   end subroutine typed_vars
 
