@@ -502,6 +502,10 @@ contains
     integer :: star, ios
     real(wp) :: x
     integer(i64) :: ix
+    !> Reals from 10**max_magnitude on are refused (huge(1.0_wp) is 1.8e308).
+    integer, parameter :: max_magnitude = range(1.0_wp) + 1
+    character(len=*), parameter :: range_text = 'beyond the range of a real (1e308 and '// &
+      'more); give a finite value in the units of the variable'
     where = "deck '"//deck%path//"' line "//itoa(lineno)//gtext
     if (len(var) == 0) then
       call set_error(err, where//": value "//tok//" without a variable; write name = value "// &
@@ -544,11 +548,16 @@ contains
         call type_error('not a number; '//var//' takes '//expect)
         return
       end if
+      ! a literal beyond the range is refused before it is read: reading it overflows
+      if (decimal_magnitude(v) >= max_magnitude) then
+        call type_error(range_text)
+        return
+      end if
       read(v, *, iostat=ios) x
       if (ios /= 0) then
         call type_error('not a number; '//var//' takes '//expect)
       else if (.not. ieee_is_finite(x)) then
-        call type_error('outside the range of a real (about 1.8e308); give a finite value')
+        call type_error(range_text)
       end if
     case ('i')
       if (verify(v, '0123456789+-') /= 0 .or. scan(v, '0123456789') == 0) then
@@ -570,9 +579,7 @@ contains
     case default
       ! a type not listed: only a number out of range is caught here
       if (verify(v, '0123456789.+-ed') == 0 .and. scan(v, '0123456789') > 0) then
-        read(v, *, iostat=ios) x
-        if (ios == 0 .and. .not. ieee_is_finite(x)) call type_error('outside the range '// &
-          'of a real (about 1.8e308); give a finite value')
+        if (decimal_magnitude(v) >= max_magnitude) call type_error(range_text)
       end if
     end select
   contains
@@ -582,6 +589,52 @@ contains
         "doc/deck.md)")
     end subroutine type_error
   end subroutine check_value
+
+  !> The decimal exponent of the leading digit of the real literal v (12.5e3: 4, 0.03: -2,
+  !! 0: -huge), from its text alone; v holds digits, '.', an exponent letter e or d and
+  !! signs (an optional leading one). Text that is no number gives some value; the read
+  !! that follows refuses it.
+  pure integer function decimal_magnitude(v) result(mag)
+    character(len=*), intent(in) :: v
+    character(len=:), allocatable :: w, mant, ipart, fpart
+    integer :: e, dot, ios, k, ex
+    w = v
+    if (len(w) > 0) then
+      if (w(1:1) == '+' .or. w(1:1) == '-') w = w(2:)
+    end if
+    e = scan(w, 'ed')
+    mant = w
+    ex = 0
+    if (e > 0) then
+      mant = w(1:e - 1)
+      if (len(w) - e > 6) then
+        ! more exponent digits than any real: its sign decides
+        ex = merge(-1000000, 1000000, index(w(e + 1:), '-') > 0)
+      else
+        read(w(e + 1:), *, iostat=ios) ex
+        if (ios /= 0) ex = 0
+      end if
+    end if
+    dot = index(mant, '.')
+    if (dot > 0) then
+      ipart = mant(1:dot - 1)
+      fpart = mant(dot + 1:)
+    else
+      ipart = mant
+      fpart = ''
+    end if
+    k = verify(ipart, '0')
+    if (k > 0) then
+      mag = ex + (len(ipart) - k)
+      return
+    end if
+    k = verify(fpart, '0')
+    if (k == 0) then
+      mag = -huge(1)
+    else
+      mag = ex - k
+    end if
+  end function decimal_magnitude
 
   !> NaN, Inf, Infinity with an optional sign, and NaN(...) as gfortran reads them.
   pure logical function is_non_finite_word(v)
@@ -792,7 +845,7 @@ contains
       s%integration = lower(integration)
       s%stabilization = stabilization
       s%discretization = lower(discretization)
-      call check_body(deck, k, tmp(1:k - 1)%name, s, err)
+      call check_body(deck, k, tmp(1:k - 1), s, err)
       if (allocated(err)) return
       tmp(k) = s
     end do
@@ -805,11 +858,11 @@ contains
     deck%bodies = tmp(1:k)
   end subroutine read_bodies
 
-  !> Body k against the deck; names are those of the bodies before it.
-  subroutine check_body(deck, k, names, s, err)
+  !> Body k against the deck and the bodies before it (prev).
+  subroutine check_body(deck, k, prev, s, err)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
-    character(len=*), intent(in) :: names(:)
+    type(body_spec_t), intent(in) :: prev(:)
     type(body_spec_t), intent(inout) :: s
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: grp
@@ -819,8 +872,8 @@ contains
     grp = 'body'
     if (len_trim(s%name) == 0) s%name = 'body'//itoa(k)
     grp = "body (body "//itoa(k)//", '"//trim(s%name)//"')"
-    do j = 1, size(names)
-      if (names(j) == s%name) then
+    do j = 1, size(prev)
+      if (prev(j)%name == s%name) then
         call bad(deck, grp, 'name', "'"//trim(s%name)//"'", 'give every body its own name '// &
           '(body '//itoa(j)//' has it already; names key the output and &contact, &bc)', err)
         return
