@@ -3,18 +3,22 @@
 !! must be non-singular everywhere in the body. On a lattice the smallest working
 !! support_factor is found by scanning a lattice patch, so the error can name it.
 module bodies_m
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
   use body_m, only: body_t
-  use deck_m, only: deck_t, body_spec_t
+  use deck_m, only: deck_t, body_spec_t, body_count_var, body_place_var, body_make_vars
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, &
     make_from_arrays, set_supports
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
   use hdf5_io_m, only: read_particle_file_h5
-  use detection_m, only: body_cloud
+  use detection_m, only: body_cloud, body_plateau
+  use geometry_m, only: geom_none, signed_distance
+  use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
+  use rk_cloud_m, only: cloud_det
   use cst4_m, only: cst4_mesh_t, cst4_rectangle
   implicit none
   private
@@ -25,6 +29,18 @@ module bodies_m
   !! round-off (1e-16) and far below the weakest genuine pivot of an admissible lattice
   !! (about 1e-6 for a support factor 1% above the Theorem 3.1 limit).
   real(wp), parameter :: pivot_tol = 1.0e-10_wp
+  !> Two particles of a file closer than this fraction of the nominal spacing coincide.
+  real(wp), parameter :: coincide_tol = 1.0e-3_wp
+  !> A particle of one body deeper than this fraction of the smaller nominal spacing inside
+  !! another body's region at t = 0 makes the bodies overlap.
+  real(wp), parameter :: overlap_tol = 1.0e-2_wp
+  !> Without an exact geometry (a particle file), a point counts as inside a body where its
+  !! det(M) reaches this fraction of the interior plateau: only a point surrounded by the
+  !! body's particles on every side gets there, about half a support inside.
+  real(wp), parameter :: overlap_plateau = 0.5_wp
+  !> The particle volumes of a file may add up to at most this multiple of the area (volume)
+  !! of the box around the particles grown by one spacing.
+  real(wp), parameter :: volume_excess = 4.0_wp
 
 contains
 
@@ -39,7 +55,108 @@ contains
       call build_body(deck, deck%bodies(k), k, bodies(k), err)
       if (allocated(err)) return
     end do
+    if (deck%run%mode /= 'dynamic') return
+    call check_surfaces(deck, bodies, err)
+    if (.not. allocated(err)) call check_overlaps(deck, bodies, err)
   end subroutine build_bodies
+
+  !> Contact needs a surface polyline on the master, and on the slave too when the master
+  !! deforms (the second pass of eq. 28 swaps the roles). Only a particle file without loop
+  !! and order columns lacks one.
+  subroutine check_surfaces(deck, bodies, err)
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, im, is
+    character(len=:), allocatable :: grp
+    do k = 1, deck%ncontacts
+      im = deck%contacts(k)%imaster
+      is = deck%contacts(k)%islave
+      grp = "deck '"//deck%path//"', group &contact (contact "//itoa(k)//"), variable "
+      if (size(bodies(im)%loop_idx) < 2) then
+        call set_error(err, grp//"master = '"//trim(bodies(im)%name)//"': the body has "// &
+          "no surface polyline (a particle file without the loop and order columns), so "// &
+          "contact has nothing to measure the gap to; add those columns to its file")
+        return
+      end if
+      if (deck%bodies(im)%role == 'deformable' .and. size(bodies(is)%loop_idx) < 2) then
+        call set_error(err, grp//"slave = '"//trim(bodies(is)%name)//"': the master '"// &
+          trim(bodies(im)%name)//"' deforms, so detection runs both ways (eq. 28) and "// &
+          "needs the slave's surface too, but the slave has no surface polyline (a "// &
+          "particle file without the loop and order columns); add those columns to its "// &
+          "file, or make the master rigid")
+        return
+      end if
+    end do
+  end subroutine check_surfaces
+
+  !> Bodies must not overlap in the reference configuration: no particle of one body
+  !! deeper than overlap_tol x the smaller spacing inside another body, when at least one of
+  !! the two deforms (contact would throw them apart in the first steps and the run would
+  !! stop on its energy balance). Inside: the exact geometry's signed distance (generated
+  !! shapes and FE rectangles); for a particle file, det(M) of that body above
+  !! overlap_plateau x its plateau. The particles of deformable bodies are tested first, so
+  !! the message names the body that was most likely misplaced (a rigid target stays put).
+  subroutine check_overlaps(deck, bodies, err)
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(rk_cloud_t), allocatable :: clouds(:)
+    real(wp), allocatable :: plateau(:)
+    real(wp) :: tol, depth, lo(2), hi(2)
+    integer :: ka, kb, i, hit, pass
+    character(len=:), allocatable :: how
+    if (any(bodies%ndim /= 2)) return
+    allocate(clouds(size(bodies)), plateau(size(bodies)))
+    plateau = 0.0_wp
+    do kb = 1, size(bodies)
+      if (bodies(kb)%geom%kind /= geom_none) cycle
+      call body_cloud(bodies(kb), clouds(kb), err)
+      if (allocated(err)) return
+      plateau(kb) = body_plateau(bodies(kb), clouds(kb))
+    end do
+    do pass = 1, 2
+      do ka = 1, size(bodies)
+        if ((deck%bodies(ka)%role == 'deformable') .neqv. pass == 1) cycle
+        do kb = 1, size(bodies)
+          if (ka == kb) cycle
+          if (deck%bodies(ka)%role /= 'deformable' .and. deck%bodies(kb)%role /= &
+            'deformable') cycle
+          associate (a => bodies(ka), b => bodies(kb))
+            tol = overlap_tol*min(minval(a%spacing(1:2)), minval(b%spacing(1:2)))
+            ! a generated shape may reach up to a spacing beyond its outermost particles
+            lo = minval(b%x, dim=2) - maxval(b%spacing(1:2))
+            hi = maxval(b%x, dim=2) + maxval(b%spacing(1:2))
+            hit = 0
+            depth = 0.0_wp
+            do i = 1, a%np
+              if (any(a%x(:, i) < lo) .or. any(a%x(:, i) > hi)) cycle
+              if (b%geom%kind /= geom_none) then
+                depth = -signed_distance(b%geom, a%x(:, i))
+                if (depth > tol) hit = i
+              else if (cloud_det(clouds(kb), a%x(:, i)) >= overlap_plateau*plateau(kb)) then
+                hit = i
+              end if
+              if (hit > 0) exit
+            end do
+            if (hit > 0) then
+              how = ''
+              if (b%geom%kind /= geom_none) how = ' by '//rtoa(depth)//' m'
+              call set_error(err, "deck '"//deck%path//"', group &body (body "//itoa(ka)// &
+                ", '"//trim(a%name)//"'), variable "//body_place_var(deck%bodies(ka)%shape)// &
+                ": particle "//itoa(hit)//" at ("//rtoa(a%x(1, hit))//", "// &
+                rtoa(a%x(2, hit))//") lies inside body '"//trim(b%name)//"'"//how// &
+                " at t = 0: bodies may touch but not overlap (tolerance "//rtoa(tol)// &
+                " m, 1% of the smaller spacing); move or shrink one of them")
+              return
+            end if
+          end associate
+        end do
+      end do
+    end do
+  end subroutine check_overlaps
+
+
 
   !> One body from its spec; err names deck, group and variable on failure.
   subroutine build_body(deck, s, k, b, err)
@@ -77,11 +194,20 @@ contains
         s%theta_end*pi/180.0_wp, s%n(1), s%n(2), e2)
     case ('file')
       call read_particles(trim(s%file), nd, xs, vols, loop, order, e2)
+      if (.not. allocated(e2)) call check_file_values(trim(s%file), xs, vols, e2)
       if (.not. allocated(e2)) call make_from_arrays(b, xs, vols, loop, order, e2)
       if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
+      if (.not. allocated(e2)) call check_file_layout(trim(s%file), b, e2)
     end select
     if (allocated(e2)) then
-      call set_error(err, where//': '//e2%message)
+      call set_error(err, where//', variable '//body_make_vars(s%shape)//': '//e2%message)
+      return
+    end if
+    if (b%np < basis_size(s%bid)) then
+      call set_error(err, where//', variable '//body_count_var(s%shape)//': the body has '// &
+        itoa(b%np)//' particle(s), and the basis '''//trim(s%basis)//''' needs at least '// &
+        itoa(basis_size(s%bid))//' (Theorem 3.1); give more particles ('// &
+        body_count_var(s%shape)//')')
       return
     end if
     b%name = s%name
@@ -121,12 +247,128 @@ contains
         return
       end if
     end if
-    call check_particles(b, where, err)
+    if (b%ndim > 1 .and. flat_layout(b%x)) then
+      call set_error(err, where//', variable '//body_make_vars(s%shape)//': the '//itoa(b%np)// &
+        ' particles lie on one '//trim(merge('line ', 'plane', b%ndim == 2))//', a '// &
+        'degenerate layout: a '//itoa(b%ndim)//'-D body needs particles spread in every '// &
+        'direction, or its moment matrix is singular whatever the support')
+      return
+    end if
+    call check_particles(b, s, where, err)
   end subroutine build_body
 
-  !> det(M) > 0 at every particle of the body (Theorem 3.1 for any distribution).
-  subroutine check_particles(b, where, err)
+  !> True when the points x(ndim, np) lie on one line (2D) or plane (3D): the determinant of
+  !! their covariance vanishes next to the cube (square) of its trace.
+  pure logical function flat_layout(x) result(flat)
+    real(wp), intent(in) :: x(:, :)
+    real(wp) :: c(3, 3), m(3), d, tr
+    integer :: nd, i
+    nd = size(x, 1)
+    m = 0.0_wp
+    m(1:nd) = sum(x, dim=2)/real(size(x, 2), wp)
+    c = 0.0_wp
+    do i = 1, size(x, 2)
+      c(1:nd, 1:nd) = c(1:nd, 1:nd) + spread(x(:, i) - m(1:nd), 2, nd)* &
+        spread(x(:, i) - m(1:nd), 1, nd)
+    end do
+    tr = c(1, 1) + c(2, 2) + c(3, 3)
+    if (nd == 2) then
+      d = c(1, 1)*c(2, 2) - c(1, 2)**2
+    else
+      d = c(1, 1)*(c(2, 2)*c(3, 3) - c(2, 3)**2) - c(1, 2)*(c(1, 2)*c(3, 3) - c(2, 3)*c(1, 3)) &
+        + c(1, 3)*(c(1, 2)*c(2, 3) - c(2, 2)*c(1, 3))
+    end if
+    flat = d <= 1.0e3_wp*epsilon(1.0_wp)*tr**nd
+  end function flat_layout
+
+  !> Every coordinate and volume of a particle file finite (HDF5 files hold NaN as easily).
+  subroutine check_file_values(path, x, vol, err)
+    character(len=*), intent(in) :: path
+    real(wp), intent(in) :: x(:, :), vol(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i
+    do i = 1, size(vol)
+      if (.not. (all(ieee_is_finite(x(:, i))) .and. ieee_is_finite(vol(i)))) then
+        call set_error(err, "particle file '"//path//"', particle "//itoa(i)// &
+          ": a coordinate or the volume is not a finite number (NaN or Infinity); fix "// &
+          "the file")
+        return
+      end if
+    end do
+  end subroutine check_file_values
+
+  !> A particle file's volumes must fit its particles' extent (a coordinate column read as
+  !! the volume does not), and no two particles may coincide (closer than coincide_tol x
+  !! the nominal spacing: the same point given twice carries its volume twice).
+  subroutine check_file_layout(path, b, err)
+    character(len=*), intent(in) :: path
     type(body_t), intent(in) :: b
+    type(error_t), allocatable, intent(inout) :: err
+    type(bins_t) :: bins
+    integer, allocatable :: cand(:)
+    real(wp) :: box, tol, r(3)
+    integer :: nd, i, k, nc, j
+    nd = b%ndim
+    box = product(maxval(b%x, dim=2) - minval(b%x, dim=2) + 2.0_wp*b%spacing(1:nd))
+    if (sum(b%vol) > volume_excess*box) then
+      call set_error(err, "particle file '"//path//"': the volumes add up to "// &
+        rtoa(sum(b%vol))//" m^"//itoa(nd)//", "//rtoa(sum(b%vol)/box)//" times the box "// &
+        "around the particles grown by one spacing ("//rtoa(box)//" m^"//itoa(nd)//"); "// &
+        "is a coordinate read as the volume? A "//itoa(nd)//"-D deck reads "// &
+        trim(columns_text(nd))//" (a z column belongs to &run ndim = 3)")
+      return
+    end if
+    tol = coincide_tol*minval(b%spacing(1:nd))
+    call bins_build(bins, b%x, b%spacing(1:nd), err)
+    if (allocated(err)) return
+    allocate(cand(b%np))
+    r = tol
+    do i = 1, b%np
+      call bins_candidates(bins, b%x(:, i), r(1:nd), cand, nc)
+      do k = 1, nc
+        j = cand(k)
+        if (j == i) cycle
+        if (norm2(b%x(:, j) - b%x(:, i)) <= tol) then
+          call set_error(err, "particle file '"//path//"': particles "//itoa(min(i, j))// &
+            " and "//itoa(max(i, j))//" coincide (both at ("//trim(coords(b%x(:, i)))// &
+            "), closer than "//rtoa(tol)//" m = 1e-3 of the spacing); give each particle "// &
+            "once")
+          return
+        end if
+      end do
+    end do
+  contains
+    pure function coords(p) result(t)
+      real(wp), intent(in) :: p(:)
+      character(len=:), allocatable :: t
+      integer :: d
+      t = rtoa(p(1))
+      do d = 2, size(p)
+        t = t//', '//rtoa(p(d))
+      end do
+    end function coords
+  end subroutine check_file_layout
+
+  !> The columns of a plain particle file in ndim dimensions.
+  pure function columns_text(nd) result(t)
+    integer, intent(in) :: nd
+    character(len=:), allocatable :: t
+    select case (nd)
+    case (1)
+      t = 'x volume [loop order]'
+    case (2)
+      t = 'x y volume [loop order]'
+    case default
+      t = 'x y z volume [loop order]'
+    end select
+  end function columns_text
+
+  !> det(M) > 0 at every particle of the body (Theorem 3.1 for any distribution). The
+  !! message tells too few covering particles (a support too small) from enough particles
+  !! in a degenerate layout (all on a line, for instance), which no support can mend.
+  subroutine check_particles(b, s, where, err)
+    type(body_t), intent(in) :: b
+    type(body_spec_t), intent(in) :: s
     character(len=*), intent(in) :: where
     type(error_t), allocatable, intent(inout) :: err
     type(rk_cloud_t) :: c
@@ -148,10 +390,20 @@ contains
       end if
     end do
     !$omp end parallel do
-    if (bad_i > 0) then
-      call set_error(err, where//', variable support_factor: moment matrix singular at '// &
-        'particle '//itoa(bad_i)//' (covered by '//itoa(bad_n)//' particles, basis needs '// &
-        'at least '//itoa(basis_size(b%bid))//' in general position): increase support_factor')
+    if (bad_i == 0) return
+    if (bad_n < basis_size(b%bid)) then
+      call set_error(err, where//', variable support_factor = '// &
+        rtoa(minval(s%support_factor(1:b%ndim)))//': moment matrix singular at particle '// &
+        itoa(bad_i)//', covered by only '//itoa(bad_n)//' particle(s) while the basis '''// &
+        trim(s%basis)//''' needs at least '//itoa(basis_size(b%bid))//' (Theorem 3.1); '// &
+        'increase support_factor')
+    else
+      call set_error(err, where//', variable '//body_count_var(s%shape)//': moment matrix '// &
+        'singular at particle '//itoa(bad_i)//' although '//itoa(bad_n)//' particles '// &
+        'cover it (the basis '''//trim(s%basis)//''' needs '//itoa(basis_size(b%bid))// &
+        '): they lie in a degenerate layout, e.g. all on one line, which a larger support '// &
+        'does not mend; check the particle positions (a body needs particles spread in '// &
+        'every direction)')
     end if
   end subroutine check_particles
 
@@ -239,18 +491,21 @@ contains
 
   !> Plain columns, one particle a line: x [y [z]] volume [loop order]; '#' starts a comment.
   !! loop = 0 for interior particles, k > 0 for particles on boundary polyline k, with order
-  !! their position along it (counter-clockwise around the material).
+  !! their position along it (counter-clockwise around the material). Every line has the
+  !! same columns, ndim + 1 or ndim + 3 of them (a file of another dimension has others);
+  !! volumes are positive, loop and order whole numbers.
   subroutine read_particle_columns(path, ndim, x, vol, loop, order, err)
     character(len=*), intent(in) :: path
     integer, intent(in) :: ndim
     real(wp), allocatable, intent(out) :: x(:, :), vol(:)
     integer, allocatable, intent(out) :: loop(:), order(:)
     type(error_t), allocatable, intent(inout) :: err
-    integer :: u, ios, n, lineno, i
+    integer :: u, ios, n, lineno, i, nf, nf1, line1
     character(len=1024) :: line
     character(len=512) :: msg
     real(wp) :: vals(5)
     integer :: lo_or(2)
+    character(len=:), allocatable :: at, hint
     open(newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
     if (ios /= 0) then
       call set_error(err, "particle file '"//path//"': "//trim(msg))
@@ -266,23 +521,66 @@ contains
     rewind(u)
     i = 0
     lineno = 0
+    nf1 = 0
+    line1 = 0
     do
       read(u, '(a)', iostat=ios) line
       if (ios /= 0) exit
       lineno = lineno + 1
       if (.not. is_data(line)) cycle
       i = i + 1
+      at = "particle file '"//path//"' line "//itoa(lineno)
+      nf = count_fields(line)
+      if (nf /= ndim + 1 .and. nf /= ndim + 3) then
+        call set_error(err, at//" has "//itoa(nf)//" columns; a "//itoa(ndim)//"-D deck "// &
+          "reads "//columns_text(ndim)//", "//itoa(ndim + 1)//" or "//itoa(ndim + 3)// &
+          " columns"//trim(other_dim_hint(nf, ndim)))
+        close(u)
+        return
+      end if
+      if (nf1 == 0) then
+        nf1 = nf
+        line1 = lineno
+      else if (nf /= nf1) then
+        call set_error(err, at//" has "//itoa(nf)//" columns and line "//itoa(line1)// &
+          " has "//itoa(nf1)//"; give every particle the same columns ("// &
+          columns_text(ndim)//")")
+        close(u)
+        return
+      end if
       read(line, *, iostat=ios) vals(1:ndim + 1)
       if (ios /= 0) then
-        call set_error(err, "particle file '"//path//"' line "//itoa(lineno)// &
-          ": expected "//itoa(ndim)//" coordinates and a volume")
+        call set_error(err, at//": expected "//itoa(ndim)//" coordinates and a volume, "// &
+          "numbers ("//columns_text(ndim)//")")
+        close(u)
+        return
+      end if
+      if (.not. all(ieee_is_finite(vals(1:ndim + 1)))) then
+        call set_error(err, at//": a coordinate or the volume is not a finite number (NaN "// &
+          "or Infinity); fix the file")
+        close(u)
+        return
+      end if
+      if (.not. vals(ndim + 1) > 0.0_wp) then
+        hint = ''
+        if (ndim == 2 .and. nf == 3) hint = '; is the third column a z coordinate?'
+        call set_error(err, at//": volume (column "//itoa(ndim + 1)//") = "// &
+          rtoa(vals(ndim + 1))//" must be positive ("//columns_text(ndim)//hint//")")
         close(u)
         return
       end if
       x(:, i) = vals(1:ndim)
       vol(i) = vals(ndim + 1)
-      read(line, *, iostat=ios) vals(1:ndim + 1), lo_or
-      if (ios /= 0) lo_or = 0
+      lo_or = 0
+      if (nf == ndim + 3) then
+        read(line, *, iostat=ios) vals(1:ndim + 1), lo_or
+        if (ios /= 0) then
+          call set_error(err, at//": loop and order (columns "//itoa(ndim + 2)//" and "// &
+            itoa(ndim + 3)//") must be whole numbers")
+          close(u)
+          return
+        end if
+      end if
       loop(i) = lo_or(1)
       order(i) = lo_or(2)
     end do
@@ -294,5 +592,37 @@ contains
       t = adjustl(l)
       is_data = len_trim(t) > 0 .and. t(1:1) /= '#'
     end function is_data
+
+    !> Fields separated by blanks, tabs or commas.
+    pure integer function count_fields(l) result(nf)
+      character(len=*), intent(in) :: l
+      integer :: k
+      logical :: in_field, sep
+      nf = 0
+      in_field = .false.
+      do k = 1, len_trim(l)
+        sep = index(' ,'//achar(9)//achar(13), l(k:k)) > 0
+        if (.not. sep .and. .not. in_field) nf = nf + 1
+        in_field = .not. sep
+      end do
+    end function count_fields
+
+    !> "; 4 columns fit a 3-D file ..." when nf columns fit a file of another dimension
+    !! (without loop and order columns first: x y z volume rather than x volume loop order).
+    pure function other_dim_hint(nf, nd) result(h)
+      integer, intent(in) :: nf, nd
+      character(len=:), allocatable :: h
+      integer :: d, extra
+      h = ''
+      do extra = 1, 3, 2
+        do d = 3, 1, -1
+          if (d /= nd .and. nf == d + extra) then
+            h = '; '//itoa(nf)//' columns fit a '//itoa(d)//'-D file ('//columns_text(d)// &
+              '): set &run ndim = '//itoa(d)//' or drop the extra columns'
+            return
+          end if
+        end do
+      end do
+    end function other_dim_hint
   end subroutine read_particle_columns
 end module bodies_m

@@ -3,28 +3,38 @@
 !! and every message names the deck, the group, the variable, the value and the fix.
 !! Variables, units, defaults and ranges are documented in doc/deck.md.
 module deck_m
-  use kinds_m, only: wp
+  use kinds_m, only: wp, i64
   use strings_m, only: lower, itoa, join_names, rtoa_plain => rtoa
   use errors_m, only: error_t, set_error
   use kernels_m, only: kernel_id, kernel_names, window_shape_id, window_shape_names
   use basis_m, only: basis_id, basis_names, basis_order
   use material_m, only: material_params_t, check_material_params
+  use geometry_m, only: polygon_crossing
   use, intrinsic :: iso_fortran_env, only: iostat_end
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
   public :: deck_t, run_params_t, body_spec_t, detection_spec_t, output_spec_t
   public :: material_spec_t, solver_spec_t, bc_spec_t, contact_spec_t
-  public :: read_deck, max_vertices, max_points, unset
+  public :: read_deck, max_vertices, max_points, unset, untyped_vars
+  public :: body_count_var, body_place_var, body_make_vars
 
   integer, parameter :: max_vertices = 64
   integer, parameter :: max_points = 32
   integer, parameter :: max_bodies = 16
+  !> Most particles of a generated 2D lattice (rectangle, polygon, annulus sector).
+  integer(i64), parameter :: max_lattice = 50000000_i64
+  !> Most query points of one &detection set (line or grid).
+  integer(i64), parameter :: max_queries = 100000000_i64
   integer, parameter :: path_len = 512
   !> Marks an array entry the deck did not set.
   real(wp), parameter :: unset = -huge(1.0_wp)
 
   character(len=*), parameter :: known_groups(8) = [character(len=9) :: &
     'run', 'body', 'detection', 'output', 'material', 'solver', 'bc', 'contact']
+  !> The groups a deck may give more than once (each of the others at most once).
+  character(len=*), parameter :: repeatable_groups(4) = [character(len=8) :: &
+    'body', 'material', 'bc', 'contact']
   character(len=*), parameter :: modes(2) = [character(len=8) :: 'detect', 'dynamic']
   character(len=*), parameter :: roles(2) = [character(len=10) :: 'deformable', 'rigid']
   character(len=*), parameter :: discretizations(2) = [character(len=4) :: 'rkpm', 'fem']
@@ -187,7 +197,38 @@ contains
     if (.not. allocated(err)) call read_contacts(u, deck, err)
     if (.not. allocated(err)) call read_output(u, deck, err)
     close(u)
+    if (.not. allocated(err)) call check_across(deck, err)
   end subroutine read_deck
+
+  !> Checks that span groups, after every group is read and checked on its own.
+  subroutine check_across(deck, err)
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, j
+    real(wp) :: steps
+    if (deck%run%mode == 'dynamic' .and. deck%solver%dt > 0.0_wp) then
+      ! the step counter is a default integer
+      steps = deck%solver%t_end/deck%solver%dt
+      if (steps > real(huge(1), wp)) then
+        call bad(deck, 'solver', 'dt', rtoa(deck%solver%dt), 't_end/dt = '//rtoa(steps)// &
+          ' steps, more than the '//itoa(huge(1))//' a run can count; give a larger dt or '// &
+          'a shorter t_end', err)
+        return
+      end if
+    end if
+    do k = 2, deck%ncontacts
+      do j = 1, k - 1
+        if (deck%contacts(k)%imaster == deck%contacts(j)%imaster .and. &
+          deck%contacts(k)%islave == deck%contacts(j)%islave) then
+          call bad(deck, 'contact (contact '//itoa(k)//')', 'slave', "'"// &
+            trim(deck%contacts(k)%slave)//"'", "contact "//itoa(j)//" pairs the same master '"// &
+            trim(deck%contacts(k)%master)//"' and slave already: its forces would be applied "// &
+            "twice; give each pair once", err)
+          return
+        end if
+      end do
+    end do
+  end subroutine check_across
 
   subroutine read_text(path, text, err)
     character(len=*), intent(in) :: path
@@ -208,16 +249,24 @@ contains
     if (ios /= 0) call set_error(err, "deck '"//path//"' cannot be read: "//trim(msg))
   end subroutine read_text
 
-  !> Scan the deck before gfortran reads it: every group name and every variable name must
-  !! be known. gfortran skips unknown groups silently, and for a misspelt name after an
-  !! array it may report "Bad data for namelist object <previous>" instead of the culprit;
-  !! this scan names the line, the group, the misspelt variable and the nearest valid name.
+  !> Scan the deck before gfortran reads it, so that every mistake is named by line, group
+  !! and variable instead of by gfortran's "Cannot match namelist object name ...":
+  !! - every group name and every variable name must be known (gfortran skips unknown groups
+  !!   silently, and after an array it may blame the previous variable for a misspelt one);
+  !!   the message gives the nearest valid name;
+  !! - &run, &detection, &solver and &output at most once (gfortran reads only the first);
+  !! - names and unquoted values in ASCII (a typographic quote is the usual culprit);
+  !! - every value of the type of its variable (check_value): reals finite (gfortran takes
+  !!   NaN, Infinity and 1e400 without a word), integers without a decimal point and in
+  !!   range, strings quoted. Values of a variable whose type is not listed in var_type
+  !!   still may not be NaN or Infinity.
   subroutine check_groups(deck, err)
     type(deck_t), intent(in) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=:), allocatable :: t, group, word
-    integer :: i, n, lineno, j, k, depth
-    logical :: in_group
+    character(len=:), allocatable :: t, group, var, gtext
+    integer :: i, n, lineno, j, k, ig, nth(size(known_groups)), first(size(known_groups))
+    integer :: last_end(size(known_groups)), nvals
+    logical :: in_group, subscripted
     character :: qc
     t = deck%text
     n = len(t)
@@ -225,6 +274,14 @@ contains
     lineno = 1
     in_group = .false.
     group = ''
+    var = ''
+    gtext = ''
+    nth = 0
+    first = 0
+    last_end = 0
+    ig = 0
+    nvals = 0
+    subscripted = .false.
     do while (i <= n)
       select case (t(i:i))
       case (achar(10))
@@ -232,24 +289,38 @@ contains
         i = i + 1
       case ("'", '"')
         qc = t(i:i)
-        i = i + 1
-        do while (i <= n)
-          if (t(i:i) == qc) exit
-          if (t(i:i) == achar(10)) lineno = lineno + 1
-          i = i + 1
+        j = i + 1
+        do while (j <= n)
+          if (t(j:j) == qc) then
+            ! a doubled quote is a quote inside the string
+            if (j == n) exit
+            if (t(j + 1:j + 1) /= qc) exit
+            j = j + 1
+          else if (t(j:j) == achar(10)) then
+            lineno = lineno + 1
+          end if
+          j = j + 1
         end do
-        i = i + 1
+        if (in_group) then
+          call check_value(deck, lineno, group, gtext, var, t(i:min(j, n)), .true., err)
+          if (.not. allocated(err)) call count_values(t(i:min(j, n)))
+          if (allocated(err)) return
+        end if
+        i = j + 1
       case ('!')
         do while (i <= n)
           if (t(i:i) == achar(10)) exit
           i = i + 1
         end do
       case ('&')
-        j = i + 1
-        do while (j <= n)
-          if (.not. is_name_char(t(j:j))) exit
-          j = j + 1
-        end do
+        j = name_end(t, i + 1)
+        if (j <= n) then
+          if (is_non_ascii(t(j:j))) then
+            call non_ascii_error(deck, lineno, 'the group name', t(i:name_end(t, j, .true.) - 1), &
+              err)
+            return
+          end if
+        end if
         group = lower(t(i + 1:j - 1))
         if (group /= 'end' .and. .not. any(known_groups == group)) then
           call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
@@ -258,58 +329,329 @@ contains
           return
         end if
         in_group = group /= 'end'
+        var = ''
+        if (in_group) then
+          do ig = 1, size(known_groups)
+            if (known_groups(ig) == group) exit
+          end do
+          nth(ig) = nth(ig) + 1
+          if (nth(ig) == 1) first(ig) = lineno
+          if (nth(ig) > 1 .and. .not. any(repeatable_groups == group)) then
+            call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//": group &"// &
+              group//" is given a second time (first at line "//itoa(first(ig))//"); give "// &
+              "it once: only the first would be read (repeatable groups: "// &
+              join_names(repeatable_groups)//")")
+            return
+          end if
+          ! gfortran reads on from the line after the one where a group ends
+          if (nth(ig) > 1 .and. last_end(ig) == lineno) then
+            call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//": group &"// &
+              group//" "//itoa(nth(ig))//" starts on the line where &"//group//" "// &
+              itoa(nth(ig) - 1)//" ends, and would be skipped; start each group on a new line")
+            return
+          end if
+          gtext = ", group &"//group
+          if (any(repeatable_groups == group)) gtext = gtext//' ('//group//' '// &
+            itoa(nth(ig))//')'
+        end if
         i = j
       case ('/')
+        if (in_group) last_end(ig) = lineno
         in_group = .false.
         i = i + 1
+      case (' ', ',', '=', achar(9), achar(13))
+        i = i + 1
       case default
-        if (in_group .and. is_name_start(t(i:i)) .and. (i == 1 .or. .not. &
-          is_name_char(t(max(i - 1, 1):max(i - 1, 1))))) then
-          j = i
-          do while (j <= n)
-            if (.not. is_name_char(t(j:j))) exit
-            j = j + 1
-          end do
-          word = lower(t(i:j - 1))
-          ! a name is a variable when '=' follows (after an optional (subscript))
-          k = j
-          do while (k <= n)
-            if (t(k:k) /= ' ' .and. t(k:k) /= achar(9)) exit
-            k = k + 1
-          end do
-          if (k <= n) then
-            if (t(k:k) == '(') then
-              depth = 0
-              do while (k <= n)
-                if (t(k:k) == '(') depth = depth + 1
-                if (t(k:k) == ')') depth = depth - 1
-                k = k + 1
-                if (depth == 0) exit
-              end do
-              do while (k <= n)
-                if (t(k:k) /= ' ') exit
-                k = k + 1
-              end do
-            end if
-          end if
-          if (k <= n) then
-            if (t(k:k) == '=' .and. .not. is_value_word(word)) then
-              if (.not. var_known(group, word)) then
-                call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
-                  ", group &"//group//": unknown variable '"//word//"'"// &
-                  nearest_hint(group, word)//"; variables of &"//group//": "// &
-                  group_vars(group)//" (see doc/deck.md)")
-                return
-              end if
-            end if
-          end if
-          i = j
-        else
+        if (.not. in_group) then
           i = i + 1
+          cycle
         end if
+        j = name_end(t, i)
+        if (is_name_start(t(i:i)) .and. j <= n) then
+          if (is_non_ascii(t(j:j))) then
+            call non_ascii_error(deck, lineno, gtext(3:)//': the variable name', &
+              t(i:name_end(t, j, .true.) - 1), err)
+            return
+          end if
+        end if
+        k = after_subscript(t, j)
+        if (is_name_start(t(i:i)) .and. k <= n) then
+          if (t(k:k) == '=' .and. .not. is_value_word(lower(t(i:j - 1)))) then
+            ! a variable: name [(subscript)] =
+            var = lower(t(i:j - 1))
+            nvals = 0
+            subscripted = index(t(j:k), "(") > 0
+            if (.not. var_known(group, var)) then
+              call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
+                ", group &"//group//": unknown variable '"//var//"'"// &
+                nearest_hint(group, var)//"; variables of &"//group//": "// &
+                group_vars(group)//" (see doc/deck.md)")
+              return
+            end if
+            i = k + 1
+            cycle
+          end if
+        end if
+        ! an unquoted value: up to the next separator
+        j = i
+        do while (j <= n)
+          if (index(" ,/!&'"""//achar(9)//achar(10)//achar(13), t(j:j)) > 0) exit
+          j = j + 1
+        end do
+        if (any([(is_non_ascii(t(k:k)), k = i, j - 1)])) then
+          call non_ascii_error(deck, lineno, gtext(3:)//', variable '//var//': the value', &
+            t(i:j - 1), err)
+          return
+        end if
+        call check_value(deck, lineno, group, gtext, var, t(i:j - 1), .false., err)
+        if (.not. allocated(err)) call count_values(t(i:j - 1))
+        if (allocated(err)) return
+        i = j
       end select
     end do
+  contains
+    !> Count the values tok stands for (r*c: r of them) and refuse more than var holds,
+    !! unless a subscript placed them (lo(2) = ...).
+    subroutine count_values(tok)
+      character(len=*), intent(in) :: tok
+      integer :: star, r, ios, nmax
+      r = 1
+      star = index(tok, '*')
+      if (star > 1) then
+        read(tok(1:star - 1), *, iostat=ios) r
+        if (ios /= 0) r = 1
+      end if
+      nvals = nvals + r
+      nmax = var_size(group, var)
+      if (subscripted .or. nmax == 0 .or. nvals <= nmax) return
+      if (nmax == 1) then
+        call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//gtext// &
+          ", variable "//var//": takes one value, and the deck gives more (the last "// &
+          tok//"); remove the extra values, or the missing 'name =' before them")
+      else
+        call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//gtext// &
+          ", variable "//var//": takes at most "//itoa(nmax)//" values, and the deck "// &
+          "gives "//itoa(nvals)//"; remove the extra values")
+      end if
+    end subroutine count_values
   end subroutine check_groups
+
+  !> One past the last name character from i (also past non-ASCII bytes when greedy).
+  pure integer function name_end(t, i, greedy) result(j)
+    character(len=*), intent(in) :: t
+    integer, intent(in) :: i
+    logical, intent(in), optional :: greedy
+    logical :: g
+    g = .false.
+    if (present(greedy)) g = greedy
+    j = i
+    do while (j <= len(t))
+      if (.not. (is_name_char(t(j:j)) .or. (g .and. is_non_ascii(t(j:j))))) exit
+      j = j + 1
+    end do
+  end function name_end
+
+  !> Position of the first non-blank after j, skipping one (subscript) if there is one.
+  pure integer function after_subscript(t, j) result(k)
+    character(len=*), intent(in) :: t
+    integer, intent(in) :: j
+    integer :: depth
+    k = j
+    do while (k <= len(t))
+      if (t(k:k) /= ' ' .and. t(k:k) /= achar(9)) exit
+      k = k + 1
+    end do
+    if (k > len(t)) return
+    if (t(k:k) /= '(') return
+    depth = 0
+    do while (k <= len(t))
+      if (t(k:k) == '(') depth = depth + 1
+      if (t(k:k) == ')') depth = depth - 1
+      k = k + 1
+      if (depth == 0) exit
+    end do
+    do while (k <= len(t))
+      if (t(k:k) /= ' ' .and. t(k:k) /= achar(9)) exit
+      k = k + 1
+    end do
+  end function after_subscript
+
+  subroutine non_ascii_error(deck, lineno, what, word, err)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: lineno
+    character(len=*), intent(in) :: what, word
+    type(error_t), allocatable, intent(inout) :: err
+    call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//": "//what//" '"// &
+      word//"' holds a character outside ASCII; names are ASCII letters, digits and '_', "// &
+      "strings are quoted with ' or "" (a typographic quote copied from a document is the "// &
+      "usual culprit)")
+  end subroutine non_ascii_error
+
+  !> One value tok of variable var of group (at line lineno; gtext ", group &body (body 2)"),
+  !! checked against the type of var; quoted says tok is a quoted string (quotes included).
+  !! A repeat count (3*1.0) and null values (3*, or nothing between commas) are allowed, as
+  !! gfortran reads them.
+  subroutine check_value(deck, lineno, group, gtext, var, tok, quoted, err)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: lineno
+    character(len=*), intent(in) :: group, gtext, var, tok
+    logical, intent(in) :: quoted
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: v, expect, where
+    character :: typ
+    integer :: star, ios
+    real(wp) :: x
+    integer(i64) :: ix
+    !> Reals from 10**max_magnitude on are refused (huge(1.0_wp) is 1.8e308).
+    integer, parameter :: max_magnitude = range(1.0_wp) + 1
+    character(len=*), parameter :: range_text = 'beyond the range of a real (1e308 and '// &
+      'more); give a finite value in the units of the variable'
+    where = "deck '"//deck%path//"' line "//itoa(lineno)//gtext
+    if (len(var) == 0) then
+      call set_error(err, where//": value "//tok//" without a variable; write name = value "// &
+        "(variables of &"//group//": "//group_vars(group)//")")
+      return
+    end if
+    typ = var_type(group, var)
+    select case (typ)
+    case ('r')
+      expect = 'a real number (e.g. 1.0e-3)'
+    case ('i')
+      expect = 'an integer, without a decimal point (e.g. 2)'
+    case ('l')
+      expect = '.true. or .false.'
+    case ('s')
+      expect = "a quoted string: "//var//" = '"//tok//"'"
+    case default
+      expect = ''
+    end select
+    if (quoted) then
+      if (typ /= 's' .and. typ /= ' ') call type_error('is a quoted string; '//var// &
+        ' takes '//expect)
+      return
+    end if
+    ! an optional repeat count r*
+    v = lower(tok)
+    star = index(v, '*')
+    if (star > 1) then
+      if (verify(v(1:star - 1), '0123456789') == 0) v = v(star + 1:)
+    end if
+    if (len(v) == 0) return
+    if (is_non_finite_word(v)) then
+      call type_error('not a finite number; give a finite value (NaN and Infinity are '// &
+        'not accepted)')
+      return
+    end if
+    select case (typ)
+    case ('r')
+      if (verify(v, '0123456789.+-ed') /= 0 .or. scan(v, '0123456789') == 0) then
+        call type_error('not a number; '//var//' takes '//expect)
+        return
+      end if
+      ! a literal beyond the range is refused before it is read: reading it overflows
+      if (decimal_magnitude(v) >= max_magnitude) then
+        call type_error(range_text)
+        return
+      end if
+      read(v, *, iostat=ios) x
+      if (ios /= 0) then
+        call type_error('not a number; '//var//' takes '//expect)
+      else if (.not. ieee_is_finite(x)) then
+        call type_error(range_text)
+      end if
+    case ('i')
+      if (verify(v, '0123456789+-') /= 0 .or. scan(v, '0123456789') == 0) then
+        call type_error('not an integer; '//var//' takes '//expect)
+        return
+      end if
+      read(v, *, iostat=ios) ix
+      if (ios /= 0 .or. abs(ix) > int(huge(1), i64)) call type_error('outside the integer '// &
+        'range (at most '//itoa(huge(1))//'); give a smaller count')
+    case ('l')
+      if (v(1:1) == '.') v = v(2:)
+      if (len(v) == 0) then
+        call type_error('not a logical; '//var//' takes '//expect)
+      else if (v(1:1) /= 't' .and. v(1:1) /= 'f') then
+        call type_error('not a logical; '//var//' takes '//expect)
+      end if
+    case ('s')
+      call type_error('not quoted; '//var//' takes '//expect)
+    case default
+      ! a type not listed: only a number out of range is caught here
+      if (verify(v, '0123456789.+-ed') == 0 .and. scan(v, '0123456789') > 0) then
+        if (decimal_magnitude(v) >= max_magnitude) call type_error(range_text)
+      end if
+    end select
+  contains
+    subroutine type_error(why)
+      character(len=*), intent(in) :: why
+      call set_error(err, where//", variable "//var//" = "//tok//": "//why//" (see "// &
+        "doc/deck.md)")
+    end subroutine type_error
+  end subroutine check_value
+
+  !> The decimal exponent of the leading digit of the real literal v (12.5e3: 4, 0.03: -2,
+  !! 0: -huge), from its text alone; v holds digits, '.', an exponent letter e or d and
+  !! signs (an optional leading one). Text that is no number gives some value; the read
+  !! that follows refuses it.
+  pure integer function decimal_magnitude(v) result(mag)
+    character(len=*), intent(in) :: v
+    character(len=:), allocatable :: w, mant, ipart, fpart
+    integer :: e, dot, ios, k, ex
+    w = v
+    if (len(w) > 0) then
+      if (w(1:1) == '+' .or. w(1:1) == '-') w = w(2:)
+    end if
+    e = scan(w, 'ed')
+    mant = w
+    ex = 0
+    if (e > 0) then
+      mant = w(1:e - 1)
+      if (len(w) - e > 6) then
+        ! more exponent digits than any real: its sign decides
+        ex = merge(-1000000, 1000000, index(w(e + 1:), '-') > 0)
+      else
+        read(w(e + 1:), *, iostat=ios) ex
+        if (ios /= 0) ex = 0
+      end if
+    end if
+    dot = index(mant, '.')
+    if (dot > 0) then
+      ipart = mant(1:dot - 1)
+      fpart = mant(dot + 1:)
+    else
+      ipart = mant
+      fpart = ''
+    end if
+    k = verify(ipart, '0')
+    if (k > 0) then
+      mag = ex + (len(ipart) - k)
+      return
+    end if
+    k = verify(fpart, '0')
+    if (k == 0) then
+      mag = -huge(1)
+    else
+      mag = ex - k
+    end if
+  end function decimal_magnitude
+
+  !> NaN, Inf, Infinity with an optional sign, and NaN(...) as gfortran reads them.
+  pure logical function is_non_finite_word(v)
+    character(len=*), intent(in) :: v
+    character(len=:), allocatable :: w
+    w = v
+    if (len(w) > 0) then
+      if (w(1:1) == '+' .or. w(1:1) == '-') w = w(2:)
+    end if
+    is_non_finite_word = w == 'nan' .or. w == 'inf' .or. w == 'infinity' .or. &
+      index(w, 'nan(') == 1
+  end function is_non_finite_word
+
+  pure logical function is_non_ascii(c)
+    character, intent(in) :: c
+    is_non_ascii = iachar(c) > 127 .or. iachar(c) < 0
+  end function is_non_ascii
 
   pure logical function is_name_start(c)
     character, intent(in) :: c
@@ -503,7 +845,7 @@ contains
       s%integration = lower(integration)
       s%stabilization = stabilization
       s%discretization = lower(discretization)
-      call check_body(deck, k, s, err)
+      call check_body(deck, k, tmp(1:k - 1), s, err)
       if (allocated(err)) return
       tmp(k) = s
     end do
@@ -516,27 +858,37 @@ contains
     deck%bodies = tmp(1:k)
   end subroutine read_bodies
 
-  subroutine check_body(deck, k, s, err)
+  !> Body k against the deck and the bodies before it (prev).
+  subroutine check_body(deck, k, prev, s, err)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
+    type(body_spec_t), intent(in) :: prev(:)
     type(body_spec_t), intent(inout) :: s
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: grp
-    integer :: nd, j
+    integer :: nd, j, e1, e2
     logical :: exists
     nd = deck%run%ndim
     grp = 'body'
     if (len_trim(s%name) == 0) s%name = 'body'//itoa(k)
     grp = "body (body "//itoa(k)//", '"//trim(s%name)//"')"
-    do j = 1, k - 1
-      if (deck_body_name(deck, j) == s%name) then
-        call bad(deck, grp, 'name', "'"//trim(s%name)//"'", 'give every body its own name', err)
+    do j = 1, size(prev)
+      if (prev(j)%name == s%name) then
+        call bad(deck, grp, 'name', "'"//trim(s%name)//"'", 'give every body its own name '// &
+          '(body '//itoa(j)//' has it already; names key the output and &contact, &bc)', err)
         return
       end if
     end do
     if (.not. any(shapes == s%shape)) then
       call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", 'use one of: '// &
         join_names(shapes), err)
+      return
+    end if
+    ! before the basis: a basis that does not exist in ndim is a symptom, the shape the cause
+    if (shape_ndim(s%shape) > 0 .and. shape_ndim(s%shape) /= nd) then
+      call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", "a '"//trim(s%shape)// &
+        "' needs &run ndim = "//itoa(shape_ndim(s%shape))//" (this deck has ndim = "// &
+        itoa(nd)//"); use shape = 'file' for other dimensions", err)
       return
     end if
     if (.not. any(roles == s%role)) then
@@ -564,6 +916,24 @@ contains
       call bad(deck, grp, 'stabilization', rtoa(s%stabilization), 'give the SCNI sub-cell '// &
         'stabilization coefficient in [0, 10] (0 switches it off; 0.1 is the default)', err)
       return
+    end if
+    if (deck%run%mode == 'dynamic' .and. s%role == 'deformable' .and. &
+      s%discretization == 'rkpm') then
+      ! what the RKPM tables would refuse at set-up (rkpm_tl_m), named here
+      if (s%integration /= 'direct' .and. s%shape /= 'rectangle' .and. s%shape /= 'polygon') &
+        then
+        call bad(deck, grp, 'integration', "'"//trim(s%integration)//"'", trim(s%integration)// &
+          " integrates over the lattice cells of a 'rectangle' or 'polygon' body, and shape '"// &
+          trim(s%shape)//"' has none; use shape = 'rectangle' or 'polygon' (or integration "// &
+          "= 'direct', a negative control, in plane strain)", err)
+        return
+      end if
+      if (s%integration == 'direct' .and. deck%run%geometry == 'axisymmetric') then
+        call bad(deck, grp, 'integration', "'direct'", "direct nodal integration is a "// &
+          "plane-strain negative control only; use integration = 'scni' (the default) or "// &
+          "'gauss' in an axisymmetric run", err)
+        return
+      end if
     end if
     if (deck%run%mode == 'dynamic' .and. s%role == 'deformable') then
       s%imat = 0
@@ -617,47 +987,65 @@ contains
     end if
     select case (s%shape)
     case ('segment')
-      if (nd /= 1) then
-        call bad(deck, grp, 'shape', "'segment'", 'segments need &run ndim = 1', err)
-      else if (s%lo(1) == unset .or. s%hi(1) == unset .or. .not. s%hi(1) > s%lo(1)) then
+      if (s%lo(1) == unset .or. s%hi(1) == unset .or. .not. s%hi(1) > s%lo(1)) then
         call bad(deck, grp, 'lo/hi', 'missing or hi <= lo', 'give lo = a, hi = b with b > a', err)
       else if (s%n(1) < 2 .or. s%n(1) > 10000000) then
         call bad(deck, grp, 'n', itoa(s%n(1)), 'give n = number of particles, 2 .. 1e7', err)
       end if
     case ('rectangle')
-      if (nd /= 2) then
-        call bad(deck, grp, 'shape', "'rectangle'", 'rectangles need &run ndim = 2', err)
-      else if (any(s%lo(1:2) == unset) .or. any(s%hi(1:2) == unset) .or. &
+      if (any(s%lo(1:2) == unset) .or. any(s%hi(1:2) == unset) .or. &
         any(.not. s%hi(1:2) > s%lo(1:2))) then
         call bad(deck, grp, 'lo/hi', 'missing or hi <= lo', &
           'give lo = x0, y0 and hi = x1, y1 with x1 > x0 and y1 > y0', err)
-      else if (any(s%n(1:2) < 2) .or. real(s%n(1), wp)*s%n(2) > 5.0e7_wp) then
+      else if (any(s%n(1:2) < 2) .or. int(s%n(1), i64)*s%n(2) > max_lattice) then
         call bad(deck, grp, 'n', itoa(s%n(1))//', '//itoa(s%n(2)), &
           'give n = nx, ny with nx, ny >= 2 (at most 5e7 particles)', err)
       end if
     case ('polygon')
-      if (nd /= 2) then
-        call bad(deck, grp, 'shape', "'polygon'", 'polygons need &run ndim = 2', err)
-      else if (s%nvert < 3) then
+      if (s%nvert < 3) then
         call bad(deck, grp, 'vertices', itoa(s%nvert)//' vertices', &
           'give at least 3 vertices: vertices = x1, y1, x2, y2, x3, y3, ...', err)
       else if (any(s%spacing(1:2) == unset) .or. any(s%spacing(1:2) <= 0.0_wp)) then
         call bad(deck, grp, 'spacing', 'missing or <= 0', 'give spacing = dx, dy > 0 (m)', err)
+      else if (any(s%vertices(:, 1:s%nvert) == unset)) then
+        call bad(deck, grp, 'vertices', itoa(count(s%vertices(:, 1:s%nvert) /= unset))// &
+          ' values', 'give every vertex both coordinates, in order: vertices = x1, y1, '// &
+          'x2, y2, ... (no gaps)', err)
+      else
+        call polygon_crossing(s%vertices, s%nvert, e1, e2)
+        if (e1 > 0 .and. e1 == e2) then
+          call bad(deck, grp, 'vertices', 'vertex '//itoa(e1)//' = vertex '// &
+            itoa(merge(1, e1 + 1, e1 == s%nvert)), 'remove the repeated vertex (the '// &
+            'polygon closes itself: do not repeat the first vertex at the end)', err)
+        else if (e1 > 0) then
+          call bad(deck, grp, 'vertices', 'edges '//itoa(e1)//' and '//itoa(e2)//' meet', &
+            'the outline crosses or touches itself (edge k joins vertex k to k + 1); give '// &
+            'the vertices of one simple polygon in order around it', err)
+        else if (product((maxval(s%vertices(:, 1:s%nvert), dim=2) - &
+          minval(s%vertices(:, 1:s%nvert), dim=2))/s%spacing(1:2) + 1.0_wp) > &
+          real(max_lattice, wp)) then
+          call bad(deck, grp, 'spacing', rtoa(s%spacing(1))//', '//rtoa(s%spacing(2)), &
+            'the lattice over the polygon would have more than 5e7 points; give a '// &
+            'coarser spacing', err)
+        end if
       end if
       if (.not. allocated(err) .and. s%origin(1) == unset) s%origin = s%vertices(:, 1)
     case ('annulus_sector')
-      if (nd /= 2) then
-        call bad(deck, grp, 'shape', "'annulus_sector'", 'annuli need &run ndim = 2', err)
-      else if (.not. (s%r_outer > s%r_inner .and. s%r_inner >= 0.0_wp)) then
+      if (.not. (s%r_outer > s%r_inner .and. s%r_inner >= 0.0_wp)) then
         call bad(deck, grp, 'r_inner/r_outer', rtoa(s%r_inner)//', '//rtoa(s%r_outer), &
-          'give 0 <= r_inner < r_outer (m)', err)
+          'give 0 < r_inner < r_outer (m)', err)
+      else if (s%r_inner == 0.0_wp) then
+        call bad(deck, grp, 'r_inner', '0', 'the polar lattice would put all n_angular '// &
+          'particles of its first ring on the centre, one on top of the other; give a '// &
+          "small hole (r_inner > 0, e.g. half the radial spacing), or make a full disc "// &
+          "with shape = 'polygon'", err)
       else if (.not. (s%theta_end > s%theta_start .and. &
         s%theta_end - s%theta_start <= 360.0_wp)) then
         call bad(deck, grp, 'theta_start/theta_end', rtoa(s%theta_start)//', '// &
           rtoa(s%theta_end), 'give theta_start < theta_end <= theta_start + 360 (degrees)', err)
-      else if (any(s%n(1:2) < 2)) then
+      else if (any(s%n(1:2) < 2) .or. int(s%n(1), i64)*s%n(2) > max_lattice) then
         call bad(deck, grp, 'n', itoa(s%n(1))//', '//itoa(s%n(2)), &
-          'give n = n_radial, n_angular, both >= 2', err)
+          'give n = n_radial, n_angular, both >= 2 (at most 5e7 particles)', err)
       end if
     case ('file')
       do j = 2, 3
@@ -675,14 +1063,6 @@ contains
       end if
     end select
   end subroutine check_body
-
-  pure function deck_body_name(deck, j) result(name)
-    type(deck_t), intent(in) :: deck
-    integer, intent(in) :: j
-    character(len=64) :: name
-    name = ''
-    if (allocated(deck%bodies)) name = deck%bodies(j)%name
-  end function deck_body_name
 
   subroutine read_detection(u, deck, err)
     integer, intent(in) :: u
@@ -757,6 +1137,9 @@ contains
     else if (eps_rel < 0.0_wp .or. eps_rel >= 1.0_wp) then
       call bad(deck, 'detection', 'eps_rel', rtoa(eps_rel), &
         'give 0 (off) or a fraction of the interior plateau in (0, 1), e.g. 1e-5', err)
+    else if (line_n > max_queries) then
+      call bad(deck, 'detection', 'line_n', itoa(line_n), 'give at most 1e8 points on the '// &
+        'line (memory)', err)
     else if (line_n /= 0 .and. (line_n < 2 .or. any(line_from(1:nd) == unset) .or. &
       any(line_to(1:nd) == unset))) then
       call bad(deck, 'detection', 'line_n/line_from/line_to', itoa(line_n), &
@@ -768,7 +1151,7 @@ contains
     else if (any(grid_n(1:nd) /= 0) .and. any(.not. grid_hi(1:nd) > grid_lo(1:nd))) then
       call bad(deck, 'detection', 'grid_hi', 'not above grid_lo', &
         'give grid_hi > grid_lo in every direction', err)
-    else if (real(max(grid_n(1), 1), wp)*max(grid_n(2), 1)*max(grid_n(3), 1) > 1.0e8_wp) then
+    else if (product(int(max(grid_n(1:nd), 1), i64)) > max_queries) then
       call bad(deck, 'detection', 'grid_n', 'more than 1e8 points', &
         'use a coarser grid (memory)', err)
     else if (line_n == 0 .and. all(grid_n(1:nd) == 0) .and. d%npoints == 0) then
@@ -980,6 +1363,10 @@ contains
           itoa(deck%run%ndim), err)
       else if (tmp(k)%kind /= 'fixed' .and. tmp(k)%kind /= 'velocity') then
         call bad(deck, grp, 'kind', "'"//trim(kind)//"'", "use 'fixed' or 'velocity'", err)
+      else if (any(region_lo(1:deck%run%ndim) > region_hi(1:deck%run%ndim))) then
+        call bad(deck, grp, 'region_lo/region_hi', 'region_lo > region_hi', 'the box holds '// &
+          'nothing; give region_lo <= region_hi in every direction (reference coordinates, '// &
+          'm)', err)
       end if
       if (allocated(err)) return
     end do
@@ -1218,6 +1605,65 @@ contains
       group_vars(group)//"; see doc/deck.md)")
   end subroutine nml_error
 
+  !> The variable that sets how many particles a body of this shape has (for messages).
+  pure function body_count_var(shape) result(v)
+    character(len=*), intent(in) :: shape
+    character(len=:), allocatable :: v
+    select case (shape)
+    case ('polygon')
+      v = 'spacing'
+    case ('file')
+      v = 'file'
+    case default
+      v = 'n'
+    end select
+  end function body_count_var
+
+  !> The variables that place a body of this shape (for messages).
+  pure function body_place_var(shape) result(v)
+    character(len=*), intent(in) :: shape
+    character(len=:), allocatable :: v
+    select case (shape)
+    case ('rectangle', 'segment')
+      v = 'lo/hi'
+    case ('polygon')
+      v = 'vertices'
+    case ('annulus_sector')
+      v = 'center'
+    case default
+      v = 'file'
+    end select
+  end function body_place_var
+
+  !> The variables that make a body of this shape (for messages).
+  pure function body_make_vars(shape) result(v)
+    character(len=*), intent(in) :: shape
+    character(len=:), allocatable :: v
+    select case (shape)
+    case ('segment', 'rectangle')
+      v = 'lo/hi/n'
+    case ('polygon')
+      v = 'vertices/spacing'
+    case ('annulus_sector')
+      v = 'r_inner/r_outer/n'
+    case default
+      v = 'file'
+    end select
+  end function body_make_vars
+
+  !> The dimension a generated shape needs; 0 for a particle file (any).
+  pure integer function shape_ndim(shape)
+    character(len=*), intent(in) :: shape
+    select case (shape)
+    case ('segment')
+      shape_ndim = 1
+    case ('rectangle', 'polygon', 'annulus_sector')
+      shape_ndim = 2
+    case default
+      shape_ndim = 0
+    end select
+  end function shape_ndim
+
   pure function group_vars(group) result(s)
     character(len=*), intent(in) :: group
     character(len=:), allocatable :: s
@@ -1245,6 +1691,112 @@ contains
       s = ''
     end select
   end function group_vars
+
+  !> The type of variable var of group: 'r' real, 'i' integer, 'l' logical, 's' string, or
+  !! ' ' when it is not listed here (then check_value refuses only NaN, Infinity and reals
+  !! out of range). Keep in step with group_vars: untyped_vars names what is missing.
+  pure function var_type(group, var) result(typ)
+    character(len=*), intent(in) :: group, var
+    character :: typ
+    character(len=:), allocatable :: strs, ints, logs, reals
+    call typed_vars(group, strs, ints, logs, reals)
+    typ = ' '
+    if (entry_at(strs, var) > 0) typ = 's'
+    if (entry_at(ints, var) > 0) typ = 'i'
+    if (entry_at(logs, var) > 0) typ = 'l'
+    if (entry_at(reals, var) > 0) typ = 'r'
+  end function var_type
+
+  !> How many values variable var of group holds: its array size, 1 for a scalar, 0 when
+  !! it is not listed in typed_vars (no limit known).
+  pure integer function var_size(group, var) result(n)
+    character(len=*), intent(in) :: group, var
+    character(len=:), allocatable :: strs, ints, logs, reals, listing
+    integer :: a, z
+    call typed_vars(group, strs, ints, logs, reals)
+    listing = strs//', '//ints//', '//logs//', '//reals//','
+    n = 0
+    a = entry_at(listing, var)
+    if (a == 0) return
+    n = 1
+    a = a + len(var)
+    if (listing(a:a) /= '(') return
+    z = index(listing(a:), ')')
+    read(listing(a + 1:a + z - 2), *) n
+  end function var_size
+
+  !> Where entry word starts in the list names ('a, b(3), c'), 0 if it is not there.
+  pure integer function entry_at(names, word) result(a)
+    character(len=*), intent(in) :: names, word
+    ! the position in ', '//names of ', word' is that of word in names
+    a = index(', '//names//',', ', '//word//',')
+    if (a == 0) a = index(', '//names//',', ', '//word//'(')
+  end function entry_at
+
+  !> The variables of group (group_vars) that var_type does not know: '' when in step.
+  pure function untyped_vars(group) result(s)
+    character(len=*), intent(in) :: group
+    character(len=:), allocatable :: s, vars
+    integer :: a, z
+    vars = group_vars(group)//','
+    s = ''
+    a = 1
+    do
+      z = index(vars(a:), ',')
+      if (z == 0) exit
+      if (var_type(group, trim(adjustl(vars(a:a + z - 2)))) == ' ') &
+        s = s//' '//trim(adjustl(vars(a:a + z - 2)))
+      a = a + z
+      if (a > len(vars)) exit
+    end do
+  end function untyped_vars
+
+  !> The variables of each group by type, comma-separated; arrays with their size, as
+  !! the namelists declare them: 'lo(3)'.
+  pure subroutine typed_vars(group, strs, ints, logs, reals)
+    character(len=*), intent(in) :: group
+    character(len=:), allocatable, intent(out) :: strs, ints, logs, reals
+    strs = ''
+    ints = ''
+    logs = ''
+    reals = ''
+    select case (group)
+    case ('run')
+      strs = 'title, mode, geometry'
+      ints = 'ndim'
+    case ('body')
+      strs = 'name, shape, file, kernel, window, basis, role, material, integration, '// &
+        'discretization'
+      ints = 'n(3)'
+      reals = 'lo(3), hi(3), vertices('//itoa(2*max_vertices)//'), spacing(3), origin(2), '// &
+        'center(2), r_inner, r_outer, theta_start, theta_end, support_factor(3), '// &
+        'velocity(3), stabilization'
+    case ('detection')
+      strs = 'body'
+      ints = 'line_n, grid_n(3)'
+      reals = 'eps_cr, eps_rel, line_from(3), line_to(3), grid_lo(3), grid_hi(3), points('// &
+        itoa(3*max_points)//')'
+    case ('output')
+      strs = 'file'
+      ints = 'det_grid_n(2)'
+      logs = 'overwrite, det_fields'
+      reals = 'det_grid_lo(2), det_grid_hi(2)'
+    case ('material')
+      strs = 'name, model'
+      reals = 'density, youngs_modulus, poisson_ratio, sigma0, hardening_n, rate_m, eps0, '// &
+        'eps1, epsdot0, back_stress_b, theta, yield_stress, hardening_modulus'
+    case ('solver')
+      ints = 'log_every, history_every, max_steps'
+      reals = 't_end, dt, cfl, snapshot_times('//itoa(max_snapshots)//'), energy_tol'
+    case ('bc')
+      strs = 'body, kind'
+      ints = 'component'
+      reals = 'region_lo(3), region_hi(3), value'
+    case ('contact')
+      strs = 'master, slave'
+      reals = 'eps_cr, eps_rel, mu, edge_point(3)'
+    end select
+  end subroutine typed_vars
 
   subroutine bad(deck, group, var, value, fix, err)
     type(deck_t), intent(in) :: deck

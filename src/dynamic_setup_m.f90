@@ -23,13 +23,14 @@ module dynamic_setup_m
 contains
 
   !> The solids of the deck's deformable bodies, in deck order; isolid(k) is body k's solid
-  !! (0 for a rigid body).
-  subroutine setup_solids(deck, bodies, solids, isolid, err)
+  !! (0 for a rigid body). quiet: no log lines (a set-up made only for its checks).
+  subroutine setup_solids(deck, bodies, solids, isolid, err, quiet)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(solid_t), allocatable, intent(out) :: solids(:)
     integer, allocatable, intent(out) :: isolid(:)
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: quiet
     integer :: k, n, ndef
     logical :: axisym
     axisym = deck%run%geometry == 'axisymmetric'
@@ -52,6 +53,9 @@ contains
       if (n == 0) cycle
       call setup_solid(deck, k, bodies(k), axisym, solids(n), err)
       if (allocated(err)) return
+      if (present(quiet)) then
+        if (quiet) cycle
+      end if
       write(output_unit, '(a)') 'dynamic: body '''//trim(bodies(k)%name)//''': '// &
         itoa(solids(n)%np)//' nodes, '//itoa(solids(n)%nq)//' integration points ('// &
         discretization_text(deck%bodies(k))//'), material '''// &
@@ -151,14 +155,15 @@ contains
     end do
   end subroutine kinematic_masks
 
-  !> The contact pairs of the deck's &contact groups, with their log lines.
-  subroutine setup_contacts(deck, bodies, solids, isolid, pairs, err)
+  !> The contact pairs of the deck's &contact groups, with their log lines (none if quiet).
+  subroutine setup_contacts(deck, bodies, solids, isolid, pairs, err, quiet)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(solid_t), intent(in) :: solids(:)
     integer, intent(in) :: isolid(:)
     type(contact_pair_t), allocatable, intent(out) :: pairs(:)
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: quiet
     type(contact_params_t) :: prm
     type(error_t), allocatable :: e2
     integer :: k, im, is
@@ -180,6 +185,9 @@ contains
           return
         end if
       end associate
+      if (present(quiet)) then
+        if (quiet) cycle
+      end if
       associate (p => pairs(k))
         write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,i0,a,f5.2,a)') 'contact: master '''// &
           trim(p%side(2)%name)//''' ('//trim(merge('deformable', 'rigid     ', p%both_ways))// &

@@ -4,7 +4,7 @@
 !! clipped by the exact shape), its support rho = support_factor x spacing per direction,
 !! a boundary flag, and the ordered, counter-clockwise boundary polylines.
 module generators_m
-  use kinds_m, only: wp, pi
+  use kinds_m, only: wp, pi, i64
   use errors_m, only: error_t, set_error
   use body_m, only: body_t
   use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, &
@@ -105,10 +105,20 @@ contains
     lo = minval(v, dim=2)
     hi = maxval(v, dim=2)
     tol = geom_tol*minval(dx)
+    ! the lattice's index range and size in 64 bits: a tiny spacing must not wrap around
+    if (any((hi - lo)/dx > 0.25_wp*real(huge(1), wp))) then
+      call set_error(err, 'polygon: the spacing is too small for the outline (more than '// &
+        '5e8 lattice points per direction)')
+      return
+    end if
     i0 = floor((lo(1) - origin(1))/dx(1) - geom_tol)
     i1 = ceiling((hi(1) - origin(1))/dx(1) + geom_tol)
     j0 = floor((lo(2) - origin(2))/dx(2) - geom_tol)
     j1 = ceiling((hi(2) - origin(2))/dx(2) + geom_tol)
+    if (int(i1 - i0 + 1, i64)*(j1 - j0 + 1) > int(huge(1), i64)) then
+      call set_error(err, 'polygon: more than 2**31 - 1 lattice points; give a coarser spacing')
+      return
+    end if
     cap = (i1 - i0 + 1)*(j1 - j0 + 1)
     allocate(xs(2, cap), vols(cap), bnd(cap))
     cell = dx(1)*dx(2)
@@ -183,6 +193,11 @@ contains
       .or. t1 - t0 > 2.0_wp*pi + 1.0e-12_wp) then
       call set_error(err, 'annulus sector needs n >= 2, 0 <= r_inner < r_outer and '// &
         '0 < theta_end - theta_start <= 360 degrees')
+      return
+    end if
+    if (int(nr, i64)*nt > int(huge(1), i64)) then
+      call set_error(err, 'annulus sector: n_radial x n_angular is more than 2**31 - 1 '// &
+        'particles; give fewer')
       return
     end if
     full = t1 - t0 >= 2.0_wp*pi - 1.0e-12_wp

@@ -7,6 +7,7 @@ module geometry_m
   private
   public :: geometry_t, geom_none, geom_segment, geom_polygon, geom_annulus
   public :: signed_distance, polygon_area, clip_polygon_box, segment_distance
+  public :: polygon_crossing
 
   integer, parameter :: geom_none = 0, geom_segment = 1, geom_polygon = 2, geom_annulus = 3
 
@@ -99,6 +100,80 @@ contains
     u = modulo(t - t0, 2.0_wp*pi)
     angle_in = u <= t1 - t0
   end function angle_in
+
+  !> The first pair of edges of the closed polygon v(2, nv) that cross, touch or overlap
+  !! (e1 < e2; edge i joins vertex i to vertex i + 1, edge nv closes the loop), or an edge of
+  !! zero length (e1 = e2); e1 = e2 = 0 when the polygon is simple. Neighbouring edges meet
+  !! at their shared vertex and count only when they fold back onto each other. O(nv^2):
+  !! for the few vertices of a deck.
+  pure subroutine polygon_crossing(v, nv, e1, e2)
+    real(wp), intent(in) :: v(:, :)
+    integer, intent(in) :: nv
+    integer, intent(out) :: e1, e2
+    real(wp) :: tol, a(2), b(2), c(2), d(2)
+    integer :: i, j
+    e1 = 0
+    e2 = 0
+    ! orientations below tol (m^2) count as collinear: round-off of the vertex coordinates
+    tol = 64.0_wp*epsilon(1.0_wp)*sum((maxval(v(:, 1:nv), dim=2) - &
+      minval(v(:, 1:nv), dim=2))**2)
+    do i = 1, nv
+      if (sum((v(:, next(i)) - v(:, i))**2) <= tol) then
+        e1 = i
+        e2 = i
+        return
+      end if
+    end do
+    do i = 1, nv - 1
+      a = v(:, i)
+      b = v(:, next(i))
+      do j = i + 1, nv
+        c = v(:, j)
+        d = v(:, next(j))
+        if (j == i + 1) then
+          if (abs(orient(a, b, d)) <= tol .and. dot_product(b - a, d - c) < 0.0_wp) exit
+          cycle
+        else if (i == 1 .and. j == nv) then
+          if (abs(orient(c, d, b)) <= tol .and. dot_product(d - c, b - a) < 0.0_wp) exit
+          cycle
+        end if
+        if (segments_meet(a, b, c, d, tol)) exit
+      end do
+      if (j <= nv) then
+        e1 = i
+        e2 = j
+        return
+      end if
+    end do
+  contains
+    pure integer function next(k)
+      integer, intent(in) :: k
+      next = merge(1, k + 1, k == nv)
+    end function next
+  end subroutine polygon_crossing
+
+  !> Twice the signed area of the triangle (a, b, c): > 0 when c is left of a -> b.
+  pure real(wp) function orient(a, b, c)
+    real(wp), intent(in) :: a(2), b(2), c(2)
+    orient = (b(1) - a(1))*(c(2) - a(2)) - (b(2) - a(2))*(c(1) - a(1))
+  end function orient
+
+  !> Segments [a, b] and [c, d] cross or touch (orientations within tol count as zero).
+  pure logical function segments_meet(a, b, c, d, tol) result(meet)
+    real(wp), intent(in) :: a(2), b(2), c(2), d(2), tol
+    real(wp) :: o(4)
+    o = [orient(c, d, a), orient(c, d, b), orient(a, b, c), orient(a, b, d)]
+    where (abs(o) <= tol) o = 0.0_wp
+    meet = o(1)*o(2) < 0.0_wp .and. o(3)*o(4) < 0.0_wp
+    if (meet) return
+    meet = (o(1) == 0.0_wp .and. in_box(c, d, a)) .or. (o(2) == 0.0_wp .and. in_box(c, d, b)) &
+      .or. (o(3) == 0.0_wp .and. in_box(a, b, c)) .or. (o(4) == 0.0_wp .and. in_box(a, b, d))
+  contains
+    pure logical function in_box(p, q, r)
+      real(wp), intent(in) :: p(2), q(2), r(2)
+      in_box = all(r >= min(p, q)) .and. all(r <= max(p, q))
+    end function in_box
+  end function segments_meet
 
   !> Shoelace area of a polygon (positive when counter-clockwise).
   pure real(wp) function polygon_area(v, nv) result(a)

@@ -31,7 +31,7 @@ module rkpm_tl_m
   use body_m, only: body_t
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_polygon, clip_polygon_box, polygon_area
-  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape
+  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape, cloud_count_cover
   use neighbour_bins_m, only: bins_candidates
   implicit none
   private
@@ -339,7 +339,8 @@ contains
     !$omp end parallel
     if (bad > 0) then
       call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined in the "// &
-        "cell of particle "//itoa(bad)//" (moment matrix singular): increase support_factor")
+        "cell of particle "//itoa(bad)//": "//shape_failure(c, b%x(:, bad), &
+        0.5_wp*b%spacing(1:2)))
       return
     end if
     call compress(t, gl, hl, ml, idl, nl, sub, wsub)
@@ -494,7 +495,7 @@ contains
     !$omp end parallel do
     if (bad > 0) then
       call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined at Gauss "// &
-        "point "//itoa(bad)//": increase support_factor")
+        "point "//itoa(bad)//": "//shape_failure(c, xq(:, bad), [0.0_wp, 0.0_wp]))
       return
     end if
     call compress(t, gl, hl, ml, idl, nl)
@@ -537,11 +538,40 @@ contains
     end do
     if (bad > 0) then
       call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined at "// &
-        "particle "//itoa(bad)//": increase support_factor")
+        "particle "//itoa(bad)//": "//shape_failure(c, b%x(:, bad), [0.0_wp, 0.0_wp]))
       return
     end if
     call compress(t, gl, hl, ml, idl, nl)
   end subroutine build_direct
+
+  !> Why the shape functions are undefined at p or within half(1:2) of it (a cell), and
+  !! the fix: more particles cover a point than the max_nb one point of the tables holds,
+  !! fewer than the basis needs, or enough in a degenerate layout (M singular all the same).
+  function shape_failure(c, p, half) result(why)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(2), half(2)
+    character(len=:), allocatable :: why
+    integer :: ncover, nmin, nmax, i, j
+    nmin = huge(1)
+    nmax = 0
+    do j = -1, 1
+      do i = -1, 1
+        ncover = cloud_count_cover(c, p + [i, j]*half)
+        nmin = min(nmin, ncover)
+        nmax = max(nmax, ncover)
+      end do
+    end do
+    if (nmax > max_nb) then
+      why = 'covered by up to '//itoa(nmax)//' particles, more than the '//itoa(max_nb)// &
+        ' one point of the tables holds; decrease support_factor'
+    else if (nmin < c%m) then
+      why = 'covered by only '//itoa(nmin)//' particle(s), and the basis needs at least '// &
+        itoa(c%m)//'; increase support_factor'
+    else
+      why = 'moment matrix singular although '//itoa(nmin)//' particles cover it '// &
+        '(a degenerate layout, e.g. all on one line); check the particle positions'
+    end if
+  end function shape_failure
 
   !> Dense per-point work arrays into CSR; masses summed per particle.
   subroutine compress(t, gl, hl, ml, idl, nl, sub, wsub)
@@ -598,7 +628,7 @@ contains
     !$omp end parallel do
     if (bad > 0) then
       call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined at "// &
-        "particle "//itoa(bad)//": increase support_factor")
+        "particle "//itoa(bad)//": "//shape_failure(c, b%x(:, bad), [0.0_wp, 0.0_wp]))
       return
     end if
     allocate(t%pptr(np + 1), t%pnbr(sum(cnt)), t%pn(2, sum(cnt)))

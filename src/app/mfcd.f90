@@ -9,11 +9,15 @@ program mfcd
   use deck_m, only: deck_t, read_deck
   use body_m, only: body_t
   use bodies_m, only: build_bodies
+  use memory_estimate_m, only: check_memory
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
   use log_m, only: log_print, log_flush
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
+  use dynamic_setup_m, only: setup_solids, setup_contacts
+  use solid_m, only: solid_t
+  use contact_pair_m, only: contact_pair_t
   implicit none
   type(deck_t) :: deck
   type(body_t), allocatable :: bodies(:)
@@ -61,7 +65,14 @@ program mfcd
     timestamp()//' deck '//deck_path)
   call read_deck(deck_path, deck, err)
   if (.not. allocated(err)) call echo_deck(deck)
+  if (.not. allocated(err)) call check_memory(deck, err)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
+  ! again with the particle files read: the tables of the set-up are still to come
+  if (.not. allocated(err)) call check_memory(deck, err, bodies)
+  ! the set-up of a dynamic run has checks of its own: run them before anything is written
+  ! (a run repeats the set-up in run_dynamic, quietly here)
+  if (.not. allocated(err) .and. deck%run%mode == 'dynamic') &
+    call check_setup(deck, bodies, .not. check_only, err)
   if (.not. allocated(err) .and. .not. check_only) call check_output_path(deck, err)
   if (allocated(err)) call fail(err)
   if (check_only) then
@@ -79,6 +90,21 @@ program mfcd
   call log_print('mfcd: completed: wrote '//output_result_text(deck))
 
 contains
+
+  !> The checks of a dynamic run's set-up (the solids' tables, kinematic conditions and
+  !! contact pairs), made before anything is written: the set-up a run makes before its
+  !! first step, then dropped. quiet: without its log lines.
+  subroutine check_setup(d, b, quiet, e)
+    type(deck_t), intent(in) :: d
+    type(body_t), intent(in) :: b(:)
+    logical, intent(in) :: quiet
+    type(error_t), allocatable, intent(inout) :: e
+    type(solid_t), allocatable :: solids(:)
+    integer, allocatable :: isolid(:)
+    type(contact_pair_t), allocatable :: pairs(:)
+    call setup_solids(d, b, solids, isolid, e, quiet)
+    if (.not. allocated(e)) call setup_contacts(d, b, solids, isolid, pairs, e, quiet)
+  end subroutine check_setup
 
   !> Stop with the error: on stderr after every log line before it, then the log's last
   !! line saying how the run ended, so a log file read alone tells it too.
@@ -117,7 +143,8 @@ contains
     write(u, '(a)') ''
     write(u, '(a)') 'Runs the namelist deck DECK.nml (groups &run, &body, &detection, &output;'
     write(u, '(a)') 'see doc/deck.md) and writes one HDF5 file (doc/output.md).'
-    write(u, '(a)') '  --check     read and validate the deck and bodies, write nothing'
+    write(u, '(a)') '  --check     read and validate the deck, build the bodies and (mode'
+    write(u, '(a)') '              dynamic) the set-up of the first step; write nothing'
     write(u, '(a)') '  --help      this text'
     write(u, '(a)') '  --version   code version and git commit'
     write(u, '(a)') 'Threads: OMP_NUM_THREADS. Exit codes: 0 ok, 2 bad input (nothing'
