@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # FEM (CST4) solver benchmark (issue 7): triangle-steps per second of the paper's Taylor bar
 # mesh (43,200 triangles, viscoplastic, contact with the rigid target) over its first 1,000
-# steps at the paper's dt, on 1 and 2 threads, twice each; then the whole paper-dt run
-# (38,400 steps) on 2 threads. Results go to bench/results/ and, by hand, doc/benchmarks.md.
+# steps at the paper's dt, on 1 and 2 threads, twice each; then the whole runs on 2 threads:
+# the CFL variant (adaptive step, input/taylor_bar_fem_cfl.nml) and the paper-dt run
+# (38,400 steps; MFCD_BENCH_FULL=0 skips both). Results go to bench/results/ and, by hand,
+# doc/benchmarks.md.
 # Run on an otherwise idle machine: OpenMP threads sharing a core slow down tenfold.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,6 +25,8 @@ out="bench/results/fem_$(date +%Y-%m-%d_%H%M%S).txt"
     done
   done
   if [ "${MFCD_BENCH_FULL:-1}" = 1 ]; then
+    OMP_NUM_THREADS=2 ./build/bin/mfcd input/taylor_bar_fem_cfl.nml \
+      | grep -E '^summary: ([0-9]+ steps|time loop|dt )' | sed 's/^/RESULT bench=fem_cfl threads=2 /'
     OMP_NUM_THREADS=2 ./build/bin/mfcd input/taylor_bar_fem.nml \
       | grep -E '^summary: ([0-9]+ steps|time loop)' | sed 's/^/RESULT bench=fem_paper threads=2 /'
   fi
