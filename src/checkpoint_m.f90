@@ -15,13 +15,14 @@
 !!  - the output: every /history row so far, and how many of the deck's snapshots are done.
 !! What the step computes afresh before reading it is not saved: d_old, a_old and fcon
 !! (solid_predict), F_old and P_old (copied from F and P), D, W12, the plastic work of the
-!! step, the stabilization stresses and energy (from d), f_int, the reactions of the step,
-!! the physical positions, and every contact work array (positions from d, detection and
-!! forces each step; a deformable master's cloud and surface are rebuilt from d). f_ext is
-!! zero from set-up on. Everything that depends on the reference configuration only
-!! (tables, masses, the power iteration, health limits, rigid masters) is rebuilt from the
-!! deck and the bodies, identically: the checkpoint refuses a deck whose text differs and
-!! bodies whose particles differ.
+!! step, the stabilization stresses (from d; their energy is saved with the others for the
+!! restart's first log line), f_int, the reactions of the step, the physical positions,
+!! and every contact work array (positions from d, detection and forces each step; a
+!! deformable master's cloud and surface are rebuilt from d). f_ext is zero from set-up on.
+!! Everything that depends on the reference configuration only (tables, masses, the power
+!! iteration, health limits, rigid masters) is rebuilt from the deck and the bodies,
+!! identically: the checkpoint refuses a deck whose text differs and bodies whose particles
+!! differ.
 module checkpoint_m
   use omp_lib, only: omp_get_wtime, omp_get_max_threads
   use kinds_m, only: wp, i64
