@@ -144,6 +144,8 @@ module deck_m
     logical :: det_fields = .false.
     real(wp) :: det_grid_lo(2) = unset, det_grid_hi(2) = unset
     integer :: det_grid_n(2) = [201, 101]
+    !> mode dynamic: a checkpoint (<stem>.checkpoint.h5) every this many steps; 0: none
+    integer :: checkpoint_every = 0
   end type output_spec_t
 
   type :: deck_t
@@ -1451,18 +1453,20 @@ contains
     character(len=path_len) :: file
     logical :: overwrite, det_fields
     real(wp) :: det_grid_lo(2), det_grid_hi(2)
-    integer :: ios, det_grid_n(2)
+    integer :: ios, det_grid_n(2), checkpoint_every
     character(len=512) :: msg
     character(len=:), allocatable :: given
     logical :: found
     type(output_spec_t) :: dflt
-    namelist /output/ file, overwrite, det_fields, det_grid_lo, det_grid_hi, det_grid_n
+    namelist /output/ file, overwrite, det_fields, det_grid_lo, det_grid_hi, det_grid_n, &
+      checkpoint_every
     file = ''
     overwrite = .true.
     det_fields = dflt%det_fields
     det_grid_lo = dflt%det_grid_lo
     det_grid_hi = dflt%det_grid_hi
     det_grid_n = dflt%det_grid_n
+    checkpoint_every = dflt%checkpoint_every
     ! gfortran reads overwrite = 'no' as an unknown name ("Cannot match namelist object
     ! name 'no'") and overwrite = fred as .false.: check the text before it reads it
     call group_value(deck%text, 'output', 'overwrite', given, found)
@@ -1497,12 +1501,18 @@ contains
         ', '//itoa(det_grid_n(2)), 'give 2 .. 1e7 points with det_grid_hi > det_grid_lo', err)
       return
     end if
+    if (checkpoint_every < 0) then
+      call bad(deck, 'output', 'checkpoint_every', itoa(checkpoint_every), 'give a number '// &
+        'of steps between checkpoints, >= 1, or 0 for none (the default)', err)
+      return
+    end if
     deck%output%file = file
     deck%output%overwrite = overwrite
     deck%output%det_fields = det_fields
     deck%output%det_grid_lo = det_grid_lo
     deck%output%det_grid_hi = det_grid_hi
     deck%output%det_grid_n = det_grid_n
+    deck%output%checkpoint_every = checkpoint_every
   end subroutine read_output
 
   !> The value text v of variable var in the first &group of deck text t: a quoted string
@@ -1677,7 +1687,7 @@ contains
     case ('detection')
       s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
     case ('output')
-      s = 'file, overwrite, det_fields, det_grid_lo, det_grid_hi, det_grid_n'
+      s = 'file, overwrite, det_fields, det_grid_lo, det_grid_hi, det_grid_n, checkpoint_every'
     case ('material')
       s = 'name, model, density, youngs_modulus, poisson_ratio, sigma0, hardening_n, '// &
         'rate_m, eps0, eps1, epsdot0, back_stress_b, theta, yield_stress, hardening_modulus'
@@ -1778,7 +1788,7 @@ contains
         itoa(3*max_points)//')'
     case ('output')
       strs = 'file'
-      ints = 'det_grid_n(2)'
+      ints = 'det_grid_n(2), checkpoint_every'
       logs = 'overwrite, det_fields'
       reals = 'det_grid_lo(2), det_grid_hi(2)'
     case ('material')

@@ -6,7 +6,9 @@
 !! CST4 elements). Each step: predict (64), contact (93)-(98), internal force (62), update
 !! (63), energy, guards, output. A run that goes unstable (non-finite values, J <= 0, energy
 !! residual above the deck's tolerance) stops with a diagnostic snapshot and exit code 1,
-!! keeping everything written so far.
+!! keeping everything written so far. With &output checkpoint_every the state is saved every
+!! so many steps, and a run restarted from such a checkpoint (set up from the same deck)
+!! continues the loop where it was, taking the same steps (checkpoint_m).
 module explicit_driver_m
   use omp_lib, only: omp_get_wtime
   use kinds_m, only: wp
@@ -23,7 +25,8 @@ module explicit_driver_m
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
     report_summary
   use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
-    run_files_close, run_files_names
+    run_files_close, run_files_names, run_files_resume, run_files_checkpoint
+  use checkpoint_m, only: checkpoint_read
   implicit none
   private
   public :: run_dynamic
@@ -33,11 +36,14 @@ module explicit_driver_m
 
 contains
 
-  !> Run the deck's dynamic problem. bodies are built and checked already.
-  subroutine run_dynamic(deck, bodies, err)
+  !> Run the deck's dynamic problem. bodies are built and checked already. restart: a
+  !! checkpoint of this deck's run to continue from (checked already by checkpoint_check;
+  !! a checkpoint that does not fit the solids is still bad input, found before any write).
+  subroutine run_dynamic(deck, bodies, err, restart)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: restart
     type(solid_t), allocatable :: solids(:)
     type(contact_pair_t), allocatable :: pairs(:)
     integer, allocatable :: isolid(:)
@@ -45,7 +51,9 @@ contains
     type(run_record_t) :: r
     type(energies_t) :: en
     type(contact_stats_t) :: cstep
-    integer :: k, log_every, hist_every, bad_q
+    type(history_t) :: hist0
+    real(wp), allocatable :: snap_times0(:)
+    integer :: k, log_every, hist_every, bad_q, nsnap0, ckpt_every
     real(wp) :: tw, t_loop0, bad_j
     r%wall0 = omp_get_wtime()
     r%reason = ''
@@ -58,25 +66,38 @@ contains
     r%t_end = deck%solver%t_end
     r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
     r%nsteps_est = ceiling(r%t_end/r%dt - 1.0e-9_wp)
+    if (present(restart)) then
+      call checkpoint_read(restart, deck, bodies, r, solids, pairs, hist0, nsnap0, &
+        snap_times0, err)
+      if (allocated(err)) return
+    end if
+    ckpt_every = deck%output%checkpoint_every
     log_every = deck%solver%log_every
     if (log_every == 0) log_every = max(1, r%nsteps_est/50)
     ! a history row costs about one pass over the nodes (physical positions for the
     ! measures): by default one row every 10 steps, at most about 1000 rows
     hist_every = deck%solver%history_every
     if (hist_every == 0) hist_every = max(1, min(log_every, max(10, r%nsteps_est/1000)))
-    call run_files_open(deck, bodies, out, err)
+    call run_files_open(deck, bodies, out, err, restart)
     if (allocated(err)) return
-    ! the state at t = 0: forces at u = 0
-    do k = 1, size(solids)
-      call solid_start(solids(k), r%dt, bad_q, bad_j)
-    end do
-    call energy_totals(solids, en)
-    call snapshots_due(out, deck, r, pairs, solids, err)
-    if (allocated(err)) then
-      call run_files_close(out, r, solids, err)
-      return
+    if (present(restart)) then
+      ! the state after step r%n, as the checkpoint holds it
+      call run_files_resume(out, restart, r, hist0, nsnap0, snap_times0, err)
+      if (allocated(err)) return
+      call energy_totals(solids, en)
+    else
+      ! the state at t = 0: forces at u = 0
+      do k = 1, size(solids)
+        call solid_start(solids(k), r%dt, bad_q, bad_j)
+      end do
+      call energy_totals(solids, en)
+      call snapshots_due(out, deck, r, pairs, solids, err)
+      if (allocated(err)) then
+        call run_files_close(out, r, solids, err)
+        return
+      end if
+      call history_push(out%hist, history_row(r, en, solids(1)))
     end if
-    call history_push(out%hist, history_row(r, en, solids(1)))
     call log_header()
     call log_line(r, en)
     t_loop0 = omp_get_wtime()
@@ -104,10 +125,15 @@ contains
       if (r%failed) exit
       tw = omp_get_wtime()
       call snapshots_due(out, deck, r, pairs, solids, err)
+      if (ckpt_every > 0 .and. .not. allocated(err)) then
+        if (mod(r%n, ckpt_every) == 0) call run_files_checkpoint(out, deck, bodies, r, &
+          solids, pairs, r%t_loop + (omp_get_wtime() - t_loop0), err)
+      end if
       r%t_output = r%t_output + (omp_get_wtime() - tw)
       if (allocated(err)) exit
     end do
-    r%t_loop = omp_get_wtime() - t_loop0
+    ! a restarted run adds the loop time of the runs before it (from the checkpoint)
+    r%t_loop = r%t_loop + (omp_get_wtime() - t_loop0)
     if (r%failed) then
       call failure_snapshot(out, r, solids, err)
     else if (mod(r%n, hist_every) /= 0) then

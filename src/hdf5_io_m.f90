@@ -1,7 +1,9 @@
 !> The only module that touches HDF5. Writes mfcd's output files (every dataset carries a
-!! 'units' attribute; layout in doc/output.md) and reads particle files.
+!! 'units' attribute; layout in doc/output.md), reads particle files, and reads back what
+!! it wrote (checkpoints, doc/output.md) with every shape checked.
 module hdf5_io_m
-  use kinds_m, only: wp
+  use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
+  use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fclose_f, h5fopen_f, &
     h5gcreate_f, h5gclose_f, h5screate_simple_f, h5screate_f, h5sclose_f, h5dcreate_f, &
@@ -11,11 +13,14 @@ module hdf5_io_m
     H5F_ACC_EXCL_F, H5F_ACC_RDONLY_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
     H5T_FORTRAN_S1, H5S_SCALAR_F, h5eset_auto_f, h5pcreate_f, h5pset_chunk_f, h5pclose_f, &
     H5P_DATASET_CREATE_F, H5S_UNLIMITED_F, h5dset_extent_f, h5sselect_hyperslab_f, &
-    H5S_SELECT_SET_F, h5fflush_f, H5F_SCOPE_GLOBAL_F
+    H5S_SELECT_SET_F, h5fflush_f, H5F_SCOPE_GLOBAL_F, h5fis_hdf5_f, h5aopen_f, h5aread_f, &
+    h5aexists_f, h5aget_type_f, h5aget_space_f, h5dget_type_f, h5tget_size_f, &
+    h5kind_to_type, H5_INTEGER_KIND
   implicit none
   private
   public :: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text
   public :: read_particle_file_h5, h5_series_create, h5_series_append, h5_flush
+  public :: h5_open_read, h5_has, h5_has_attr, h5_shape, h5_read, h5_read_attr, h5_read_text
 
   type :: h5file_t
     integer(hid_t) :: id = -1
@@ -24,8 +29,18 @@ module hdf5_io_m
 
   !> Dataset writers: real and integer arrays of rank 1 and 2, each with its units.
   interface h5_write
-    module procedure write_r1, write_r2, write_i1, write_i2
+    module procedure write_r1, write_r2, write_i1, write_i2, write_i64
   end interface h5_write
+
+  !> Dataset readers into arrays of the caller's shape: the stored shape must match it.
+  interface h5_read
+    module procedure read_ds_r1, read_ds_r2, read_ds_i64
+  end interface h5_read
+
+  !> Attribute readers: text (any length), integer scalar, real rank 1 of the caller's size.
+  interface h5_read_attr
+    module procedure read_attr_str, read_attr_int, read_attr_real, read_attr_r1
+  end interface h5_read_attr
 
   !> Attributes on a group or dataset: text, real or integer scalars, real rank 1.
   interface h5_attr
@@ -167,6 +182,26 @@ contains
     if (st == 0) call h5dwrite_f(dset, H5T_NATIVE_INTEGER, a, dims, st)
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine write_i2
+
+  !> A 64-bit integer vector (counters that can exceed 2**31).
+  subroutine write_i64(f, path, a, units, err, descr)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, units
+    integer(i64), intent(in) :: a(:)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: descr
+    integer(i64), allocatable, target :: buf(:)
+    integer(hid_t) :: space, dset, t
+    integer(hsize_t) :: dims(1)
+    integer :: st
+    allocate(buf, source=a)
+    t = h5kind_to_type(i64, H5_INTEGER_KIND)
+    dims = shape(a, kind=hsize_t)
+    call h5screate_simple_f(1, dims, space, st)
+    call h5dcreate_f(f%id, path, t, space, dset, st)
+    if (st == 0) call h5dwrite_f(dset, t, c_loc(buf), st)
+    call finish_dataset(f, path, dset, space, units, descr, st, err)
+  end subroutine write_i64
 
   !> An extendible 1D real dataset (a time series), empty at creation.
   subroutine h5_series_create(f, path, units, err, descr)
@@ -442,4 +477,359 @@ contains
     call h5dread_f(d, H5T_NATIVE_INTEGER, buf, dims, st)
     call h5dclose_f(d, s2)
   end subroutine read_int
+  !> Open an existing HDF5 file read-only (the reader's half of this module: checkpoints).
+  !! err (exit 2) when path is missing, not an HDF5 file, or cannot be opened.
+  subroutine h5_open_read(f, path, err)
+    type(h5file_t), intent(out) :: f
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    logical :: exists, is_h5
+    integer :: st
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      call set_error(err, "file '"//path//"' not found")
+      return
+    end if
+    call h5open_f(st)
+    call h5eset_auto_f(0, st)
+    call h5fis_hdf5_f(path, is_h5, st)
+    if (st /= 0 .or. .not. is_h5) then
+      call set_error(err, "'"//path//"' is not an HDF5 file")
+      return
+    end if
+    call h5fopen_f(path, H5F_ACC_RDONLY_F, f%id, st)
+    if (st /= 0) then
+      f%id = -1
+      call set_error(err, "HDF5 file '"//path//"' cannot be opened for reading")
+      return
+    end if
+    f%path = path
+  end subroutine h5_open_read
+
+  !> Whether the object path ('/a/b/c') exists, every group on the way included.
+  logical function h5_has(f, path) result(yes)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer :: k, j, st
+    yes = .false.
+    k = 1
+    do
+      j = index(path(k + 1:), '/')
+      if (j == 0) exit
+      call h5lexists_f(f%id, path(1:k + j - 1), yes, st)
+      if (st /= 0 .or. .not. yes) then
+        yes = .false.
+        return
+      end if
+      k = k + j
+    end do
+    call h5lexists_f(f%id, path, yes, st)
+    if (st /= 0) yes = .false.
+  end function h5_has
+
+  !> Whether object path exists and has the attribute name.
+  logical function h5_has_attr(f, path, name) result(yes)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, name
+    integer(hid_t) :: obj
+    integer :: st, s2
+    yes = .false.
+    if (path /= '/') then
+      if (.not. h5_has(f, path)) return
+    end if
+    call h5oopen_f(f%id, path, obj, st)
+    if (st /= 0) return
+    call h5aexists_f(obj, name, yes, st)
+    if (st /= 0) yes = .false.
+    call h5oclose_f(obj, s2)
+  end function h5_has_attr
+
+  !> The shape of dataset path as Fortran wrote it (h5py shows it reversed).
+  subroutine h5_shape(f, path, dims, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer, allocatable, intent(out) :: dims(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: d, sp
+    integer(hsize_t) :: hd(7), mx(7)
+    integer :: st, s2, rank
+    allocate(dims(0))
+    if (.not. h5_has(f, path)) then
+      call read_fail(f, path, 'dataset missing', err)
+      return
+    end if
+    call h5dopen_f(f%id, path, d, st)
+    if (st /= 0) then
+      call read_fail(f, path, 'not a dataset', err)
+      return
+    end if
+    call h5dget_space_f(d, sp, st)
+    call h5sget_simple_extent_ndims_f(sp, rank, st)
+    if (rank >= 1 .and. rank <= 7) then
+      call h5sget_simple_extent_dims_f(sp, hd(1:rank), mx(1:rank), st)
+      dims = int(hd(1:rank))
+    end if
+    call h5sclose_f(sp, s2)
+    call h5dclose_f(d, s2)
+  end subroutine h5_shape
+
+  subroutine read_fail(f, path, what, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, what
+    type(error_t), allocatable, intent(inout) :: err
+    call set_error(err, "file '"//f%path//"': "//path//": "//what)
+  end subroutine read_fail
+
+  !> Open dataset path after checking that its shape is want; d < 0 on failure (err set).
+  subroutine open_checked(f, path, want, d, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: want(:)
+    integer(hid_t), intent(out) :: d
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: dims(:)
+    integer :: st
+    d = -1
+    call h5_shape(f, path, dims, err)
+    if (allocated(err)) return
+    if (size(dims) /= size(want)) then
+      call read_fail(f, path, 'rank '//itoa_local(size(dims))//' where '// &
+        itoa_local(size(want))//' is expected', err)
+      return
+    end if
+    if (any(dims /= want)) then
+      call read_fail(f, path, 'shape ('//shape_text(dims)//') where ('//shape_text(want)// &
+        ') is expected', err)
+      return
+    end if
+    call h5dopen_f(f%id, path, d, st)
+    if (st /= 0) then
+      d = -1
+      call read_fail(f, path, 'cannot be opened', err)
+    end if
+  contains
+    function shape_text(n) result(s)
+      integer, intent(in) :: n(:)
+      character(len=:), allocatable :: s
+      integer :: k
+      s = ''
+      do k = 1, size(n)
+        if (k > 1) s = s//', '
+        s = s//itoa_local(n(k))
+      end do
+    end function shape_text
+  end subroutine open_checked
+
+  pure function itoa_local(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=24) :: buf
+    write(buf, '(i0)') i
+    s = trim(buf)
+  end function itoa_local
+
+  subroutine read_ds_r1(f, path, a, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    real(wp), intent(inout) :: a(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: d
+    integer :: st, s2
+    call open_checked(f, path, shape(a), d, err)
+    if (allocated(err)) return
+    call h5dread_f(d, H5T_NATIVE_DOUBLE, a, shape(a, kind=hsize_t), st)
+    call h5dclose_f(d, s2)
+    if (st /= 0) call read_fail(f, path, 'read failed', err)
+  end subroutine read_ds_r1
+
+  subroutine read_ds_r2(f, path, a, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    real(wp), intent(inout) :: a(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: d
+    integer :: st, s2
+    call open_checked(f, path, shape(a), d, err)
+    if (allocated(err)) return
+    call h5dread_f(d, H5T_NATIVE_DOUBLE, a, shape(a, kind=hsize_t), st)
+    call h5dclose_f(d, s2)
+    if (st /= 0) call read_fail(f, path, 'read failed', err)
+  end subroutine read_ds_r2
+
+  subroutine read_ds_i64(f, path, a, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer(i64), intent(inout) :: a(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(i64), allocatable, target :: buf(:)
+    type(c_ptr) :: ptr
+    integer(hid_t) :: d
+    integer :: st, s2
+    call open_checked(f, path, shape(a), d, err)
+    if (allocated(err)) return
+    allocate(buf(size(a)))
+    ptr = c_loc(buf)
+    call h5dread_f(d, h5kind_to_type(i64, H5_INTEGER_KIND), ptr, st)
+    call h5dclose_f(d, s2)
+    if (st /= 0) then
+      call read_fail(f, path, 'read failed', err)
+      return
+    end if
+    a = buf
+  end subroutine read_ds_i64
+
+  !> A text dataset written by h5_text, whole.
+  subroutine h5_read_text(f, path, text, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: d, ft, mt
+    integer(size_t) :: n
+    integer(hsize_t) :: dims(1)
+    integer :: st, s2
+    text = ''
+    if (.not. h5_has(f, path)) then
+      call read_fail(f, path, 'dataset missing', err)
+      return
+    end if
+    call h5dopen_f(f%id, path, d, st)
+    if (st /= 0) then
+      call read_fail(f, path, 'not a dataset', err)
+      return
+    end if
+    call h5dget_type_f(d, ft, st)
+    if (st == 0) call h5tget_size_f(ft, n, st)
+    call h5tclose_f(ft, s2)
+    if (st /= 0 .or. n < 1) then
+      call h5dclose_f(d, s2)
+      call read_fail(f, path, 'not a text dataset', err)
+      return
+    end if
+    deallocate(text)
+    allocate(character(len=int(n)) :: text)
+    dims = 1
+    call h5tcopy_f(H5T_FORTRAN_S1, mt, st)
+    call h5tset_size_f(mt, n, st)
+    call h5dread_f(d, mt, text, dims, st)
+    call h5tclose_f(mt, s2)
+    call h5dclose_f(d, s2)
+    if (st /= 0) call read_fail(f, path, 'not a text dataset', err)
+  end subroutine h5_read_text
+
+  !> Open attribute name of object path; a < 0 on failure (err set).
+  subroutine open_attr(f, path, name, obj, a, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, name
+    integer(hid_t), intent(out) :: obj, a
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: st, s2
+    a = -1
+    obj = -1
+    if (.not. h5_has_attr(f, path, name)) then
+      call read_fail(f, path, "attribute '"//name//"' missing", err)
+      return
+    end if
+    call h5oopen_f(f%id, path, obj, st)
+    if (st == 0) call h5aopen_f(obj, name, a, st)
+    if (st /= 0) then
+      if (obj >= 0) call h5oclose_f(obj, s2)
+      a = -1
+      call read_fail(f, path, "attribute '"//name//"' cannot be opened", err)
+    end if
+  end subroutine open_attr
+
+  subroutine close_attr(obj, a)
+    integer(hid_t), intent(in) :: obj, a
+    integer :: s2
+    call h5aclose_f(a, s2)
+    call h5oclose_f(obj, s2)
+  end subroutine close_attr
+
+  subroutine read_attr_str(f, path, name, val, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, name
+    character(len=:), allocatable, intent(out) :: val
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: obj, a, ft, mt
+    integer(size_t) :: n
+    integer(hsize_t) :: dims(1)
+    integer :: st, s2
+    val = ''
+    call open_attr(f, path, name, obj, a, err)
+    if (allocated(err)) return
+    call h5aget_type_f(a, ft, st)
+    if (st == 0) call h5tget_size_f(ft, n, st)
+    call h5tclose_f(ft, s2)
+    if (st /= 0 .or. n < 1) then
+      call close_attr(obj, a)
+      call read_fail(f, path, "attribute '"//name//"' is not text", err)
+      return
+    end if
+    deallocate(val)
+    allocate(character(len=int(n)) :: val)
+    dims = 1
+    call h5tcopy_f(H5T_FORTRAN_S1, mt, st)
+    call h5tset_size_f(mt, n, st)
+    call h5aread_f(a, mt, val, dims, st)
+    call h5tclose_f(mt, s2)
+    call close_attr(obj, a)
+    if (st /= 0) call read_fail(f, path, "attribute '"//name//"' is not text", err)
+  end subroutine read_attr_str
+
+  subroutine read_attr_int(f, path, name, val, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, name
+    integer, intent(out) :: val
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: obj, a
+    integer(hsize_t) :: dims(1)
+    integer :: st
+    val = 0
+    call open_attr(f, path, name, obj, a, err)
+    if (allocated(err)) return
+    dims = 1
+    call h5aread_f(a, H5T_NATIVE_INTEGER, val, dims, st)
+    call close_attr(obj, a)
+    if (st /= 0) call read_fail(f, path, "attribute '"//name//"' is not an integer", err)
+  end subroutine read_attr_int
+
+  !> A real attribute of one value (h5_attr writes a real scalar as a 1-element array).
+  subroutine read_attr_real(f, path, name, val, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, name
+    real(wp), intent(out) :: val
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: v(1)
+    v = 0.0_wp
+    call read_attr_r1(f, path, name, v, err)
+    val = v(1)
+  end subroutine read_attr_real
+
+  !> A real attribute of exactly size(val) values (attributes written by h5_attr).
+  subroutine read_attr_r1(f, path, name, val, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, name
+    real(wp), intent(inout) :: val(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: obj, a, sp
+    integer(hsize_t) :: dims(1), mx(1)
+    integer :: st, s2, rank
+    call open_attr(f, path, name, obj, a, err)
+    if (allocated(err)) return
+    call h5aget_space_f(a, sp, st)
+    call h5sget_simple_extent_ndims_f(sp, rank, st)
+    dims = 0
+    if (rank == 1) call h5sget_simple_extent_dims_f(sp, dims, mx, st)
+    call h5sclose_f(sp, s2)
+    if (rank /= 1 .or. dims(1) /= size(val, kind=hsize_t)) then
+      call close_attr(obj, a)
+      call read_fail(f, path, "attribute '"//name//"' does not hold "// &
+        itoa_local(size(val))//" values", err)
+      return
+    end if
+    call h5aread_f(a, H5T_NATIVE_DOUBLE, val, dims, st)
+    call close_attr(obj, a)
+    if (st /= 0) call read_fail(f, path, "attribute '"//name//"' is not real", err)
+  end subroutine read_attr_r1
 end module hdf5_io_m

@@ -8,7 +8,10 @@
 !!    <dir>/.<name>.tmp-<pid> and <dir>/.<stem>.xdmf.tmp-<pid>;
 !!  - output_commit, at the end, renames them onto the final names <name> and <stem>.xdmf
 !!    when the run completed, and onto <stem>.failed<ext> and <stem>.failed.xdmf when it did
-!!    not, so an earlier result under the final names survives a failed run.
+!!    not, so an earlier result under the final names survives a failed run;
+!!  - checkpoint_commit, at each checkpoint of a dynamic run (&output checkpoint_every),
+!!    renames the checkpoint just written (<dir>/.<stem>.checkpoint.h5.tmp-<pid>) over
+!!    <stem>.checkpoint.h5: a crash while it is written leaves the previous one intact.
 !! mfcd never opens an existing file for writing, and removes only names it created.
 module output_path_m
   use errors_m, only: error_t, set_error, exit_run_failed
@@ -21,7 +24,7 @@ module output_path_m
   implicit none
   private
   public :: output_path_t, output_names, check_output_path, output_open, output_commit, &
-    output_files_text, output_result_text, base_name
+    output_files_text, output_result_text, base_name, checkpoint_commit
 
   !> The names of one run's output.
   type :: output_path_t
@@ -29,7 +32,12 @@ module output_path_m
     character(len=:), allocatable :: h5, xdmf             !< final names, run completed
     character(len=:), allocatable :: failed_h5, failed_xdmf   !< names of a failed run
     character(len=:), allocatable :: tmp_h5, tmp_xdmf     !< this run's files while it runs
+    character(len=:), allocatable :: checkpoint           !< <stem>.checkpoint.h5
+    character(len=:), allocatable :: tmp_checkpoint       !< a checkpoint while it is written
+    character(len=:), allocatable :: restart              !< real path of --restart's file, or ''
     logical :: with_xdmf = .false.                        !< dynamic runs have an XDMF file
+    logical :: with_checkpoint = .false.                  !< dynamic, checkpoint_every > 0
+    logical :: own_checkpoint = .false.                   !< this run has written a checkpoint
     logical :: overwrite = .true.                         !< &output overwrite
   end type output_path_t
 
@@ -39,9 +47,9 @@ module output_path_m
 
 contains
 
-  !> The names that go with &output file = path: its directory, <stem>.xdmf, and the
-  !! failed-run names <stem>.failed<ext>, <stem>.failed.xdmf (stem: the name up to its last
-  !! '.', ext: the rest).
+  !> The names that go with &output file = path: its directory, <stem>.xdmf, the
+  !! failed-run names <stem>.failed<ext>, <stem>.failed.xdmf and the checkpoint
+  !! <stem>.checkpoint.h5 (stem: the name up to its last '.', ext: the rest).
   pure function output_names(path, with_xdmf) result(p)
     character(len=*), intent(in) :: path
     logical, intent(in) :: with_xdmf
@@ -65,20 +73,25 @@ contains
     p%xdmf = lead//stem//'.xdmf'
     p%failed_h5 = lead//stem//'.failed'//ext
     p%failed_xdmf = lead//stem//'.failed.xdmf'
+    p%checkpoint = lead//stem//'.checkpoint.h5'
+    p%restart = ''
     p%with_xdmf = with_xdmf
   end function output_names
 
   !> Before any work, without creating anything: the output names a file, its directory
   !! exists or can be made (the deepest existing part is a writable directory), and none of
-  !! the names the run may write (final and failed, HDF5 and XDMF) is the deck, a particle
-  !! file, a directory, or, with overwrite = .false., an existing file. Real paths are
-  !! compared, so './deck.nml' or a link to the deck's directory is the deck too.
-  subroutine check_output_path(deck, err)
+  !! the names the run may write (final and failed, HDF5 and XDMF, and the checkpoint when
+  !! the deck asks for checkpoints) is the deck, a particle file, a directory, or, with
+  !! overwrite = .false., an existing file: the one exception is the checkpoint given to
+  !! --restart (restart, its path), which the continued run replaces by its own. Real paths
+  !! are compared, so './deck.nml' or a link to the deck's directory is the deck too.
+  subroutine check_output_path(deck, err, restart)
     type(deck_t), intent(in) :: deck
     type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: restart
     type(output_path_t) :: p
     character(len=:), allocatable :: where, top, rp, name, d, sep
-    integer :: k, m
+    integer :: k, m, nnames
     p = output_names(trim(deck%output%file), deck%run%mode == 'dynamic')
     where = "deck '"//deck%path//"', group &output, variable file = '"//p%h5//"': "
     name = base_name(p%h5)
@@ -105,8 +118,11 @@ contains
       call set_error(err, where//"directory '"//top//"' is not writable; give a writable path")
       return
     end if
-    do k = 1, merge(4, 2, p%with_xdmf)
-      ! every name the run may write: HDF5 and failed HDF5, then the two XDMF files
+    nnames = merge(4, 2, p%with_xdmf)
+    if (p%with_xdmf .and. deck%output%checkpoint_every > 0) nnames = 5
+    do k = 1, nnames
+      ! every name the run may write: HDF5 and failed HDF5, the two XDMF files, and the
+      ! checkpoint
       select case (k)
       case (1)
         d = p%h5
@@ -114,8 +130,10 @@ contains
         d = p%failed_h5
       case (3)
         d = p%xdmf
-      case default
+      case (4)
         d = p%failed_xdmf
+      case default
+        d = p%checkpoint
       end select
       if (is_dir(d)) then
         call set_error(err, where//"'"//d//"', a name this run may write, is a "// &
@@ -136,6 +154,10 @@ contains
           trim(deck%bodies(m)%name)//"' ("//rp//"); give another output name")
         return
       end do
+      if (k == 5 .and. present(restart)) then
+        ! the checkpoint this run continues from: replaced by the run's own checkpoints
+        if (rp == real_path(restart)) cycle
+      end if
       if (.not. deck%output%overwrite) then
         call set_error(err, where//"'"//d//"' exists and overwrite = .false.; remove "// &
           "or rename it, give another output name, or set overwrite = .true.")
@@ -146,19 +168,24 @@ contains
 
   !> Just before the first write: make the directory, pick this run's temporary names and
   !! create its files there exclusively (the HDF5 file f, open, and an empty XDMF file when
-  !! with_xdmf). Nothing existing is opened, truncated or replaced.
-  subroutine output_open(deck, with_xdmf, p, f, err)
+  !! with_xdmf). Nothing existing is opened, truncated or replaced. A dynamic run (with_xdmf)
+  !! whose deck asks for checkpoints also gets a free temporary checkpoint name; restart is
+  !! the checkpoint it continues from, if any.
+  subroutine output_open(deck, with_xdmf, p, f, err, restart)
     type(deck_t), intent(in) :: deck
     logical, intent(in) :: with_xdmf
     type(output_path_t), intent(out) :: p
     type(h5file_t), intent(out) :: f
     type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: restart
     character(len=:), allocatable :: where, failed, tag
     character(len=512) :: msg
     logical :: ok
     integer :: try, u, ios
     p = output_names(trim(deck%output%file), with_xdmf)
     p%overwrite = deck%output%overwrite
+    p%with_checkpoint = with_xdmf .and. deck%output%checkpoint_every > 0
+    if (present(restart)) p%restart = real_path(restart)
     where = "deck '"//deck%path//"', group &output, variable file = '"//p%h5//"': "
     call make_dirs(p%dir, ok, failed)
     if (.not. ok) then
@@ -171,7 +198,11 @@ contains
       if (try > 0) tag = tag//'-'//itoa(try)
       p%tmp_h5 = temp_name(p%h5, tag)
       p%tmp_xdmf = temp_name(p%xdmf, tag)
+      p%tmp_checkpoint = temp_name(p%checkpoint, tag)
       if (path_exists(p%tmp_h5)) cycle
+      if (p%with_checkpoint) then
+        if (path_exists(p%tmp_checkpoint)) cycle
+      end if
       if (.not. with_xdmf) exit
       if (path_exists(p%tmp_xdmf)) cycle
       ! status = 'new' is open(2) with O_CREAT | O_EXCL: the name is ours or the open fails
@@ -246,23 +277,57 @@ contains
     if (.not. completed .and. earlier) note = note//'; the earlier result '//p%h5// &
       ' is untouched'
   contains
-    !> Move this run's file tmp onto dst: rename(2), or with overwrite = .false. link(2)
-    !! and unlink(2), which never replace dst (rename is the fallback on file systems
-    !! without hard links, when dst is still absent).
     logical function move(tmp, dst) result(ok)
       character(len=*), intent(in) :: tmp, dst
-      if (p%overwrite) then
-        ok = rename_file(tmp, dst)
-      else if (link_file(tmp, dst)) then
-        ok = .true.
-        ! should unlink fail, tmp stays as a second name of the result: harmless
-        if (.not. remove_file(tmp)) ok = .true.
-      else
-        ok = .false.
-        if (.not. path_exists(dst)) ok = rename_file(tmp, dst)
-      end if
+      ok = move_file(tmp, dst, p%overwrite)
     end function move
   end subroutine output_commit
+
+  !> Move this run's file tmp onto dst: rename(2) when replace, else link(2) and unlink(2),
+  !! which never replace dst (rename is the fallback on file systems without hard links,
+  !! when dst is still absent).
+  logical function move_file(tmp, dst, replace) result(ok)
+    character(len=*), intent(in) :: tmp, dst
+    logical, intent(in) :: replace
+    if (replace) then
+      ok = rename_file(tmp, dst)
+    else if (link_file(tmp, dst)) then
+      ok = .true.
+      ! should unlink fail, tmp stays as a second name of the result: harmless
+      if (.not. remove_file(tmp)) ok = .true.
+    else
+      ok = .false.
+      if (.not. path_exists(dst)) ok = rename_file(tmp, dst)
+    end if
+  end function move_file
+
+  !> The checkpoint just written and closed at p%tmp_checkpoint takes the name
+  !! p%checkpoint in one rename(2), replacing the previous checkpoint: this run's own, the
+  !! one the run was restarted from, or (overwrite = .true.) an earlier run's. With
+  !! overwrite = .false. a checkpoint that is neither is never replaced (checked before the
+  !! run; should one appear meanwhile the commit fails). On failure the temporary file is
+  !! removed and the previous checkpoint stays as it was (err, exit 1).
+  subroutine checkpoint_commit(p, err)
+    type(output_path_t), intent(inout) :: p
+    type(error_t), allocatable, intent(inout) :: err
+    logical :: replace, ok
+    character(len=:), allocatable :: why
+    replace = p%overwrite .or. p%own_checkpoint
+    if (.not. replace .and. len(p%restart) > 0) then
+      if (path_exists(p%checkpoint)) replace = real_path(p%checkpoint) == p%restart
+    end if
+    if (.not. move_file(p%tmp_checkpoint, p%checkpoint, replace)) then
+      ok = remove_file(p%tmp_checkpoint)
+      why = 'rename(2) failed'
+      if (.not. replace) why = 'a file of that name appeared during the run, and '// &
+        'overwrite = .false.'
+      call set_error(err, "output: cannot rename the checkpoint "//p%tmp_checkpoint// &
+        " to "//p%checkpoint//" ("//why//"); the previous checkpoint is unchanged", &
+        exit_run_failed)
+      return
+    end if
+    p%own_checkpoint = .true.
+  end subroutine checkpoint_commit
 
   !> 'out/run.h5 and out/run.xdmf': the files of a completed (or failed) run, or their
   !! temporary names while it runs.

@@ -2,26 +2,31 @@
 !! summary) and its XDMF companion for ParaView, rewritten at every snapshot so that a run
 !! stopped at any point leaves readable files. They are written under this run's temporary
 !! names and renamed at the end (output_path_m): onto the deck's names when the run
-!! completed, onto the failed-run names when it did not.
+!! completed, onto the failed-run names when it did not. Checkpoints (checkpoint_m) are
+!! written beside them and renamed over the previous one at once; a run restarted from a
+!! checkpoint starts its files with the checkpoint's history.
 module run_files_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error, exit_run_failed
+  use strings_m, only: itoa, rtoa
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t
   use contact_pair_m, only: contact_pair_t
-  use hdf5_io_m, only: h5file_t, h5_close, h5_group
+  use hdf5_io_m, only: h5file_t, h5_close, h5_group, h5_attr
   use run_output_m, only: write_header, write_bodies
   use output_path_m, only: output_path_t, output_open, output_commit, output_files_text, &
-    base_name
+    base_name, checkpoint_commit
+  use checkpoint_m, only: checkpoint_write
   use dynamic_output_m, only: history_t, history_create, history_flush, snapshot_write, &
     xdmf_write
   use run_report_m, only: run_record_t, det_fields_out
   use log_m, only: log_print
+  use file_system_m, only: remove_file
   implicit none
   private
   public :: run_files_t, run_files_open, snapshots_due, failure_snapshot, run_files_close, &
-    run_files_names
+    run_files_names, run_files_resume, run_files_checkpoint
 
   type :: run_files_t
     type(h5file_t) :: f
@@ -30,20 +35,26 @@ module run_files_m
     character(len=8), allocatable :: labels(:)   !< snapshots written
     real(wp), allocatable :: times(:)            !< their times (s)
     integer :: nsnap_done = 0                    !< deck snapshot times passed
+    !> times of the deck snapshots written before a restart (in the earlier run's files)
+    real(wp), allocatable :: earlier_times(:)
+    integer :: checkpoint_step = -1              !< step of the last checkpoint (-1: none)
+    character(len=:), allocatable :: checkpoint  !< and its file
   end type run_files_t
 
 contains
 
   !> Make the directory and create this run's HDF5 file (temporary name) with its header,
   !! the deck, the bodies and the empty history. Called when set-up is done: a deck or body
-  !! error found before leaves nothing behind.
-  subroutine run_files_open(deck, bodies, out, err)
+  !! error found before leaves nothing behind. restart: the checkpoint a restarted run
+  !! continues from.
+  subroutine run_files_open(deck, bodies, out, err, restart)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(run_files_t), intent(out) :: out
     type(error_t), allocatable, intent(inout) :: err
-    allocate(out%labels(0), out%times(0))
-    call output_open(deck, .true., out%path, out%f, err)
+    character(len=*), intent(in), optional :: restart
+    allocate(out%labels(0), out%times(0), out%earlier_times(0))
+    call output_open(deck, .true., out%path, out%f, err, restart)
     if (allocated(err)) return
     call write_header(out%f, deck, err)
     if (.not. allocated(err)) call write_bodies(out%f, bodies, deck, err)
@@ -52,6 +63,65 @@ contains
       deck%run%geometry /= 'axisymmetric', err)
     if (allocated(err)) call abandon(out, err)
   end subroutine run_files_open
+
+  !> A run restarted from the checkpoint at path, written at step r%n (checkpoint_read gave
+  !! hist, nsnap_done, times): the history so far goes into the new file with its next
+  !! flush, the deck's snapshots go on after the nsnap_done already written (they stay in
+  !! the earlier run's files), and root attributes say where the run was restarted.
+  subroutine run_files_resume(out, path, r, hist, nsnap_done, times, err)
+    type(run_files_t), intent(inout) :: out
+    character(len=*), intent(in) :: path
+    type(run_record_t), intent(in) :: r
+    type(history_t), intent(inout) :: hist
+    integer, intent(in) :: nsnap_done
+    real(wp), intent(in) :: times(:)
+    type(error_t), allocatable, intent(inout) :: err
+    call move_alloc(hist%rows, out%hist%rows)
+    out%hist%n = hist%n
+    out%hist%nflushed = 0
+    out%nsnap_done = nsnap_done
+    out%earlier_times = times
+    out%checkpoint_step = r%n
+    out%checkpoint = path
+    call h5_attr(out%f, '/', 'restarted_from', path, err)
+    if (.not. allocated(err)) call h5_attr(out%f, '/', 'restart_step', r%n, err)
+    if (.not. allocated(err)) call h5_attr(out%f, '/', 'restart_time', r%t, err)
+    if (.not. allocated(err)) call h5_attr(out%f, '/', 'snapshots_before_restart', &
+      nsnap_done, err)
+    if (allocated(err)) call abandon(out, err)
+  end subroutine run_files_resume
+
+  !> A checkpoint of the run after step r%n: written under its temporary name, then renamed
+  !! over the previous checkpoint (output_path_m, checkpoint_commit). t_loop: seconds spent
+  !! in the time loop so far. A failure fails the run (exit 1) and leaves the previous
+  !! checkpoint as it was.
+  subroutine run_files_checkpoint(out, deck, bodies, r, solids, pairs, t_loop, err)
+    type(run_files_t), intent(inout) :: out
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(run_record_t), intent(in) :: r
+    type(solid_t), intent(in) :: solids(:)
+    type(contact_pair_t), intent(in) :: pairs(:)
+    real(wp), intent(in) :: t_loop
+    type(error_t), allocatable, intent(inout) :: err
+    logical :: ok
+    call checkpoint_write(out%path%tmp_checkpoint, deck, bodies, r, solids, pairs, &
+      out%hist, out%nsnap_done, [out%earlier_times, pack(out%times, out%labels /= 'failure')], &
+      t_loop, err)
+    if (allocated(err)) then
+      ok = remove_file(out%path%tmp_checkpoint)
+      err%message = 'checkpoint at step '//itoa(r%n)//': '//err%message// &
+        '; the previous checkpoint is unchanged'
+      err%code = exit_run_failed
+      return
+    end if
+    call checkpoint_commit(out%path, err)
+    if (allocated(err)) return
+    out%checkpoint_step = r%n
+    out%checkpoint = out%path%checkpoint
+    call log_print('dynamic: checkpoint at step '//itoa(r%n)//', t = '//rtoa(r%t)//' s: '// &
+      out%path%checkpoint)
+  end subroutine run_files_checkpoint
 
   !> A write failed before the run started: the files go to the failed-run names.
   subroutine abandon(out, err)
@@ -146,6 +216,8 @@ contains
     if (.not. allocated(err)) call set_error(err, 'run failed at '//r%reason// &
       '; diagnostic snapshot /snapshots/failure')
     err%message = err%message//'; the files of the run are '//note
+    if (out%checkpoint_step >= 0) err%message = err%message//'; the last checkpoint, '// &
+      'step '//itoa(out%checkpoint_step)//', is '//out%checkpoint
     err%code = exit_run_failed
   end subroutine run_files_close
 

@@ -1,10 +1,11 @@
 !> mfcd: meshfree contact detection (Li, Qian, Liu, Belytschko, CMAME 190, 2001).
-!! Usage: mfcd [--check] deck.nml | --help | --version.
+!! Usage: mfcd [--check] [--restart checkpoint.h5] deck.nml | --help | --version.
 !! Exit codes: 0 success, 2 bad input (nothing written), 1 a run that failed.
 !! The log (stdout) is flushed line by line; its last line says how the run ended.
 program mfcd
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use errors_m, only: error_t, exit_bad_input
+  use strings_m, only: itoa
   use version_m, only: code_name, code_version, git_commit
   use deck_m, only: deck_t, read_deck
   use body_m, only: body_t
@@ -12,6 +13,7 @@ program mfcd
   use memory_estimate_m, only: check_memory
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
+  use checkpoint_m, only: checkpoint_check, checkpoint_info_t
   use log_m, only: log_print, log_flush
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
@@ -22,16 +24,30 @@ program mfcd
   type(deck_t) :: deck
   type(body_t), allocatable :: bodies(:)
   type(error_t), allocatable :: err
-  character(len=:), allocatable :: deck_path
+  character(len=:), allocatable :: deck_path, restart_path
   character(len=1024) :: arg
-  logical :: check_only
+  logical :: check_only, restart_next
   integer :: i, nargs
+  type(checkpoint_info_t) :: ckpt
 
   check_only = .false.
+  restart_next = .false.
   nargs = command_argument_count()
   deck_path = ''
+  restart_path = ''
   do i = 1, nargs
     call get_command_argument(i, arg)
+    if (restart_next) then
+      restart_path = trim(arg)
+      restart_next = .false.
+      cycle
+    end if
+    if (arg(1:10) == '--restart=') then
+      restart_path = trim(arg(11:))
+      restart_next = len(restart_path) == 0
+      if (restart_next) exit
+      cycle
+    end if
     select case (trim(arg))
     case ('-h', '--help')
       call usage(output_unit)
@@ -41,6 +57,8 @@ program mfcd
       stop
     case ('--check')
       check_only = .true.
+    case ('--restart')
+      restart_next = .true.
     case default
       if (arg(1:1) == '-') then
         write(error_unit, '(a)') 'mfcd: error: unknown option '//trim(arg)
@@ -55,6 +73,11 @@ program mfcd
       deck_path = trim(arg)
     end select
   end do
+  if (restart_next) then
+    write(error_unit, '(a)') 'mfcd: error: --restart needs the checkpoint file: '// &
+      'mfcd --restart run.checkpoint.h5 deck.nml'
+    stop exit_bad_input, quiet=.true.
+  end if
   if (len(deck_path) == 0) then
     write(error_unit, '(a)') 'mfcd: error: no deck given'
     call usage(error_unit)
@@ -73,7 +96,9 @@ program mfcd
   ! (a run repeats the set-up in run_dynamic, quietly here)
   if (.not. allocated(err) .and. deck%run%mode == 'dynamic') &
     call check_setup(deck, bodies, .not. check_only, err)
-  if (.not. allocated(err) .and. .not. check_only) call check_output_path(deck, err)
+  if (.not. allocated(err) .and. len(restart_path) > 0) call check_restart()
+  if (.not. allocated(err) .and. .not. check_only) call check_output_path(deck, err, &
+    restart_path)
   if (allocated(err)) call fail(err)
   if (check_only) then
     write(output_unit, '(a)') 'mfcd: deck '''//deck_path//''' is valid'
@@ -84,7 +109,11 @@ program mfcd
   case ('detect')
     call run_detect(deck, bodies, err)
   case ('dynamic')
-    call run_dynamic(deck, bodies, err)
+    if (len(restart_path) > 0) then
+      call run_dynamic(deck, bodies, err, restart_path)
+    else
+      call run_dynamic(deck, bodies, err)
+    end if
   end select
   if (allocated(err)) call fail(err)
   call log_print('mfcd: completed: wrote '//output_result_text(deck))
@@ -105,6 +134,13 @@ contains
     call setup_solids(d, b, solids, isolid, e, quiet)
     if (.not. allocated(e)) call setup_contacts(d, b, solids, isolid, pairs, e, quiet)
   end subroutine check_setup
+
+  !> The checkpoint given to --restart must be one this deck's run wrote (checkpoint_m).
+  subroutine check_restart()
+    call checkpoint_check(restart_path, deck, bodies, ckpt, err)
+    if (.not. allocated(err)) call log_print("restart: checkpoint '"//restart_path// &
+      "' of this deck, step "//itoa(ckpt%step)//", is valid")
+  end subroutine check_restart
 
   !> Stop with the error: on stderr after every log line before it, then the log's last
   !! line saying how the run ended, so a log file read alone tells it too.
@@ -138,13 +174,17 @@ contains
 
   subroutine usage(u)
     integer, intent(in) :: u
-    write(u, '(a)') 'usage: mfcd [--check] DECK.nml'
+    write(u, '(a)') 'usage: mfcd [--check] [--restart CHECKPOINT.h5] DECK.nml'
     write(u, '(a)') '       mfcd --help | --version'
     write(u, '(a)') ''
     write(u, '(a)') 'Runs the namelist deck DECK.nml (groups &run, &body, &detection, &output;'
     write(u, '(a)') 'see doc/deck.md) and writes one HDF5 file (doc/output.md).'
     write(u, '(a)') '  --check     read and validate the deck, build the bodies and (mode'
-    write(u, '(a)') '              dynamic) the set-up of the first step; write nothing'
+    write(u, '(a)') '              dynamic) the set-up of the first step (and the checkpoint'
+    write(u, '(a)') '              with --restart); write nothing'
+    write(u, '(a)') '  --restart F continue the dynamic run of DECK.nml from its checkpoint F'
+    write(u, '(a)') '              (written with &output checkpoint_every; the deck must be'
+    write(u, '(a)') '              the one that wrote it, unchanged)'
     write(u, '(a)') '  --help      this text'
     write(u, '(a)') '  --version   code version and git commit'
     write(u, '(a)') 'Threads: OMP_NUM_THREADS. Exit codes: 0 ok, 2 bad input (nothing'

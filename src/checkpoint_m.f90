@@ -1,0 +1,553 @@
+!> Checkpoints of a dynamic run (&output checkpoint_every) and the restart from them
+!! (mfcd --restart CHECKPOINT.h5 DECK.nml). Layout: doc/output.md, "Checkpoints".
+!!
+!! A checkpoint holds what carries over from one step to the next, so that the restarted
+!! run takes the same steps as the run that was interrupted, bit for bit with the same
+!! number of threads. The step (explicit_driver_m) reads, before writing them again:
+!!  - per solid: the coefficients d, v, a (eq. 64 predicts from them), F and P (they become
+!!    F_n, P_n of the step: rate of deformation, internal work), the reactions of the
+!!    kinematic conditions (their work is a trapezoid over the step), the material state
+!!    (tau, alpha, epsbar, epsdot), the energy accounts, the critical-step estimate
+!!    (kappa, where it is, its calibration dt_cal) and the wall-clock timers;
+!!  - the run record: step, time, last dt, the step control and its extremes, the energy
+!!    guard's counter, node and point counts, contact extremes, impulse and edge events;
+!!  - per contact pair, the counters summed over the run;
+!!  - the output: every /history row so far, and how many of the deck's snapshots are done.
+!! What the step computes afresh before reading it is not saved: d_old, a_old and fcon
+!! (solid_predict), F_old and P_old (copied from F and P), D, W12, the plastic work of the
+!! step, the stabilization stresses (from d; their energy is saved with the others for the
+!! restart's first log line), f_int, the reactions of the step, the physical positions,
+!! and every contact work array (positions from d, detection and forces each step; a
+!! deformable master's cloud and surface are rebuilt from d). f_ext is zero from set-up on.
+!! Everything that depends on the reference configuration only (tables, masses, the power
+!! iteration, health limits, rigid masters) is rebuilt from the deck and the bodies,
+!! identically: the checkpoint refuses a deck whose text differs and bodies whose particles
+!! differ.
+module checkpoint_m
+  use omp_lib, only: omp_get_wtime, omp_get_max_threads
+  use kinds_m, only: wp, i64
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa, rtoa, join_names
+  use version_m, only: code_version, git_commit
+  use deck_m, only: deck_t
+  use body_m, only: body_t
+  use solid_m, only: solid_t
+  use contact_pair_m, only: contact_pair_t
+  use run_report_m, only: run_record_t
+  use dynamic_output_m, only: history_t, history_names
+  use run_output_m, only: timestamp
+  use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text, &
+    h5_open_read, h5_has, h5_has_attr, h5_shape, h5_read, h5_read_attr, h5_read_text
+  use log_m, only: log_print
+  implicit none
+  private
+  public :: checkpoint_write, checkpoint_check, checkpoint_read, checkpoint_info_t
+
+  !> The root attribute 'format' of every checkpoint, and the layout version this mfcd
+  !! writes and reads (raise it when the layout changes).
+  character(len=*), parameter :: checkpoint_kind = 'mfcd checkpoint'
+  integer, parameter :: checkpoint_format = 1
+
+  !> What a checkpoint says about itself (root attributes).
+  type :: checkpoint_info_t
+    integer :: step = 0                   !< the step it was written at
+    real(wp) :: time = 0.0_wp             !< its time (s)
+    integer :: threads = 0                !< OpenMP threads of the run that wrote it
+    character(len=:), allocatable :: git  !< git commit of the mfcd that wrote it
+  end type checkpoint_info_t
+
+contains
+
+  !> Write the state of the run after step r%n to a new file at path (created exclusively;
+  !! the caller renames it over the previous checkpoint). t_loop: seconds in the time loop
+  !! so far; snap_times: the times of the deck snapshots written so far (nsnap_done of them).
+  subroutine checkpoint_write(path, deck, bodies, r, solids, pairs, hist, nsnap_done, &
+    snap_times, t_loop, err)
+    character(len=*), intent(in) :: path
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(run_record_t), intent(in) :: r
+    type(solid_t), intent(in) :: solids(:)
+    type(contact_pair_t), intent(in) :: pairs(:)
+    type(history_t), intent(in) :: hist
+    integer, intent(in) :: nsnap_done
+    real(wp), intent(in) :: snap_times(:), t_loop
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    integer :: k
+    call h5_create(f, path, err)
+    if (allocated(err)) return
+    call h5_attr(f, '/', 'format', checkpoint_kind, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'format_version', checkpoint_format, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'code_version', code_version, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'git_commit', git_commit, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'deck_path', deck%path, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'created', timestamp(), err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'step', r%n, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'time', r%t, err)
+    if (.not. allocated(err)) call h5_attr(f, '/', 'threads', omp_get_max_threads(), err)
+    if (.not. allocated(err)) call h5_text(f, '/deck', deck%text, err)
+    if (.not. allocated(err)) call write_bodies_fingerprint(f, bodies, err)
+    if (.not. allocated(err)) call write_record(f, r, t_loop, err)
+    if (.not. allocated(err)) call h5_group(f, '/solids', err)
+    do k = 1, size(solids)
+      if (.not. allocated(err)) call write_solid(f, solids(k), err)
+    end do
+    if (.not. allocated(err)) call h5_group(f, '/contacts', err)
+    do k = 1, size(pairs)
+      if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k), &
+        [pairs(k)%count%screened, pairs(k)%count%evaluated, pairs(k)%count%detected, &
+        pairs(k)%count%contacts], '1', err, 'counters since t = 0: screened, '// &
+        'evaluated, detected, contacts')
+    end do
+    if (.not. allocated(err)) call h5_group(f, '/output', err)
+    if (.not. allocated(err)) call h5_attr(f, '/output', 'nsnap_done', nsnap_done, err)
+    if (.not. allocated(err)) call h5_write(f, '/output/snapshot_times', snap_times, 's', &
+      err, 'times of the deck snapshots written so far (0001, 0002, ...)')
+    if (.not. allocated(err)) call h5_write(f, '/output/history', hist%rows(:, 1:hist%n), &
+      'as /history', err, 'every /history row so far (columns: attribute history_columns)')
+    if (.not. allocated(err)) call h5_attr(f, '/output/history', 'history_columns', &
+      join_names(history_names), err)
+    call h5_close(f, e2)
+    if (allocated(e2) .and. .not. allocated(err)) call move_alloc(e2, err)
+  end subroutine checkpoint_write
+
+  !> The run record and its step control as attributes of /record.
+  subroutine write_record(f, r, t_loop, err)
+    type(h5file_t), intent(in) :: f
+    type(run_record_t), intent(in) :: r
+    real(wp), intent(in) :: t_loop
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: g = '/record'
+    call h5_group(f, g, err)
+    if (allocated(err)) return
+    call h5_attr(f, g, 'n', r%n, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 't', r%t, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'dt', r%dt, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'nsteps_est', r%nsteps_est, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'energy_over', r%energy_over, err)
+    if (.not. allocated(err)) call h5_write(f, g//'/node_point_steps', &
+      [r%node_steps, r%point_steps], '1', err, 'nodes x steps, integration points x steps')
+    if (.not. allocated(err)) call h5_attr(f, g, 'wall', omp_get_wtime() - r%wall0, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 't_loop', t_loop, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 't_contact', r%t_contact, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 't_output', r%t_output, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'pen_max', r%pen_max, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'impulse', r%impulse, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 't_edge_first', r%t_edge_first, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 't_edge_sep', r%t_edge_sep, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'edge_prev', merge(1, 0, r%edge_prev), err)
+    ! what contact did in the last step (history row and log line of a restart at the end)
+    if (.not. allocated(err)) call h5_attr(f, g, 'contact_n', r%contact%n_contact, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'contact_force_radius_pen', &
+      [r%contact%force_normal, r%contact%radius, r%contact%pen_before, &
+      r%contact%pen_after], err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'contact_edge', &
+      merge(1, 0, r%contact%edge_in_contact), err)
+    associate (c => r%step)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_adaptive', merge(1, 0, c%adaptive), &
+        err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_cfl_fixed_dtc0', &
+        [c%cfl, c%dt_fixed, c%dtc0], err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_dtc', c%dtc, err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_solid', c%solid, err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_point', c%point, err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_solid_min', c%solid_min, err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_point_min', c%point_min, err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_dt_min_max_t', &
+        [c%dt_min, c%dt_max, c%t_dt_min], err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_dtc_min', c%dtc_min, err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_n_over', c%n_over, err)
+    end associate
+  end subroutine write_record
+
+  !> /solids/<name>: the state of one solid that carries over between steps.
+  subroutine write_solid(f, s, err)
+    type(h5file_t), intent(in) :: f
+    type(solid_t), intent(in) :: s
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: g
+    g = '/solids/'//trim(s%name)
+    call h5_group(f, g, err)
+    if (allocated(err)) return
+    call h5_attr(f, g, 'np', s%np, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'nq', s%nq, err)
+    if (.not. allocated(err)) call h5_write(f, g//'/d', s%d, 'm', err, &
+      'nodal coefficients of the displacement (2, np)')
+    if (.not. allocated(err)) call h5_write(f, g//'/v', s%v, 'm/s', err, &
+      'nodal coefficients of the velocity (2, np)')
+    if (.not. allocated(err)) call h5_write(f, g//'/a', s%a, 'm/s^2', err, &
+      'nodal coefficients of the acceleration (2, np)')
+    if (.not. allocated(err)) call h5_write(f, g//'/freac', s%freac_old, 'N', err, &
+      'reactions of the kinematic conditions (2, np)')
+    if (.not. allocated(err)) call h5_write(f, g//'/F', s%f, '1', err, &
+      'deformation gradient 11, 12, 21, 22, 33 (5, nq)')
+    if (.not. allocated(err)) call h5_write(f, g//'/P', s%p, 'Pa', err, &
+      'first Piola-Kirchhoff stress 11, 12, 21, 22, 33 (5, nq)')
+    if (.not. allocated(err)) call h5_write(f, g//'/tau', s%st%tau, 'Pa', err, &
+      'Kirchhoff stress 11, 22, 33, 12 (4, nq)')
+    if (.not. allocated(err)) call h5_write(f, g//'/alpha', s%st%alpha, 'Pa', err, &
+      'back stress 11, 22, 33, 12 (4, nq)')
+    if (.not. allocated(err)) call h5_write(f, g//'/epsbar', s%st%epsbar, '1', err, &
+      'effective plastic strain (nq)')
+    if (.not. allocated(err)) call h5_write(f, g//'/epsdot', s%st%epsdot, '1/s', err, &
+      'effective plastic strain rate of the last step (nq)')
+    if (.not. allocated(err)) call h5_attr(f, g, 'energies', [s%ke0, s%ke, s%w_int, &
+      s%w_plastic, s%w_bc, s%w_ext, s%w_contact, s%e_stab], err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'kappa_dt_cal', [s%kappa, s%dt_cal], err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'kappa_q', s%kappa_q, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'wall', s%wall, err)
+  end subroutine write_solid
+
+  !> /bodies/<name>: particle count and sums of positions and volumes of every body, to
+  !! recognise a body that changed under an unchanged deck (a particle file).
+  subroutine write_bodies_fingerprint(f, bodies, err)
+    type(h5file_t), intent(in) :: f
+    type(body_t), intent(in) :: bodies(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    character(len=:), allocatable :: g
+    call h5_group(f, '/bodies', err)
+    do k = 1, size(bodies)
+      if (allocated(err)) return
+      g = '/bodies/'//trim(bodies(k)%name)
+      call h5_group(f, g, err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'np', bodies(k)%np, err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'sum_x_vol', fingerprint(bodies(k)), err)
+    end do
+  end subroutine write_bodies_fingerprint
+
+  pure function fingerprint(b) result(fp)
+    type(body_t), intent(in) :: b
+    real(wp) :: fp(2)
+    fp = [sum(b%x), sum(b%vol)]
+  end function fingerprint
+
+  !> Is path a checkpoint that deck (with its bodies) can continue? Refused (exit 2): a
+  !! file that is not an HDF5 file or not a checkpoint, a checkpoint of another format or
+  !! mfcd version, one written by a different deck (its text differs) or with different
+  !! bodies. Nothing is written. info: what the checkpoint says about itself.
+  subroutine checkpoint_check(path, deck, bodies, info, err)
+    character(len=*), intent(in) :: path
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(checkpoint_info_t), intent(out) :: info
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    call open_checked(path, deck, bodies, f, info, err)
+    call h5_close(f, e2)
+  end subroutine checkpoint_check
+
+  !> Open checkpoint path and check it against deck and bodies (checkpoint_check); f stays
+  !! open for reading when it passes.
+  subroutine open_checked(path, deck, bodies, f, info, err)
+    character(len=*), intent(in) :: path
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(h5file_t), intent(out) :: f
+    type(checkpoint_info_t), intent(out) :: info
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: where, kind, version, text, orig, g
+    character(len=*), parameter :: how = 'give the <stem>.checkpoint.h5 that a run of '// &
+      'this deck wrote with &output checkpoint_every > 0'
+    integer :: fmt, k, np
+    real(wp) :: fp(2)
+    where = "--restart '"//path//"': "
+    info%git = ''
+    if (deck%run%mode /= 'dynamic') then
+      call set_error(err, where//"deck '"//deck%path//"' has mode = '"// &
+        trim(deck%run%mode)//"'; only a dynamic run can be restarted")
+      return
+    end if
+    call h5_open_read(f, path, err)
+    if (allocated(err)) then
+      err%message = where//err%message//"; "//how
+      return
+    end if
+    if (h5_has_attr(f, '/', 'format')) call h5_read_attr(f, '/', 'format', kind, err)
+    if (.not. allocated(kind)) kind = ''
+    if (allocated(err) .or. trim(kind) /= checkpoint_kind) then
+      call set_error(err, where//"not an mfcd checkpoint (no root attribute format = '"// &
+        checkpoint_kind//"'; an mfcd output file is not a checkpoint); "//how)
+      return
+    end if
+    call h5_read_attr(f, '/', 'format_version', fmt, err)
+    if (.not. allocated(err)) call h5_read_attr(f, '/', 'code_version', version, err)
+    if (.not. allocated(err)) call h5_read_attr(f, '/', 'git_commit', info%git, err)
+    if (.not. allocated(err)) call h5_read_attr(f, '/', 'step', info%step, err)
+    if (.not. allocated(err)) call h5_read_attr(f, '/', 'time', info%time, err)
+    if (.not. allocated(err)) call h5_read_attr(f, '/', 'threads', info%threads, err)
+    if (allocated(err)) then
+      err%message = where//"a damaged checkpoint: "//err%message
+      return
+    end if
+    if (fmt /= checkpoint_format) then
+      call set_error(err, where//"checkpoint format "//itoa(fmt)//", written by mfcd "// &
+        trim(version)//"; this mfcd ("//code_version//") reads format "// &
+        itoa(checkpoint_format)//": continue it with the mfcd that wrote it, or start a "// &
+        "new run")
+      return
+    end if
+    if (trim(version) /= code_version) then
+      call set_error(err, where//"written by mfcd "//trim(version)//" (git "// &
+        trim(info%git)//"); this is mfcd "//code_version//" (git "//git_commit//"), and a "// &
+        "continuation is exact only with the version that wrote it: restart with mfcd "// &
+        trim(version)//", or start a new run")
+      return
+    end if
+    call h5_read_text(f, '/deck', text, err)
+    if (.not. allocated(err)) call h5_read_attr(f, '/', 'deck_path', orig, err)
+    if (allocated(err)) then
+      err%message = where//"a damaged checkpoint: "//err%message
+      return
+    end if
+    if (text /= deck%text .or. len(text) /= len(deck%text)) then
+      call set_error(err, where//"the checkpoint was written by a different deck: its "// &
+        "deck text (/deck in the checkpoint, from '"//trim(orig)//"') differs from deck '"// &
+        deck%path//"' "//first_difference(text, deck%text)//"; restart with the deck that "// &
+        "wrote the checkpoint, unchanged, or start a new run")
+      return
+    end if
+    do k = 1, size(bodies)
+      g = '/bodies/'//trim(bodies(k)%name)
+      np = -1
+      fp = 0.0_wp
+      if (h5_has_attr(f, g, 'np')) call h5_read_attr(f, g, 'np', np, err)
+      if (h5_has_attr(f, g, 'sum_x_vol')) call h5_read_attr(f, g, 'sum_x_vol', fp, err)
+      if (allocated(err)) deallocate(err)
+      if (np /= bodies(k)%np .or. any(fp /= fingerprint(bodies(k)))) then
+        call set_error(err, where//"the checkpoint was written with different particles "// &
+          "of body '"//trim(bodies(k)%name)//"' ("//itoa(np)//" particles there, "// &
+          itoa(bodies(k)%np)//" here, or other positions or volumes) under the same deck "// &
+          "text: was a particle file (&body file) changed? Restart with the bodies that "// &
+          "wrote it, or start a new run")
+        return
+      end if
+    end do
+  end subroutine open_checked
+
+  !> 'at line L: 'a' against 'b'': the first line where texts a (checkpoint) and b (deck)
+  !! differ.
+  function first_difference(a, b) result(s)
+    character(len=*), intent(in) :: a, b
+    character(len=:), allocatable :: s
+    integer :: ia, ib, ja, jb, line
+    ia = 1
+    ib = 1
+    line = 1
+    do
+      ja = line_end(a, ia)
+      jb = line_end(b, ib)
+      if (ia > len(a) .or. ib > len(b)) exit
+      if (a(ia:ja) /= b(ib:jb) .or. (ja - ia) /= (jb - ib)) exit
+      ia = ja + 2
+      ib = jb + 2
+      line = line + 1
+    end do
+    s = 'at line '//itoa(line)//": '"//clip(a, ia, ja)//"' in the checkpoint, '"// &
+      clip(b, ib, jb)//"' in the deck"
+  contains
+    pure integer function line_end(t, i) result(j)
+      character(len=*), intent(in) :: t
+      integer, intent(in) :: i
+      j = len(t)
+      if (i > len(t)) return
+      j = index(t(i:), new_line('a'))
+      if (j == 0) then
+        j = len(t)
+      else
+        j = i + j - 2
+      end if
+    end function line_end
+    function clip(t, i, j) result(c)
+      character(len=*), intent(in) :: t
+      integer, intent(in) :: i, j
+      character(len=:), allocatable :: c
+      if (i > len(t)) then
+        c = '(end of text)'
+      else
+        c = trim(t(i:min(j, i + 79)))
+      end if
+    end function clip
+  end function first_difference
+
+  !> Load the checkpoint at path into a run set up from deck and bodies (solids, pairs and
+  !! the record as set-up leaves them): the record, every solid's state and the pairs'
+  !! counters are overwritten; hist gets every history row so far, nsnap_done and
+  !! snap_times the deck snapshots already written. Refused as checkpoint_check refuses,
+  !! and when the stored arrays do not fit the solids (exit 2); nothing is written.
+  subroutine checkpoint_read(path, deck, bodies, r, solids, pairs, hist, nsnap_done, &
+    snap_times, err)
+    character(len=*), intent(in) :: path
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(run_record_t), intent(inout) :: r
+    type(solid_t), intent(inout) :: solids(:)
+    type(contact_pair_t), intent(inout) :: pairs(:)
+    type(history_t), intent(out) :: hist
+    integer, intent(out) :: nsnap_done
+    real(wp), allocatable, intent(out) :: snap_times(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    type(checkpoint_info_t) :: info
+    type(error_t), allocatable :: e2
+    integer, allocatable :: dims(:)
+    integer(i64) :: counts(4)
+    integer :: k
+    nsnap_done = 0
+    allocate(snap_times(0))
+    call open_checked(path, deck, bodies, f, info, err)
+    if (allocated(err)) then
+      call h5_close(f, e2)
+      return
+    end if
+    call read_record(f, r, err)
+    do k = 1, size(solids)
+      if (.not. allocated(err)) call read_solid(f, solids(k), err)
+    end do
+    do k = 1, size(pairs)
+      if (allocated(err)) exit
+      call h5_read(f, '/contacts/contact'//itoa(k), counts, err)
+      pairs(k)%count%screened = counts(1)
+      pairs(k)%count%evaluated = counts(2)
+      pairs(k)%count%detected = counts(3)
+      pairs(k)%count%contacts = counts(4)
+    end do
+    if (.not. allocated(err)) call h5_read_attr(f, '/output', 'nsnap_done', nsnap_done, err)
+    if (.not. allocated(err)) call h5_shape(f, '/output/snapshot_times', dims, err)
+    if (.not. allocated(err)) then
+      deallocate(snap_times)
+      allocate(snap_times(dims(1)))
+      call h5_read(f, '/output/snapshot_times', snap_times, err)
+    end if
+    if (.not. allocated(err)) call h5_shape(f, '/output/history', dims, err)
+    if (.not. allocated(err)) then
+      allocate(hist%rows(size(history_names), max(dims(2), 1024)))
+      hist%n = dims(2)
+      call h5_read(f, '/output/history', hist%rows(:, 1:hist%n), err)
+    end if
+    call h5_close(f, e2)
+    if (allocated(err)) then
+      err%message = "--restart '"//path//"': the checkpoint does not fit the run set up "// &
+        "from deck '"//deck%path//"': "//err%message
+      return
+    end if
+    call log_print("restart: from checkpoint '"//path//"' at step "//itoa(info%step)// &
+      ", t = "//rtoa(info%time)//" s (written with "//itoa(info%threads)//" thread(s), git "// &
+      trim(info%git)//")")
+    if (info%threads /= omp_get_max_threads()) call log_print('restart: note: this run '// &
+      'has '//itoa(omp_get_max_threads())//' thread(s); sums over threads (energies, '// &
+      'contact force) then differ in round-off from an uninterrupted run')
+    if (trim(info%git) /= git_commit) call log_print('restart: note: written by git '// &
+      trim(info%git)//', this is git '//git_commit//': the continuation is exact only '// &
+      'when the code that computes a step is the same')
+  end subroutine checkpoint_read
+
+  subroutine read_record(f, r, err)
+    type(h5file_t), intent(in) :: f
+    type(run_record_t), intent(inout) :: r
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: g = '/record'
+    integer(i64) :: counts(2)
+    integer :: flag
+    real(wp) :: wall, v4(4), v3(3)
+    call h5_read_attr(f, g, 'n', r%n, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 't', r%t, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'dt', r%dt, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'nsteps_est', r%nsteps_est, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'energy_over', r%energy_over, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/node_point_steps', counts, err)
+    r%node_steps = counts(1)
+    r%point_steps = counts(2)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'wall', wall, err)
+    ! the wall clock goes on from the time already spent
+    r%wall0 = omp_get_wtime() - wall
+    if (.not. allocated(err)) call h5_read_attr(f, g, 't_loop', r%t_loop, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 't_contact', r%t_contact, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 't_output', r%t_output, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'pen_max', r%pen_max, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'impulse', r%impulse, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 't_edge_first', r%t_edge_first, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 't_edge_sep', r%t_edge_sep, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'edge_prev', flag, err)
+    r%edge_prev = flag == 1
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'contact_n', r%contact%n_contact, err)
+    v4 = 0.0_wp
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'contact_force_radius_pen', v4, err)
+    r%contact%force_normal = v4(1)
+    r%contact%radius = v4(2)
+    r%contact%pen_before = v4(3)
+    r%contact%pen_after = v4(4)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'contact_edge', flag, err)
+    r%contact%edge_in_contact = flag == 1
+    associate (c => r%step)
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_adaptive', flag, err)
+      c%adaptive = flag == 1
+      v3 = 0.0_wp
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_cfl_fixed_dtc0', v3, err)
+      c%cfl = v3(1)
+      c%dt_fixed = v3(2)
+      c%dtc0 = v3(3)
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_dtc', c%dtc, err)
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_solid', c%solid, err)
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_point', c%point, err)
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_solid_min', c%solid_min, err)
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_point_min', c%point_min, err)
+      v3 = 0.0_wp
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_dt_min_max_t', v3, err)
+      c%dt_min = v3(1)
+      c%dt_max = v3(2)
+      c%t_dt_min = v3(3)
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_dtc_min', c%dtc_min, err)
+      if (.not. allocated(err)) call h5_read_attr(f, g, 'step_n_over', c%n_over, err)
+    end associate
+    r%failed = .false.
+    r%reason = ''
+  end subroutine read_record
+
+  subroutine read_solid(f, s, err)
+    type(h5file_t), intent(in) :: f
+    type(solid_t), intent(inout) :: s
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: g
+    real(wp) :: en(8), kd(2)
+    g = '/solids/'//trim(s%name)
+    if (.not. h5_has(f, g)) then
+      call set_error(err, "no state of body '"//trim(s%name)//"' (/solids/"// &
+        trim(s%name)//")")
+      return
+    end if
+    call h5_read(f, g//'/d', s%d, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/v', s%v, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/a', s%a, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/freac', s%freac_old, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/F', s%f, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/P', s%p, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/tau', s%st%tau, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/alpha', s%st%alpha, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/epsbar', s%st%epsbar, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/epsdot', s%st%epsdot, err)
+    en = 0.0_wp
+    kd = 0.0_wp
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'energies', en, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'kappa_dt_cal', kd, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'kappa_q', s%kappa_q, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'wall', s%wall, err)
+    if (allocated(err)) return
+    s%ke0 = en(1)
+    s%ke = en(2)
+    s%w_int = en(3)
+    s%w_plastic = en(4)
+    s%w_bc = en(5)
+    s%w_ext = en(6)
+    s%w_contact = en(7)
+    s%e_stab = en(8)
+    s%kappa = kd(1)
+    s%dt_cal = kd(2)
+    s%freac = s%freac_old
+    s%f_old = s%f
+    s%p_old = s%p
+  end subroutine read_solid
+end module checkpoint_m
