@@ -5,6 +5,7 @@
 !! step. Every error names the deck, the group and the variable.
 module dynamic_setup_m
   use, intrinsic :: iso_fortran_env, only: output_unit
+  use omp_lib, only: omp_get_wtime
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
@@ -18,9 +19,33 @@ module dynamic_setup_m
   use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init
   implicit none
   private
-  public :: setup_solids, setup_contacts, setup_time_step
+  public :: setup_solids, setup_contacts, setup_time_step, dynamic_setup_t, setup_dynamic
+
+  !> What the set-up of a dynamic run builds before anything is written: the solids of the
+  !! deformable bodies (isolid(k): body k's solid, 0 if rigid) and the contact pairs.
+  type :: dynamic_setup_t
+    type(solid_t), allocatable :: solids(:)
+    integer, allocatable :: isolid(:)
+    type(contact_pair_t), allocatable :: pairs(:)
+    real(wp) :: wall0 = 0.0_wp             !< wall clock when the set-up began (s)
+  end type dynamic_setup_t
 
 contains
+
+  !> The whole set-up of a dynamic run (solids, kinematic conditions, contact pairs), made
+  !! once, before anything is written, by a run and by --check alike; its errors are bad
+  !! input. quiet: without its log lines.
+  subroutine setup_dynamic(deck, bodies, su, err, quiet)
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(dynamic_setup_t), intent(out) :: su
+    type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: quiet
+    su%wall0 = omp_get_wtime()
+    call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet)
+    if (.not. allocated(err)) call setup_contacts(deck, bodies, su%solids, su%isolid, &
+      su%pairs, err, quiet)
+  end subroutine setup_dynamic
 
   !> The solids of the deck's deformable bodies, in deck order; isolid(k) is body k's solid
   !! (0 for a rigid body). quiet: no log lines (a set-up made only for its checks).

@@ -20,7 +20,7 @@ module explicit_driver_m
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
     set_health_limits
   use stable_step_m, only: step_control_next, step_control_update
-  use dynamic_setup_m, only: setup_solids, setup_contacts, setup_time_step
+  use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
   use dynamic_output_m, only: history_t, history_push, history_flush
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
     report_summary
@@ -36,12 +36,14 @@ module explicit_driver_m
 
 contains
 
-  !> Run the deck's dynamic problem. bodies are built and checked already. restart: a
-  !! checkpoint of this deck's run to continue from (checked already by checkpoint_check;
-  !! a checkpoint that does not fit the solids is still bad input, found before any write).
-  subroutine run_dynamic(deck, bodies, err, restart)
+  !> Run the deck's dynamic problem. bodies are built and checked already, su is their
+  !! set-up (setup_dynamic; its solids and pairs are moved in). restart: a checkpoint of this
+  !! deck's run to continue from (checked already by checkpoint_check; a checkpoint that
+  !! does not fit the solids is still bad input, found before any write).
+  subroutine run_dynamic(deck, bodies, su, err, restart)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
+    type(dynamic_setup_t), intent(inout) :: su
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in), optional :: restart
     type(solid_t), allocatable :: solids(:)
@@ -55,14 +57,13 @@ contains
     real(wp), allocatable :: snap_times0(:)
     integer :: k, log_every, hist_every, bad_q, nsnap0, ckpt_every
     real(wp) :: tw, t_loop0, bad_j
-    r%wall0 = omp_get_wtime()
+    r%wall0 = su%wall0
     r%reason = ''
-    call setup_solids(deck, bodies, solids, isolid, err)
-    if (allocated(err)) return
+    call move_alloc(su%solids, solids)
+    call move_alloc(su%isolid, isolid)
+    call move_alloc(su%pairs, pairs)
     call setup_time_step(deck, solids, r%step)
     call set_health_limits(solids)
-    call setup_contacts(deck, bodies, solids, isolid, pairs, err)
-    if (allocated(err)) return
     r%t_end = deck%solver%t_end
     r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
     r%nsteps_est = ceiling(r%t_end/r%dt - 1.0e-9_wp)

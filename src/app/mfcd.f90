@@ -17,12 +17,11 @@ program mfcd
   use log_m, only: log_print, log_flush
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
-  use dynamic_setup_m, only: setup_solids, setup_contacts
-  use solid_m, only: solid_t
-  use contact_pair_m, only: contact_pair_t
+  use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
   implicit none
   type(deck_t) :: deck
   type(body_t), allocatable :: bodies(:)
+  type(dynamic_setup_t) :: su
   type(error_t), allocatable :: err
   character(len=:), allocatable :: deck_path, restart_path
   character(len=1024) :: arg
@@ -92,10 +91,10 @@ program mfcd
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
   ! again with the particle files read: the tables of the set-up are still to come
   if (.not. allocated(err)) call check_memory(deck, err, bodies)
-  ! the set-up of a dynamic run has checks of its own: run them before anything is written
-  ! (a run repeats the set-up in run_dynamic, quietly here)
+  ! the set-up of a dynamic run has checks of its own: made before anything is written, by a
+  ! run (which then steps from it) and by --check alike
   if (.not. allocated(err) .and. deck%run%mode == 'dynamic') &
-    call check_setup(deck, bodies, .not. check_only, err)
+    call setup_dynamic(deck, bodies, su, err)
   if (.not. allocated(err) .and. len(restart_path) > 0) call check_restart()
   if (.not. allocated(err) .and. .not. check_only) call check_output_path(deck, err, &
     restart_path)
@@ -110,30 +109,15 @@ program mfcd
     call run_detect(deck, bodies, err)
   case ('dynamic')
     if (len(restart_path) > 0) then
-      call run_dynamic(deck, bodies, err, restart_path)
+      call run_dynamic(deck, bodies, su, err, restart_path)
     else
-      call run_dynamic(deck, bodies, err)
+      call run_dynamic(deck, bodies, su, err)
     end if
   end select
   if (allocated(err)) call fail(err)
   call log_print('mfcd: completed: wrote '//output_result_text(deck))
 
 contains
-
-  !> The checks of a dynamic run's set-up (the solids' tables, kinematic conditions and
-  !! contact pairs), made before anything is written: the set-up a run makes before its
-  !! first step, then dropped. quiet: without its log lines.
-  subroutine check_setup(d, b, quiet, e)
-    type(deck_t), intent(in) :: d
-    type(body_t), intent(in) :: b(:)
-    logical, intent(in) :: quiet
-    type(error_t), allocatable, intent(inout) :: e
-    type(solid_t), allocatable :: solids(:)
-    integer, allocatable :: isolid(:)
-    type(contact_pair_t), allocatable :: pairs(:)
-    call setup_solids(d, b, solids, isolid, e, quiet)
-    if (.not. allocated(e)) call setup_contacts(d, b, solids, isolid, pairs, e, quiet)
-  end subroutine check_setup
 
   !> The checkpoint given to --restart must be one this deck's run wrote (checkpoint_m).
   subroutine check_restart()
