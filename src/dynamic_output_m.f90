@@ -21,7 +21,7 @@ module dynamic_output_m
     'impulse']
   character(len=*), parameter :: history_units(17) = [character(len=4) :: &
     '1', 's', 's', 's', 'J', 'J', 'J', 'J', 'J', 'J', '1', 'N', 'm', 'm', 'm', 'm', 'N s']
-  character(len=*), parameter :: history_descr(17) = [character(len=80) :: &
+  character(len=*), parameter :: history_descr(17) = [character(len=96) :: &
     'step number', 'time', 'time step', &
     'critical step estimate at the current deformation (dt_crit(0) sqrt(kappa0/kappa))', &
     'kinetic energy', &

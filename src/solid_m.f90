@@ -179,8 +179,12 @@ contains
         if (s%t%axisym) s%kap0(q) = s%kap0(q) + s%t%h(e)**2
       end do
     end do
-    s%kappa_q = maxloc(s%kap0, 1)
-    s%kappa0 = s%kap0(s%kappa_q)
+    s%kappa0 = 0.0_wp
+    s%kappa_q = 0
+    if (s%nq > 0) then
+      s%kappa_q = maxloc(s%kap0, 1)
+      s%kappa0 = s%kap0(s%kappa_q)
+    end if
     s%kappa = s%kappa0
   end subroutine step_metric
 
@@ -203,7 +207,11 @@ contains
   !! the power iteration (stable_step_m). Current after solid_internal_force.
   pure real(wp) function solid_step_estimate(s) result(dt)
     type(solid_t), intent(in) :: s
-    dt = s%dt_cal/sqrt(s%kappa)
+    if (s%kappa > 0.0_wp) then
+      dt = s%dt_cal/sqrt(s%kappa)
+    else
+      dt = huge(1.0_wp)   ! no integration point: nothing limits the step
+    end if
   end function solid_step_estimate
 
   !> The tables moved component by component (no copy of the large arrays).
