@@ -57,10 +57,14 @@ contains
       tiny(1.0_wp))
   end subroutine energy_totals
 
-  !> Local health limits of every solid: node speed below 3 v_ref + 0.1 c_d, with v_ref the
+  !> Local health limits of every solid: node speed below 5 v_ref + 0.2 c_d, with v_ref the
   !! fastest initial or prescribed speed of any solid and c_d the solid's dilatational wave
-  !! speed (impact and wave-induced particle speeds stay below v_ref plus a fraction of c_d:
-  !! a free-end reflection doubles v, a 1200 m/s jump in steel is 0.2 c_d); epsbar below
+  !! speed. Impact and wave-induced speeds of the bulk stay below 2 v_ref (a free-end
+  !! reflection doubles v; the Taylor bars' fastest node in every snapshot: 1.8 v_ref), but a
+  !! light node at a contact surface can spike for a step (the paper-dt FEM Taylor bar's
+  !! axis node: 1208 m/s = 6 v_ref at 5.8 us, harmless to the run), so the limit leaves room
+  !! for that; an instability grows past any bound (the one first reported: 6238 m/s)
+  !! and is caught a few steps later; epsbar below
   !! epsbar_limit; its increment in one step below deps_limit; J inside j_limits.
   subroutine set_health_limits(solids)
     type(solid_t), intent(inout) :: solids(:)
@@ -72,7 +76,7 @@ contains
         sqrt(maxval(sum(solids(k)%vpres**2, dim=1))))
     end do
     do k = 1, size(solids)
-      solids(k)%v_limit = 3.0_wp*vref + 0.1_wp*solids(k)%mat%dilatational_speed()
+      solids(k)%v_limit = 5.0_wp*vref + 0.2_wp*solids(k)%mat%dilatational_speed()
       solids(k)%epsbar_limit = epsbar_limit
       solids(k)%deps_limit = deps_limit
       solids(k)%j_bounds = j_limits
@@ -107,7 +111,7 @@ contains
       else
         reason = 'step '//itoa(n)//', body '''//trim(s%name)//''', node '//itoa(j)// &
           ': speed '//rtoa(vmax)//' m/s above the limit '//rtoa(s%v_limit)// &
-          ' m/s (3 x the fastest initial or prescribed speed + 0.1 c_d): a local '// &
+          ' m/s (5 x the fastest initial or prescribed speed + 0.2 c_d): a local '// &
           'instability; '//fix_text
       end if
     end if
