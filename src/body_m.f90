@@ -1,4 +1,5 @@
-!> A particle body (or the nodes of a finite-element mesh): reference positions, volumes, per-direction supports, boundary flags and
+!> A particle body (or the nodes of a finite-element mesh): reference positions, volumes,
+!! per-direction supports, boundary flags and
 !! the ordered boundary polylines contact needs (master surface segments, SPEC 2.5), plus
 !! the window/basis choice and the exact geometry when a generator made it.
 module body_m

@@ -16,7 +16,8 @@ module dynamic_output_m
 
   !> Columns of /history, one row per history step.
   character(len=*), parameter :: history_names(17) = [character(len=14) :: &
-    'step', 'time', 'dt', 'dt_critical', 'ke', 'w_int', 'w_plastic', 'w_ext', 'w_contact', 'residual', &
+    'step', 'time', 'dt', 'dt_critical', 'ke', 'w_int', 'w_plastic', 'w_ext', 'w_contact', &
+    'residual', &
     'n_contact', 'f_contact', 'contact_radius', 'penetration', 'length', 'foot_radius', &
     'impulse']
   character(len=*), parameter :: history_units(17) = [character(len=4) :: &
@@ -190,7 +191,8 @@ contains
   end subroutine snapshot_write
 
   !> The XDMF companion of the HDF5 file: a temporal collection of grids, one per snapshot
-  !! and body (polyvertex for particles, triangles for CST4 meshes, with element fields), pointing at the datasets in the HDF5 file (ParaView opens it).
+  !! and body (polyvertex for particles, triangles for CST4 meshes, with element fields),
+  !! pointing at the datasets in the HDF5 file (ParaView opens it).
   subroutine xdmf_write(path, h5name, labels, times, solids)
     character(len=*), intent(in) :: path, h5name
     character(len=*), intent(in) :: labels(:)

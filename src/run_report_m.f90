@@ -27,7 +27,7 @@ module run_report_m
     real(wp) :: dt = 0.0_wp               !< the last step (s)
     type(step_control_t) :: step          !< the time-step policy and its record
     real(wp) :: t_end = 0.0_wp            !< the deck's end time (s)
-    integer :: nsteps_est = 0             !< steps to t_end
+    integer :: nsteps_est = 0             !< steps to t_end at the first step (for defaults)
     logical :: failed = .false.
     integer :: energy_over = 0            !< consecutive steps over the energy limit
     character(len=:), allocatable :: reason
@@ -70,7 +70,9 @@ contains
     real(wp) :: eta, elapsed
     elapsed = omp_get_wtime() - r%wall0
     eta = 0.0_wp
-    if (r%n > 0) eta = elapsed/real(r%n, wp)*real(max(r%nsteps_est - r%n, 0), wp)
+    ! steps left at the current step (it shrinks as the bodies deform: an estimate)
+    if (r%n > 0 .and. r%dt > 0.0_wp) &
+      eta = elapsed/real(r%n, wp)*max(r%t_end - r%t, 0.0_wp)/r%dt
     write(output_unit, '(a,i9,es14.6,es11.3,6es13.4,i7,f9.1)') 'dynamic: ', r%n, r%t, r%dt, &
       en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, en%residual, &
       r%contact%n_contact, eta
@@ -85,7 +87,8 @@ contains
     real(wp) :: row(size(history_names))
     type(measures_t) :: m
     m = body_measures(s)
-    row = [real(r%n, wp), r%t, r%dt, r%step%dtc, en%ke, en%w_int, en%w_plastic, en%w_ext, en%w_contact, &
+    row = [real(r%n, wp), r%t, r%dt, r%step%dtc, en%ke, en%w_int, en%w_plastic, en%w_ext, &
+      en%w_contact, &
       en%residual, real(r%contact%n_contact, wp), r%contact%force_normal, r%contact%radius, &
       r%contact%pen_after, m%length, m%foot_radius, r%impulse]
   end function history_row

@@ -76,7 +76,7 @@ module solid_m
     real(wp) :: kappa0 = 0.0_wp                  !< largest kappa in the reference state (1/m^2)
     real(wp) :: kappa = 0.0_wp                   !< largest kappa at the current state (1/m^2)
     integer :: kappa_q = 0                       !< the point where it is
-    real(wp) :: dt_cal = 0.0_wp                  !< calibration: 2/omega_max(0) sqrt(kappa0) (m s/m)
+    real(wp) :: dt_cal = 0.0_wp                  !< 2/omega_max(0) sqrt(kappa0) (s/m)
     ! local health limits (set by the run's set-up; see run_health_m) and what broke them
     real(wp) :: v_limit = huge(1.0_wp)           !< node speed limit (m/s)
     real(wp) :: epsbar_limit = huge(1.0_wp)      !< effective plastic strain limit (-)
