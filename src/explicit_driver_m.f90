@@ -8,7 +8,7 @@
 !! residual above the deck's tolerance) stops with a diagnostic snapshot and exit code 1,
 !! keeping everything written so far. With &output checkpoint_every the state is saved every
 !! so many steps, and a run restarted from such a checkpoint (set up from the same deck)
-!! continues the loop where it was, taking the same steps (checkpoint_m).
+!! continues the loop where it was, taking the same steps (run_checkpoint_m).
 module explicit_driver_m
   use omp_lib, only: omp_get_wtime
   use kinds_m, only: wp
@@ -26,7 +26,7 @@ module explicit_driver_m
     report_summary
   use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
     run_files_close, run_files_names, run_files_resume, run_files_checkpoint
-  use checkpoint_m, only: checkpoint_read
+  use run_checkpoint_m, only: checkpoint_read
   implicit none
   private
   public :: run_dynamic

@@ -2,7 +2,7 @@
 !! summary) and its XDMF companion for ParaView, rewritten at every snapshot so that a run
 !! stopped at any point leaves readable files. They are written under this run's temporary
 !! names and renamed at the end (output_path_m): onto the deck's names when the run
-!! completed, onto the failed-run names when it did not. Checkpoints (checkpoint_m) are
+!! completed, onto the failed-run names when it did not. Checkpoints (run_checkpoint_m) are
 !! written beside them and renamed over the previous one at once; a run restarted from a
 !! checkpoint starts its files with the checkpoint's history.
 module run_files_m
@@ -17,7 +17,7 @@ module run_files_m
   use run_output_m, only: write_header, write_bodies
   use output_path_m, only: output_path_t, output_open, output_commit, output_files_text, &
     base_name, checkpoint_commit
-  use checkpoint_m, only: checkpoint_write
+  use run_checkpoint_m, only: checkpoint_write
   use dynamic_output_m, only: history_t, history_create, history_flush, snapshot_write, &
     xdmf_write
   use run_report_m, only: run_record_t, det_fields_out

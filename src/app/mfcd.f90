@@ -9,11 +9,11 @@ program mfcd
   use version_m, only: code_name, code_version, git_commit
   use deck_m, only: deck_t, read_deck
   use body_m, only: body_t
-  use bodies_m, only: build_bodies
-  use memory_estimate_m, only: check_memory
+  use body_setup_m, only: build_bodies
+  use setup_memory_m, only: check_memory
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
-  use checkpoint_m, only: checkpoint_check, checkpoint_info_t
+  use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t
   use log_m, only: log_print, log_flush
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
@@ -119,7 +119,7 @@ program mfcd
 
 contains
 
-  !> The checkpoint given to --restart must be one this deck's run wrote (checkpoint_m).
+  !> The checkpoint given to --restart must be one this deck's run wrote (run_checkpoint_m).
   subroutine check_restart()
     call checkpoint_check(restart_path, deck, bodies, ckpt, err)
     if (.not. allocated(err)) call log_print("restart: checkpoint '"//restart_path// &

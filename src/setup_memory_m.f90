@@ -3,7 +3,7 @@
 !! (MemAvailable of /proc/meminfo), so that a deck too large for the machine is refused
 !! with the estimate instead of ending in the runtime's "Error allocating ... bytes" or a
 !! crash. The per-particle costs are measured (see the parameters) and rounded up.
-module memory_estimate_m
+module setup_memory_m
   use, intrinsic :: iso_fortran_env, only: output_unit
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
@@ -232,4 +232,4 @@ contains
     end if
     t = trim(adjustl(buf))
   end function count_text
-end module memory_estimate_m
+end module setup_memory_m

@@ -23,7 +23,7 @@
 !! iteration, health limits, rigid masters) is rebuilt from the deck and the bodies,
 !! identically: the checkpoint refuses a deck whose text differs and bodies whose particles
 !! differ.
-module checkpoint_m
+module run_checkpoint_m
   use omp_lib, only: omp_get_wtime, omp_get_max_threads
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
@@ -550,4 +550,4 @@ contains
     s%f_old = s%f
     s%p_old = s%p
   end subroutine read_solid
-end module checkpoint_m
+end module run_checkpoint_m

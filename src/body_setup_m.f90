@@ -2,7 +2,7 @@
 !! is an admissible discretization for its window and basis (Theorem 3.1): the moment matrix
 !! must be non-singular everywhere in the body. On a lattice the smallest working
 !! support_factor is found by scanning a lattice patch, so the error can name it.
-module bodies_m
+module body_setup_m
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
@@ -625,4 +625,4 @@ contains
       end do
     end function other_dim_hint
   end subroutine read_particle_columns
-end module bodies_m
+end module body_setup_m
