@@ -1,4 +1,5 @@
-!> Contact-detection benchmark (SPEC 2.2, 2.4, 4, 5; issue 2). Not a test: it times and
+!> Contact-detection benchmark (det(M) of eqs. (5)-(6), the criterion of eqs. (25)-(28), the
+!! buffer zone of Section 3, Fig. 11; issue 2). Not a test: it times and
 !! prints, it never fails on a time.
 !!
 !! Part A, throughput: det(M) of the Taylor bar's half-section (31 x 361 particles,

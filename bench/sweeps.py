@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmark sweeps (SPEC 5; not tests): run time against error, and stress tests that push
+"""Benchmark sweeps (not tests): run time against error, and stress tests that push
 a numerical parameter until the method fails, recording where and how.
 
   accuracy   the elastic bar on a rigid wall (input/bar_impact_elastic*.nml) at four spacings,

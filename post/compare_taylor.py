@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The Taylor bar by RKPM beside the same bar by FEM (CST4): a markdown table at the snapshot
-times and one figure (paper Section 6: Figs. 14 and 15 side by side, SPEC 2.8).
+times and one figure (paper Section 6: Figs. 14 and 15 side by side).
 
     python post/compare_taylor.py output/taylor_bar_rkpm.h5 output/taylor_bar_fem.h5 \\
         --out doc/figures [--table doc/figures/taylor_comparison.md] [--body bar]

@@ -1,6 +1,6 @@
 !> A particle body (or the nodes of a finite-element mesh): reference positions, volumes,
 !! per-direction supports, boundary flags and
-!! the ordered boundary polylines contact needs (master surface segments, SPEC 2.5), plus
+!! the ordered boundary polylines contact needs (master surface segments, eqs. 89-92), plus
 !! the window/basis choice and the exact geometry when a generator made it.
 module body_m
   use kinds_m, only: wp

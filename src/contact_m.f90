@@ -9,7 +9,7 @@
 !! gap decides). Forces are computed at the slave particles' physical positions; the caller
 !! spreads them onto the nodal coefficients (eq. 98, or eq. 99 for element nodes).
 !!
-!! Integrator factors (SPEC 2.5): the step is u_{n+1} = u_n + dt v_n + dt^2/2 a_n, so adding
+!! Integrator factors (doc/contact.md): the step is u_{n+1} = u_n + dt v_n + dt^2/2 a_n, so adding
 !! f/M to a_n moves the particle by dt^2/2 f/M: the normal force 2 M |g| / dt^2 puts a
 !! predicted penetration g back on the surface exactly (eq. 93). Stick is treated the same
 !! way: the tangential force -2 M s_t / dt^2 cancels the predicted tangential slip s_t of

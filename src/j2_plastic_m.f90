@@ -1,10 +1,11 @@
 !> Rate-independent J2 plasticity with linear isotropic hardening (radial return).
 !!
-!! For comparing with the Taylor-impact benchmarks of the literature (SPEC 2.7). Kirchhoff
-!! stress, Jaumann rate (eqs. 58-59): the elastic predictor is tau_tr = Q tau_n Q^T + dt C:D
-!! (Hughes-Winget rotation, material_m); with s = dev(tau_tr), sbar = sqrt(3/2 s:s) and the
-!! yield stress sigma_y(epsbar) = yield_stress + H epsbar, a trial stress outside the yield
-!! surface is returned radially (backward Euler, exact for linear hardening):
+!! Not in the paper: for comparing with the Taylor-impact benchmarks of the literature
+!! (doc/materials.md). Kirchhoff stress, Jaumann rate (eqs. 58-59): the elastic predictor is
+!! tau_tr = Q tau_n Q^T + dt C:D (Hughes-Winget rotation, material_m); with s = dev(tau_tr),
+!! sbar = sqrt(3/2 s:s) and the yield stress sigma_y(epsbar) = yield_stress + H epsbar, a
+!! trial stress outside the yield surface is returned radially (backward Euler, exact for
+!! linear hardening):
 !!   dgamma = (sbar_tr - sigma_y(epsbar_n)) / (3G + H),
 !!   s_{n+1} = (1 - 3G dgamma/sbar_tr) s_tr,   epsbar_{n+1} = epsbar_n + dgamma,
 !! so that sbar_{n+1} = sigma_y(epsbar_{n+1}) to round-off. The plastic work of the step is

@@ -1,7 +1,8 @@
 !> Window (kernel) functions of RKPM, eq. (8) of Li, Qian, Liu, Belytschko (2001).
 !!
-!! Convention (SPEC 2.1): the 1D window w(s) has support |s| < 2 and unit integral; the
-!! dilation parameter rho is the support *radius*, so in each direction
+!! Convention (doc/design.md, Decisions: the text and footnote 1 hold against eq. (2)): the
+!! 1D window w(s) has support |s| < 2 and unit integral; the dilation parameter rho is the
+!! support *radius*, so in each direction
 !! phi_rho(x) = prod_i (2/rho_i) w(2 x_i/rho_i), support |x_i| < rho_i, integral 1.
 !! The radial window uses r = |2 x/rho| (elliptic when rho differs per direction) and a
 !! constant c_n so that it also integrates to 1 in n dimensions.

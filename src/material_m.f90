@@ -35,7 +35,7 @@ module material_m
     'elastic', 'j2_plastic', 'viscoplastic']
 
   !> Material parameters as read from the deck, SI units. Defaults: the paper's steel
-  !! (Table 1 with E = 211 GPa, SPEC section 3: the printed 2110 MPa contradicts
+  !! (Table 1 with E = 211 GPa, doc/materials.md: the printed 2110 MPa contradicts
   !! eps0 = sigma0/E = 460 MPa / 2.18e-3).
   type :: material_params_t
     character(len=32) :: model = 'viscoplastic'  !< one of material_names

@@ -1,4 +1,4 @@
-!> Uniform cell lists (bins) in 1D, 2D and 3D, stored in CSR form (SPEC 2.3).
+!> Uniform cell lists (bins) in 1D, 2D and 3D, stored in CSR form.
 !!
 !! Particles are counting-sorted into cells of size >= the largest support radius per
 !! direction; cell c holds idx(start(c) : start(c+1)-1). A query box [p - r, p + r] overlaps a

@@ -1,5 +1,5 @@
-!> Total-Lagrangian RKPM tables (Section 4; SPEC 2.6): everything that depends only on the
-!! reference configuration, computed once before the time loop.
+!> Total-Lagrangian RKPM tables (Section 4; mfcd's choices: doc/solver.md): everything that
+!! depends only on the reference configuration, computed once before the time loop.
 !!
 !! For each integration point L the tables hold the particles I whose shape functions touch
 !! it (CSR: ptr, nbr) with the reference gradients g of their shape functions, the hoop term

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Elastic bar striking a rigid wall (issue 4, item 7; SPEC 4) at three resolutions, against
-the closed forms of 1D impact: contact stress rho c0 v, contact duration 2 L / c0, rebound at
-v with the kinetic energy returned. Errors must shrink with refinement and stay within
-tolerances that tighten with it (coarse / medium / fine):
+"""Elastic bar striking a rigid wall (issue 4, item 7; doc/verification.md) at three
+resolutions, against the closed forms of 1D impact: contact stress rho c0 v, contact duration
+2 L / c0, rebound at v with the kinetic energy returned. Errors must shrink with refinement
+and stay within tolerances that tighten with it (coarse / medium / fine):
 
   contact stress (mean over the middle 60% of the contact): 5% / 3% / 2%. The RK front is
      smeared over a few supports and rings without artificial viscosity, so the plateau
