@@ -5,6 +5,7 @@ module hdf5_io_m
   use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
+  use strings_m, only: itoa
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fclose_f, h5fopen_f, &
     h5gcreate_f, h5gclose_f, h5screate_simple_f, h5screate_f, h5sclose_f, h5dcreate_f, &
     h5dwrite_f, h5dclose_f, h5dopen_f, h5dread_f, h5dget_space_f, &
@@ -593,8 +594,8 @@ contains
     call h5_shape(f, path, dims, err)
     if (allocated(err)) return
     if (size(dims) /= size(want)) then
-      call read_fail(f, path, 'rank '//itoa_local(size(dims))//' where '// &
-        itoa_local(size(want))//' is expected', err)
+      call read_fail(f, path, 'rank '//itoa(size(dims))//' where '// &
+        itoa(size(want))//' is expected', err)
       return
     end if
     if (any(dims /= want)) then
@@ -615,18 +616,10 @@ contains
       s = ''
       do k = 1, size(n)
         if (k > 1) s = s//', '
-        s = s//itoa_local(n(k))
+        s = s//itoa(n(k))
       end do
     end function shape_text
   end subroutine open_checked
-
-  pure function itoa_local(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=24) :: buf
-    write(buf, '(i0)') i
-    s = trim(buf)
-  end function itoa_local
 
   subroutine read_ds_r1(f, path, a, err)
     type(h5file_t), intent(in) :: f
@@ -825,7 +818,7 @@ contains
     if (rank /= 1 .or. dims(1) /= size(val, kind=hsize_t)) then
       call close_attr(obj, a)
       call read_fail(f, path, "attribute '"//name//"' does not hold "// &
-        itoa_local(size(val))//" values", err)
+        itoa(size(val))//" values", err)
       return
     end if
     call h5aread_f(a, H5T_NATIVE_DOUBLE, val, dims, st)
