@@ -47,20 +47,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mfcd_style import figure_style  # noqa: E402
 from mfcd_h5 import MfcdFile, deck_group  # noqa: E402
 
 PROG = "compare_taylor"
 NA = "n/a"
-STYLE = {
-    "font.size": 11,
-    "axes.titlesize": 11,
-    "axes.labelsize": 11,
-    "legend.fontsize": 9,
-    "xtick.labelsize": 10,
-    "ytick.labelsize": 10,
-    "figure.dpi": 100,
-    "savefig.dpi": 120,
-}
 METHOD_STYLE = {"RKPM": dict(color="tab:blue", ls="-"), "FEM": dict(color="tab:red", ls="--")}
 
 
@@ -370,7 +361,7 @@ def main(argv=None) -> int:
     ap.add_argument("--name", default="taylor_rkpm_vs_fem",
                     help="figure file name without extension (default taylor_rkpm_vs_fem)")
     a = ap.parse_args(argv)
-    plt.rcParams.update(STYLE)
+    plt.rcParams.update(figure_style())
     out = a.out or os.path.dirname(os.path.abspath(a.fem))
     try:
         runs = {"RKPM": Run(a.rkpm, "RKPM", a.body), "FEM": Run(a.fem, "FEM", a.body)}

@@ -40,19 +40,9 @@ from matplotlib.patches import Patch, Rectangle  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mfcd_style import figure_style  # noqa: E402
 from mfcd_h5 import MfcdFile  # noqa: E402
 
-STYLE = {
-    "font.size": 11,
-    "axes.titlesize": 11,
-    "axes.labelsize": 11,
-    "legend.fontsize": 9,
-    "xtick.labelsize": 10,
-    "ytick.labelsize": 10,
-    "figure.dpi": 100,
-    "savefig.dpi": 150,
-    "axes.grid": False,
-}
 
 C_PART = "0.15"
 C_BND = "tab:orange"
@@ -553,7 +543,7 @@ def main(argv=None):
     ap.add_argument("--dpi", type=int, default=150, help="resolution of raster figures "
                                                          "(default 150)")
     args = ap.parse_args(argv)
-    plt.rcParams.update(STYLE)
+    plt.rcParams.update(figure_style(savefig_dpi=150, axes_grid=False))
     status = 0
     for path in args.files:
         out = args.out if args.out else (os.path.dirname(os.path.abspath(path)) or ".")

@@ -51,18 +51,10 @@ from matplotlib.patches import Polygon  # noqa: E402
 from matplotlib.tri import Triangulation  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mfcd_style import figure_style  # noqa: E402
 from mfcd_h5 import (CELL_FIELDS, FIELDS, MfcdFile, cell_field_values,  # noqa: E402
                      deck_group)
 
-STYLE = {
-    "font.size": 11,
-    "axes.titlesize": 11,
-    "axes.labelsize": 11,
-    "xtick.labelsize": 10,
-    "ytick.labelsize": 10,
-    "figure.dpi": 100,
-    "savefig.dpi": 130,
-}
 C_RIGID = "0.65"
 PROG = "plot_fem"
 
@@ -379,7 +371,7 @@ def main(argv=None) -> int:
                          "foot's widest radius)")
     ap.add_argument("--format", default="png", help="image format (default png)")
     a = ap.parse_args(argv)
-    plt.rcParams.update(STYLE)
+    plt.rcParams.update(figure_style(savefig_dpi=130))
     out = a.out or os.path.dirname(os.path.abspath(a.file))
     try:
         with MfcdFile(a.file) as f:

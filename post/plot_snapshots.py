@@ -47,18 +47,9 @@ from matplotlib.colors import ListedColormap, Normalize  # noqa: E402
 from matplotlib.tri import Triangulation  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mfcd_style import figure_style  # noqa: E402
 from mfcd_h5 import FIELDS, MfcdFile, deck_group, field_values  # noqa: E402
 
-STYLE = {
-    "font.size": 11,
-    "axes.titlesize": 11,
-    "axes.labelsize": 11,
-    "legend.fontsize": 9,
-    "xtick.labelsize": 10,
-    "ytick.labelsize": 10,
-    "figure.dpi": 100,
-    "savefig.dpi": 120,
-}
 C_OTHER = "0.6"        # bodies without the field
 C_RIGID = "0.45"       # rigid bodies not in the snapshots
 MAX_DEFAULT_PANELS = 6
@@ -370,7 +361,7 @@ def main(argv=None) -> int:
     ap.add_argument("--suffix", default="", help="added to the figure's file name")
     ap.add_argument("--format", default="png", help="image format (default png)")
     a = ap.parse_args(argv)
-    plt.rcParams.update(STYLE)
+    plt.rcParams.update(figure_style())
     out = a.out or os.path.dirname(os.path.abspath(a.file))
     ok = True
     try:
