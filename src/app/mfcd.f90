@@ -18,6 +18,8 @@ program mfcd
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
   use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
+  use thread_policy_m, only: thread_policy_apply, thread_policy_text
+  use omp_lib, only: omp_get_max_threads
   implicit none
   type(deck_t) :: deck
   type(body_t), allocatable :: bodies(:)
@@ -29,6 +31,9 @@ program mfcd
   integer :: i, nargs
   type(checkpoint_info_t) :: ckpt
 
+  ! first, before anything is printed: a short spin for waiting OpenMP threads (it may run
+  ! this program again with GOMP_SPINCOUNT set; thread_policy_m says why)
+  call thread_policy_apply()
   check_only = .false.
   restart_next = .false.
   nargs = command_argument_count()
@@ -85,6 +90,8 @@ program mfcd
 
   call log_print(code_name//' '//code_version//' (git '//git_commit//') '// &
     timestamp()//' deck '//deck_path)
+  call log_print('threads: '//itoa(omp_get_max_threads())//' (OMP_NUM_THREADS); waiting '// &
+    'threads: '//thread_policy_text())
   call read_deck(deck_path, deck, err)
   if (.not. allocated(err)) call echo_deck(deck)
   if (.not. allocated(err)) call check_memory(deck, err)
@@ -171,7 +178,9 @@ contains
     write(u, '(a)') '              the one that wrote it, unchanged)'
     write(u, '(a)') '  --help      this text'
     write(u, '(a)') '  --version   code version and git commit'
-    write(u, '(a)') 'Threads: OMP_NUM_THREADS. Exit codes: 0 ok, 2 bad input (nothing'
+    write(u, '(a)') 'Threads: OMP_NUM_THREADS; waiting threads spin GOMP_SPINCOUNT=1000 times'
+    write(u, '(a)') 'unless OMP_WAIT_POLICY or GOMP_SPINCOUNT is set (doc/benchmarks.md).'
+    write(u, '(a)') 'Exit codes: 0 ok, 2 bad input (nothing'
     write(u, '(a)') 'written), 1 run failed (its files kept as <stem>.failed.h5 and .xdmf).'
   end subroutine usage
 end program mfcd
