@@ -25,7 +25,7 @@ module contact_m
   implicit none
   private
   public :: master_surface_t, surface_build, surface_gap, contact_point_force, surface_update
-  public :: contact_counters_t, closest_segment_update, surface_projection
+  public :: contact_counters_t, closest_segment_update, surface_projection, surface_tie_tol
 
   !> The master's surface: segments a -> b (counter-clockwise around the master) and bins
   !! over their midpoints.
@@ -55,6 +55,7 @@ module contact_m
     integer(i64) :: cmp_det_max = 0, cmp_gap_max = 0
     real(wp) :: buffer_gap_sum = 0.0_wp  !< sum of g over the buffer-zone flags (m)
     real(wp) :: buffer_gap_max = 0.0_wp  !< largest such g: the buffer zone's depth (m)
+    real(wp) :: t_detect = 0.0_wp        !< wall time in the pair's detector (s)
   end type contact_counters_t
 
 contains

@@ -3,43 +3,49 @@
 !! interface (contact_pair_m, &contact detector = 'node_to_segment').
 !!
 !! The master's surface segments (master_surface_t, counter-clockwise polylines) are bucket
-!! sorted by their midpoints into a uniform grid of square cells as wide as the longest
-!! segment, held as linked lists (head(cell), next(segment)). A slave point's closest
-!! segment is then found by scanning rings of cells around the point's cell outwards, and
-!! stopping once no unscanned cell can hold a closer segment (or one within the capture
-!! distance): the 3 x 3 neighbouring buckets of the classical search in the common case.
-!! The closest-segment projection gives the gap g = (x_s - x_a) . n of eq. (89), with the
-!! same closest-segment rule as the det(M) path (contact_m: closest_segment_update), so both
-!! detectors measure the same gap; a point is flagged when g < 0.
+!! sorted into a uniform grid of square cells as wide as the mean segment: each segment is
+!! entered in every cell its bounding box overlaps, in linked lists (head(cell),
+!! next(entry), OpenRadioss style), so a long segment beside short ones (the Taylor
+!! target's 2 mm sides beside its 0.16 mm top) neither widens every cell nor hides from a
+!! query. A slave point's closest segment is found by scanning rings of cells around the
+!! point's cell outwards, stopping once no unscanned cell can hold a closer segment or one
+!! within the capture distance of one cell: the 3 x 3 neighbouring buckets of the
+!! classical search. The closest-segment projection gives the gap g = (x_s - x_a) . n of
+!! eq. (89), with the det(M) path's own closest-segment rule (contact_m:
+!! closest_segment_update), so both detectors measure the same gap; a point is flagged
+!! when g < 0.
 !!
-!! A rigid master's buckets are built once; a deformable master's are rebuilt (O(segments),
-!! no allocation) whenever its surface moves. The cell array is allocated at set-up with
-!! room for the master's box to grow fourfold in area; beyond that the cells are widened.
+!! A rigid master's buckets are built once; a deformable master's are rebuilt (O(entries),
+!! no allocation) whenever its surface moves. The cell and entry arrays are allocated at
+!! set-up with room for fourfold growth; beyond that the cells are widened.
 module contact_nts_m
   use kinds_m, only: wp
-  use contact_m, only: master_surface_t, closest_segment_update, surface_projection
+  use contact_m, only: master_surface_t, closest_segment_update, surface_projection, &
+    surface_tie_tol
   implicit none
   private
   public :: nts_buckets_t, nts_build, nts_update, nts_gap
 
   !> Room for the grid of a deformable master to grow over the run, as a multiple of the
-  !! initial cell count (more cells are made by widening them, which is always correct).
-  integer, parameter :: cell_room = 4
+  !! initial cell and entry counts (beyond it the cells widen, which is always correct).
+  integer, parameter :: room = 4
   !> Points are placed into cells through an integer cell index: coordinates farther than
   !! this many cells from the grid are clamped (they are beyond any capture distance).
   real(wp), parameter :: far_cells = 1.0e6_wp
 
-  !> Buckets of a master's segments by midpoint.
+  !> Buckets of a master's segments.
   type :: nts_buckets_t
     real(wp) :: lo(2) = 0.0_wp      !< grid origin (m)
-    real(wp) :: cell = 1.0_wp       !< cell width, >= the longest segment (m)
-    real(wp) :: half_len = 0.0_wp   !< half the longest segment: reach from a midpoint (m)
-    !> Search radius (m): the longest segment, so the classical neighbouring buckets
-    !! suffice; a point farther than this from every segment is not in contact.
+    real(wp) :: cell = 1.0_wp       !< cell width (m): the mean segment, or wider
+    real(wp) :: mean_len = 0.0_wp   !< mean segment length (m)
+    !> Search radius (m): one cell, the classical neighbouring buckets; a point farther
+    !! than this from every segment is not in contact.
     real(wp) :: capture = 0.0_wp
     integer :: nc(2) = 1            !< cells per direction
-    integer, allocatable :: head(:) !< first segment of each cell (0: empty)
-    integer, allocatable :: next(:) !< next segment in the same cell (0: last)
+    integer :: nentries = 0         !< segment entries in the cells
+    integer, allocatable :: head(:) !< first entry of each cell (0: empty)
+    integer, allocatable :: next(:) !< next entry in the same cell (0: last)
+    integer, allocatable :: seg(:)  !< the segment of each entry
   end type nts_buckets_t
 
 contains
@@ -48,9 +54,10 @@ contains
   subroutine nts_build(bk, s)
     type(nts_buckets_t), intent(out) :: bk
     type(master_surface_t), intent(in) :: s
-    allocate(bk%next(max(s%nseg, 1)))
     call grid_for(bk, s)
-    allocate(bk%head(max(cell_room*product(bk%nc), 16)))
+    allocate(bk%head(max(room*product(bk%nc), 16)))
+    allocate(bk%next(max(room*entry_count(bk, s), 16)), bk%seg(max(room*entry_count(bk, &
+      s), 16)))
     call nts_update(bk, s)
   end subroutine nts_build
 
@@ -58,31 +65,41 @@ contains
   subroutine nts_update(bk, s)
     type(nts_buckets_t), intent(inout) :: bk
     type(master_surface_t), intent(in) :: s
-    integer :: j, c
+    integer :: j, c, ne, i0(2), i1(2), i, k
     call grid_for(bk, s)
-    do while (product(bk%nc) > size(bk%head))
+    do while (product(bk%nc) > size(bk%head) .or. entry_count(bk, s) > size(bk%next))
       bk%cell = 2.0_wp*bk%cell
       call cell_counts(bk, s)
     end do
+    bk%capture = bk%cell
     bk%head(1:product(bk%nc)) = 0
+    ne = 0
     do j = 1, s%nseg
-      c = cell_id(bk, s%mid(:, j))
-      bk%next(j) = bk%head(c)
-      bk%head(c) = j
+      call segment_cells(bk, s, j, i0, i1)
+      do k = i0(2), i1(2)
+        do i = i0(1), i1(1)
+          c = 1 + i + bk%nc(1)*k
+          ne = ne + 1
+          bk%seg(ne) = j
+          bk%next(ne) = bk%head(c)
+          bk%head(c) = ne
+        end do
+      end do
     end do
+    bk%nentries = ne
   end subroutine nts_update
 
-  !> Cell width and grid over the segment midpoints of s.
+  !> Cell width (the mean segment) and grid over the segments of s.
   subroutine grid_for(bk, s)
     type(nts_buckets_t), intent(inout) :: bk
     type(master_surface_t), intent(in) :: s
     integer :: j
-    bk%half_len = 0.0_wp
+    bk%mean_len = 0.0_wp
     do j = 1, s%nseg
-      bk%half_len = max(bk%half_len, 0.5_wp*norm2(s%b(:, j) - s%a(:, j)))
+      bk%mean_len = bk%mean_len + norm2(s%b(:, j) - s%a(:, j))
     end do
-    bk%half_len = max(bk%half_len, tiny(1.0_wp))
-    bk%cell = 2.0_wp*bk%half_len
+    bk%mean_len = max(bk%mean_len/real(max(s%nseg, 1), wp), tiny(1.0_wp))
+    bk%cell = bk%mean_len
     bk%capture = bk%cell
     call cell_counts(bk, s)
   end subroutine grid_for
@@ -95,9 +112,31 @@ contains
       bk%nc = 1
       return
     end if
-    bk%lo = minval(s%mid, dim=2)
-    bk%nc = int((maxval(s%mid, dim=2) - bk%lo)/bk%cell) + 1
+    bk%lo = min(minval(s%a, dim=2), minval(s%b, dim=2))
+    bk%nc = int((max(maxval(s%a, dim=2), maxval(s%b, dim=2)) - bk%lo)/bk%cell) + 1
   end subroutine cell_counts
+
+  !> Entries the segments of s make in the grid of bk (cells their boxes overlap).
+  integer function entry_count(bk, s) result(n)
+    type(nts_buckets_t), intent(in) :: bk
+    type(master_surface_t), intent(in) :: s
+    integer :: j, i0(2), i1(2)
+    n = 0
+    do j = 1, s%nseg
+      call segment_cells(bk, s, j, i0, i1)
+      n = n + product(i1 - i0 + 1)
+    end do
+  end function entry_count
+
+  !> The block of cells i0..i1 (zero-based) that segment j's bounding box overlaps.
+  pure subroutine segment_cells(bk, s, j, i0, i1)
+    type(nts_buckets_t), intent(in) :: bk
+    type(master_surface_t), intent(in) :: s
+    integer, intent(in) :: j
+    integer, intent(out) :: i0(2), i1(2)
+    i0 = min(bk%nc - 1, max(0, cell_ij(bk, min(s%a(:, j), s%b(:, j)))))
+    i1 = min(bk%nc - 1, max(0, cell_ij(bk, max(s%a(:, j), s%b(:, j)))))
+  end subroutine segment_cells
 
   !> Cell index per direction of p, zero-based, not clamped to the grid.
   pure function cell_ij(bk, p) result(ij)
@@ -106,15 +145,6 @@ contains
     integer :: ij(2)
     ij = floor(max(-far_cells, min(far_cells, (p - bk%lo)/bk%cell)))
   end function cell_ij
-
-  !> Flat cell id (1-based) of a point of the grid.
-  pure integer function cell_id(bk, p) result(c)
-    type(nts_buckets_t), intent(in) :: bk
-    real(wp), intent(in) :: p(2)
-    integer :: ij(2)
-    ij = min(bk%nc - 1, max(0, cell_ij(bk, p)))
-    c = 1 + ij(1) + bk%nc(1)*ij(2)
-  end function cell_id
 
   !> The closest segment of s to p found through the buckets bk, within the distance
   !! capture (m; bk%capture for the classical search), and the gap g = (p - a) . n to it
@@ -129,19 +159,18 @@ contains
     integer, intent(out), optional :: seg
     real(wp), intent(out), optional :: xi
     integer :: ij(2), k, i, j, jbest, q, istep
-    real(wp) :: dbest, gbest
+    real(wp) :: dbest, gbest, bound
     jbest = 0
     dbest = huge(1.0_wp)
     gbest = -huge(1.0_wp)
     ij = cell_ij(bk, p)
     k = 0
     do
-      ! cells k rings out lie at least (k - 1) cells from p, and their segments reach
-      ! half_len from their midpoints: nothing there can be closer, or within capture; the
-      ! margin, 1e-9 cells, covers the corner tie of closest_segment_update (1e-9 of the
-      ! largest segment extent, at most a cell)
-      if (real(k - 1, wp)*bk%cell - bk%half_len > min(dbest, capture) + 1.0e-9_wp*bk%cell) &
-        exit
+      ! every point of a segment lies in a cell it is entered in, and cells k rings out lie
+      ! at least (k - 1) cells from p: nothing there is closer (to within the corner tie of
+      ! closest_segment_update), or within capture
+      bound = real(k - 1, wp)*bk%cell
+      if (bound > dbest + surface_tie_tol(s) .or. bound >= capture) exit
       do j = ij(2) - k, ij(2) + k
         if (j < 0 .or. j >= bk%nc(2)) cycle
         ! the full row on the ring's top and bottom, its two ends elsewhere
@@ -150,7 +179,7 @@ contains
           if (i < 0 .or. i >= bk%nc(1)) cycle
           q = bk%head(1 + i + bk%nc(1)*j)
           do while (q > 0)
-            call closest_segment_update(s, q, p, jbest, dbest, gbest)
+            call closest_segment_update(s, bk%seg(q), p, jbest, dbest, gbest)
             q = bk%next(q)
           end do
         end do

@@ -31,6 +31,7 @@ module contact_pair_m
   use contact_m, only: master_surface_t, surface_build, surface_update, surface_gap, &
     contact_point_force, contact_counters_t
   use contact_nts_m, only: nts_buckets_t, nts_build, nts_update, nts_gap
+  use omp_lib, only: omp_get_wtime
   use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
     solid_correct, at_step_start, at_prediction
   implicit none
@@ -251,7 +252,8 @@ contains
     p%step = contact_stats_t()
     ! the slave's det(M) and surface are needed only when both bodies deform
     do sd = 1, 2
-      call side_positions(p%side(sd), solids, sd == 2 .or. p%both_ways, need_det(p), need_nts(p), err)
+      call side_positions(p%side(sd), solids, sd == 2 .or. p%both_ways, need_det(p), &
+        need_nts(p), err)
       if (allocated(err)) return
     end do
     call contact_pass(p, p%side(1), p%side(2), solids, dt, .true., err)
@@ -352,13 +354,16 @@ contains
     real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
     real(wp) :: dxb(2)
     logical :: found, stick
+    real(wp) :: t0
     ! detection: which of a's particles penetrate b, with gap, normal, segment, projection
+    t0 = omp_get_wtime()
     select case (p%detector)
     case (detector_nts)
       call detect_node_to_segment(a, b, neval, ndet)
     case default
       call detect_det_m(a, b, neval, ndet)
     end select
+    p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
     if (p%compare) call compare_detectors(p, a, b)
     ! forces (eqs. 93-96) at the penetrating particles, whichever detector found them
     ncon = 0

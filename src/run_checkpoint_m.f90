@@ -108,6 +108,8 @@ contains
         if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
           '_buffer_gap', [c%buffer_gap_sum, c%buffer_gap_max], 'm', err, &
           'buffer-zone gaps since t = 0: sum, largest')
+        if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+          '_detect_time', [c%t_detect], 's', err, 'wall time in the detector since t = 0')
       end associate
     end do
     if (.not. allocated(err)) call h5_group(f, '/output', err)
@@ -404,7 +406,7 @@ contains
     type(error_t), allocatable :: e2
     integer, allocatable :: dims(:)
     integer(i64) :: counts(4), more(7)
-    real(wp) :: bgap(2)
+    real(wp) :: bgap(2), tdet(1)
     integer :: k
     nsnap_done = 0
     allocate(snap_times(0))
@@ -429,6 +431,8 @@ contains
       call h5_read(f, '/contacts/contact'//itoa(k)//'_compare', more, err)
       if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)//'_buffer_gap', &
         bgap, err)
+      if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
+        '_detect_time', tdet, err)
       if (allocated(err)) exit
       associate (c => pairs(k)%count)
         c%detected_max = more(1)
@@ -440,6 +444,7 @@ contains
         c%cmp_gap_max = more(7)
         c%buffer_gap_sum = bgap(1)
         c%buffer_gap_max = bgap(2)
+        c%t_detect = tdet(1)
       end associate
     end do
     if (.not. allocated(err)) call h5_read_attr(f, '/output', 'nsnap_done', nsnap_done, err)

@@ -234,6 +234,8 @@ contains
         '_detected_max_per_step', real(pairs(k)%count%detected_max, wp), err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
         '_compare_detectors', merge(1, 0, pairs(k)%compare), err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
+        '_detect_time', pairs(k)%count%t_detect, err)
       associate (c => pairs(k)%count)
         if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
           '_compare_det_gap_buffer_missed_detmax_gapmax', real([c%cmp_det, c%cmp_gap, &
@@ -270,9 +272,9 @@ contains
         trim(merge(' det(M) evaluations,', ' segment searches,  ', &
         pairs(k)%detector == detector_det_m))//' ', pairs(k)%count%detected, ' detections, ', &
         pairs(k)%count%contacts, ' contact forces'
-      write(output_unit, '(a,i0,a)') 'summary: contact '//itoa(k)//': detector '// &
+      write(output_unit, '(a,i0,a,f9.3,a)') 'summary: contact '//itoa(k)//': detector '// &
         detector_name(pairs(k)%detector)//', at most ', pairs(k)%count%detected_max, &
-        ' particles flagged in one step'
+        ' particles flagged in one step, ', pairs(k)%count%t_detect, ' s in detection'
       if (.not. pairs(k)%compare) cycle
       associate (c => pairs(k)%count)
         write(output_unit, '(a,6(i0,a),es10.3,a,es10.3,a)') 'summary: contact '//itoa(k)// &
