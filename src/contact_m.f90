@@ -25,7 +25,7 @@ module contact_m
   implicit none
   private
   public :: master_surface_t, surface_build, surface_gap, contact_point_force, surface_update
-  public :: contact_counters_t
+  public :: contact_counters_t, closest_segment_update, surface_projection, surface_tie_tol
 
   !> The master's surface: segments a -> b (counter-clockwise around the master) and bins
   !! over their midpoints.
@@ -39,12 +39,23 @@ module contact_m
     type(bins_t) :: bins
   end type master_surface_t
 
-  !> Work counters, cumulative over a run.
+  !> Work counters, cumulative over a run. evaluated and detected count the pair's detector:
+  !! det(M_master) (eqs. 25-28) or the node-to-segment search (contact_nts_m).
   type :: contact_counters_t
     integer(i64) :: screened = 0    !< slave particles tested against the master's box
-    integer(i64) :: evaluated = 0   !< det(M_master) evaluations (inside the grown box)
-    integer(i64) :: detected = 0    !< det(M_master) > threshold
-    integer(i64) :: contacts = 0    !< detected with g < 0: force applied
+    integer(i64) :: evaluated = 0   !< detector evaluations (inside the grown box)
+    integer(i64) :: detected = 0    !< flagged: det(M_master) > threshold, or g < 0 (NTS)
+    integer(i64) :: contacts = 0    !< flagged with g < 0: force applied
+    integer(i64) :: detected_max = 0  !< most particles flagged in one step (all passes)
+    !> Both detectors side by side (&contact compare_detectors), over the same particles:
+    !! flagged by det(M) (det > threshold), flagged by the closest-segment gap (g < 0), the
+    !! buffer zone (det(M) flags, g >= 0: no force) and det(M)'s misses (g < 0, det <=
+    !! threshold), with the most of each detector in one step.
+    integer(i64) :: cmp_det = 0, cmp_gap = 0, cmp_buffer = 0, cmp_missed = 0
+    integer(i64) :: cmp_det_max = 0, cmp_gap_max = 0
+    real(wp) :: buffer_gap_sum = 0.0_wp  !< sum of g over the buffer-zone flags (m)
+    real(wp) :: buffer_gap_max = 0.0_wp  !< largest such g: the buffer zone's depth (m)
+    real(wp) :: t_detect = 0.0_wp        !< wall time in the pair's detector (s)
   end type contact_counters_t
 
 contains
@@ -116,27 +127,60 @@ contains
     real(wp), intent(out) :: g, nrm(2), tng(2)
     integer, intent(out), optional :: seg          !< the closest segment
     real(wp), intent(out), optional :: xi          !< where p projects on it, 0 at a, 1 at b
-    integer :: list(s%nseg), nc, k, j, jbest
-    real(wp) :: e(2), gj, gbest
-    logical :: tie
-    real(wp) :: dist, dbest
+    integer :: list(s%nseg), nc, k, jbest
+    real(wp) :: gbest, dbest
     call bins_candidates(s%bins, p, r + s%reach, list, nc)
     jbest = 0
     dbest = huge(1.0_wp)
     gbest = -huge(1.0_wp)
     do k = 1, nc
-      j = list(k)
-      dist = segment_distance(s%a(:, j), s%b(:, j), p)
-      gj = dot_product(p - s%a(:, j), s%n(:, j))
-      ! at a corner two segments are (nearly) equally close: take the one that puts p
-      ! farthest outside, so a point beside a convex corner is not read as inside it
-      tie = abs(dist - dbest) <= 1.0e-9_wp*maxval(s%reach)
-      if ((dist < dbest .and. .not. tie) .or. (tie .and. gj > gbest)) then
-        dbest = min(dist, dbest)
-        gbest = gj
-        jbest = j
-      end if
+      call closest_segment_update(s, list(k), p, jbest, dbest, gbest)
     end do
+    call surface_projection(s, p, jbest, found, g, nrm, tng, seg, xi)
+  end subroutine surface_gap
+
+  !> Closest-segment rule shared by every search over the master's segments (the det(M)
+  !! path's bins above and the node-to-segment buckets of contact_nts_m), so that both
+  !! detectors measure the same gap: candidate segment j replaces the best so far (jbest at
+  !! distance dbest, gap gbest; start with 0, huge, -huge) when it is closer, or, at a
+  !! corner where the two are equally close, when it puts p farther outside (otherwise a
+  !! point beside a convex corner reads as inside it).
+  pure subroutine closest_segment_update(s, j, p, jbest, dbest, gbest)
+    type(master_surface_t), intent(in) :: s
+    integer, intent(in) :: j
+    real(wp), intent(in) :: p(2)
+    integer, intent(inout) :: jbest
+    real(wp), intent(inout) :: dbest, gbest
+    real(wp) :: dist, gj
+    logical :: tie
+    dist = segment_distance(s%a(:, j), s%b(:, j), p)
+    gj = dot_product(p - s%a(:, j), s%n(:, j))
+    tie = abs(dist - dbest) <= surface_tie_tol(s)
+    if ((dist < dbest .and. .not. tie) .or. (tie .and. gj > gbest)) then
+      dbest = min(dist, dbest)
+      gbest = gj
+      jbest = j
+    end if
+  end subroutine closest_segment_update
+
+  !> Two segments closer to a point than this differ by round-off only (m): 1e-9 of the
+  !! largest segment extent, far above the 1e-16 relative error of a distance and far
+  !! below any spacing.
+  pure real(wp) function surface_tie_tol(s) result(tol)
+    type(master_surface_t), intent(in) :: s
+    tol = 1.0e-9_wp*maxval(s%reach)
+  end function surface_tie_tol
+
+  !> Gap, normal, tangent and projection of p on segment jbest (0: none found, found false).
+  pure subroutine surface_projection(s, p, jbest, found, g, nrm, tng, seg, xi)
+    type(master_surface_t), intent(in) :: s
+    real(wp), intent(in) :: p(2)
+    integer, intent(in) :: jbest
+    logical, intent(out) :: found
+    real(wp), intent(out) :: g, nrm(2), tng(2)
+    integer, intent(out), optional :: seg
+    real(wp), intent(out), optional :: xi
+    real(wp) :: e(2)
     found = jbest > 0
     g = 0.0_wp
     nrm = 0.0_wp
@@ -151,7 +195,7 @@ contains
       e = s%b(:, jbest) - s%a(:, jbest)
       xi = max(0.0_wp, min(1.0_wp, dot_product(p - s%a(:, jbest), e)/dot_product(e, e)))
     end if
-  end subroutine surface_gap
+  end subroutine surface_projection
 
   !> Contact force on one slave particle of (effective) mass m with predicted gap g (< 0:
   !! penetration). Against a deformable master m is the reduced mass m_s m_m/(m_s + m_m),

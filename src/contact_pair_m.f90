@@ -12,6 +12,12 @@
 !! prediction. With a rigid master one pass is made (the first condition of eq. 28); when
 !! both bodies deform, a second pass swaps the roles (both conditions of eq. 28).
 !!
+!! The detector is the pair's choice (&contact detector): det(M_B) > threshold, the paper's
+!! (eqs. 25-28), or the conventional node-to-segment search of contact_nts_m (bucket sort of
+!! B's segments, closest-segment projection, flagged when g < 0), the paper's comparison.
+!! Either way the gap decides and the forces, friction and redistribution are the same
+!! code. With compare_detectors both are also evaluated side by side for the counters only.
+!!
 !! Contact sees a deformable body only through the solid interface (solid_m): the points it
 !! detects are the nodes' physical points, whatever the discretization behind them. Its
 !! inputs are plain parameters (contact_params_t) and bodies; the caller names the deck.
@@ -24,18 +30,26 @@ module contact_pair_m
   use detection_m, only: body_plateau, detection_threshold, body_cloud
   use contact_m, only: master_surface_t, surface_build, surface_update, surface_gap, &
     contact_point_force, contact_counters_t
+  use contact_nts_m, only: nts_buckets_t, nts_build, nts_update, nts_gap
+  use omp_lib, only: omp_get_wtime
   use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
     solid_correct, at_step_start, at_prediction
   implicit none
   private
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
   public :: contact_stats_t, contact_det_fields, contact_step
+  public :: detector_det_m, detector_nts, detector_name
+
+  !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
+  integer, parameter :: detector_det_m = 1, detector_nts = 2
 
   !> A pair's parameters (deck group &contact).
   type :: contact_params_t
     real(wp) :: eps_cr = 5.0e-10_wp      !< det(M_master) threshold (paper: 5e-10)
     real(wp) :: eps_rel = 0.0_wp         !< or this fraction of the master's plateau (> 0)
     real(wp) :: mu = 0.0_wp              !< Coulomb friction coefficient
+    integer :: detector = detector_det_m !< detector_det_m or detector_nts
+    logical :: compare = .false.         !< also run the other detector, for the counters
     logical :: track_edge = .false.      !< report contact/separation of one slave node
     real(wp) :: edge_point(2) = 0.0_wp   !< its reference position: the nearest node (m)
   end type contact_params_t
@@ -43,6 +57,8 @@ module contact_pair_m
   !> What one step's contact did (for the log, history and summary).
   type :: contact_stats_t
     integer :: n_contact = 0            !< particles with a force this step
+    integer :: n_flagged = 0            !< particles the pair's detector flagged this step
+    integer :: n_cmp_det = 0, n_cmp_gap = 0   !< flagged by each detector (compare mode)
     !> Mean normal contact force over the step (N, N/m in plane strain): half the sum of the
     !! eq. (93) forces, since a force added to a_n gives the velocity the impulse dt/2 f
     !! (eq. 63) and is absent at n+1.
@@ -60,6 +76,7 @@ module contact_pair_m
     integer :: np = 0
     type(rk_cloud_t) :: cloud            !< det(M) of this body (current positions)
     type(master_surface_t) :: surface
+    type(nts_buckets_t) :: buckets       !< its segments bucket-sorted (node-to-segment)
     real(wp) :: plateau = 0.0_wp, threshold = 0.0_wp
     real(wp) :: surface_det = 0.0_wp     !< median det(M) at the body's own boundary particles
     real(wp) :: lo(2) = 0.0_wp, hi(2) = 0.0_wp   !< box grown by the largest support
@@ -72,12 +89,16 @@ module contact_pair_m
     logical, allocatable :: active(:)    !< particle carries a force this pass
     integer, allocatable :: seg(:)       !< the segment each penetrating particle hit
     real(wp), allocatable :: xi(:)       !< where on it
+    real(wp), allocatable :: gap(:)      !< its gap (m, < 0)
+    real(wp), allocatable :: nrm(:, :), tng(:, :)  !< the segment's normal and tangent (2, np)
     real(wp), allocatable :: mass(:)     !< particle masses (kg); 0 for a rigid side
   end type side_t
 
   type :: contact_pair_t
     type(side_t) :: side(2)              !< 1: slave, 2: master
     real(wp) :: eps_cr = 0.0_wp, eps_rel = 0.0_wp, mu = 0.0_wp
+    integer :: detector = detector_det_m
+    logical :: compare = .false.
     integer :: edge = 0                  !< slave particle tracked for separation (0: none)
     logical :: both_ways = .false.       !< both bodies deform: eq. (28) both conditions
     type(contact_counters_t) :: count
@@ -102,6 +123,8 @@ contains
     p%eps_cr = prm%eps_cr
     p%eps_rel = prm%eps_rel
     p%mu = prm%mu
+    p%detector = prm%detector
+    p%compare = prm%compare
     call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err)
     if (allocated(err)) return
     call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
@@ -114,7 +137,8 @@ contains
     p%both_ways = isolid_m > 0
     ! a threshold at or above the master's interior plateau detects nothing: the bar
     ! would pass through the target silently (bench/sweeps.py, eps_cr = 1e-4)
-    if (.not. (p%side(2)%threshold < p%side(2)%plateau)) then
+    if ((p%detector == detector_det_m .or. p%compare) .and. &
+      .not. (p%side(2)%threshold < p%side(2)%plateau)) then
       call set_error(err, "variable "//trim(merge('eps_rel', 'eps_cr ', prm%eps_rel > &
         0.0_wp))//": the threshold "//rtoa(p%side(2)%threshold)//" is not below the "// &
         "interior plateau of det(M) of '"//trim(bm%name)//"', "//rtoa(p%side(2)%plateau)// &
@@ -155,8 +179,9 @@ contains
     if (allocated(err)) return
     s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:2)
     s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:2)
+    call nts_build(s%buckets, s%surface)
     allocate(s%x_old(2, b%np), s%x_pred(2, b%np), s%fphys(2, b%np), s%active(b%np), &
-      s%seg(b%np), s%xi(b%np), s%mass(b%np))
+      s%seg(b%np), s%xi(b%np), s%mass(b%np), s%gap(b%np), s%nrm(2, b%np), s%tng(2, b%np))
     s%x_old = b%x
     s%x_pred = b%x
     s%rho = b%rho
@@ -168,6 +193,11 @@ contains
     s%h = b%h(1:2)
     s%fphys = 0.0_wp
     s%active = .false.
+    s%seg = 0
+    s%xi = 0.0_wp
+    s%gap = 0.0_wp
+    s%nrm = 0.0_wp
+    s%tng = 0.0_wp
     s%mass = 0.0_wp
     if (isolid > 0) s%mass = solids(isolid)%t%mass
   end subroutine side_init
@@ -222,7 +252,8 @@ contains
     p%step = contact_stats_t()
     ! the slave's det(M) and surface are needed only when both bodies deform
     do sd = 1, 2
-      call side_positions(p%side(sd), solids, sd == 2 .or. p%both_ways, err)
+      call side_positions(p%side(sd), solids, sd == 2 .or. p%both_ways, need_det(p), &
+        need_nts(p), err)
       if (allocated(err)) return
     end do
     call contact_pass(p, p%side(1), p%side(2), solids, dt, .true., err)
@@ -230,12 +261,40 @@ contains
     if (p%both_ways) then
       ! eq. (28), second condition: the master's particles against the slave
       do sd = 1, 2
-        call side_positions(p%side(sd), solids, .true., err)
+        call side_positions(p%side(sd), solids, .true., need_det(p), need_nts(p), err)
         if (allocated(err)) return
       end do
       call contact_pass(p, p%side(2), p%side(1), solids, dt, .false., err)
     end if
+    p%count%detected_max = max(p%count%detected_max, int(p%step%n_flagged, i64))
+    p%count%cmp_det_max = max(p%count%cmp_det_max, int(p%step%n_cmp_det, i64))
+    p%count%cmp_gap_max = max(p%count%cmp_gap_max, int(p%step%n_cmp_gap, i64))
   end subroutine contact_correct
+
+  !> The pair evaluates det(M) of its masters: its detector is det(M), or it compares.
+  pure logical function need_det(p)
+    type(contact_pair_t), intent(in) :: p
+    need_det = p%detector == detector_det_m .or. p%compare
+  end function need_det
+
+  !> The pair searches its masters' segment buckets: its detector is node-to-segment, or it
+  !! compares.
+  pure logical function need_nts(p)
+    type(contact_pair_t), intent(in) :: p
+    need_nts = p%detector == detector_nts .or. p%compare
+  end function need_nts
+
+  !> The deck's name of detector id.
+  pure function detector_name(id) result(name)
+    integer, intent(in) :: id
+    character(len=:), allocatable :: name
+    select case (id)
+    case (detector_nts)
+      name = 'node_to_segment'
+    case default
+      name = 'det_m'
+    end select
+  end function detector_name
 
   !> The contact corrections of every pair for the step dt, between the prediction (64) and
   !! the forces (62), and what they did together: contacts and mean normal force summed,
@@ -261,24 +320,28 @@ contains
 
   !> Old and predicted physical positions of a side; a deformable side is re-binned and its
   !! surface moved to the prediction.
-  subroutine side_positions(s, solids, move, err)
+  subroutine side_positions(s, solids, move, with_det, with_nts, err)
     type(side_t), intent(inout) :: s
     type(solid_t), intent(in) :: solids(:)
     logical, intent(in) :: move      !< the side acts as a master: move its cloud and surface
+    logical, intent(in) :: with_det  !< its det(M) is needed: move its cloud
+    logical, intent(in) :: with_nts  !< its segment buckets are needed: re-sort them
     type(error_t), allocatable, intent(inout) :: err
     if (s%isolid == 0) return
     call solid_positions(solids(s%isolid), at_step_start, s%x_old)
     call solid_positions(solids(s%isolid), at_prediction, s%x_pred)
     if (.not. move) return
-    call cloud_move(s%cloud, s%x_pred, err)
+    if (with_det) call cloud_move(s%cloud, s%x_pred, err)
     if (allocated(err)) return
     call surface_update(s%surface, s%x_pred, err)
+    if (allocated(err)) return
+    if (with_nts) call nts_update(s%buckets, s%surface)
     s%lo = minval(s%x_pred, dim=2) - s%cloud%rmax(1:2)
     s%hi = maxval(s%x_pred, dim=2) + s%cloud%rmax(1:2)
   end subroutine side_positions
 
-  !> One detection-and-force pass of side a's particles against side b (det(M_b), b's
-  !! surface). count_stats: this pass feeds the step's statistics and counters.
+  !> One detection-and-force pass of side a's particles against side b (b's detector,
+  !! b's surface). count_stats: this pass feeds the step's statistics and counters.
   subroutine contact_pass(p, a, b, solids, dt, count_stats, err)
     type(contact_pair_t), intent(inout) :: p
     type(side_t), intent(inout) :: a, b
@@ -286,33 +349,40 @@ contains
     real(wp), intent(in) :: dt
     logical, intent(in) :: count_stats
     type(error_t), allocatable, intent(inout) :: err
-    integer :: j, jseg, i0, i1
+    integer :: j, i0, i1
     integer(i64) :: neval, ndet, ncon
-    real(wp) :: det, g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
+    real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
     real(wp) :: dxb(2)
     logical :: found, stick
-    neval = 0
-    ndet = 0
+    real(wp) :: t0
+    ! detection: which of a's particles penetrate b, with gap, normal, segment, projection
+    t0 = omp_get_wtime()
+    select case (p%detector)
+    case (detector_nts)
+      call detect_node_to_segment(a, b, neval, ndet)
+    case default
+      call detect_det_m(a, b, neval, ndet)
+    end select
+    p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
+    if (p%compare) call compare_detectors(p, a, b)
+    ! forces (eqs. 93-96) at the penetrating particles, whichever detector found them
     ncon = 0
     pen = 0.0_wp
     rad = 0.0_wp
     fnsum = 0.0_wp
     !$omp parallel do default(none) shared(a, b, dt, p) &
-    !$omp private(det, found, g, nrm, tng, slip, fj, stick, jseg, xi, i0, i1, invmb, meff, dxb) &
-    !$omp reduction(+: neval, ndet, ncon, fnsum) reduction(max: pen, rad) schedule(static)
+    !$omp private(g, nrm, tng, slip, fj, stick, xi, i0, i1, invmb, meff, dxb) &
+    !$omp reduction(+: ncon, fnsum) reduction(max: pen, rad) schedule(static)
     do j = 1, a%np
-      a%active(j) = .false.
       a%fphys(:, j) = 0.0_wp
-      if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
-      neval = neval + 1
-      det = cloud_det(b%cloud, a%x_pred(:, j))
-      if (.not. (det > b%threshold)) cycle
-      ndet = ndet + 1
-      call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, jseg, xi)
-      if (.not. found .or. .not. (g < 0.0_wp)) cycle
+      if (.not. a%active(j)) cycle
+      g = a%gap(j)
+      nrm = a%nrm(:, j)
+      tng = a%tng(:, j)
+      xi = a%xi(j)
       ! the master point's motion over the step and its inverse mass (0 when rigid)
-      i0 = b%surface%i0(jseg)
-      i1 = b%surface%i1(jseg)
+      i0 = b%surface%i0(a%seg(j))
+      i1 = b%surface%i1(a%seg(j))
       dxb = (1.0_wp - xi)*(b%x_pred(:, i0) - b%x_old(:, i0)) + xi*(b%x_pred(:, i1) - &
         b%x_old(:, i1))
       invmb = 0.0_wp
@@ -320,10 +390,7 @@ contains
       meff = 1.0_wp/(1.0_wp/a%mass(j) + invmb)
       slip = dot_product(a%x_pred(:, j) - a%x_old(:, j) - dxb, tng)
       call contact_point_force(g, nrm, tng, slip, meff, dt, p%mu, fj, stick)
-      a%active(j) = .true.
       a%fphys(:, j) = fj
-      a%seg(j) = jseg
-      a%xi(j) = xi
       ncon = ncon + 1
       fnsum = fnsum + dot_product(fj, nrm)
       pen = max(pen, -g)
@@ -336,12 +403,14 @@ contains
     p%count%contacts = p%count%contacts + ncon
     if (count_stats) then
       p%step%n_contact = int(ncon)
+      p%step%n_flagged = int(ndet)
       p%step%force_normal = 0.5_wp*fnsum
       p%step%radius = rad
       p%step%pen_before = pen
       if (p%edge > 0) p%step%edge_in_contact = a%active(p%edge)
     else
       p%step%n_contact = p%step%n_contact + int(ncon)
+      p%step%n_flagged = p%step%n_flagged + int(ndet)
       p%step%force_normal = p%step%force_normal + 0.5_wp*fnsum
       p%step%radius = max(p%step%radius, rad)
       p%step%pen_before = max(p%step%pen_before, pen)
@@ -364,15 +433,133 @@ contains
     call solid_correct(solids(a%isolid), dt)
     ! penetration left after the correction (eq. 98 spreads the forces): the
     ! corrected positions of the particles that had a force (and of b when it moves)
-    if (b%isolid > 0) call side_positions(b, solids, .true., err)
+    if (b%isolid > 0) call side_positions(b, solids, .true., need_det(p), need_nts(p), err)
     if (allocated(err)) return
     do j = 1, a%np
       if (.not. a%active(j)) cycle
       a%x_pred(:, j) = solid_point_position(solids(a%isolid), j)
-      call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+      if (p%detector == detector_nts) then
+        call nts_gap(b%buckets, b%surface, a%x_pred(:, j), b%buckets%capture, found, g, &
+          nrm, tng)
+      else
+        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+      end if
       if (found) p%step%pen_after = max(p%step%pen_after, -g)
     end do
   end subroutine contact_pass
+
+  !> The paper's detector (eqs. 25-28): a's particles in b's grown box with det(M_b) above
+  !! the threshold at their predicted positions are flagged (ndet of neval evaluated); the
+  !! flagged ones get the gap to b's closest segment within their support (eq. 89), and
+  !! those with g < 0 are marked active with it.
+  subroutine detect_det_m(a, b, neval, ndet)
+    type(side_t), intent(inout) :: a
+    type(side_t), intent(in) :: b
+    integer(i64), intent(out) :: neval, ndet
+    integer :: j, jseg
+    real(wp) :: det, g, nrm(2), tng(2), xi
+    logical :: found
+    neval = 0
+    ndet = 0
+    !$omp parallel do default(none) shared(a, b) private(det, found, g, nrm, tng, jseg, xi) &
+    !$omp reduction(+: neval, ndet) schedule(static)
+    do j = 1, a%np
+      a%active(j) = .false.
+      if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
+      neval = neval + 1
+      det = cloud_det(b%cloud, a%x_pred(:, j))
+      if (.not. (det > b%threshold)) cycle
+      ndet = ndet + 1
+      call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, jseg, xi)
+      if (.not. found .or. .not. (g < 0.0_wp)) cycle
+      call mark_active(a, j, g, nrm, tng, jseg, xi)
+    end do
+    !$omp end parallel do
+  end subroutine detect_det_m
+
+  !> The conventional detector (contact_nts_m): a's particles in b's grown box (neval) get
+  !! the gap to b's closest segment from the segment buckets, within the buckets' capture
+  !! distance; those with g < 0 are flagged (ndet) and marked active with it.
+  subroutine detect_node_to_segment(a, b, neval, ndet)
+    type(side_t), intent(inout) :: a
+    type(side_t), intent(in) :: b
+    integer(i64), intent(out) :: neval, ndet
+    integer :: j, jseg
+    real(wp) :: g, nrm(2), tng(2), xi
+    logical :: found
+    neval = 0
+    ndet = 0
+    !$omp parallel do default(none) shared(a, b) private(found, g, nrm, tng, jseg, xi) &
+    !$omp reduction(+: neval, ndet) schedule(static)
+    do j = 1, a%np
+      a%active(j) = .false.
+      if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
+      neval = neval + 1
+      call nts_gap(b%buckets, b%surface, a%x_pred(:, j), b%buckets%capture, found, g, nrm, &
+        tng, jseg, xi)
+      if (.not. found .or. .not. (g < 0.0_wp)) cycle
+      ndet = ndet + 1
+      call mark_active(a, j, g, nrm, tng, jseg, xi)
+    end do
+    !$omp end parallel do
+  end subroutine detect_node_to_segment
+
+  pure subroutine mark_active(a, j, g, nrm, tng, jseg, xi)
+    type(side_t), intent(inout) :: a
+    integer, intent(in) :: j, jseg
+    real(wp), intent(in) :: g, nrm(2), tng(2), xi
+    a%active(j) = .true.
+    a%gap(j) = g
+    a%nrm(:, j) = nrm
+    a%tng(:, j) = tng
+    a%seg(j) = jseg
+    a%xi(j) = xi
+  end subroutine mark_active
+
+  !> Both detectors at a's particles in b's grown box, for the counters only (&contact
+  !! compare_detectors): det(M_b) > threshold against the gap to b's closest segment at
+  !! any distance (g < 0). Where they disagree: det(M) flags a particle outside the surface
+  !! (the buffer zone, with its gap recorded), or misses a penetrating one.
+  subroutine compare_detectors(p, a, b)
+    type(contact_pair_t), intent(inout) :: p
+    type(side_t), intent(in) :: a, b
+    integer :: j
+    integer(i64) :: nd, ng, nbuf, nmiss
+    real(wp) :: det, g, nrm(2), tng(2), gsum, gmax
+    logical :: found, fd, fg
+    nd = 0
+    ng = 0
+    nbuf = 0
+    nmiss = 0
+    gsum = 0.0_wp
+    gmax = 0.0_wp
+    !$omp parallel do default(none) shared(a, b) private(det, found, g, nrm, tng, fd, fg) &
+    !$omp reduction(+: nd, ng, nbuf, nmiss, gsum) reduction(max: gmax) schedule(static)
+    do j = 1, a%np
+      if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
+      det = cloud_det(b%cloud, a%x_pred(:, j))
+      call nts_gap(b%buckets, b%surface, a%x_pred(:, j), huge(1.0_wp), found, g, nrm, tng)
+      fd = det > b%threshold
+      fg = found .and. g < 0.0_wp
+      if (fd) nd = nd + 1
+      if (fg) ng = ng + 1
+      if (fd .and. .not. fg) then
+        nbuf = nbuf + 1
+        gsum = gsum + g
+        gmax = max(gmax, g)
+      end if
+      if (fg .and. .not. fd) nmiss = nmiss + 1
+    end do
+    !$omp end parallel do
+    p%count%cmp_det = p%count%cmp_det + nd
+    p%count%cmp_gap = p%count%cmp_gap + ng
+    p%count%cmp_buffer = p%count%cmp_buffer + nbuf
+    p%count%cmp_missed = p%count%cmp_missed + nmiss
+    p%count%buffer_gap_sum = p%count%buffer_gap_sum + gsum
+    p%count%buffer_gap_max = max(p%count%buffer_gap_max, gmax)
+    p%step%n_cmp_det = p%step%n_cmp_det + int(nd)
+    p%step%n_cmp_gap = p%step%n_cmp_gap + int(ng)
+  end subroutine compare_detectors
 
   !> det(M) of the master and of the slave (built from the slave's current physical
   !! positions with its reference volumes and supports: the Lagrangian body) on the grid

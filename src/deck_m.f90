@@ -119,6 +119,10 @@ module deck_m
     real(wp) :: eps_cr = 5.0e-10_wp        !< det(M_master) threshold (paper: 5e-10)
     real(wp) :: eps_rel = 0.0_wp           !< or a fraction of the master's plateau
     real(wp) :: mu = 0.0_wp                !< Coulomb friction coefficient
+    !> 'det_m' (the paper's det(M) screen, eqs. 25-28) or 'node_to_segment' (a bucket-sorted
+    !! closest-segment search, Benson-Hallquist style: the paper's comparison)
+    character(len=16) :: detector = 'det_m'
+    logical :: compare_detectors = .false. !< also evaluate the other detector, for counters
     real(wp) :: edge_point(3) = -huge(1.0_wp)  !< reference point of a slave particle whose
                                            !< contact and separation times are reported (m)
     integer :: imaster = 0, islave = 0
@@ -1382,11 +1386,14 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     character(len=64) :: master, slave
     real(wp) :: eps_cr, eps_rel, mu, edge_point(3)
+    character(len=16) :: detector
+    logical :: compare_detectors
     integer :: ios, k, j
     character(len=512) :: msg
     type(contact_spec_t) :: dflt, tmp(max_contacts)
     character(len=:), allocatable :: grp
-    namelist /contact/ master, slave, eps_cr, eps_rel, mu, edge_point
+    namelist /contact/ master, slave, eps_cr, eps_rel, mu, edge_point, detector, &
+      compare_detectors
     rewind(u)
     k = 0
     do
@@ -1396,6 +1403,8 @@ contains
       eps_rel = dflt%eps_rel
       mu = dflt%mu
       edge_point = dflt%edge_point
+      detector = dflt%detector
+      compare_detectors = dflt%compare_detectors
       read(u, nml=contact, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -1409,8 +1418,9 @@ contains
           " &contact groups")
         return
       end if
+      detector = lower(detector)
       tmp(k) = contact_spec_t(master=master, slave=slave, eps_cr=eps_cr, eps_rel=eps_rel, &
-        mu=mu, edge_point=edge_point)
+        mu=mu, detector=detector, compare_detectors=compare_detectors, edge_point=edge_point)
       do j = 1, deck%nbodies
         if (deck%bodies(j)%name == master) tmp(k)%imaster = j
         if (deck%bodies(j)%name == slave) tmp(k)%islave = j
@@ -1436,6 +1446,10 @@ contains
       else if (mu < 0.0_wp .or. mu > 10.0_wp) then
         call bad(deck, grp, 'mu', rtoa(mu), 'give a friction coefficient in [0, 10] '// &
           '(paper: 0.1)', err)
+      else if (detector /= 'det_m' .and. detector /= 'node_to_segment') then
+        call bad(deck, grp, 'detector', "'"//trim(detector)//"'", "give 'det_m' (the "// &
+          "paper's det(M) screen) or 'node_to_segment' (a conventional closest-segment "// &
+          "search)", err)
       else if (deck%run%mode /= 'dynamic') then
         call bad(deck, grp, 'master', "'"//trim(master)//"'", "contact pairs act in "// &
           "mode = 'dynamic' only", err)
@@ -1696,7 +1710,7 @@ contains
     case ('bc')
       s = 'body, region_lo, region_hi, component, kind, value'
     case ('contact')
-      s = 'master, slave, eps_cr, eps_rel, mu, edge_point'
+      s = 'master, slave, eps_cr, eps_rel, mu, edge_point, detector, compare_detectors'
     case default
       s = ''
     end select
@@ -1803,7 +1817,8 @@ contains
       ints = 'component'
       reals = 'region_lo(3), region_hi(3), value'
     case ('contact')
-      strs = 'master, slave'
+      strs = 'master, slave, detector'
+      logs = 'compare_detectors'
       reals = 'eps_cr, eps_rel, mu, edge_point(3)'
     end select
   end subroutine typed_vars

@@ -16,7 +16,8 @@ module dynamic_setup_m
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use solid_m, only: solid_t, solid_init
   use stable_step_m, only: step_control_t, step_control_calibrate, spacing_step
-  use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init
+  use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init, &
+    detector_det_m, detector_nts, detector_name
   implicit none
   private
   public :: setup_solids, setup_contacts, setup_time_step, dynamic_setup_t, setup_dynamic
@@ -198,6 +199,8 @@ contains
         prm%eps_cr = cs%eps_cr
         prm%eps_rel = cs%eps_rel
         prm%mu = cs%mu
+        prm%detector = merge(detector_nts, detector_det_m, cs%detector == 'node_to_segment')
+        prm%compare = cs%compare_detectors
         prm%track_edge = cs%edge_point(1) > -huge(1.0_wp)
         if (prm%track_edge) prm%edge_point = cs%edge_point(1:2)
         im = cs%imaster
@@ -226,6 +229,11 @@ contains
           '; warning: the threshold is above it, shallow penetrations go undetected', &
           '                                                                        ', &
           p%side(2)%threshold > p%side(2)%surface_det))
+        write(output_unit, '(a,es10.3,a,i0,a,i0,a)') 'contact: detector '// &
+          detector_name(p%detector)//trim(merge(' (compared with the other on every step)', &
+          '                                        ', p%compare))//'; segment buckets of ', &
+          p%side(2)%buckets%cell, ' m, ', p%side(2)%buckets%nc(1), ' x ', &
+          p%side(2)%buckets%nc(2), ' cells'
         flush(output_unit)
       end associate
     end do

@@ -100,6 +100,17 @@ contains
         [pairs(k)%count%screened, pairs(k)%count%evaluated, pairs(k)%count%detected, &
         pairs(k)%count%contacts], '1', err, 'counters since t = 0: screened, '// &
         'evaluated, detected, contacts')
+      associate (c => pairs(k)%count)
+        if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)//'_compare', &
+          [c%detected_max, c%cmp_det, c%cmp_gap, c%cmp_buffer, c%cmp_missed, c%cmp_det_max, &
+          c%cmp_gap_max], '1', err, 'counters since t = 0: most flagged in a step, '// &
+          'det(M) flagged, gap flagged, buffer zone, missed, most of each in a step')
+        if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+          '_buffer_gap', [c%buffer_gap_sum, c%buffer_gap_max], 'm', err, &
+          'buffer-zone gaps since t = 0: sum, largest')
+        if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+          '_detect_time', [c%t_detect], 's', err, 'wall time in the detector since t = 0')
+      end associate
     end do
     if (.not. allocated(err)) call h5_group(f, '/output', err)
     if (.not. allocated(err)) call h5_attr(f, '/output', 'nsnap_done', nsnap_done, err)
@@ -394,7 +405,8 @@ contains
     type(checkpoint_info_t) :: info
     type(error_t), allocatable :: e2
     integer, allocatable :: dims(:)
-    integer(i64) :: counts(4)
+    integer(i64) :: counts(4), more(7)
+    real(wp) :: bgap(2), tdet(1)
     integer :: k
     nsnap_done = 0
     allocate(snap_times(0))
@@ -414,6 +426,26 @@ contains
       pairs(k)%count%evaluated = counts(2)
       pairs(k)%count%detected = counts(3)
       pairs(k)%count%contacts = counts(4)
+      ! the detector comparison's counters (absent from checkpoints written before them)
+      if (.not. h5_has(f, '/contacts/contact'//itoa(k)//'_compare')) cycle
+      call h5_read(f, '/contacts/contact'//itoa(k)//'_compare', more, err)
+      if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)//'_buffer_gap', &
+        bgap, err)
+      if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
+        '_detect_time', tdet, err)
+      if (allocated(err)) exit
+      associate (c => pairs(k)%count)
+        c%detected_max = more(1)
+        c%cmp_det = more(2)
+        c%cmp_gap = more(3)
+        c%cmp_buffer = more(4)
+        c%cmp_missed = more(5)
+        c%cmp_det_max = more(6)
+        c%cmp_gap_max = more(7)
+        c%buffer_gap_sum = bgap(1)
+        c%buffer_gap_max = bgap(2)
+        c%t_detect = tdet(1)
+      end associate
     end do
     if (.not. allocated(err)) call h5_read_attr(f, '/output', 'nsnap_done', nsnap_done, err)
     if (.not. allocated(err)) call h5_shape(f, '/output/snapshot_times', dims, err)

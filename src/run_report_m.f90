@@ -11,7 +11,8 @@ module run_report_m
   use solid_m, only: solid_t
   use run_health_m, only: energies_t
   use body_measures_m, only: measures_t, body_measures
-  use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_det_fields
+  use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_det_fields, detector_name, &
+    detector_det_m
   use hdf5_io_m, only: h5file_t, h5_group, h5_attr, h5_write
   use dynamic_output_m, only: history_names
   use stable_step_m, only: step_control_t, step_limit_text
@@ -227,6 +228,22 @@ contains
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
         '_counts_screened_evaluated_detected_contacts', real([pairs(k)%count%screened, &
         pairs(k)%count%evaluated, pairs(k)%count%detected, pairs(k)%count%contacts], wp), err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)//'_detector', &
+        detector_name(pairs(k)%detector), err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
+        '_detected_max_per_step', real(pairs(k)%count%detected_max, wp), err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
+        '_compare_detectors', merge(1, 0, pairs(k)%compare), err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
+        '_detect_time', pairs(k)%count%t_detect, err)
+      associate (c => pairs(k)%count)
+        if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
+          '_compare_det_gap_buffer_missed_detmax_gapmax', real([c%cmp_det, c%cmp_gap, &
+          c%cmp_buffer, c%cmp_missed, c%cmp_det_max, c%cmp_gap_max], wp), err)
+        if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
+          '_buffer_gap_mean_max', [c%buffer_gap_sum/real(max(c%cmp_buffer, 1_i64), wp), &
+          c%buffer_gap_max], err)
+      end associate
     end do
     do k = 1, size(solids)
       m = body_measures(solids(k))
@@ -252,8 +269,21 @@ contains
     do k = 1, size(pairs)
       write(output_unit, '(a,4(i0,a))') 'summary: contact '//itoa(k)//': ', &
         pairs(k)%count%screened, ' particles screened, ', pairs(k)%count%evaluated, &
-        ' det(M) evaluations, ', pairs(k)%count%detected, ' detections, ', &
+        trim(merge(' det(M) evaluations,', ' segment searches,  ', &
+        pairs(k)%detector == detector_det_m))//' ', pairs(k)%count%detected, ' detections, ', &
         pairs(k)%count%contacts, ' contact forces'
+      write(output_unit, '(a,i0,a,f9.3,a)') 'summary: contact '//itoa(k)//': detector '// &
+        detector_name(pairs(k)%detector)//', at most ', pairs(k)%count%detected_max, &
+        ' particles flagged in one step, ', pairs(k)%count%t_detect, ' s in detection'
+      if (.not. pairs(k)%compare) cycle
+      associate (c => pairs(k)%count)
+        write(output_unit, '(a,6(i0,a),es10.3,a,es10.3,a)') 'summary: contact '//itoa(k)// &
+          ': detectors compared: det(M) > threshold ', c%cmp_det, ' (at most ', &
+          c%cmp_det_max, ' in a step), gap < 0 ', c%cmp_gap, ' (at most ', c%cmp_gap_max, &
+          '); buffer zone (det(M) flags, g >= 0) ', c%cmp_buffer, ', missed by det(M) ', &
+          c%cmp_missed, '; buffer-zone gap mean ', c%buffer_gap_sum/real(max(c%cmp_buffer, &
+          1_i64), wp), ' m, largest ', c%buffer_gap_max, ' m'
+      end associate
     end do
     if (size(pairs) > 0) write(output_unit, '(a,es10.3,a,es11.4,a,es11.4,a)') &
       'summary: largest penetration left after a correction ', r%pen_max, ' m; edge '// &
