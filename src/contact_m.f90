@@ -46,6 +46,9 @@ module contact_m
     integer(i64) :: evaluated = 0   !< detector evaluations (inside the grown box)
     integer(i64) :: detected = 0    !< flagged: det(M_master) > threshold, or g < 0 (NTS)
     integer(i64) :: contacts = 0    !< flagged with g < 0: force applied
+    !> screened particles skipped because they cannot have reached the master's box since
+    !! they were last found outside it (&contact skip_far); their positions are not computed
+    integer(i64) :: skipped = 0
     integer(i64) :: detected_max = 0  !< most particles flagged in one step (all passes)
     !> Both detectors side by side (&contact compare_detectors), over the same particles:
     !! flagged by det(M) (det > threshold), flagged by the closest-segment gap (g < 0), the

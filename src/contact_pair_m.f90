@@ -50,6 +50,7 @@ module contact_pair_m
     real(wp) :: mu = 0.0_wp              !< Coulomb friction coefficient
     integer :: detector = detector_det_m !< detector_det_m or detector_nts
     logical :: compare = .false.         !< also run the other detector, for the counters
+    logical :: skip_far = .true.         !< skip slave particles that cannot reach the master
     logical :: track_edge = .false.      !< report contact/separation of one slave node
     real(wp) :: edge_point(2) = 0.0_wp   !< its reference position: the nearest node (m)
   end type contact_params_t
@@ -92,6 +93,17 @@ module contact_pair_m
     real(wp), allocatable :: gap(:)      !< its gap (m, < 0)
     real(wp), allocatable :: nrm(:, :), tng(:, :)  !< the segment's normal and tangent (2, np)
     real(wp), allocatable :: mass(:)     !< particle masses (kg); 0 for a rigid side
+    ! skipping far particles (a slave against a rigid master, &contact skip_far): a particle
+    ! found at distance r outside the master's grown box cannot enter it before the bound
+    ! on its motion, summed over the steps since, reaches r (side_near_positions)
+    logical :: skip_far = .false.
+    real(wp) :: travel = 0.0_wp          !< bound on any particle's motion since t = 0 (m)
+    real(wp) :: lip = 0.0_wp             !< |x_j - x'_j| <= lip max_I |d_I - d'_I|
+    real(wp), allocatable :: due(:)      !< travel at which a particle is screened again (m)
+    real(wp), allocatable :: d_scr(:, :) !< coefficients at the last screening (2, np) (m)
+    !> positions computed this step (all, unless skip_far): a particle not near is not
+    !! screened; its x_pred, x_old are stale
+    logical, allocatable :: near(:)
   end type side_t
 
   type :: contact_pair_t
@@ -135,6 +147,8 @@ contains
       return
     end if
     p%both_ways = isolid_m > 0
+    ! a deformable master needs all of the slave's positions (its cloud and surface move)
+    if (prm%skip_far .and. .not. p%both_ways) call skip_far_init(p%side(1), solids)
     ! a threshold at or above the master's interior plateau detects nothing: the bar
     ! would pass through the target silently (bench/sweeps.py, eps_cr = 1e-4)
     if ((p%detector == detector_det_m .or. p%compare) .and. &
@@ -184,6 +198,8 @@ contains
       s%seg(b%np), s%xi(b%np), s%mass(b%np), s%gap(b%np), s%nrm(2, b%np), s%tng(2, b%np))
     s%x_old = b%x
     s%x_pred = b%x
+    allocate(s%near(b%np))
+    s%near = .true.
     s%rho = b%rho
     s%x_ref = b%x
     s%vol = b%vol
@@ -201,6 +217,37 @@ contains
     s%mass = 0.0_wp
     if (isolid > 0) s%mass = solids(isolid)%t%mass
   end subroutine side_init
+
+  !> Skipping far particles on slave side s: the Lipschitz constant of its positions in
+  !! its coefficients, lip = |(max_j sum_I |N1_I(X_j)|, max_j sum_I |N2_I(X_j)|)| (the
+  !! position table of eq. 65; 1 for interpolating element nodes), and every particle due
+  !! at the first step.
+  subroutine skip_far_init(s, solids)
+    type(side_t), intent(inout) :: s
+    type(solid_t), intent(in) :: solids(:)
+    integer :: j
+    real(wp) :: l(2), lj(2)
+    if (s%isolid == 0) return
+    associate (t => solids(s%isolid)%t)
+      if (t%interpolating) then
+        s%lip = 1.0_wp
+      else
+        l = 0.0_wp
+        do j = 1, s%np
+          lj(1) = sum(abs(t%pn(1, t%pptr(j):t%pptr(j + 1) - 1)))
+          lj(2) = sum(abs(t%pn(2, t%pptr(j):t%pptr(j + 1) - 1)))
+          l = max(l, lj)
+        end do
+        s%lip = norm2(l)
+      end if
+    end associate
+    s%skip_far = .true.
+    s%travel = 0.0_wp
+    allocate(s%due(s%np), s%d_scr(2, s%np))
+    s%due = -1.0_wp
+    s%d_scr = solids(s%isolid)%d
+    s%near = .true.
+  end subroutine skip_far_init
 
   !> Median det(M) of a body at its own boundary particles (off the symmetry axis): about
   !! what a particle touching the surface sees; a threshold above it misses shallow
@@ -252,6 +299,11 @@ contains
     p%step = contact_stats_t()
     ! the slave's det(M) and surface are needed only when both bodies deform
     do sd = 1, 2
+      if (p%side(sd)%skip_far) then
+        call side_near_positions(p%side(sd), solids(p%side(sd)%isolid), p%side(3 - sd), &
+          p%count%skipped)
+        cycle
+      end if
       call side_positions(p%side(sd), solids, sd == 2 .or. p%both_ways, need_det(p), &
         need_nts(p), err)
       if (allocated(err)) return
@@ -339,6 +391,46 @@ contains
     s%lo = minval(s%x_pred, dim=2) - s%cloud%rmax(1:2)
     s%hi = maxval(s%x_pred, dim=2) + s%cloud%rmax(1:2)
   end subroutine side_positions
+
+  !> Old and predicted physical positions of the particles of slave side s that could be in
+  !! master b's grown box (b rigid); the others keep stale positions outside the box and are
+  !! counted in nskip. Exact: a particle last found at distance r outside the box moved at
+  !! most lip max_I |d_I - d'_I| per step (d' the coefficients at the step before), so it
+  !! is screened again once those bounds, summed (travel), reach r.
+  subroutine side_near_positions(s, sol, b, nskip)
+    type(side_t), intent(inout) :: s
+    type(solid_t), intent(in) :: sol
+    type(side_t), intent(in) :: b
+    integer(i64), intent(inout) :: nskip
+    integer :: i, j
+    integer(i64) :: nfar
+    real(wp) :: dmax2, r(2)
+    dmax2 = 0.0_wp
+    !$omp parallel do default(none) shared(s, sol) reduction(max: dmax2) schedule(static)
+    do i = 1, s%np
+      dmax2 = max(dmax2, sum((sol%d(:, i) - s%d_scr(:, i))**2))
+      s%d_scr(:, i) = sol%d(:, i)
+    end do
+    !$omp end parallel do
+    s%travel = s%travel + s%lip*sqrt(dmax2)
+    nfar = 0
+    !$omp parallel do default(none) shared(s, sol, b) private(r) reduction(+: nfar) &
+    !$omp schedule(static)
+    do j = 1, s%np
+      s%near(j) = s%travel >= s%due(j)
+      if (.not. s%near(j)) then
+        nfar = nfar + 1
+        cycle
+      end if
+      s%x_pred(:, j) = solid_point_position(sol, j)
+      s%x_old(:, j) = solid_point_position(sol, j, at_step_start)
+      ! distance outside the box, less a relative 1e-9 for the rounding of the sums
+      r = max(b%lo - s%x_pred(:, j), s%x_pred(:, j) - b%hi, 0.0_wp)
+      s%due(j) = s%travel + (1.0_wp - 1.0e-9_wp)*norm2(r)
+    end do
+    !$omp end parallel do
+    nskip = nskip + nfar
+  end subroutine side_near_positions
 
   !> One detection-and-force pass of side a's particles against side b (b's detector,
   !! b's surface). count_stats: this pass feeds the step's statistics and counters.
@@ -465,6 +557,7 @@ contains
     !$omp reduction(+: neval, ndet) schedule(static)
     do j = 1, a%np
       a%active(j) = .false.
+      if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
       if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
       neval = neval + 1
       det = cloud_det(b%cloud, a%x_pred(:, j))
@@ -493,6 +586,7 @@ contains
     !$omp reduction(+: neval, ndet) schedule(static)
     do j = 1, a%np
       a%active(j) = .false.
+      if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
       if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
       neval = neval + 1
       call nts_gap(b%buckets, b%surface, a%x_pred(:, j), b%buckets%capture, found, g, nrm, &
@@ -536,6 +630,7 @@ contains
     !$omp parallel do default(none) shared(a, b) private(det, found, g, nrm, tng, fd, fg) &
     !$omp reduction(+: nd, ng, nbuf, nmiss, gsum) reduction(max: gmax) schedule(static)
     do j = 1, a%np
+      if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
       if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
       det = cloud_det(b%cloud, a%x_pred(:, j))
       call nts_gap(b%buckets, b%surface, a%x_pred(:, j), huge(1.0_wp), found, g, nrm, tng)

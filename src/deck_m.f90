@@ -123,6 +123,9 @@ module deck_m
     !! closest-segment search, Benson-Hallquist style: the paper's comparison)
     character(len=16) :: detector = 'det_m'
     logical :: compare_detectors = .false. !< also evaluate the other detector, for counters
+    !> skip slave particles that cannot have reached the master's box since they were last
+    !! found outside it (a bound on their motion); exact: the same results
+    logical :: skip_far = .true.
     real(wp) :: edge_point(3) = -huge(1.0_wp)  !< reference point of a slave particle whose
                                            !< contact and separation times are reported (m)
     integer :: imaster = 0, islave = 0
@@ -1387,13 +1390,13 @@ contains
     character(len=64) :: master, slave
     real(wp) :: eps_cr, eps_rel, mu, edge_point(3)
     character(len=16) :: detector
-    logical :: compare_detectors
+    logical :: compare_detectors, skip_far
     integer :: ios, k, j
     character(len=512) :: msg
     type(contact_spec_t) :: dflt, tmp(max_contacts)
     character(len=:), allocatable :: grp
     namelist /contact/ master, slave, eps_cr, eps_rel, mu, edge_point, detector, &
-      compare_detectors
+      compare_detectors, skip_far
     rewind(u)
     k = 0
     do
@@ -1405,6 +1408,7 @@ contains
       edge_point = dflt%edge_point
       detector = dflt%detector
       compare_detectors = dflt%compare_detectors
+      skip_far = dflt%skip_far
       read(u, nml=contact, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -1420,7 +1424,8 @@ contains
       end if
       detector = lower(detector)
       tmp(k) = contact_spec_t(master=master, slave=slave, eps_cr=eps_cr, eps_rel=eps_rel, &
-        mu=mu, detector=detector, compare_detectors=compare_detectors, edge_point=edge_point)
+        mu=mu, detector=detector, compare_detectors=compare_detectors, skip_far=skip_far, &
+        edge_point=edge_point)
       do j = 1, deck%nbodies
         if (deck%bodies(j)%name == master) tmp(k)%imaster = j
         if (deck%bodies(j)%name == slave) tmp(k)%islave = j
@@ -1710,7 +1715,8 @@ contains
     case ('bc')
       s = 'body, region_lo, region_hi, component, kind, value'
     case ('contact')
-      s = 'master, slave, eps_cr, eps_rel, mu, edge_point, detector, compare_detectors'
+      s = 'master, slave, eps_cr, eps_rel, mu, edge_point, detector, compare_detectors, '// &
+        'skip_far'
     case default
       s = ''
     end select
@@ -1818,7 +1824,7 @@ contains
       reals = 'region_lo(3), region_hi(3), value'
     case ('contact')
       strs = 'master, slave, detector'
-      logs = 'compare_detectors'
+      logs = 'compare_detectors, skip_far'
       reals = 'eps_cr, eps_rel, mu, edge_point(3)'
     end select
   end subroutine typed_vars

@@ -201,6 +201,7 @@ contains
         prm%mu = cs%mu
         prm%detector = merge(detector_nts, detector_det_m, cs%detector == 'node_to_segment')
         prm%compare = cs%compare_detectors
+        prm%skip_far = cs%skip_far
         prm%track_edge = cs%edge_point(1) > -huge(1.0_wp)
         if (prm%track_edge) prm%edge_point = cs%edge_point(1:2)
         im = cs%imaster

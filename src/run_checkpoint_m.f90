@@ -111,6 +111,19 @@ contains
         if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
           '_detect_time', [c%t_detect], 's', err, 'wall time in the detector since t = 0')
       end associate
+      ! skip_far's state, so that a restarted run skips what the uninterrupted one skips
+      associate (s => pairs(k)%side(1))
+        if (s%skip_far .and. .not. allocated(err)) then
+          call h5_write(f, '/contacts/contact'//itoa(k)//'_skipped', &
+            [pairs(k)%count%skipped], '1', err, 'screenings skipped since t = 0 (skip_far)')
+          if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+            '_skip_travel', [s%travel], 'm', err, 'bound on the particles'' motion since t = 0')
+          if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+            '_skip_due', s%due, 'm', err, 'travel at which each particle is screened again')
+          if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+            '_skip_d', s%d_scr, 'm', err, 'coefficients at the last screening')
+        end if
+      end associate
     end do
     if (.not. allocated(err)) call h5_group(f, '/output', err)
     if (.not. allocated(err)) call h5_attr(f, '/output', 'nsnap_done', nsnap_done, err)
@@ -405,8 +418,8 @@ contains
     type(checkpoint_info_t) :: info
     type(error_t), allocatable :: e2
     integer, allocatable :: dims(:)
-    integer(i64) :: counts(4), more(7)
-    real(wp) :: bgap(2), tdet(1)
+    integer(i64) :: counts(4), more(7), nskip(1)
+    real(wp) :: bgap(2), tdet(1), travel(1)
     integer :: k
     nsnap_done = 0
     allocate(snap_times(0))
@@ -426,6 +439,22 @@ contains
       pairs(k)%count%evaluated = counts(2)
       pairs(k)%count%detected = counts(3)
       pairs(k)%count%contacts = counts(4)
+      ! skip_far's state (absent from checkpoints written before it: every particle is then
+      ! screened at the first step, which changes the counter only)
+      associate (s => pairs(k)%side(1))
+        if (s%skip_far .and. h5_has(f, '/contacts/contact'//itoa(k)//'_skip_due')) then
+          call h5_read(f, '/contacts/contact'//itoa(k)//'_skipped', nskip, err)
+          if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
+            '_skip_travel', travel, err)
+          if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
+            '_skip_due', s%due, err)
+          if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
+            '_skip_d', s%d_scr, err)
+          if (allocated(err)) exit
+          pairs(k)%count%skipped = nskip(1)
+          s%travel = travel(1)
+        end if
+      end associate
       ! the detector comparison's counters (absent from checkpoints written before them)
       if (.not. h5_has(f, '/contacts/contact'//itoa(k)//'_compare')) cycle
       call h5_read(f, '/contacts/contact'//itoa(k)//'_compare', more, err)

@@ -236,6 +236,8 @@ contains
         '_compare_detectors', merge(1, 0, pairs(k)%compare), err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
         '_detect_time', pairs(k)%count%t_detect, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
+        '_skipped_far', real(pairs(k)%count%skipped, wp), err)
       associate (c => pairs(k)%count)
         if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
           '_compare_det_gap_buffer_missed_detmax_gapmax', real([c%cmp_det, c%cmp_gap, &
@@ -275,6 +277,10 @@ contains
       write(output_unit, '(a,i0,a,f9.3,a)') 'summary: contact '//itoa(k)//': detector '// &
         detector_name(pairs(k)%detector)//', at most ', pairs(k)%count%detected_max, &
         ' particles flagged in one step, ', pairs(k)%count%t_detect, ' s in detection'
+      if (pairs(k)%side(1)%skip_far) write(output_unit, '(a,i0,a,f5.1,a)') 'summary: '// &
+        'contact '//itoa(k)//': skip_far: ', pairs(k)%count%skipped, ' screenings ('// &
+        '', 100.0_wp*real(pairs(k)%count%skipped, wp)/real(max(pairs(k)%count%screened, &
+        1_i64), wp), '%) skipped: particles that could not have reached the master''s box'
       if (.not. pairs(k)%compare) cycle
       associate (c => pairs(k)%count)
         write(output_unit, '(a,6(i0,a),es10.3,a,es10.3,a)') 'summary: contact '//itoa(k)// &

@@ -421,21 +421,39 @@ contains
     end if
   end subroutine solid_positions
 
-  !> Physical position of node j from the current coefficients (m).
-  pure function solid_point_position(s, j) result(x)
+  !> Physical position of node j from the current coefficients, or with which =
+  !! at_step_start from those at the start of the step (m).
+  pure function solid_point_position(s, j, which) result(x)
     type(solid_t), intent(in) :: s
     integer, intent(in) :: j
+    integer, intent(in), optional :: which
     real(wp) :: x(2)
+    if (present(which)) then
+      if (which == at_step_start) then
+        x = point_position(s, s%d_old, j)
+        return
+      end if
+    end if
+    x = point_position(s, s%d, j)
+  end function solid_point_position
+
+  pure function point_position(s, d, j) result(x)
+    type(solid_t), intent(in) :: s
+    real(wp), intent(in) :: d(:, :)
+    integer, intent(in) :: j
+    real(wp) :: x(2), u(2)
     integer :: e
-    x = s%x0(:, j)
     if (s%t%interpolating) then
-      x = x + s%d(:, j)
+      x = s%x0(:, j) + d(:, j)
       return
     end if
+    ! summed in the order of physical_positions, so both give the same bits
+    u = 0.0_wp
     do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
-      x = x + s%t%pn(:, e)*s%d(:, s%t%pnbr(e))
+      u = u + s%t%pn(:, e)*d(:, s%t%pnbr(e))
     end do
-  end function solid_point_position
+    x = s%x0(:, j) + u
+  end function point_position
 
   !> Contact forces of the step start at zero (solid_predict also clears them).
   subroutine solid_clear_contact(s)

@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""Work skipped where a scene does not need it gives the same results (issue 9, item 6).
+
+Each switch is exact by construction, so each case runs twice, with the switch on (the
+default) and off, and every dataset of the two output files must be equal bit for bit
+(the same floating-point operations on the same values: a skipped particle would have
+been found outside the master's box anyway), the /summary attributes too apart from the
+timings and the counter of the skipped work itself, which must be > 0 with the switch on
+and 0 with it off (so the test fails if the skip silently stopped skipping).
+
+- &contact skip_far: the coarse RKPM Taylor bar (axisymmetric, viscoplastic, friction,
+  rigid target), shortened to 6 us, and the coarse FEM elastic bar on a rigid wall.
+
+Usage: check_skip_work.py /path/to/mfcd input/taylor_bar_rkpm_coarse.nml
+       input/bar_impact_elastic_fem_coarse.nml
+"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import numpy as np
+
+MFCD = os.path.abspath(sys.argv[1])
+TAYLOR, FEM_BAR = (os.path.abspath(p) for p in sys.argv[2:4])
+TIMING = ("wall_time", "time_loop_kinematics_material_force_contact_snapshots",
+          "particle_steps_per_second", "point_steps_per_second")
+results = []
+
+
+def check(name, cond, detail=""):
+    results.append(bool(cond))
+    print(("[  OK  ] " if cond else "[ FAIL ] ") + "skip_work." + name
+          + ("" if cond else ": " + str(detail)[-1500:]), flush=True)
+
+
+def run(tmp, src, name, edits):
+    text = open(src).read()
+    text = re.sub(r"file\s*=\s*'[^']*\.h5'", "file = 'out/%s.h5'" % name, text)
+    for pattern, repl in edits:
+        if pattern.startswith("&"):   # a new line at the start of the group
+            text = re.sub(r"(%s\b[^\n]*\n)" % pattern, r"\1  %s\n" % repl, text, count=1)
+        else:                         # a variable's value replaced
+            text, n = re.subn(r"\b%s\s*=[^\n!]*" % pattern, repl, text, count=1)
+            assert n == 1, pattern
+    deck = os.path.join(tmp, name + ".nml")
+    open(deck, "w").write(text)
+    p = subprocess.run([MFCD, deck], cwd=tmp, capture_output=True, text=True,
+                       env=dict(os.environ, OMP_NUM_THREADS="1"))
+    check(name + " completes", p.returncode == 0, p.stdout[-800:] + p.stderr[-800:])
+    return os.path.join(tmp, "out", name + ".h5"), p.stdout
+
+
+def compare(name, on, off, counter):
+    diffs = []
+    with h5py.File(on, "r") as a, h5py.File(off, "r") as b:
+        def visit(key, obj):
+            if not isinstance(obj, h5py.Dataset):
+                return
+            if key not in b:
+                diffs.append("missing " + key)
+                return
+            x, y = obj[()], b[key][()]
+            if x.dtype.kind in "fiu" and not np.array_equal(x, y, equal_nan=True):
+                diffs.append(key)
+        a.visititems(visit)
+        sa, sb = a["/summary"].attrs, b["/summary"].attrs
+        for k in sa:
+            if k in TIMING or k.endswith("_time") or k == counter or k not in sb:
+                continue
+            if np.asarray(sa[k]).dtype.kind in "fiu" and not np.array_equal(sa[k], sb[k]):
+                diffs.append("attr " + k)
+        n_on = float(np.ravel(sa[counter])[0])
+        n_off = float(np.ravel(sb[counter])[0])
+    check(name + ": every dataset and summary value equal bit for bit", not diffs, diffs[:10])
+    check(name + ": work skipped with the switch on (%d), none off (%d)" % (n_on, n_off),
+          n_on > 0 and n_off == 0)
+
+
+def main():
+    with tempfile.TemporaryDirectory() as tmp:
+        taylor = [("t_end", "t_end = 6.0e-6"), ("snapshot_times", "snapshot_times = 0.0, 6.0e-6")]
+        for name, src, edits in [("taylor_rkpm", TAYLOR, taylor), ("bar_fem", FEM_BAR, [])]:
+            on, _ = run(tmp, src, name + "_far_on", edits)
+            off, _ = run(tmp, src, name + "_far_off",
+                         edits + [("&contact", "skip_far = .false.")])
+            if os.path.exists(on) and os.path.exists(off):
+                compare(name + " skip_far", on, off, "contact1_skipped_far")
+    print("%d passed, %d failed" % (results.count(True), results.count(False)))
+    sys.exit(0 if all(results) else 1)
+
+
+if __name__ == "__main__":
+    main()
