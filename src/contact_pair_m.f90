@@ -38,6 +38,12 @@ module contact_pair_m
     real(wp) :: mu = 0.0_wp              !< Coulomb friction coefficient
     logical :: track_edge = .false.      !< report contact/separation of one slave node
     real(wp) :: edge_point(2) = 0.0_wp   !< its reference position: the nearest node (m)
+    !> Effective mass of eq. (93) against a deformable master. .false. (the default): the
+    !! reduced mass of the particle and its master point alone, as if no other particle
+    !! pushed the same segment ends. .true.: each master node's mass shared among the
+    !! particles that push it (the row sum of the constraint's mass matrix), so a uniform
+    !! penetration of a non-matching interface closes in one step (doc/contact.md).
+    logical :: shared_mass = .false.
   end type contact_params_t
 
   !> What one step's contact did (for the log, history and summary).
@@ -73,6 +79,12 @@ module contact_pair_m
     integer, allocatable :: seg(:)       !< the segment each penetrating particle hit
     real(wp), allocatable :: xi(:)       !< where on it
     real(wp), allocatable :: mass(:)     !< particle masses (kg); 0 for a rigid side
+    real(wp), allocatable :: gap(:)      !< predicted gap of each penetrating particle (m)
+    real(wp), allocatable :: slip(:)     !< its tangential slip over the step (m)
+    real(wp), allocatable :: nrm(:, :), tng(:, :)  !< normal and tangent of its segment
+    !> as a master: sum of the weights (1 - xi, xi) with which this pass's penetrating
+    !! particles load each node, for the shared effective mass
+    real(wp), allocatable :: share(:)
   end type side_t
 
   type :: contact_pair_t
@@ -80,6 +92,7 @@ module contact_pair_m
     real(wp) :: eps_cr = 0.0_wp, eps_rel = 0.0_wp, mu = 0.0_wp
     integer :: edge = 0                  !< slave particle tracked for separation (0: none)
     logical :: both_ways = .false.       !< both bodies deform: eq. (28) both conditions
+    logical :: shared_mass = .false.     !< contact_params_t%shared_mass
     type(contact_counters_t) :: count
     type(contact_stats_t) :: step
   end type contact_pair_t
@@ -102,6 +115,7 @@ contains
     p%eps_cr = prm%eps_cr
     p%eps_rel = prm%eps_rel
     p%mu = prm%mu
+    p%shared_mass = prm%shared_mass
     call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err)
     if (allocated(err)) return
     call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
@@ -156,7 +170,8 @@ contains
     s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:2)
     s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:2)
     allocate(s%x_old(2, b%np), s%x_pred(2, b%np), s%fphys(2, b%np), s%active(b%np), &
-      s%seg(b%np), s%xi(b%np), s%mass(b%np))
+      s%seg(b%np), s%xi(b%np), s%mass(b%np), s%gap(b%np), s%slip(b%np), s%nrm(2, b%np), &
+      s%tng(2, b%np), s%share(b%np))
     s%x_old = b%x
     s%x_pred = b%x
     s%rho = b%rho
@@ -169,6 +184,7 @@ contains
     s%fphys = 0.0_wp
     s%active = .false.
     s%mass = 0.0_wp
+    s%share = 0.0_wp
     if (isolid > 0) s%mass = solids(isolid)%t%mass
   end subroutine side_init
 
@@ -288,7 +304,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: j, jseg, i0, i1
     integer(i64) :: neval, ndet, ncon
-    real(wp) :: det, g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
+    real(wp) :: det, g, nrm(2), tng(2), fj(2), pen, rad, fnsum, xi, invmb, meff
     real(wp) :: dxb(2)
     logical :: found, stick
     neval = 0
@@ -297,9 +313,10 @@ contains
     pen = 0.0_wp
     rad = 0.0_wp
     fnsum = 0.0_wp
-    !$omp parallel do default(none) shared(a, b, dt, p) &
-    !$omp private(det, found, g, nrm, tng, slip, fj, stick, jseg, xi, i0, i1, invmb, meff, dxb) &
-    !$omp reduction(+: neval, ndet, ncon, fnsum) reduction(max: pen, rad) schedule(static)
+    ! detection and gap (eqs. 25-28, 89): which particles penetrate, where
+    !$omp parallel do default(none) shared(a, b) &
+    !$omp private(det, found, g, nrm, tng, jseg, xi, i0, i1, dxb) &
+    !$omp reduction(+: neval, ndet) schedule(static)
     do j = 1, a%np
       a%active(j) = .false.
       a%fphys(:, j) = 0.0_wp
@@ -310,23 +327,57 @@ contains
       ndet = ndet + 1
       call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, jseg, xi)
       if (.not. found .or. .not. (g < 0.0_wp)) cycle
-      ! the master point's motion over the step and its inverse mass (0 when rigid)
+      ! the master point's motion over the step: the slip is relative to it
       i0 = b%surface%i0(jseg)
       i1 = b%surface%i1(jseg)
       dxb = (1.0_wp - xi)*(b%x_pred(:, i0) - b%x_old(:, i0)) + xi*(b%x_pred(:, i1) - &
         b%x_old(:, i1))
-      invmb = 0.0_wp
-      if (b%isolid > 0) invmb = (1.0_wp - xi)**2/b%mass(i0) + xi**2/b%mass(i1)
-      meff = 1.0_wp/(1.0_wp/a%mass(j) + invmb)
-      slip = dot_product(a%x_pred(:, j) - a%x_old(:, j) - dxb, tng)
-      call contact_point_force(g, nrm, tng, slip, meff, dt, p%mu, fj, stick)
       a%active(j) = .true.
-      a%fphys(:, j) = fj
       a%seg(j) = jseg
       a%xi(j) = xi
+      a%gap(j) = g
+      a%nrm(:, j) = nrm
+      a%tng(:, j) = tng
+      a%slip(j) = dot_product(a%x_pred(:, j) - a%x_old(:, j) - dxb, tng)
+    end do
+    !$omp end parallel do
+    ! shared effective mass: how much of each master node the particles load together
+    if (p%shared_mass .and. b%isolid > 0) then
+      b%share = 0.0_wp
+      do j = 1, a%np
+        if (.not. a%active(j)) cycle
+        i0 = b%surface%i0(a%seg(j))
+        i1 = b%surface%i1(a%seg(j))
+        b%share(i0) = b%share(i0) + (1.0_wp - a%xi(j))
+        b%share(i1) = b%share(i1) + a%xi(j)
+      end do
+    end if
+    ! forces (eqs. 93-96) with the effective mass of particle and master point
+    !$omp parallel do default(none) shared(a, b, dt, p) &
+    !$omp private(fj, stick, xi, i0, i1, invmb, meff) &
+    !$omp reduction(+: ncon, fnsum) reduction(max: pen, rad) schedule(static)
+    do j = 1, a%np
+      if (.not. a%active(j)) cycle
+      xi = a%xi(j)
+      i0 = b%surface%i0(a%seg(j))
+      i1 = b%surface%i1(a%seg(j))
+      ! the master point's inverse mass (0 when rigid): alone, (1-xi)^2/m0 + xi^2/m1; shared,
+      ! the row sum (1-xi) S0/m0 + xi S1/m1 with S the nodes' total loading weights
+      invmb = 0.0_wp
+      if (b%isolid > 0) then
+        if (p%shared_mass) then
+          invmb = (1.0_wp - xi)*b%share(i0)/b%mass(i0) + xi*b%share(i1)/b%mass(i1)
+        else
+          invmb = (1.0_wp - xi)**2/b%mass(i0) + xi**2/b%mass(i1)
+        end if
+      end if
+      meff = 1.0_wp/(1.0_wp/a%mass(j) + invmb)
+      call contact_point_force(a%gap(j), a%nrm(:, j), a%tng(:, j), a%slip(j), meff, dt, &
+        p%mu, fj, stick)
+      a%fphys(:, j) = fj
       ncon = ncon + 1
-      fnsum = fnsum + dot_product(fj, nrm)
-      pen = max(pen, -g)
+      fnsum = fnsum + dot_product(fj, a%nrm(:, j))
+      pen = max(pen, -a%gap(j))
       rad = max(rad, a%x_pred(1, j))
     end do
     !$omp end parallel do

@@ -121,6 +121,9 @@ module deck_m
     real(wp) :: mu = 0.0_wp                !< Coulomb friction coefficient
     real(wp) :: edge_point(3) = -huge(1.0_wp)  !< reference point of a slave particle whose
                                            !< contact and separation times are reported (m)
+    !> eq. (93) against a deformable master with the master nodes' masses shared among the
+    !! particles that push them (contact_params_t%shared_mass)
+    logical :: shared_mass = .false.
     integer :: imaster = 0, islave = 0
   end type contact_spec_t
 
@@ -1382,11 +1385,12 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     character(len=64) :: master, slave
     real(wp) :: eps_cr, eps_rel, mu, edge_point(3)
+    logical :: shared_mass
     integer :: ios, k, j
     character(len=512) :: msg
     type(contact_spec_t) :: dflt, tmp(max_contacts)
     character(len=:), allocatable :: grp
-    namelist /contact/ master, slave, eps_cr, eps_rel, mu, edge_point
+    namelist /contact/ master, slave, eps_cr, eps_rel, mu, edge_point, shared_mass
     rewind(u)
     k = 0
     do
@@ -1396,6 +1400,7 @@ contains
       eps_rel = dflt%eps_rel
       mu = dflt%mu
       edge_point = dflt%edge_point
+      shared_mass = dflt%shared_mass
       read(u, nml=contact, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -1410,7 +1415,7 @@ contains
         return
       end if
       tmp(k) = contact_spec_t(master=master, slave=slave, eps_cr=eps_cr, eps_rel=eps_rel, &
-        mu=mu, edge_point=edge_point)
+        mu=mu, edge_point=edge_point, shared_mass=shared_mass)
       do j = 1, deck%nbodies
         if (deck%bodies(j)%name == master) tmp(k)%imaster = j
         if (deck%bodies(j)%name == slave) tmp(k)%islave = j
@@ -1696,7 +1701,7 @@ contains
     case ('bc')
       s = 'body, region_lo, region_hi, component, kind, value'
     case ('contact')
-      s = 'master, slave, eps_cr, eps_rel, mu, edge_point'
+      s = 'master, slave, eps_cr, eps_rel, mu, edge_point, shared_mass'
     case default
       s = ''
     end select
@@ -1804,6 +1809,7 @@ contains
       reals = 'region_lo(3), region_hi(3), value'
     case ('contact')
       strs = 'master, slave'
+      logs = 'shared_mass'
       reals = 'eps_cr, eps_rel, mu, edge_point(3)'
     end select
   end subroutine typed_vars

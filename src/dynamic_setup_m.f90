@@ -198,6 +198,7 @@ contains
         prm%eps_cr = cs%eps_cr
         prm%eps_rel = cs%eps_rel
         prm%mu = cs%mu
+        prm%shared_mass = cs%shared_mass
         prm%track_edge = cs%edge_point(1) > -huge(1.0_wp)
         if (prm%track_edge) prm%edge_point = cs%edge_point(1:2)
         im = cs%imaster
@@ -226,6 +227,11 @@ contains
           '; warning: the threshold is above it, shallow penetrations go undetected', &
           '                                                                        ', &
           p%side(2)%threshold > p%side(2)%surface_det))
+        if (p%shared_mass .and. p%both_ways) write(output_unit, '(a)') 'contact: eq. (93) '// &
+          'with the master nodes'' masses shared among the particles that push them '// &
+          '(shared_mass)'
+        if (p%shared_mass .and. .not. p%both_ways) write(output_unit, '(a)') 'contact: '// &
+          'shared_mass has no effect: the master is rigid'
         flush(output_unit)
       end associate
     end do
