@@ -41,8 +41,8 @@ module contact_pair_m
     !> Effective mass of eq. (93) against a deformable master. .false. (the default): the
     !! reduced mass of the particle and its master point alone, as if no other particle
     !! pushed the same segment ends. .true.: each master node's mass shared among the
-    !! particles that push it (the row sum of the constraint's mass matrix), so a uniform
-    !! penetration of a non-matching interface closes in one step (doc/contact.md).
+    !! particles that push it (the row sum of the constraint's mass matrix), so they do not
+    !! each claim its whole mobility and over-correct together (doc/contact.md).
     logical :: shared_mass = .false.
   end type contact_params_t
 
