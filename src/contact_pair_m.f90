@@ -53,6 +53,12 @@ module contact_pair_m
     logical :: skip_far = .true.         !< skip slave particles that cannot reach the master
     logical :: track_edge = .false.      !< report contact/separation of one slave node
     real(wp) :: edge_point(2) = 0.0_wp   !< its reference position: the nearest node (m)
+    !> Effective mass of eq. (93) against a deformable master. .false. (the default): the
+    !! reduced mass of the particle and its master point alone, as if no other particle
+    !! pushed the same segment ends. .true.: each master node's mass shared among the
+    !! particles that push it (the row sum of the constraint's mass matrix), so they do not
+    !! each claim its whole mobility and over-correct together (doc/contact.md).
+    logical :: shared_mass = .false.
   end type contact_params_t
 
   !> What one step's contact did (for the log, history and summary).
@@ -104,6 +110,10 @@ module contact_pair_m
     !> positions computed this step (all, unless skip_far): a particle not near is not
     !! screened; its x_pred, x_old are stale
     logical, allocatable :: near(:)
+    real(wp), allocatable :: slip(:)     !< tangential slip of each penetrating particle (m)
+    !> as a master: sum of the weights (1 - xi, xi) with which this pass's penetrating
+    !! particles load each node, for the shared effective mass
+    real(wp), allocatable :: share(:)
   end type side_t
 
   type :: contact_pair_t
@@ -113,6 +123,7 @@ module contact_pair_m
     logical :: compare = .false.
     integer :: edge = 0                  !< slave particle tracked for separation (0: none)
     logical :: both_ways = .false.       !< both bodies deform: eq. (28) both conditions
+    logical :: shared_mass = .false.     !< contact_params_t%shared_mass
     type(contact_counters_t) :: count
     type(contact_stats_t) :: step
   end type contact_pair_t
@@ -137,6 +148,7 @@ contains
     p%mu = prm%mu
     p%detector = prm%detector
     p%compare = prm%compare
+    p%shared_mass = prm%shared_mass
     call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err)
     if (allocated(err)) return
     call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
@@ -195,7 +207,8 @@ contains
     s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:2)
     call nts_build(s%buckets, s%surface)
     allocate(s%x_old(2, b%np), s%x_pred(2, b%np), s%fphys(2, b%np), s%active(b%np), &
-      s%seg(b%np), s%xi(b%np), s%mass(b%np), s%gap(b%np), s%nrm(2, b%np), s%tng(2, b%np))
+      s%seg(b%np), s%xi(b%np), s%mass(b%np), s%gap(b%np), s%slip(b%np), s%nrm(2, b%np), &
+      s%tng(2, b%np), s%share(b%np))
     s%x_old = b%x
     s%x_pred = b%x
     allocate(s%near(b%np))
@@ -215,6 +228,7 @@ contains
     s%nrm = 0.0_wp
     s%tng = 0.0_wp
     s%mass = 0.0_wp
+    s%share = 0.0_wp
     if (isolid > 0) s%mass = solids(isolid)%t%mass
   end subroutine side_init
 
@@ -462,6 +476,17 @@ contains
     pen = 0.0_wp
     rad = 0.0_wp
     fnsum = 0.0_wp
+    ! shared effective mass: how much of each master node the particles load together
+    if (p%shared_mass .and. b%isolid > 0) then
+      b%share = 0.0_wp
+      do j = 1, a%np
+        if (.not. a%active(j)) cycle
+        i0 = b%surface%i0(a%seg(j))
+        i1 = b%surface%i1(a%seg(j))
+        b%share(i0) = b%share(i0) + (1.0_wp - a%xi(j))
+        b%share(i1) = b%share(i1) + a%xi(j)
+      end do
+    end if
     !$omp parallel do default(none) shared(a, b, dt, p) &
     !$omp private(g, nrm, tng, slip, fj, stick, xi, i0, i1, invmb, meff, dxb) &
     !$omp reduction(+: ncon, fnsum) reduction(max: pen, rad) schedule(static)
@@ -472,20 +497,29 @@ contains
       nrm = a%nrm(:, j)
       tng = a%tng(:, j)
       xi = a%xi(j)
-      ! the master point's motion over the step and its inverse mass (0 when rigid)
+      ! the master point's motion over the step: the slip is relative to it
       i0 = b%surface%i0(a%seg(j))
       i1 = b%surface%i1(a%seg(j))
       dxb = (1.0_wp - xi)*(b%x_pred(:, i0) - b%x_old(:, i0)) + xi*(b%x_pred(:, i1) - &
         b%x_old(:, i1))
+      ! the master point's inverse mass (0 when rigid): alone, (1-xi)^2/m0 + xi^2/m1; shared,
+      ! the row sum (1-xi) S0/m0 + xi S1/m1 with S the nodes' total loading weights
       invmb = 0.0_wp
-      if (b%isolid > 0) invmb = (1.0_wp - xi)**2/b%mass(i0) + xi**2/b%mass(i1)
+      if (b%isolid > 0) then
+        if (p%shared_mass) then
+          invmb = (1.0_wp - xi)*b%share(i0)/b%mass(i0) + xi*b%share(i1)/b%mass(i1)
+        else
+          invmb = (1.0_wp - xi)**2/b%mass(i0) + xi**2/b%mass(i1)
+        end if
+      end if
       meff = 1.0_wp/(1.0_wp/a%mass(j) + invmb)
       slip = dot_product(a%x_pred(:, j) - a%x_old(:, j) - dxb, tng)
+      a%slip(j) = slip
       call contact_point_force(g, nrm, tng, slip, meff, dt, p%mu, fj, stick)
       a%fphys(:, j) = fj
       ncon = ncon + 1
-      fnsum = fnsum + dot_product(fj, nrm)
-      pen = max(pen, -g)
+      fnsum = fnsum + dot_product(fj, a%nrm(:, j))
+      pen = max(pen, -a%gap(j))
       rad = max(rad, a%x_pred(1, j))
     end do
     !$omp end parallel do

@@ -128,6 +128,9 @@ module deck_m
     logical :: skip_far = .true.
     real(wp) :: edge_point(3) = -huge(1.0_wp)  !< reference point of a slave particle whose
                                            !< contact and separation times are reported (m)
+    !> eq. (93) against a deformable master with the master nodes' masses shared among the
+    !! particles that push them (contact_params_t%shared_mass)
+    logical :: shared_mass = .false.
     integer :: imaster = 0, islave = 0
   end type contact_spec_t
 
@@ -1390,13 +1393,13 @@ contains
     character(len=64) :: master, slave
     real(wp) :: eps_cr, eps_rel, mu, edge_point(3)
     character(len=16) :: detector
-    logical :: compare_detectors, skip_far
+    logical :: compare_detectors, skip_far, shared_mass
     integer :: ios, k, j
     character(len=512) :: msg
     type(contact_spec_t) :: dflt, tmp(max_contacts)
     character(len=:), allocatable :: grp
     namelist /contact/ master, slave, eps_cr, eps_rel, mu, edge_point, detector, &
-      compare_detectors, skip_far
+      compare_detectors, skip_far, shared_mass
     rewind(u)
     k = 0
     do
@@ -1409,6 +1412,7 @@ contains
       detector = dflt%detector
       compare_detectors = dflt%compare_detectors
       skip_far = dflt%skip_far
+      shared_mass = dflt%shared_mass
       read(u, nml=contact, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -1425,7 +1429,7 @@ contains
       detector = lower(detector)
       tmp(k) = contact_spec_t(master=master, slave=slave, eps_cr=eps_cr, eps_rel=eps_rel, &
         mu=mu, detector=detector, compare_detectors=compare_detectors, skip_far=skip_far, &
-        edge_point=edge_point)
+        shared_mass=shared_mass, edge_point=edge_point)
       do j = 1, deck%nbodies
         if (deck%bodies(j)%name == master) tmp(k)%imaster = j
         if (deck%bodies(j)%name == slave) tmp(k)%islave = j
@@ -1716,7 +1720,7 @@ contains
       s = 'body, region_lo, region_hi, component, kind, value'
     case ('contact')
       s = 'master, slave, eps_cr, eps_rel, mu, edge_point, detector, compare_detectors, '// &
-        'skip_far'
+        'skip_far, shared_mass'
     case default
       s = ''
     end select
@@ -1824,7 +1828,7 @@ contains
       reals = 'region_lo(3), region_hi(3), value'
     case ('contact')
       strs = 'master, slave, detector'
-      logs = 'compare_detectors, skip_far'
+      logs = 'compare_detectors, skip_far, shared_mass'
       reals = 'eps_cr, eps_rel, mu, edge_point(3)'
     end select
   end subroutine typed_vars

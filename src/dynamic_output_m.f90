@@ -98,7 +98,9 @@ contains
 
   !> /snapshots/<label>/<body>: physical positions, displacements and velocities of the
   !! particles, Cauchy stress, effective plastic strain and J (averaged over each particle's
-  !! integration points with their weights; for SCNI the particle's own point).
+  !! integration points with their weights; for SCNI the particle's own point), and the
+  !! mean contact force on each particle's physical point since the previous snapshot
+  !! (its impulse over the time between; the impulse is then restarted).
   subroutine snapshot_write(f, label, time, step, solids, err)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: label
@@ -107,7 +109,7 @@ contains
     type(solid_t), intent(inout) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: g, gb
-    real(wp), allocatable :: vphys(:, :), sig(:, :), eps(:), jj(:), w(:)
+    real(wp), allocatable :: vphys(:, :), sig(:, :), eps(:), jj(:), w(:), fc(:, :)
     integer :: k, q, np, e, i
     real(wp) :: jq
     g = '/snapshots/'//label
@@ -120,7 +122,7 @@ contains
         np = tb%np
         gb = g//'/'//trim(tb%name)
         call solid_positions(tb, at_prediction, tb%x)
-        allocate(vphys(2, np), sig(4, np), eps(np), jj(np), w(np))
+        allocate(vphys(2, np), sig(4, np), eps(np), jj(np), w(np), fc(2, np))
         call physical_positions(tb%t, 0.0_wp*tb%x0, tb%v, vphys)
         sig = 0.0_wp
         eps = 0.0_wp
@@ -143,6 +145,10 @@ contains
           eps(i) = eps(i)/w(i)
           jj(i) = jj(i)/w(i)
         end do
+        fc = 0.0_wp
+        if (tb%ipoint_time > 0.0_wp) fc = tb%ipoint/tb%ipoint_time
+        tb%ipoint = 0.0_wp
+        tb%ipoint_time = 0.0_wp
         call h5_group(f, gb, err)
         if (.not. allocated(err)) call h5_write(f, gb//'/x', tb%x, 'm', err, &
           'physical particle positions (2, np)')
@@ -156,8 +162,11 @@ contains
           'effective plastic strain')
         if (.not. allocated(err)) call h5_write(f, gb//'/J', jj, '1', err, &
           'volume ratio det F')
+        if (.not. allocated(err)) call h5_write(f, gb//'/f_contact', fc, &
+          trim(merge('N  ', 'N/m', tb%t%axisym)), err, 'mean contact force on the particle''s '// &
+          'physical point since the previous snapshot (impulse / time) (2, np)')
         if (tb%t%interpolating .and. .not. allocated(err)) call cell_fields(tb, gb)
-        deallocate(vphys, sig, eps, jj, w)
+        deallocate(vphys, sig, eps, jj, w, fc)
       end associate
     end do
     call h5_flush(f)
@@ -229,6 +238,7 @@ contains
         call components(u, 'stress', np, g//'/stress', 'Node')
         call attr(u, 'epsbar', 'Scalar', nps, g//'/epsbar')
         call attr(u, 'J', 'Scalar', nps, g//'/J')
+        call attr(u, 'f_contact', 'Vector', nps//' 2', g//'/f_contact')
         if (solids(k)%t%interpolating) then
           call attr(u, 'epsbar_cells', 'Scalar', nes, g//'/epsbar_cells', 'Cell')
           call components(u, 'stress_cells', solids(k)%nq, g//'/stress_cells', 'Cell')

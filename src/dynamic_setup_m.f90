@@ -202,6 +202,7 @@ contains
         prm%detector = merge(detector_nts, detector_det_m, cs%detector == 'node_to_segment')
         prm%compare = cs%compare_detectors
         prm%skip_far = cs%skip_far
+        prm%shared_mass = cs%shared_mass
         prm%track_edge = cs%edge_point(1) > -huge(1.0_wp)
         if (prm%track_edge) prm%edge_point = cs%edge_point(1:2)
         im = cs%imaster
@@ -235,6 +236,11 @@ contains
           '                                        ', p%compare))//'; segment buckets of ', &
           p%side(2)%buckets%cell, ' m, ', p%side(2)%buckets%nc(1), ' x ', &
           p%side(2)%buckets%nc(2), ' cells'
+        if (p%shared_mass .and. p%both_ways) write(output_unit, '(a)') 'contact: eq. (93) '// &
+          'with the master nodes'' masses shared among the particles that push them '// &
+          '(shared_mass)'
+        if (p%shared_mass .and. .not. p%both_ways) write(output_unit, '(a)') 'contact: '// &
+          'shared_mass has no effect: the master is rigid'
         flush(output_unit)
       end associate
     end do

@@ -46,7 +46,7 @@ module run_checkpoint_m
   !> The root attribute 'format' of every checkpoint, and the layout version this mfcd
   !! writes and reads (raise it when the layout changes).
   character(len=*), parameter :: checkpoint_kind = 'mfcd checkpoint'
-  integer, parameter :: checkpoint_format = 1
+  integer, parameter :: checkpoint_format = 2
 
   !> What a checkpoint says about itself (root attributes).
   type :: checkpoint_info_t
@@ -205,6 +205,9 @@ contains
       'nodal coefficients of the acceleration (2, np)')
     if (.not. allocated(err)) call h5_write(f, g//'/freac', s%freac_old, 'N', err, &
       'reactions of the kinematic conditions (2, np)')
+    if (.not. allocated(err)) call h5_write(f, g//'/contact_impulse', s%ipoint, 'N s', err, &
+      'contact impulse on the physical points since the last snapshot (2, np)')
+    if (.not. allocated(err)) call h5_attr(f, g, 'contact_impulse_time', s%ipoint_time, err)
     if (.not. allocated(err)) call h5_write(f, g//'/F', s%f, '1', err, &
       'deformation gradient 11, 12, 21, 22, 33 (5, nq)')
     if (.not. allocated(err)) call h5_write(f, g//'/P', s%p, 'Pa', err, &
@@ -584,6 +587,9 @@ contains
     if (.not. allocated(err)) call h5_read(f, g//'/v', s%v, err)
     if (.not. allocated(err)) call h5_read(f, g//'/a', s%a, err)
     if (.not. allocated(err)) call h5_read(f, g//'/freac', s%freac_old, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/contact_impulse', s%ipoint, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'contact_impulse_time', &
+      s%ipoint_time, err)
     if (.not. allocated(err)) call h5_read(f, g//'/F', s%f, err)
     if (.not. allocated(err)) call h5_read(f, g//'/P', s%p, err)
     if (.not. allocated(err)) call h5_read(f, g//'/tau', s%st%tau, err)

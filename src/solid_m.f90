@@ -57,6 +57,13 @@ module solid_m
     real(wp), allocatable :: a_old(:, :)         !< a_n during the step
     real(wp), allocatable :: fint(:, :), fext(:, :)      !< (2, np) (N)
     real(wp), allocatable :: fcon(:, :)          !< contact forces on the coefficients (N)
+    !> contact forces at the nodes' physical points this step, before eq. (98) spreads them
+    !! (action and reaction of every pass; N)
+    real(wp), allocatable :: fpoint(:, :)
+    !> their impulse since the last snapshot (N s), 1/2 dt fpoint per step as the history's
+    !! f_contact (eq. 63), and the time it covers (s): /snapshots f_contact = impulse / time
+    real(wp), allocatable :: ipoint(:, :)
+    real(wp) :: ipoint_time = 0.0_wp
     real(wp), allocatable :: x(:, :)             !< physical positions (2, np) (m), work space
     real(wp), allocatable :: f(:, :), f_old(:, :)        !< F (5, nq)
     real(wp), allocatable :: p(:, :), p_old(:, :)        !< first Piola-Kirchhoff (5, nq) (Pa)
@@ -118,7 +125,8 @@ contains
     s%x0 = x0
     s%x = x0
     allocate(s%d(2, np), s%v(2, np), s%a(2, np), s%d_old(2, np), s%a_old(2, np), &
-      s%fint(2, np), s%fext(2, np), s%fcon(2, np), s%freac(2, np), s%freac_old(2, np))
+      s%fint(2, np), s%fext(2, np), s%fcon(2, np), s%freac(2, np), s%freac_old(2, np), &
+      s%fpoint(2, np), s%ipoint(2, np))
     s%d = 0.0_wp
     s%d_old = 0.0_wp
     s%a = 0.0_wp
@@ -126,6 +134,8 @@ contains
     s%fint = 0.0_wp
     s%fext = 0.0_wp
     s%fcon = 0.0_wp
+    s%fpoint = 0.0_wp
+    s%ipoint = 0.0_wp
     s%freac = 0.0_wp
     s%freac_old = 0.0_wp
     do i = 1, np
@@ -279,6 +289,7 @@ contains
       s%d(:, i) = s%d(:, i) + dt*s%v(:, i) + 0.5_wp*dt*dt*s%a(:, i)   ! (64)
       s%a_old(:, i) = s%a(:, i)
       s%fcon(:, i) = 0.0_wp
+      s%fpoint(:, i) = 0.0_wp
     end do
     !$omp end parallel do
   end subroutine solid_predict
@@ -400,11 +411,13 @@ contains
       wbc = wbc + 0.5_wp*sum((s%freac_old(:, i) + s%freac(:, i))*du)
       s%freac_old(:, i) = s%freac(:, i)
       wc = wc + 0.5_wp*sum(s%fcon(:, i)*du)
+      s%ipoint(:, i) = s%ipoint(:, i) + 0.5_wp*dt*s%fpoint(:, i)
       ke = ke + 0.5_wp*s%t%mass(i)*sum(s%v(:, i)**2)
     end do
     !$omp end parallel do
     s%w_bc = s%w_bc + wbc
     s%w_contact = s%w_contact + wc
+    s%ipoint_time = s%ipoint_time + dt
     s%ke = ke
   end subroutine solid_update
 
@@ -459,6 +472,7 @@ contains
   subroutine solid_clear_contact(s)
     type(solid_t), intent(inout) :: s
     s%fcon = 0.0_wp
+    s%fpoint = 0.0_wp
   end subroutine solid_clear_contact
 
   !> Point forces fphys (2, np) acting at the physical points of the nodes, spread onto the
@@ -470,6 +484,7 @@ contains
     integer :: j, e, i
     do j = 1, s%np
       if (all(fphys(:, j) == 0.0_wp)) cycle
+      s%fpoint(:, j) = s%fpoint(:, j) + fphys(:, j)
       if (s%t%interpolating) then
         s%fcon(:, j) = s%fcon(:, j) + fphys(:, j)
         cycle

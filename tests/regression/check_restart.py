@@ -240,7 +240,7 @@ def refusals(root, ref, ck, deck):
          ["is not an HDF5 file"]),
         ("a missing file", ["--restart", "missing.h5", "deck.nml"], ["not found"]),
         ("another checkpoint format", ["--restart", "fmt.h5", "deck.nml"],
-         ["checkpoint format 99", "reads format 1"]),
+         ["checkpoint format 99", "reads format 2"]),
         ("another mfcd version", ["--restart", "ver.h5", "deck.nml"],
          ["written by mfcd 0.0.1"]),
         ("--restart without a file", ["deck.nml", "--restart"], ["--restart needs"]),
