@@ -101,6 +101,9 @@ module deck_m
     integer :: nsnap = 0
     real(wp) :: energy_tol = 0.05_wp      !< stop when |residual| > tol x energy scale
     integer :: max_steps = 100000000
+    !> points whose nodes all still move in the body's initial uniform translation skip F,
+    !! the material update and the internal force (exact to round-off)
+    logical :: skip_quiet = .true.
   end type solver_spec_t
 
   !> A kinematic condition (&bc) on the particles of a body inside a reference box.
@@ -1261,10 +1264,11 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp) :: t_end, dt, cfl, energy_tol, snapshot_times(max_snapshots)
     integer :: log_every, history_every, max_steps, ios, j
+    logical :: skip_quiet
     character(len=512) :: msg
     type(solver_spec_t) :: sv
     namelist /solver/ t_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, &
-      max_steps
+      max_steps, skip_quiet
     t_end = sv%t_end
     dt = sv%dt
     cfl = sv%cfl
@@ -1273,6 +1277,7 @@ contains
     snapshot_times = unset
     energy_tol = sv%energy_tol
     max_steps = sv%max_steps
+    skip_quiet = sv%skip_quiet
     rewind(u)
     read(u, nml=solver, iostat=ios, iomsg=msg)
     if (ios == iostat_end) then
@@ -1290,6 +1295,7 @@ contains
     sv%history_every = history_every
     sv%energy_tol = energy_tol
     sv%max_steps = max_steps
+    sv%skip_quiet = skip_quiet
     sv%nsnap = 0
     do j = 1, max_snapshots
       if (snapshot_times(j) /= unset) sv%nsnap = j
@@ -1715,7 +1721,8 @@ contains
       s = 'name, model, density, youngs_modulus, poisson_ratio, sigma0, hardening_n, '// &
         'rate_m, eps0, eps1, epsdot0, back_stress_b, theta, yield_stress, hardening_modulus'
     case ('solver')
-      s = 't_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, max_steps'
+      s = 't_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, max_steps, '// &
+        'skip_quiet'
     case ('bc')
       s = 'body, region_lo, region_hi, component, kind, value'
     case ('contact')
@@ -1822,6 +1829,7 @@ contains
     case ('solver')
       ints = 'log_every, history_every, max_steps'
       reals = 't_end, dt, cfl, snapshot_times('//itoa(max_snapshots)//'), energy_tol'
+      logs = 'skip_quiet'
     case ('bc')
       strs = 'body, kind'
       ints = 'component'

@@ -14,7 +14,7 @@ module dynamic_setup_m
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
   use cst4_m, only: cst4_mesh_t, cst4_tables
-  use solid_m, only: solid_t, solid_init
+  use solid_m, only: solid_t, solid_init, solid_quiet_init
   use stable_step_m, only: step_control_t, step_control_calibrate, spacing_step
   use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init, &
     detector_det_m, detector_nts, detector_name
@@ -144,6 +144,7 @@ contains
     end if
     ! the foot-radius band of body_measures: one nominal spacing
     s%spacing = minval(b%spacing(1:2))
+    if (deck%solver%skip_quiet) call solid_quiet_init(s, bs%velocity(1:2))
   end subroutine setup_solid
 
   !> The deck's &bc groups of body k as masks over the nodes' reference positions: a node

@@ -31,7 +31,7 @@ module run_checkpoint_m
   use version_m, only: code_version, git_commit
   use deck_m, only: deck_t
   use body_m, only: body_t
-  use solid_m, only: solid_t
+  use solid_m, only: solid_t, solid_quiet_blocks
   use contact_pair_m, only: contact_pair_t
   use run_report_m, only: run_record_t
   use dynamic_output_m, only: history_t, history_names
@@ -225,6 +225,16 @@ contains
     if (.not. allocated(err)) call h5_attr(f, g, 'kappa_dt_cal', [s%kappa, s%dt_cal], err)
     if (.not. allocated(err)) call h5_attr(f, g, 'kappa_q', s%kappa_q, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'wall', s%wall, err)
+    ! quiet points (&solver skip_quiet): which are active, which nodes are disturbed, so
+    ! that a restarted run skips what the uninterrupted one skips
+    if (s%quiet_on .and. .not. allocated(err)) then
+      call h5_attr(f, g, 'quiet_all_awake_skipped', [merge(1.0_wp, 0.0_wp, s%all_awake), &
+        real(s%quiet_skipped, wp)], err)
+      if (.not. allocated(err)) call h5_write(f, g//'/quiet_awake', merge(1.0_wp, 0.0_wp, &
+        s%awake), '1', err, 'node disturbed from the uniform translation: 1 (np)')
+      if (.not. allocated(err)) call h5_write(f, g//'/quiet_active', merge(1.0_wp, 0.0_wp, &
+        s%qact), '1', err, 'integration point active: 1 (nq)')
+    end if
   end subroutine write_solid
 
   !> /bodies/<name>: particle count and sums of positions and volumes of every body, to
@@ -616,5 +626,33 @@ contains
     s%freac = s%freac_old
     s%f_old = s%f
     s%p_old = s%p
+    if (s%quiet_on .and. .not. allocated(err)) call read_quiet(f, g, s, err)
   end subroutine read_solid
+
+  !> The quiet-point state of solid s from group g (checkpoints written before it have
+  !! none: every point is then active, which changes round-off only).
+  subroutine read_quiet(f, g, s, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: g
+    type(solid_t), intent(inout) :: s
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: flags(2)
+    real(wp), allocatable :: aw(:), qa(:)
+    if (.not. h5_has(f, g//'/quiet_awake')) then
+      s%all_awake = .true.
+      s%awake = .true.
+      s%qact = .true.
+      return
+    end if
+    allocate(aw(s%np), qa(s%nq))
+    call h5_read_attr(f, g, 'quiet_all_awake_skipped', flags, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/quiet_awake', aw, err)
+    if (.not. allocated(err)) call h5_read(f, g//'/quiet_active', qa, err)
+    if (allocated(err)) return
+    s%all_awake = flags(1) > 0.5_wp
+    s%quiet_skipped = nint(flags(2), i64)
+    s%awake = aw > 0.5_wp
+    s%qact = qa > 0.5_wp
+    call solid_quiet_blocks(s)
+  end subroutine read_quiet
 end module run_checkpoint_m

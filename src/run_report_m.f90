@@ -252,6 +252,8 @@ contains
       if (.not. allocated(err)) call h5_attr(f, '/summary', trim(solids(k)%name)// &
         '_length_width_footradius_maxepsbar', [m%length, m%width, m%foot_radius, &
         m%max_epsbar], err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', trim(solids(k)%name)// &
+        '_quiet_point_steps_skipped', real(solids(k)%quiet_skipped, wp), err)
     end do
     write(output_unit, '(a,i0,a,es12.5,a,f9.2,a,f7.2,a,es10.3,a,es10.3,a)') 'summary: ', &
       r%n, ' steps to t = ', r%t, ' s in ', wall, ' s wall (set-up ', wall - r%t_loop, &
@@ -268,6 +270,12 @@ contains
     write(output_unit, '(a,es11.4,a,es11.4,a,es10.3)') 'summary: energy residual ', &
       en%residual, ' J of scale ', en%scale, ' J: relative ', en%residual/max(en%scale, &
       tiny(1.0_wp))
+    do k = 1, size(solids)
+      if (solids(k)%quiet_skipped > 0) write(output_unit, '(a,i0,a,f5.1,a)') 'summary: '// &
+        'body '''//trim(solids(k)%name)//''': skip_quiet: ', solids(k)%quiet_skipped, &
+        ' point-steps (', 100.0_wp*real(solids(k)%quiet_skipped, wp)/real(max(r%n + 1, 1)* &
+        max(solids(k)%nq, 1), wp), '%) skipped: points still in the uniform initial motion'
+    end do
     do k = 1, size(pairs)
       write(output_unit, '(a,4(i0,a))') 'summary: contact '//itoa(k)//': ', &
         pairs(k)%count%screened, ' particles screened, ', pairs(k)%count%evaluated, &

@@ -16,7 +16,7 @@
 !! Kinematic conditions arrive as masks (pres) and values (vpres) per node component.
 module solid_m
   use omp_lib, only: omp_get_wtime
-  use kinds_m, only: wp
+  use kinds_m, only: wp, i64
   use errors_m, only: error_t
   use material_m, only: material_t, material_state_t, material_params_t, make_material
   use solid_tables_m, only: solid_tables_t
@@ -26,7 +26,8 @@ module solid_m
   private
   public :: solid_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
   public :: solid_kinetic_energy, solid_positions, solid_point_position
-  public :: solid_clear_contact, solid_add_point_forces, solid_correct
+  public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_quiet_init, &
+    solid_quiet_blocks
   public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node
   public :: health_ok, health_j, health_stress, health_epsbar, health_deps, health_names
 
@@ -90,6 +91,16 @@ module solid_m
     real(wp) :: deps_limit = huge(1.0_wp)        !< its increment in one step (-)
     real(wp) :: j_bounds(2) = [0.0_wp, huge(1.0_wp)]   !< J must stay inside (-)
     integer :: bad_code = 0                      !< point_health code of the failed point
+    ! quiet points (&solver skip_quiet): a point all of whose nodes still move in the
+    ! body's initial uniform translation has F = I and no stress; it skips F, the material
+    ! update and its share of the internal force until a disturbance (a kinematic
+    ! condition, a contact force, an active neighbour's force) reaches one of its nodes
+    logical :: quiet_on = .false.                !< skipping (all_awake turns it off)
+    logical :: all_awake = .true.                !< every point is active: no mask
+    logical, allocatable :: awake(:)             !< node disturbed (np)
+    logical, allocatable :: qact(:)              !< point active (nq)
+    logical, allocatable :: bact(:)              !< material block with an active point
+    integer(i64) :: quiet_skipped = 0            !< point-steps skipped
   end type solid_t
 
 contains
@@ -197,6 +208,77 @@ contains
     end if
     s%kappa = s%kappa0
   end subroutine step_metric
+
+  !> Start skipping quiet points (&solver skip_quiet): the nodes disturbed from the start
+  !! are those whose prescribed velocity differs from the initial one v0; in axisymmetry a
+  !! radial v0 is no rigid motion (it strains the hoop direction), so everything is active.
+  subroutine solid_quiet_init(s, v0)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: v0(2)
+    integer :: i
+    allocate(s%awake(s%np), s%qact(s%nq), s%bact((s%nq + material_block - 1)/material_block))
+    s%qact = .false.
+    s%bact = .false.
+    do i = 1, s%np
+      s%awake(i) = any(s%pres(:, i) .and. s%vpres(:, i) /= v0)
+    end do
+    s%quiet_on = .not. (s%t%axisym .and. v0(1) /= 0.0_wp)
+    s%all_awake = .not. s%quiet_on
+    if (s%all_awake) s%awake = .true.
+    if (s%all_awake) s%qact = .true.
+  end subroutine solid_quiet_init
+
+  !> Which points are active this step (quiet points skip): nodes with a contact force wake,
+  !! a point with an awake node turns active (for good), and every node of an active point
+  !! wakes, so that the force gather covers all nodes an active point touches. Once every
+  !! point is active the masks are dropped (all_awake).
+  subroutine quiet_update(s)
+    type(solid_t), intent(inout) :: s
+    integer :: q, e, nact
+    nact = 0
+    !$omp parallel default(none) shared(s) private(e) reduction(+: nact)
+    !$omp do schedule(static)
+    do q = 1, s%np
+      if (any(s%fcon(:, q) /= 0.0_wp)) s%awake(q) = .true.
+    end do
+    !$omp end do
+    !$omp do schedule(static)
+    do q = 1, s%nq
+      if (.not. s%qact(q)) then
+        do e = s%t%ptr(q), s%t%ptr(q + 1) - 1
+          if (s%awake(s%t%nbr(e))) then
+            s%qact(q) = .true.
+            exit
+          end if
+        end do
+      end if
+      if (s%qact(q)) nact = nact + 1
+    end do
+    !$omp end do
+    !$omp end parallel
+    ! wake the nodes of the active points (serial: a node is shared by several points)
+    do q = 1, s%nq
+      if (.not. s%qact(q)) cycle
+      do e = s%t%ptr(q), s%t%ptr(q + 1) - 1
+        s%awake(s%t%nbr(e)) = .true.
+      end do
+    end do
+    call solid_quiet_blocks(s)
+    s%quiet_skipped = s%quiet_skipped + (s%nq - nact)
+    if (nact == s%nq) then
+      s%all_awake = .true.
+      s%awake = .true.
+    end if
+  end subroutine quiet_update
+
+  !> The material blocks that hold an active point.
+  subroutine solid_quiet_blocks(s)
+    type(solid_t), intent(inout) :: s
+    integer :: blk
+    do blk = 1, size(s%bact)
+      s%bact(blk) = any(s%qact((blk - 1)*material_block + 1:min(blk*material_block, s%nq)))
+    end do
+  end subroutine solid_quiet_blocks
 
   !> The square of the smallest principal stretch of f (5): the smaller eigenvalue of the
   !! in-plane C = F^T F, or F33^2 if smaller.
@@ -306,17 +388,28 @@ contains
     integer :: q, nblocks, i0, i1, blk, kq, qloc
     real(wp) :: dw, dwp, t0, t1, t2, kmax, kloc, kp
     t0 = omp_get_wtime()
+    if (.not. s%all_awake) call quiet_update(s)
     !$omp parallel do default(none) shared(s) schedule(static)
     do q = 1, s%nq
       s%f_old(:, q) = s%f(:, q)
       s%p_old(:, q) = s%p(:, q)
     end do
     !$omp end parallel do
-    if (s%stab_normal > 0.0_wp) then
-      call deformation_gradient(s%t, s%d, s%f, [s%stab_normal, s%stab_shear], s%stab, &
-        s%e_stab)
+    if (s%all_awake) then
+      if (s%stab_normal > 0.0_wp) then
+        call deformation_gradient(s%t, s%d, s%f, [s%stab_normal, s%stab_shear], s%stab, &
+          s%e_stab)
+      else
+        call deformation_gradient(s%t, s%d, s%f)
+      end if
     else
-      call deformation_gradient(s%t, s%d, s%f)
+      ! quiet points keep F = I and zero stabilization stresses (and add no energy)
+      if (s%stab_normal > 0.0_wp) then
+        call deformation_gradient(s%t, s%d, s%f, [s%stab_normal, s%stab_shear], s%stab, &
+          s%e_stab, active=s%qact)
+      else
+        call deformation_gradient(s%t, s%d, s%f, active=s%qact)
+      end if
     end if
     call rate_of_deformation(s%nq, dt, s%f_old, s%f, s%dr, s%w12)
     t1 = omp_get_wtime()
@@ -324,6 +417,9 @@ contains
     !$omp parallel do default(none) shared(s, dt, nblocks) private(i0, i1) &
     !$omp schedule(dynamic, 4)
     do blk = 1, nblocks
+      if (.not. s%all_awake) then
+        if (.not. s%bact(blk)) cycle   ! only quiet points: D = 0, no stress
+      end if
       i0 = (blk - 1)*material_block + 1
       i1 = min(blk*material_block, s%nq)
       call s%mat%update(dt, s%dr, s%w12, s%st, i0, i1, s%dwp)
@@ -331,10 +427,18 @@ contains
     !$omp end parallel do
     t2 = omp_get_wtime()
     call piola_stress(s%nq, s%f, s%st%tau, s%p)
-    if (s%stab_normal > 0.0_wp) then
-      call internal_force(s%t, s%p, s%fint, s%stab)
+    if (s%all_awake) then
+      if (s%stab_normal > 0.0_wp) then
+        call internal_force(s%t, s%p, s%fint, s%stab)
+      else
+        call internal_force(s%t, s%p, s%fint)
+      end if
     else
-      call internal_force(s%t, s%p, s%fint)
+      if (s%stab_normal > 0.0_wp) then
+        call internal_force(s%t, s%p, s%fint, s%stab, awake=s%awake)
+      else
+        call internal_force(s%t, s%p, s%fint, awake=s%awake)
+      end if
     end if
     bad_q = 0
     bad_j = 1.0_wp

@@ -19,21 +19,28 @@ contains
   !> F at every integration point from the coefficients d (2, np). With stab = [c_normal,
   !! c_shear] given, the same pass also forms the SCNI stabilization stresses s (4, nq) and
   !! their energy (see stabilization_force).
-  subroutine deformation_gradient(t, d, f, stab, s, energy)
+  subroutine deformation_gradient(t, d, f, stab, s, energy, active)
     type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: d(:, :)
-    real(wp), intent(out) :: f(:, :)
+    real(wp), intent(inout) :: f(:, :)
     real(wp), intent(in), optional :: stab(2)
     real(wp), intent(inout), optional :: s(:, :)
     real(wp), intent(out), optional :: energy
+    !> only the points marked here (the others keep their F and s: quiet points in uniform
+    !! translation, F = I)
+    logical, intent(in), optional :: active(:)
     integer :: q, e, i
     real(wp) :: a11, a12, a21, a22, a33, dh(4), en
-    logical :: with_stab
+    logical :: with_stab, masked
     with_stab = present(stab)
+    masked = present(active)
     en = 0.0_wp
-    !$omp parallel do default(none) shared(t, d, f, stab, s, with_stab) &
+    !$omp parallel do default(none) shared(t, d, f, stab, s, with_stab, masked, active) &
     !$omp private(e, i, a11, a12, a21, a22, a33, dh) reduction(+: en) schedule(static)
     do q = 1, t%nq
+      if (masked) then
+        if (.not. active(q)) cycle
+      end if
       a11 = 0.0_wp
       a12 = 0.0_wp
       a21 = 0.0_wp
@@ -135,20 +142,29 @@ contains
   !> f_int (2, np) = sum_L W_L P_L : grad N_I (eq. 72), gathered per particle (no races);
   !! with s given (stabilization stresses from deformation_gradient) their forces are added
   !! in the same pass.
-  subroutine internal_force(t, p, fint, s)
+  subroutine internal_force(t, p, fint, s, awake)
     type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: p(:, :)
     real(wp), intent(out) :: fint(:, :)
     real(wp), intent(in), optional :: s(:, :)
+    !> only the nodes marked here gather; the others get 0 (no active point touches them)
+    logical, intent(in), optional :: awake(:)
     integer :: i, k, e, q
     real(wp) :: f1, f2, w
-    logical :: with_stab
+    logical :: with_stab, masked
     with_stab = present(s)
-    !$omp parallel do default(none) shared(t, p, fint, s, with_stab) &
+    masked = present(awake)
+    !$omp parallel do default(none) shared(t, p, fint, s, with_stab, masked, awake) &
     !$omp private(k, e, q, f1, f2, w) schedule(static)
     do i = 1, t%np
       f1 = 0.0_wp
       f2 = 0.0_wp
+      if (masked) then
+        if (.not. awake(i)) then
+          fint(:, i) = 0.0_wp
+          cycle
+        end if
+      end if
       do k = t%tptr(i), t%tptr(i + 1) - 1
         e = t%tent(k)
         q = t%tq(k)
