@@ -21,12 +21,13 @@ module setup_memory_m
   !> Per integration point and candidate neighbour of the RKPM work arrays (gradients,
   !! masses, sub-cell gradients, ids: 84 B, and the positions table: 20 B).
   integer(i64), parameter :: candidate_bytes = 112_i64
-  !> Per integration point and covering particle of the compressed RKPM tables.
-  integer(i64), parameter :: neighbour_bytes = 96_i64
+  !> Per integration point and covering particle of the compressed RKPM tables (96 B) and
+  !! their values in the transpose's order for the force gather (72 B).
+  integer(i64), parameter :: neighbour_bytes = 168_i64
   !> Per node of a solid: its state, forces, stresses and their history (rounded up).
   integer(i64), parameter :: solid_bytes = 1024_i64
   !> Per node of a CST4 body (a node and its two triangles' tables, rounded up).
-  integer(i64), parameter :: fem_bytes = 2048_i64
+  integer(i64), parameter :: fem_bytes = 2304_i64
   !> Per query point of mode detect or of the det(M) fields: position, det, distance, flag.
   integer(i64), parameter :: query_bytes = 48_i64
 

@@ -149,13 +149,13 @@ contains
     real(wp), intent(in), optional :: s(:, :)
     !> only the nodes marked here gather; the others get 0 (no active point touches them)
     logical, intent(in), optional :: awake(:)
-    integer :: i, k, e, q
+    integer :: i, k, q
     real(wp) :: f1, f2, w
     logical :: with_stab, masked
     with_stab = present(s)
     masked = present(awake)
     !$omp parallel do default(none) shared(t, p, fint, s, with_stab, masked, awake) &
-    !$omp private(k, e, q, f1, f2, w) schedule(static)
+    !$omp private(k, q, f1, f2, w) schedule(static)
     do i = 1, t%np
       f1 = 0.0_wp
       f2 = 0.0_wp
@@ -165,15 +165,15 @@ contains
           cycle
         end if
       end if
+      ! tg, th, tgs: g, h, gs of entry tent(k), stored in this loop's order
       do k = t%tptr(i), t%tptr(i + 1) - 1
-        e = t%tent(k)
         q = t%tq(k)
         w = t%wgt(q)
-        f1 = f1 + w*(p(1, q)*t%g(1, e) + p(2, q)*t%g(2, e) + p(5, q)*t%h(e))
-        f2 = f2 + w*(p(3, q)*t%g(3, e) + p(4, q)*t%g(4, e))
+        f1 = f1 + w*(p(1, q)*t%tg(1, k) + p(2, q)*t%tg(2, k) + p(5, q)*t%th(k))
+        f2 = f2 + w*(p(3, q)*t%tg(3, k) + p(4, q)*t%tg(4, k))
         if (with_stab) then
-          f1 = f1 + s(1, q)*t%gs(1, e) + s(3, q)*t%gs(3, e)
-          f2 = f2 + s(2, q)*t%gs(2, e) + s(4, q)*t%gs(4, e)
+          f1 = f1 + s(1, q)*t%tgs(1, k) + s(3, q)*t%tgs(3, k)
+          f2 = f2 + s(2, q)*t%tgs(2, k) + s(4, q)*t%tgs(4, k)
         end if
       end do
       fint(1, i) = f1
