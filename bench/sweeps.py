@@ -153,8 +153,8 @@ def cfl_fixed():
     emit("| dt / dt_crit | outcome | energy residual / scale |")
     emit("|---|---|---|")
     base = deck("elastic_wave.nml")
-    p, _, _ = run(base, "cfl_probe")
-    dtc = float(re.search(r"critical step 2/omega_max = +([0-9.E+-]+)", p.stdout).group(1))
+    _, _, f = run(base, "cfl_probe")
+    dtc = float(f["summary"].attrs["dt_critical"][0])   # 2/omega_max at t = 0
     for k in (0.5, 0.9, 1.0, 1.05, 1.1, 1.2, 1.5, 2.0):
         p, wall, f = run(base.replace("cfl = 0.5", f"dt = {k * dtc:.6e}"), f"cfl_{k}")
         res = ""
@@ -252,7 +252,7 @@ def stress_run(part, deckname, text, param, label, **extra):
     tag = re.sub(r"[^A-Za-z0-9_.-]", "_", f"{part}_{deckname[:-4]}_{label}")
     p, wall, f = run(text, tag, limit=RUN_LIMIT)
     rec = dict(part=part, deck=deckname, param=param, label=label, wall=wall, rc=p.returncode,
-               message="", steps=None, dt_min=None, residual=None, penetration=None,
+               message="", steps=None, time=None, dt_min=None, residual=None, penetration=None,
                length=None, foot=None, epsbar=None, **extra)
     if f is not None and "summary" in f:
         a = f["summary"].attrs
@@ -262,6 +262,7 @@ def stress_run(part, deckname, text, param, label, **extra):
             return float(a[key][0]) if key in a else None
 
         rec["dt_min"] = first("dt_min")
+        rec["time"] = first("time")
         if "energy_residual" in a and a["energy_scale"][0] > 0:
             rec["residual"] = float(a["energy_residual"][0] / a["energy_scale"][0])
         rec["penetration"] = first("max_remaining_penetration")
@@ -326,17 +327,42 @@ def stress_table(part, deckname, pname, extra_cols=()):
     emit("| " + " | ".join(cols) + " |")
     emit("|" + "---|" * len(cols))
     for r in recs:
-        out = r["outcome"] + (": " + r["message"][:160] if r["message"] else "")
+        when = ""
+        if r["outcome"] == "exit 1" and r.get("time") is not None:
+            when = f" (t = {r['time'] * 1e6:.2f} us)"
+        out = r["outcome"] + when + (": " + r["message"][:160] if r["message"] else "")
         row = [r["label"], out, fmt(r["wall"], ".1f"), fmt(r["steps"], "d"),
                fmt(r["dt_min"], ".2e"), fmt(r["residual"], ".2e")]
         if bar:
             row += [fmt(r["penetration"], ".2e"),
-                    fmt(None if r["length"] is None else (L0 - r["length"]) * 1e3, ".2f"),
-                    fmt(None if r["foot"] is None else r["foot"] * 1e3, ".2f"),
+                    fmt(None if r["length"] is None else (L0 - r["length"]) * 1e3, ".3f"),
+                    fmt(None if r["foot"] is None else r["foot"] * 1e3, ".3f"),
                     fmt(r["epsbar"], ".2f")]
         row += [c[1](r) for c in extra_cols]
         emit("| " + " | ".join(row) + " |")
     emit("")
+
+
+EPS_COUNTS = (
+    ("det(M) evaluations", lambda r: fmt(r.get("counts", [None] * 4)[1], ".3g")),
+    ("detections", lambda r: fmt(r.get("counts", [None] * 4)[2], ".3g")),
+    ("contact forces", lambda r: fmt(r.get("counts", [None] * 4)[3], ".3g")))
+WAVE_ERROR = (("plateau stress error", lambda r: fmt(r.get("plateau_error"), ".2e")),)
+TABLES = {  # part: (parameter column, {deck: extra columns})
+    "cfl": ("cfl", {}),
+    "eps": ("eps_cr", {TAYLOR: EPS_COUNTS}),
+    "support": ("support_factor", {WAVE: WAVE_ERROR}),
+    "perturb": ("perturbation (seed)", {}),
+    "speed": ("v (m/s)", {}),
+}
+
+
+def report(part):
+    """The tables of one part, deck by deck, and its figure."""
+    pname, extra = TABLES[part]
+    for name in dict.fromkeys(r["deck"] for r in RESULTS.get(part, [])):
+        stress_table(part, name, pname, extra.get(name, ()))
+    plot_part(part)
 
 
 def cfl():
@@ -350,8 +376,7 @@ def cfl():
             text = stress_deck(name, t_end=t_end)
             text = setvar(text, "solver", "cfl", f"{c:g}")
             stress_run("cfl", name, text, c, f"{c:g}")
-        stress_table("cfl", name, "cfl")
-    plot_part("cfl")
+    report("cfl")
 
 
 def eps():
@@ -362,11 +387,7 @@ def eps():
     for v in sorted(values):
         text = setvar(stress_deck(TAYLOR, t_end=24e-6), "contact", "eps_cr", f"{v:.3e}")
         stress_run("eps", TAYLOR, text, v, f"{v:.0e}")
-    stress_table("eps", TAYLOR, "eps_cr", extra_cols=(
-        ("det(M) evaluations", lambda r: fmt(r.get("counts", [None] * 4)[1], ".3g")),
-        ("detections", lambda r: fmt(r.get("counts", [None] * 4)[2], ".3g")),
-        ("contact forces", lambda r: fmt(r.get("counts", [None] * 4)[3], ".3g"))))
-    plot_part("eps")
+    report("eps")
 
 
 def support():
@@ -377,13 +398,10 @@ def support():
         text = setvar(stress_deck(TAYLOR, t_end=24e-6), "body", "support_factor",
                       f"{sf:g}, {sf:g}", name="bar")
         stress_run("support", TAYLOR, text, sf, f"{sf:g}")
-    stress_table("support", TAYLOR, "support_factor")
     for sf in values:
         text = setvar(deck(WAVE), "body", "support_factor", f"{sf:g}, {sf:g}", name="bar")
         stress_run("support", WAVE, text, sf, f"{sf:g}")
-    stress_table("support", WAVE, "support_factor", extra_cols=(
-        ("plateau stress error", lambda r: fmt(r.get("plateau_error"), ".2e")),))
-    plot_part("support")
+    report("support")
 
 
 def perturb():
@@ -397,8 +415,7 @@ def perturb():
             text = setvar(text, "body", "perturbation", f"{frac:g}", name="bar")
             text = setvar(text, "body", "perturbation_seed", f"{seed}", name="bar")
             stress_run("perturb", name, text, frac, f"{frac:g} (seed {seed})", seed=seed)
-        stress_table("perturb", name, "perturbation (seed)")
-    plot_part("perturb")
+    report("perturb")
 
 
 def speed():
@@ -409,8 +426,7 @@ def speed():
             text = setvar(stress_deck(name, t_end=24e-6), "body", "velocity",
                           f"0.0, -{v:.1f}", name="bar")
             stress_run("speed", name, text, v, f"{v}")
-        stress_table("speed", name, "v (m/s)")
-    plot_part("speed")
+    report("speed")
 
 
 PLOTS = {  # part: x label, log x, third panel (key, label)
@@ -423,8 +439,8 @@ PLOTS = {  # part: x label, log x, third panel (key, label)
 
 
 def plot_part(part):
-    """doc/figures/stability_<part>.png: energy residual, penetration and the bar's
-    shortening (the wave's plateau error) against the parameter; completed points filled,
+    """doc/figures/stability_<part>.png: energy residual, penetration and the bar's foot
+    radius (and the wave's plateau error) against the parameter; completed points filled,
     exit 1 (guard) as crosses at the values of the failed run, exit 2 (refused) as triangles
     on the lower edge, FINDINGs as red stars."""
     try:
@@ -441,17 +457,20 @@ def plot_part(part):
         return
     xlabel, logx = PLOTS[part]
     decks = list(dict.fromkeys(r["deck"] for r in recs))
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.0), constrained_layout=True)
-    panels = (("|energy residual| / energy scale", lambda r: None if r["residual"] is None
-               else abs(r["residual"])),
-              ("largest penetration left / bar spacing", lambda r: None if r["penetration"]
-               is None or r["deck"] == WAVE else max(r["penetration"] / SPACING[r["deck"]],
-                                                     1e-12)),
-              ("shortening (mm); wave: plateau error x 100", lambda r: (
-                  (L0 - r["length"]) * 1e3 if r["length"] is not None else
-                  (100 * r["plateau_error"] if r.get("plateau_error") is not None else None))))
+    panels = [("|energy residual| / energy scale",
+               lambda r: None if r["residual"] is None else abs(r["residual"])),
+              ("largest penetration left / bar spacing\n(below 1e-12 drawn at 1e-12)",
+               lambda r: None if r["penetration"] is None or r["deck"] == WAVE
+               else max(r["penetration"] / SPACING[r["deck"]], 1e-12)),
+              ("foot radius of the bar (mm)",
+               lambda r: None if r["foot"] is None or r["deck"] == WAVE else r["foot"] * 1e3)]
+    if any(r["deck"] == WAVE for r in recs):
+        panels.append(("elastic wave: plateau stress error", lambda r: r.get("plateau_error")))
+    logy = (True, True, False, True)
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.4 * len(panels), 4.0),
+                             constrained_layout=True)
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for ax, (ylabel, get) in zip(axes, panels):
+    for ax, (ylabel, get), ly in zip(axes, panels, logy):
         for k, name in enumerate(decks):
             c = colours[k % len(colours)]
             rs = sorted((r for r in recs if r["deck"] == name and r.get("seed", 1) == 1),
@@ -482,7 +501,7 @@ def plot_part(part):
                         transform=ax.get_xaxis_transform(), label="FINDING")
         if logx:
             ax.set_xscale("log")
-        if ax is not axes[2]:
+        if ly:
             ax.set_yscale("log")
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
@@ -512,7 +531,8 @@ def main():
     if sys.argv[1:2] == ["--plot"]:
         RESULTS.update(json.load(open(sys.argv[2]))["results"])
         for part in RESULTS:
-            plot_part(part)
+            report(part)
+        print("\n".join(OUT))
         return
     parts = sys.argv[1:] or ["accuracy", "stability"]
     if "stability" in parts:
