@@ -270,7 +270,8 @@ def stress_run(part, deckname, text, param, label, **extra):
             ext = a["bar_length_width_footradius_maxepsbar"]
             rec["length"], rec["foot"], rec["epsbar"] = float(ext[0]), float(ext[2]), float(ext[3])
         if "contact1_counts_screened_evaluated_detected_contacts" in a:
-            rec["counts"] = [float(c) for c in a["contact1_counts_screened_evaluated_detected_contacts"]]
+            counts = a["contact1_counts_screened_evaluated_detected_contacts"]
+            rec["counts"] = [float(c) for c in counts]
     if p.returncode == 0:
         if f is not None and "summary" in f and finite_output(f):
             rec["outcome"] = "completed"
@@ -285,7 +286,8 @@ def stress_run(part, deckname, text, param, label, **extra):
         rec["message"] = f"no answer in {RUN_LIMIT} s (killed)"
     else:
         rec["outcome"] = "FINDING"
-        rec["message"] = (f"exit code {p.returncode}: " + p.stderr.strip()[-300:]).replace("\n", " ")
+        tail = p.stderr.strip()[-300:].replace("\n", " ")
+        rec["message"] = f"exit code {p.returncode}: {tail}"
     if part == "support" and deckname == WAVE and rec["outcome"] == "completed":
         rec["plateau_error"] = wave_plateau_error(f)
     if f is not None:
