@@ -332,7 +332,7 @@ def stress_table(part, deckname, pname, extra_cols=()):
         when = ""
         if r["outcome"] == "exit 1" and r.get("time") is not None:
             when = f" (t = {r['time'] * 1e6:.2f} us)"
-        out = r["outcome"] + when + (": " + r["message"][:160] if r["message"] else "")
+        out = r["outcome"] + when + (": " + r["message"][:240] if r["message"] else "")
         row = [r["label"], out, fmt(r["wall"], ".1f"), fmt(r["steps"], "d"),
                fmt(r["dt_min"], ".2e"), fmt(r["residual"], ".2e")]
         if bar:
