@@ -154,13 +154,18 @@ contains
     integer, intent(in) :: n
     logical, intent(inout) :: failed
     character(len=:), allocatable, intent(inout) :: reason
+    character(len=:), allocatable :: fix
     if (failed) return
     if (c%dtc < dt_collapse*c%dtc0) then
       failed = .true.
+      fix = 'refine the body there, raise the SCNI stabilization or lower the impact speed'
+      if (c%solid >= 1 .and. c%solid <= size(solids)) then
+        if (solids(c%solid)%t%interpolating) fix = 'refine the mesh there (&body n) or '// &
+          'lower the impact speed'
+      end if
       reason = 'step '//itoa(n)//': the critical time step fell to '//rtoa(c%dtc/c%dtc0)// &
         ' of its initial value at '//step_limit_text(c, solids, .false.)//': that cell '// &
-        'or element is collapsing; refine the body there, raise the SCNI stabilization '// &
-        'or lower the impact speed'
+        'or element is collapsing; '//fix
     end if
   end subroutine check_step
 
