@@ -20,6 +20,10 @@ module body_m
     real(wp), allocatable :: vol(:)       !< particle volume (m^ndim; area in 2D)
     real(wp), allocatable :: rho(:, :)    !< support radius per direction (ndim, np) (m)
     logical, allocatable :: boundary(:)   !< particle lies on (or its cell is cut by) the boundary
+    !> Centre of each particle's lattice cell (ndim, np) (m) once the particles have been moved
+    !! off the lattice points (&body perturbation): the cells, and so the volumes and the SCNI
+    !! smoothing domains, stay the lattice's. Unallocated: every cell is centred on its particle
+    real(wp), allocatable :: cell_centre(:, :)
     !> Boundary polylines in CSR form: loop k is loop_idx(loop_ptr(k) : loop_ptr(k+1)-1),
     !! counter-clockwise (outward normal = e3 x t on the right of the walking direction).
     integer :: nloops = 0

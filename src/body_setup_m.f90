@@ -11,7 +11,7 @@ module body_setup_m
   use deck_m, only: deck_t, body_spec_t, body_count_var, body_place_var, body_make_vars
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, &
-    make_from_arrays, set_supports
+    make_from_arrays, set_supports, perturb_interior
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
   use hdf5_io_m, only: read_particle_file_h5
@@ -247,6 +247,8 @@ contains
         return
       end if
     end if
+    ! the deck allows a perturbation on RKPM rectangles and polygons only (deck_m)
+    if (s%perturbation > 0.0_wp) call perturb_interior(b, s%perturbation, s%perturbation_seed)
     if (b%ndim > 1 .and. flat_layout(b%x)) then
       call set_error(err, where//', variable '//body_make_vars(s%shape)//': the '//itoa(b%np)// &
         ' particles lie on one '//trim(merge('line ', 'plane', b%ndim == 2))//', a '// &

@@ -10,6 +10,7 @@ module deck_m
   use basis_m, only: basis_id, basis_names, basis_order
   use material_m, only: material_params_t, check_material_params
   use geometry_m, only: polygon_crossing
+  use generators_m, only: max_perturbation
   use, intrinsic :: iso_fortran_env, only: iostat_end
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -80,6 +81,9 @@ module deck_m
     real(wp) :: stabilization = 0.1_wp     !< SCNI sub-cell stabilization alpha (0: off)
     !> 'rkpm' (particles) or 'fem' (CST4 elements on the n(1) x n(2) lattice's boxes)
     character(len=4) :: discretization = 'rkpm'
+    !> random offset of the interior particles, a fraction of the spacing (0: the lattice)
+    real(wp) :: perturbation = 0.0_wp
+    integer :: perturbation_seed = 1       !< seed of the offsets (xorshift64)
     integer :: kid = 0, wshape = 0, bid = 0
     integer :: imat = 0                    !< index into deck%materials
   end type body_spec_t
@@ -782,7 +786,8 @@ contains
     character(len=path_len) :: file
     real(wp) :: lo(3), hi(3), vertices(2, max_vertices), spacing(3), origin(2), center(2)
     real(wp) :: r_inner, r_outer, theta_start, theta_end, support_factor(3), velocity(3)
-    real(wp) :: stabilization
+    real(wp) :: stabilization, perturbation
+    integer :: perturbation_seed
     character(len=10) :: role
     character(len=64) :: material
     character(len=6) :: integration
@@ -793,7 +798,8 @@ contains
     type(body_spec_t), allocatable :: tmp(:)
     namelist /body/ name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, &
       r_outer, theta_start, theta_end, file, kernel, window, basis, support_factor, role, &
-      material, velocity, integration, stabilization, discretization
+      material, velocity, integration, stabilization, discretization, perturbation, &
+      perturbation_seed
     allocate(tmp(max_bodies))
     rewind(u)
     k = 0
@@ -822,6 +828,8 @@ contains
       integration = dflt%integration
       stabilization = dflt%stabilization
       discretization = dflt%discretization
+      perturbation = dflt%perturbation
+      perturbation_seed = dflt%perturbation_seed
       read(u, nml=body, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -860,6 +868,8 @@ contains
       s%integration = lower(integration)
       s%stabilization = stabilization
       s%discretization = lower(discretization)
+      s%perturbation = perturbation
+      s%perturbation_seed = perturbation_seed
       call check_body(deck, k, tmp(1:k - 1), s, err)
       if (allocated(err)) return
       tmp(k) = s
@@ -930,6 +940,25 @@ contains
     if (s%stabilization < 0.0_wp .or. s%stabilization > 10.0_wp) then
       call bad(deck, grp, 'stabilization', rtoa(s%stabilization), 'give the SCNI sub-cell '// &
         'stabilization coefficient in [0, 10] (0 switches it off; 0.1 is the default)', err)
+      return
+    end if
+    if (s%perturbation < 0.0_wp .or. s%perturbation >= max_perturbation) then
+      call bad(deck, grp, 'perturbation', rtoa(s%perturbation), 'give the random offset of '// &
+        'the interior particles as a fraction of the spacing in [0, 0.5) (0, the default, '// &
+        'keeps the lattice; below 0.5 each particle stays inside its own lattice cell)', err)
+      return
+    end if
+    if (s%perturbation > 0.0_wp .and. (s%discretization /= 'rkpm' .or. &
+      (s%shape /= 'rectangle' .and. s%shape /= 'polygon'))) then
+      call bad(deck, grp, 'perturbation', rtoa(s%perturbation), "particles are moved off "// &
+        "the lattice of an RKPM 'rectangle' or 'polygon' body only (this body: shape '"// &
+        trim(s%shape)//"', discretization '"//trim(s%discretization)//"'); give "// &
+        "perturbation = 0 here", err)
+      return
+    end if
+    if (s%perturbation_seed < 0) then
+      call bad(deck, grp, 'perturbation_seed', itoa(s%perturbation_seed), 'give a seed '// &
+        '>= 0 (1 is the default; each seed gives its own, reproducible, particle cloud)', err)
       return
     end if
     if (deck%run%mode == 'dynamic' .and. s%role == 'deformable' .and. &
@@ -1712,7 +1741,8 @@ contains
     case ('body')
       s = 'name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, r_outer, '// &
         'theta_start, theta_end, file, kernel, window, basis, support_factor, role, '// &
-        'material, velocity, integration, stabilization, discretization'
+        'material, velocity, integration, stabilization, discretization, perturbation, '// &
+        'perturbation_seed'
     case ('detection')
       s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
     case ('output')
@@ -1808,10 +1838,10 @@ contains
     case ('body')
       strs = 'name, shape, file, kernel, window, basis, role, material, integration, '// &
         'discretization'
-      ints = 'n(3)'
+      ints = 'n(3), perturbation_seed'
       reals = 'lo(3), hi(3), vertices('//itoa(2*max_vertices)//'), spacing(3), origin(2), '// &
         'center(2), r_inner, r_outer, theta_start, theta_end, support_factor(3), '// &
-        'velocity(3), stabilization'
+        'velocity(3), stabilization, perturbation'
     case ('detection')
       strs = 'body'
       ints = 'line_n, grid_n(3)'

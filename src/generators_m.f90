@@ -13,10 +13,19 @@ module generators_m
   implicit none
   private
   public :: make_segment, make_rectangle, make_polygon, make_annulus, make_from_arrays
-  public :: set_supports
+  public :: set_supports, perturb_interior, max_perturbation
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp
+  !> Largest perturbation, as a fraction of the spacing: below 1/2 every moved particle stays
+  !! strictly inside its own lattice cell, so the cells still hold one particle each.
+  real(wp), parameter :: max_perturbation = 0.5_wp
+  !> Marsaglia's xorshift64 example seed (Marsaglia, J. Stat. Softw. 8(14), 2003), mixed with
+  !! the deck's seed; the state must not be 0.
+  integer(i64), parameter :: xorshift_base = 88172645463325252_i64
+  !> Draws discarded after seeding: nearby seeds differ in a few low bits, and xorshift64
+  !! needs a few rounds to spread them over the whole word.
+  integer, parameter :: xorshift_warmup = 16
 
 contains
 
@@ -306,6 +315,51 @@ contains
     b%spacing = 0.0_wp
     b%spacing(1:b%ndim) = (sum(vol)/real(np, wp))**(1.0_wp/real(b%ndim, wp))
   end subroutine make_from_arrays
+
+  !> Moves every interior particle of a lattice body (rectangle, polygon; b%boundary false)
+  !! by a random offset, uniform in [-fraction, fraction) x the spacing in each direction
+  !! (doc/stability.md). Boundary particles stay, so the surface polyline and the exact
+  !! geometry stay valid. The volumes stay the lattice cells': for fraction < 1/2 each moved
+  !! particle stays inside its own cell, the cells still tile the body and the volumes still
+  !! sum to its area. b%cell_centre keeps the lattice points, so SCNI and Gauss integration
+  !! use the same conforming cells as before the move. The offsets come from xorshift64
+  !! (integer shifts and exclusive ors only) drawn in particle order, two per particle: one
+  !! seed gives the same cloud with every compiler and on every machine.
+  !! fraction: 0 <= fraction < max_perturbation; seed: any integer.
+  subroutine perturb_interior(b, fraction, seed)
+    type(body_t), intent(inout) :: b
+    real(wp), intent(in) :: fraction
+    integer, intent(in) :: seed
+    integer(i64) :: state
+    integer :: i, d, k
+    real(wp) :: u
+    if (allocated(b%cell_centre)) deallocate(b%cell_centre)
+    allocate(b%cell_centre, source=b%x)
+    if (fraction <= 0.0_wp) return
+    state = ieor(xorshift_base, int(seed, i64))
+    do k = 1, xorshift_warmup
+      call xorshift64(state, u)
+    end do
+    do i = 1, b%np
+      if (b%boundary(i)) cycle
+      do d = 1, b%ndim
+        call xorshift64(state, u)
+        b%x(d, i) = b%x(d, i) + fraction*b%spacing(d)*(2.0_wp*u - 1.0_wp)
+      end do
+    end do
+  end subroutine perturb_interior
+
+  !> One step of Marsaglia's xorshift64 (shifts 13, 7, 17): the next state and u in [0, 1)
+  !! from its top 53 bits. ishft is a logical shift on the bit pattern, so no arithmetic
+  !! overflow is involved.
+  pure subroutine xorshift64(state, u)
+    integer(i64), intent(inout) :: state
+    real(wp), intent(out) :: u
+    state = ieor(state, ishft(state, 13))
+    state = ieor(state, ishft(state, -7))
+    state = ieor(state, ishft(state, 17))
+    u = real(ishft(state, -11), wp)*2.0_wp**(-53)
+  end subroutine xorshift64
 
   !> rho = factor x spacing per direction. For annuli the local spacing grows with radius,
   !! so each particle gets factor x max(dr, r dtheta); the basis scale h is the nominal rho.

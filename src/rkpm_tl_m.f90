@@ -140,10 +140,24 @@ contains
     integer, intent(in) :: i
     real(wp), intent(out) :: cv(2, max_cv)
     integer, intent(out) :: ncv
-    real(wp) :: half(2)
+    real(wp) :: half(2), o(2)
     half = 0.5_wp*b%spacing(1:2)
-    call clip_polygon_box(b%geom%v, b%x(:, i) - half, b%x(:, i) + half, cv, ncv)
+    o = cell_centre_of(b, i)
+    call clip_polygon_box(b%geom%v, o - half, o + half, cv, ncv)
   end subroutine particle_cell
+
+  !> Centre of particle i's lattice cell (m): the particle itself unless the particles were
+  !! moved off the lattice (&body perturbation), whose cells stay the lattice's.
+  pure function cell_centre_of(b, i) result(o)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: i
+    real(wp) :: o(2)
+    if (allocated(b%cell_centre)) then
+      o = b%cell_centre(1:2, i)
+    else
+      o = b%x(1:2, i)
+    end if
+  end function cell_centre_of
 
   !> Area quadrature of a cell: fan triangles from the vertex mean, 3 points each (exact for
   !! quadratics; signed areas keep it exact for any simple polygon).
@@ -223,7 +237,7 @@ contains
     integer, allocatable :: idl(:, :), nl(:), slot(:)
     real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), p(2), nrm(2), e(2), len_e
     real(wp) :: vol_l, area, fn(2, max_nb), fdn(2, 2, max_nb), rw, gw, hv(2), vh(2), big
-    real(wp) :: hc(2, max_cv)
+    real(wp) :: hc(2, max_cv), o(2)
     integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad, j, nhc, dir
     logical :: ok
     real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
@@ -237,7 +251,7 @@ contains
     !$omp parallel default(none) shared(b, c, twin, np, t, gl, hl, ml, idl, nl, maxk, rho0, &
     !$omp sub, wsub, big) &
     !$omp private(cv, ncv, xg, wg, ngp, k, q, p, nrm, e, len_e, vol_l, area, fn, fdn, nf, fid, &
-    !$omp ok, s, slot, rw, gw, j, hc, nhc, dir, hv, vh) reduction(max: bad)
+    !$omp ok, s, slot, rw, gw, j, hc, nhc, dir, hv, vh, o) reduction(max: bad)
     allocate(slot(np))
     slot = 0
     !$omp do schedule(dynamic, 64)
@@ -289,13 +303,14 @@ contains
           end do
         end do
       end do
-      ! the half cells right of and above the particle (stabilization): the same smoothing
-      ! on each, for d/dX1 (right half) and d/dX2 (upper half)
+      ! the half cells right of and above the cell centre (stabilization): the same
+      ! smoothing on each, for d/dX1 (right half) and d/dX2 (upper half)
+      o = cell_centre_of(b, i)
       do dir = 1, 2
         if (dir == 1) then
-          call clip_polygon_box(cv(:, 1:ncv), [b%x(1, i), -big], [big, big], hc, nhc)
+          call clip_polygon_box(cv(:, 1:ncv), [o(1), -big], [big, big], hc, nhc)
         else
-          call clip_polygon_box(cv(:, 1:ncv), [-big, b%x(2, i)], [big, big], hc, nhc)
+          call clip_polygon_box(cv(:, 1:ncv), [-big, o(2)], [big, big], hc, nhc)
         end if
         hv(dir) = 0.0_wp
         if (nhc < 3) cycle
@@ -339,7 +354,7 @@ contains
     !$omp end parallel
     if (bad > 0) then
       call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined in the "// &
-        "cell of particle "//itoa(bad)//": "//shape_failure(c, b%x(:, bad), &
+        "cell of particle "//itoa(bad)//": "//shape_failure(c, cell_centre_of(b, bad), &
         0.5_wp*b%spacing(1:2)))
       return
     end if
@@ -428,7 +443,8 @@ contains
     allocate(cand(c%np))
     maxk = 1
     do i = 1, b%np
-      call bins_candidates(c%bins, b%x(:, i), c%rmax(1:2) + 0.5_wp*b%spacing(1:2), cand, n)
+      call bins_candidates(c%bins, cell_centre_of(b, i), c%rmax(1:2) + 0.5_wp*b%spacing(1:2), &
+        cand, n)
       maxk = max(maxk, n)
     end do
   end function union_bound

@@ -27,9 +27,13 @@ module run_health_m
   !! once); see check_energy.
   integer, parameter :: energy_window = 50
   real(wp), parameter :: energy_burst = 10.0_wp
-  !> The likely fixes of a local failure.
-  character(len=*), parameter :: fix_text = 'try a smaller cfl (or a fixed dt below the '// &
-    'critical step), a finer body there, or the SCNI stabilization (&body stabilization)'
+  !> The likely fixes of a failure: fix_particles for RKPM solids, fix_elements for element
+  !! meshes, which have no SCNI stabilization to raise (the FEM Taylor bar at 400-600 m/s
+  !! stops on runaway flow of one-point elements at the lip: doc/stability.md).
+  character(len=*), parameter :: fix_particles = 'try a smaller cfl (or a fixed dt below '// &
+    'the critical step), a finer body there, or the SCNI stabilization (&body stabilization)'
+  character(len=*), parameter :: fix_elements = 'try a smaller cfl (or a fixed dt below '// &
+    'the critical step) or a finer mesh there (&body n)'
 
   !> Energy totals over the solids (J; J/m in plane strain).
   type :: energies_t
@@ -107,12 +111,12 @@ contains
       failed = .true.
       if (vmax >= huge(1.0_wp)) then
         reason = 'step '//itoa(n)//', body '''//trim(s%name)// &
-          ''': non-finite displacement or velocity (node '//itoa(j)//'); '//fix_text
+          ''': non-finite displacement or velocity (node '//itoa(j)//'); '//fix_text(s)
       else
         reason = 'step '//itoa(n)//', body '''//trim(s%name)//''', node '//itoa(j)// &
           ': speed '//rtoa(vmax)//' m/s above the limit '//rtoa(s%v_limit)// &
           ' m/s (5 x the fastest initial or prescribed speed + 0.2 c_d): a local '// &
-          'instability; '//fix_text
+          'instability; '//fix_text(s)
       end if
     end if
   contains
@@ -128,16 +132,16 @@ contains
       select case (s%bad_code)
       case (health_j)
         txt = 'J = '//rtoa(bad_j)//' outside ('//rtoa(s%j_bounds(1))//', '// &
-          rtoa(s%j_bounds(2))//'): the cell is inverting or exploding; '//fix_text
+          rtoa(s%j_bounds(2))//'): the cell is inverting or exploding; '//fix_text(s)
       case (health_stress)
-        txt = 'non-finite stress (J = '//rtoa(bad_j)//'); '//fix_text
+        txt = 'non-finite stress (J = '//rtoa(bad_j)//'); '//fix_text(s)
       case (health_epsbar)
         txt = 'effective plastic strain '//rtoa(s%st%epsbar(q))//' above the limit '// &
-          rtoa(s%epsbar_limit)//': runaway local plastic flow; '//fix_text
+          rtoa(s%epsbar_limit)//': runaway local plastic flow; '//fix_text(s)
       case default
         txt = 'effective plastic strain rate '//rtoa(s%st%epsdot(q))//' /s: increment '// &
           'in one step above '//rtoa(s%deps_limit)//', the step does not resolve the '// &
-          'motion; '//fix_text
+          'motion; '//fix_text(s)
       end select
     end function point_text
   end subroutine check_solid
@@ -150,13 +154,18 @@ contains
     integer, intent(in) :: n
     logical, intent(inout) :: failed
     character(len=:), allocatable, intent(inout) :: reason
+    character(len=:), allocatable :: fix
     if (failed) return
     if (c%dtc < dt_collapse*c%dtc0) then
       failed = .true.
+      fix = 'refine the body there, raise the SCNI stabilization or lower the impact speed'
+      if (c%solid >= 1 .and. c%solid <= size(solids)) then
+        if (solids(c%solid)%t%interpolating) fix = 'refine the mesh there (&body n) or '// &
+          'lower the impact speed'
+      end if
       reason = 'step '//itoa(n)//': the critical time step fell to '//rtoa(c%dtc/c%dtc0)// &
         ' of its initial value at '//step_limit_text(c, solids, .false.)//': that cell '// &
-        'or element is collapsing; refine the body there, raise the SCNI stabilization '// &
-        'or lower the impact speed'
+        'or element is collapsing; '//fix
     end if
   end subroutine check_step
 
@@ -187,9 +196,32 @@ contains
       reason = 'step '//itoa(n)//': energy residual '//rtoa(en%residual)//' exceeds '// &
         'energy_tol x energy scale = '//rtoa(tol*en%scale)//' ('//itoa(over)// &
         ' steps in a row; the limit is '//itoa(energy_window)//' steps, or '// &
-        itoa(nint(energy_burst))//' x at once); '//fastest_node(solids)//'; '//fix_text
+        itoa(nint(energy_burst))//' x at once); '//fastest_node(solids)//'; '// &
+        fix_text_all(solids)
     end if
   end subroutine check_energy
+
+  !> The likely fixes of a local failure of solid s.
+  pure function fix_text(s) result(txt)
+    type(solid_t), intent(in) :: s
+    character(len=:), allocatable :: txt
+    if (s%t%interpolating) then
+      txt = fix_elements
+    else
+      txt = fix_particles
+    end if
+  end function fix_text
+
+  !> The likely fixes of a failure of the whole run: the particles' when any solid has them.
+  pure function fix_text_all(solids) result(txt)
+    type(solid_t), intent(in) :: solids(:)
+    character(len=:), allocatable :: txt
+    integer :: k
+    txt = fix_elements
+    do k = 1, size(solids)
+      if (.not. solids(k)%t%interpolating) txt = fix_particles
+    end do
+  end function fix_text_all
 
   !> 'fastest node J of body B (|v| = ...)': where an instability usually grows.
   function fastest_node(solids) result(msg)
