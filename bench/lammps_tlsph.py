@@ -108,7 +108,8 @@ comm_modify     vel yes
 newton          off
 neigh_modify    every 10 delay 0 check yes
 lattice         sq {dx!r}
-region          box block {-eps!r} {WIDTH + eps!r} {-eps!r} {LENGTH + eps!r} {-eps!r} {eps!r} units box
+region          box block {-eps!r} {WIDTH + eps!r} {-eps!r} {LENGTH + eps!r} &
+                {-eps!r} {eps!r} units box
 create_box      1 box
 create_atoms    1 box
 group           tlsph type 1
@@ -162,7 +163,8 @@ def mfcd_deck(nx, ny, dt, steps, out, skip_quiet):
 
 def physics(x, y, vy, mass, syy, ke, ke0, t):
     """KE, mean reaction of the held end on the bar (+y; momentum gained / t, with
-    P0 = -2 KE0 / v0 the initially moving particles' momentum) and sigma_yy in the 2-4 mm band, from final particle data."""
+    P0 = -2 KE0 / v0 the initially moving particles' momentum) and sigma_yy in the 2-4 mm
+    band, from final particle data."""
     import numpy as np
     p0 = -2.0 * ke0 / V0
     p = float(np.sum(mass * vy))
