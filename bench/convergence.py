@@ -22,7 +22,6 @@ to bench/results/ and the figure doc/figures/convergence_time_vs_error.png (wall
 against relative error, log axes, one panel per result, RKPM and FEM).
 """
 import argparse
-import datetime
 import json
 import math
 import os
@@ -35,16 +34,12 @@ import time
 import h5py
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from bench_record import ROOT, load_row, record_head, write_results
+
 MFCD = os.path.join(ROOT, "build", "bin", "mfcd")
 DECKS = {"RKPM": "taylor_bar_rkpm.nml", "FEM": "taylor_bar_fem_cfl.nml"}
 RESULTS = [("L", "length (mm)"), ("Rf", "foot radius (mm)"), ("Rc", "contact radius (mm)"),
            ("Wp", "plastic work (J)")]
-
-
-def sh(cmd):
-    return subprocess.run(cmd, shell=True, capture_output=True, text=True,
-                          cwd=ROOT).stdout.strip()
 
 
 def deck_text(method, m, out):
@@ -194,7 +189,6 @@ def main():
     ap.add_argument("--fem-m", default="2,3,4,6")
     ap.add_argument("--plot", help="redraw from a JSON file of an earlier run")
     a = ap.parse_args()
-    stamp = datetime.datetime.utcnow().strftime("%Y-%m-%d_%H%M%S")
     figpath = os.path.join(ROOT, "doc", "figures", "convergence_time_vs_error.png")
     if a.plot:
         data = json.load(open(a.plot))
@@ -202,14 +196,9 @@ def main():
         print("\n".join(data["head"] + lines))
         plot(fig, figpath)
         return
-    head = ["# Taylor bar convergence (bench/convergence.py)", "", "| | |", "|---|---|",
-            "| date | %s |" % datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"),
-            "| commit | `%s` |" % sh("git rev-parse --short HEAD"),
-            "| CPU | %s, %s cores |" % (sh("lscpu | sed -n 's/^Model name: *//p'"),
-                                     os.cpu_count()),
-            "| load before | %s |" % sh("cat /proc/loadavg"),
-            "| command | `.venv/bin/python bench/convergence.py --threads %d --m %s "
-            "--fem-m %s` |" % (a.threads, a.m, a.fem_m)]
+    head = record_head("# Taylor bar convergence (bench/convergence.py)",
+                       ".venv/bin/python bench/convergence.py --threads %d --m %s --fem-m %s"
+                       % (a.threads, a.m, a.fem_m))
     print("\n".join(head), flush=True)
     runs = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -220,16 +209,15 @@ def main():
                 print("%s m=%d: exit %d, %.1f s%s" % (method, m, r["rc"], r["wall"],
                       "" if r["rc"] == 0 else ": " + r["error"][-200:]), file=sys.stderr,
                       flush=True)
-    head.append("| load after | %s |" % sh("cat /proc/loadavg"))
+    head.append(load_row("after"))
     lines, fig = analyse(runs)
     print("\n".join(lines))
-    os.makedirs(os.path.join(ROOT, "bench", "results"), exist_ok=True)
-    base = os.path.join(ROOT, "bench", "results", "convergence_%s" % stamp)
-    open(base + ".md", "w").write("\n".join(head + lines) + "\n")
-    json.dump({"head": head, "runs": runs}, open(base + ".json", "w"), indent=1)
+    md = write_results("convergence", head + lines)
+    js = write_results("convergence", [json.dumps({"head": head, "runs": runs}, indent=1)],
+                       ".json")
     plot(fig, figpath)
-    print("written: %s.md, .json and %s" % (os.path.relpath(base, ROOT),
-                                             os.path.relpath(figpath, ROOT)), file=sys.stderr)
+    print("written: %s, %s and %s" % (os.path.relpath(md, ROOT), os.path.relpath(js, ROOT),
+                                       os.path.relpath(figpath, ROOT)), file=sys.stderr)
 
 
 if __name__ == "__main__":

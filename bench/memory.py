@@ -13,14 +13,14 @@ set-up's own estimate (the log's 'memory:' line), and the slope between resoluti
 Prints Markdown and writes bench/results/memory_<date>.md (git-ignored).
 """
 import argparse
-import datetime
 import os
 import re
 import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from bench_record import ROOT, record_head, sh, write_results
+
 MFCD = os.path.join(ROOT, "build", "bin", "mfcd")
 DECKS = [("RKPM", "coarse", "taylor_bar_rkpm_coarse.nml"),
          ("RKPM", "paper", "taylor_bar_rkpm.nml"),
@@ -28,12 +28,6 @@ DECKS = [("RKPM", "coarse", "taylor_bar_rkpm_coarse.nml"),
          ("FEM", "coarse", "taylor_bar_fem_coarse.nml"),
          ("FEM", "paper", "taylor_bar_fem_cfl.nml"),
          ("FEM", "fine", "taylor_bar_fem_fine.nml")]
-COUNT = re.compile(r"([0-9]+) particle-steps/s")
-
-
-def sh(cmd):
-    return subprocess.run(cmd, shell=True, capture_output=True, text=True,
-                          cwd=ROOT).stdout.strip()
 
 
 def run(deck_name, steps, tmp, tag):
@@ -70,13 +64,10 @@ def main():
     ap.add_argument("--steps", type=int, default=40)
     ap.add_argument("--full", action="store_true")
     a = ap.parse_args()
-    lines = ["# Peak memory (bench/memory.py)", "", "| | |", "|---|---|",
-             "| date | %s |" % datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"),
-             "| commit | `%s` |" % sh("git rev-parse --short HEAD"),
-             "| CPU | %s, %s cores, %s |" % (sh("lscpu | sed -n 's/^Model name: *//p'"),
-                                          os.cpu_count(), sh("free -g | awk '/Mem/{print $2\" GiB\"}'")),
-             "| command | `.venv/bin/python bench/memory.py --steps %d%s` |" %
-             (a.steps, " --full" if a.full else ""), "",
+    memory = "| memory | %s GiB |" % sh("free -g | awk '/Mem/{print $2}'")
+    lines = record_head("# Peak memory (bench/memory.py)",
+                        ".venv/bin/python bench/memory.py --steps %d%s" %
+                        (a.steps, " --full" if a.full else ""), [memory]) + ["",
              "| method | resolution | nodes | points | steps | peak RSS (MiB) | "
              "set-up's estimate (MiB) | bytes per point |", "|---|---|---|---|---|---|---|---|"]
     print("\n".join(lines), flush=True)
@@ -104,10 +95,7 @@ def main():
                 method, r0[1], r1[1], r1[3] / r0[3], r1[4] / r0[4],
                 (r1[4] - r0[4]) / ((r1[3] - r0[3]) / 1000.0)))
     print("\n".join(lines[-(2 + 2 * 2):]))
-    os.makedirs(os.path.join(ROOT, "bench", "results"), exist_ok=True)
-    path = os.path.join(ROOT, "bench", "results", "memory_%s.md" %
-                        datetime.datetime.utcnow().strftime("%Y-%m-%d_%H%M%S"))
-    open(path, "w").write("\n".join(lines) + "\n")
+    path = write_results("memory", lines)
     print("written: " + os.path.relpath(path, ROOT), file=sys.stderr)
 
 

@@ -16,7 +16,6 @@ Prints a header (date, commit, CPU, load) and Markdown tables; writes them also 
 bench/results/omp_sharing_<date>.md (git-ignored). Never fails on a time.
 """
 import argparse
-import datetime
 import os
 import re
 import subprocess
@@ -24,7 +23,8 @@ import sys
 import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from bench_record import ROOT, load_row, record_head, write_results
+
 DECK = os.path.join(ROOT, 'bench', 'decks', 'taylor_bar_free.nml')
 RATE = re.compile(r'([0-9.E+-]+) particle-steps/s')
 
@@ -85,14 +85,6 @@ def stop_neighbours(procs):
         p.wait()
 
 
-def sh(cmd):
-    try:
-        return subprocess.run(cmd, shell=True, capture_output=True, text=True,
-                              cwd=ROOT).stdout.strip()
-    except OSError:
-        return '?'
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('--rounds', type=int, default=3)
@@ -101,14 +93,8 @@ def main():
     a = ap.parse_args()
     exe = os.path.join(ROOT, a.build, 'bin', 'mfcd')
     scenes = a.scenes.split(',')
-    head = ['# OpenMP sharing: free-bar benchmark (bench/omp_sharing.py)', '',
-            '| | |', '|---|---|',
-            '| date | %s |' % datetime.datetime.utcnow().strftime('%Y-%m-%d %H:%M UTC'),
-            '| commit | `%s` |' % sh('git rev-parse --short HEAD'),
-            '| CPU | %s, %s cores |' % (sh("lscpu | sed -n 's/^Model name: *//p'"),
-                                       os.cpu_count()),
-            '| load before | %s |' % sh('cat /proc/loadavg'),
-            '| command | `python3 bench/omp_sharing.py --rounds %d` |' % a.rounds, '']
+    head = record_head('# OpenMP sharing: free-bar benchmark (bench/omp_sharing.py)',
+                       'python3 bench/omp_sharing.py --rounds %d' % a.rounds) + ['']
     print('\n'.join(head), flush=True)
     best = {}
     with tempfile.TemporaryDirectory() as tmp:
@@ -134,12 +120,9 @@ def main():
         for pname, _ in POLICIES:
             k = (scene, '2 threads', pname)
             rows.append('| %s | 2 | %s | %.3g | %.2f |' % (scene, pname, best[k], ref/best[k]))
-    tail = ['', 'load after: %s' % sh('cat /proc/loadavg')]
+    tail = ['', load_row('after')]
     print('\n'.join(rows + tail))
-    os.makedirs(os.path.join(ROOT, 'bench', 'results'), exist_ok=True)
-    out = os.path.join(ROOT, 'bench', 'results', 'omp_sharing_%s.md' %
-                       datetime.datetime.utcnow().strftime('%Y-%m-%d_%H%M%S'))
-    open(out, 'w').write('\n'.join(head + rows + tail) + '\n')
+    out = write_results('omp_sharing', head + rows + tail)
     print('written: %s' % os.path.relpath(out, ROOT), file=sys.stderr)
 
 

@@ -14,7 +14,6 @@ round-off, which a plastic impact amplifies: see doc/benchmarks.md). Prints Mark
 writes bench/results/skip_work_<date>.md (git-ignored). Never fails on a time.
 """
 import argparse
-import datetime
 import os
 import re
 import subprocess
@@ -23,7 +22,8 @@ import tempfile
 
 import h5py
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from bench_record import ROOT, load_row, record_head, write_results
+
 MFCD = os.path.join(ROOT, "build", "bin", "mfcd")
 CASES = {"paper": "taylor_bar_rkpm.nml", "coarse": "taylor_bar_rkpm_coarse.nml",
          "flight": "taylor_bar_rkpm_coarse.nml"}
@@ -34,11 +34,6 @@ VARIANTS = [("both on (default)", []),
                           ("&solver", "skip_quiet = .false.")])]
 LOOP = re.compile(r"time loop\s+([0-9.]+) s: kinematics\s+([0-9.]+)%, material\s+([0-9.]+)%, "
                   r"internal force\s+([0-9.]+)%, contact\s+([0-9.]+)%")
-
-
-def sh(cmd):
-    return subprocess.run(cmd, shell=True, capture_output=True, text=True,
-                          cwd=ROOT).stdout.strip()
 
 
 def deck_text(case, edits, out):
@@ -61,14 +56,8 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--cases", default="paper,coarse,flight")
     a = ap.parse_args()
-    lines = ["# Skipped work (bench/skip_work.py)", "",
-             "| | |", "|---|---|",
-             "| date | %s |" % datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"),
-             "| commit | `%s` |" % sh("git rev-parse --short HEAD"),
-             "| CPU | %s, %s cores |" % (sh("lscpu | sed -n 's/^Model name: *//p'"),
-                                      os.cpu_count()),
-             "| load before | %s |" % sh("cat /proc/loadavg"),
-             "| command | `.venv/bin/python bench/skip_work.py --threads %d` |" % a.threads,
+    lines = record_head("# Skipped work (bench/skip_work.py)",
+                        ".venv/bin/python bench/skip_work.py --threads %d" % a.threads) + [
              "",
              "| case | switches | time loop (s) | contact (s) | solid passes (s) | "
              "screenings skipped | point-steps skipped | length (mm) | foot radius (mm) | "
@@ -98,11 +87,8 @@ def main():
                 lines.append(row)
                 print(row, flush=True)
     lines.append("")
-    lines.append("load after: %s" % sh("cat /proc/loadavg"))
-    os.makedirs(os.path.join(ROOT, "bench", "results"), exist_ok=True)
-    path = os.path.join(ROOT, "bench", "results", "skip_work_%s.md" %
-                        datetime.datetime.utcnow().strftime("%Y-%m-%d_%H%M%S"))
-    open(path, "w").write("\n".join(lines) + "\n")
+    lines.append(load_row("after"))
+    path = write_results("skip_work", lines)
     print("written: " + os.path.relpath(path, ROOT), file=sys.stderr)
 
 
