@@ -184,6 +184,10 @@ class SnapshotBody:
     stress_cells: Optional[np.ndarray] = None  #: Cauchy stress 11, 22, 33, 12 [Pa]
     epsbar_cells: Optional[np.ndarray] = None  #: effective plastic strain [-]
     J_cells: Optional[np.ndarray] = None       #: det F [-]
+    #: self-contact bodies only (&contact master = slave): det(M) at each particle from the
+    #: particles that are not its reference neighbours (np,) [-], and the threshold
+    det_self: Optional[np.ndarray] = None
+    det_self_threshold: Optional[float] = None
 
     @property
     def np(self) -> int:
@@ -487,7 +491,9 @@ class MfcdFile:
                 name=name, x=arr("x", 2), u=arr("u", 2), v=arr("v", 2),
                 stress=arr("stress", 4), epsbar=arr("epsbar"), J=arr("J"),
                 stress_cells=arr("stress_cells", 4), epsbar_cells=arr("epsbar_cells"),
-                J_cells=arr("J_cells"))
+                J_cells=arr("J_cells"), det_self=arr("det_self"),
+                det_self_threshold=float(decode(gb.attrs["det_self_threshold"]))
+                if "det_self_threshold" in gb.attrs else None)
         return snap
 
     def history(self) -> Dict[str, np.ndarray]:

@@ -19,7 +19,7 @@ module body_setup_m
   use geometry_m, only: geom_none, signed_distance
   use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
   use rk_cloud_m, only: cloud_det
-  use cst4_m, only: cst4_mesh_t, cst4_rectangle
+  use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_annulus
   implicit none
   private
   public :: build_bodies, build_body, lattice_admissible, min_support_factor
@@ -190,8 +190,15 @@ contains
     case ('polygon')
       call make_polygon(b, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
     case ('annulus_sector')
-      call make_annulus(b, s%center, s%r_inner, s%r_outer, s%theta_start*pi/180.0_wp, &
-        s%theta_end*pi/180.0_wp, s%n(1), s%n(2), e2)
+      if (s%discretization == 'fem') then
+        ! CST4 elements on the polar boxes of the annulus lattice
+        call cst4_annulus(s%center, s%r_inner, s%r_outer, s%theta_start*pi/180.0_wp, &
+          s%theta_end*pi/180.0_wp, s%n(1), s%n(2), b, mesh, e2)
+        if (.not. allocated(e2)) call move_alloc(mesh%tri, b%cells)
+      else
+        call make_annulus(b, s%center, s%r_inner, s%r_outer, s%theta_start*pi/180.0_wp, &
+          s%theta_end*pi/180.0_wp, s%n(1), s%n(2), e2)
+      end if
     case ('file')
       call read_particles(trim(s%file), nd, xs, vols, loop, order, e2)
       if (.not. allocated(e2)) call check_file_values(trim(s%file), xs, vols, e2)

@@ -123,20 +123,31 @@ contains
 
   !> The master segment closest to p among those reaching within r (per direction) of p,
   !! and the signed gap g = (p - a) . n to it (eq. 89). found is false when none is near.
-  pure subroutine surface_gap(s, p, r, found, g, nrm, tng, seg, xi)
+  !! Self-contact: with xr (the reference positions of the surface's particles), xc and rex,
+  !! a segment is left out when either end lies within rex of xc in the reference
+  !! configuration (the point's own and adjacent segments, and every other one among its
+  !! reference neighbours).
+  pure subroutine surface_gap(s, p, r, found, g, nrm, tng, seg, xi, xr, xc, rex)
     type(master_surface_t), intent(in) :: s
     real(wp), intent(in) :: p(2), r(2)
     logical, intent(out) :: found
     real(wp), intent(out) :: g, nrm(2), tng(2)
     integer, intent(out), optional :: seg          !< the closest segment
     real(wp), intent(out), optional :: xi          !< where p projects on it, 0 at a, 1 at b
+    real(wp), intent(in), optional :: xr(:, :), xc(2), rex
     integer :: list(s%nseg), nc, k, jbest
     real(wp) :: gbest, dbest
+    logical :: excl
+    excl = present(xr) .and. present(xc) .and. present(rex)
     call bins_candidates(s%bins, p, r + s%reach, list, nc)
     jbest = 0
     dbest = huge(1.0_wp)
     gbest = -huge(1.0_wp)
     do k = 1, nc
+      if (excl) then
+        if (sum((xr(:, s%i0(list(k))) - xc)**2) < rex*rex .or. &
+          sum((xr(:, s%i1(list(k))) - xc)**2) < rex*rex) cycle
+      end if
       call closest_segment_update(s, list(k), p, jbest, dbest, gbest)
     end do
     call surface_projection(s, p, jbest, found, g, nrm, tng, seg, xi)

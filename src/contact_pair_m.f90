@@ -26,7 +26,8 @@ module contact_pair_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
   use body_m, only: body_t
-  use rk_cloud_m, only: rk_cloud_t, cloud_det, cloud_init, cloud_move
+  use rk_cloud_m, only: rk_cloud_t, cloud_det, cloud_init, cloud_move, cloud_set_reference, &
+    cloud_det_excluding, cloud_clearance
   use detection_m, only: body_plateau, detection_threshold, body_cloud
   use contact_m, only: master_surface_t, surface_build, surface_update, surface_gap, &
     contact_point_force, contact_counters_t
@@ -38,7 +39,7 @@ module contact_pair_m
   private
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
   public :: contact_stats_t, contact_det_fields, contact_step
-  public :: detector_det_m, detector_nts, detector_name
+  public :: detector_det_m, detector_nts, detector_name, contact_self_det
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
@@ -59,6 +60,12 @@ module contact_pair_m
     !! particles that push it (the row sum of the constraint's mass matrix), so they do not
     !! each claim its whole mobility and over-correct together (doc/contact.md).
     logical :: shared_mass = .false.
+    !> Self-contact: slave and master are the same body (Sections 1 and 7). A point's
+    !! neighbours in the reference configuration, the particles within self_radius times
+    !! its largest support of it there, take no part in its det(M) and their segments none
+    !! in its gap.
+    logical :: self_contact = .false.
+    real(wp) :: self_radius = 2.0_wp
   end type contact_params_t
 
   !> What one step's contact did (for the log, history and summary).
@@ -98,7 +105,9 @@ module contact_pair_m
     real(wp), allocatable :: xi(:)       !< where on it
     real(wp), allocatable :: gap(:)      !< its gap (m, < 0)
     real(wp), allocatable :: nrm(:, :), tng(:, :)  !< the segment's normal and tangent (2, np)
-    real(wp), allocatable :: mass(:)     !< particle masses (kg); 0 for a rigid side
+    !> inverse particle masses (1/kg); 0 for a rigid side and for a node whose velocity is
+    !! prescribed in both components
+    real(wp), allocatable :: imass(:)
     ! skipping far particles (a slave against a rigid master, &contact skip_far): a particle
     ! found at distance r outside the master's grown box cannot enter it before the bound
     ! on its motion, summed over the steps since, reaches r (side_near_positions)
@@ -114,6 +123,10 @@ module contact_pair_m
     !> as a master: sum of the weights (1 - xi, xi) with which this pass's penetrating
     !! particles load each node, for the shared effective mass
     real(wp), allocatable :: share(:)
+    ! self-contact: the candidates are the particles on the surface polylines (an interior
+    ! particle is shielded by them); rex: each one's reference-neighbour radius (m)
+    integer, allocatable :: cand(:)
+    real(wp), allocatable :: rex(:)
   end type side_t
 
   type :: contact_pair_t
@@ -124,6 +137,9 @@ module contact_pair_m
     integer :: edge = 0                  !< slave particle tracked for separation (0: none)
     logical :: both_ways = .false.       !< both bodies deform: eq. (28) both conditions
     logical :: shared_mass = .false.     !< contact_params_t%shared_mass
+    !> self-contact (contact_params_t%self_contact): both sides are views of the same body,
+    !! side 2 the master in the first pass, side 1 in the second
+    logical :: self = .false.
     type(contact_counters_t) :: count
     type(contact_stats_t) :: step
   end type contact_pair_t
@@ -149,10 +165,37 @@ contains
     p%detector = prm%detector
     p%compare = prm%compare
     p%shared_mass = prm%shared_mass
+    p%self = prm%self_contact
+    if (p%self .and. p%detector /= detector_det_m) then
+      call set_error(err, "variable detector: self-contact of '"//trim(bs%name)//"' needs "// &
+        "detector = 'det_m': a closest-segment search cannot tell a face that folded onto "// &
+        "the body from the body's own curved surface (its distant segments lie on the far "// &
+        "side of a convex point), det(M) of the non-neighbour particles can")
+      return
+    end if
+    if (p%self .and. p%compare) then
+      call set_error(err, "variable compare_detectors: not available for the self-contact "// &
+        "of '"//trim(bs%name)//"' (node-to-segment has no self-contact); give .false.")
+      return
+    end if
+    if (p%self .and. .not. (prm%self_radius >= 1.0_wp)) then
+      call set_error(err, "variable self_radius: "//rtoa(prm%self_radius)//" would let "// &
+        "particles whose support covers a point in the reference configuration take part "// &
+        "in its det(M); give at least 1 (default 2)")
+      return
+    end if
     call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err)
     if (allocated(err)) return
     call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
     if (allocated(err)) return
+    if (p%self) then
+      ! either side is the master in turn: det(M) of the non-neighbours needs the
+      ! reference positions, the slave pass its candidates and their exclusion radii
+      do j = 1, 2
+        call cloud_set_reference(p%side(j)%cloud, p%side(j)%x_ref)
+        call self_candidates(p%side(j), prm%self_radius)
+      end do
+    end if
     if (p%side(2)%surface%nseg == 0 .or. (isolid_m > 0 .and. p%side(1)%surface%nseg == 0)) then
       call set_error(err, "body '"//trim(merge(bm%name, bs%name, &
         p%side(2)%surface%nseg == 0))//"' has no surface polyline")
@@ -161,6 +204,8 @@ contains
     p%both_ways = isolid_m > 0
     ! a deformable master needs all of the slave's positions (its cloud and surface move)
     if (prm%skip_far .and. .not. p%both_ways) call skip_far_init(p%side(1), solids)
+    ! self-contact: skip_far skips the candidates that no non-neighbour can reach yet
+    if (p%self .and. prm%skip_far) call skip_far_init(p%side(1), solids)
     ! a threshold at or above the master's interior plateau detects nothing: the bar
     ! would pass through the target silently (bench/sweeps.py, eps_cr = 1e-4)
     if ((p%detector == detector_det_m .or. p%compare) .and. &
@@ -207,7 +252,7 @@ contains
     s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:2)
     call nts_build(s%buckets, s%surface)
     allocate(s%x_old(2, b%np), s%x_pred(2, b%np), s%fphys(2, b%np), s%active(b%np), &
-      s%seg(b%np), s%xi(b%np), s%mass(b%np), s%gap(b%np), s%slip(b%np), s%nrm(2, b%np), &
+      s%seg(b%np), s%xi(b%np), s%imass(b%np), s%gap(b%np), s%slip(b%np), s%nrm(2, b%np), &
       s%tng(2, b%np), s%share(b%np))
     s%x_old = b%x
     s%x_pred = b%x
@@ -227,9 +272,14 @@ contains
     s%gap = 0.0_wp
     s%nrm = 0.0_wp
     s%tng = 0.0_wp
-    s%mass = 0.0_wp
+    s%imass = 0.0_wp
     s%share = 0.0_wp
-    if (isolid > 0) s%mass = solids(isolid)%t%mass
+    ! a node whose velocity is prescribed in both components does not yield to contact:
+    ! infinite mass in eq. (93) (a driven plate), so the other side takes the whole gap
+    if (isolid > 0) then
+      s%imass = 1.0_wp/solids(isolid)%t%mass
+      where (solids(isolid)%pres(1, :) .and. solids(isolid)%pres(2, :)) s%imass = 0.0_wp
+    end if
   end subroutine side_init
 
   !> Skipping far particles on slave side s: the Lipschitz constant of its positions in
@@ -262,6 +312,29 @@ contains
     s%d_scr = solids(s%isolid)%d
     s%near = .true.
   end subroutine skip_far_init
+
+  !> Self-contact candidates of side s: the particles at the ends of its surface segments,
+  !! each with its reference-neighbour radius rex = self_radius x its largest support.
+  subroutine self_candidates(s, self_radius)
+    type(side_t), intent(inout) :: s
+    real(wp), intent(in) :: self_radius
+    logical, allocatable :: on(:)
+    integer :: k, n, j
+    allocate(on(s%np))
+    on = .false.
+    do k = 1, s%surface%nseg
+      on(s%surface%i0(k)) = .true.
+      on(s%surface%i1(k)) = .true.
+    end do
+    allocate(s%cand(count(on)), s%rex(s%np))
+    n = 0
+    do j = 1, s%np
+      s%rex(j) = self_radius*maxval(s%rho(:, j))
+      if (.not. on(j)) cycle
+      n = n + 1
+      s%cand(n) = j
+    end do
+  end subroutine self_candidates
 
   !> Median det(M) of a body at its own boundary particles (off the symmetry axis): about
   !! what a particle touching the surface sees; a threshold above it misses shallow
@@ -311,6 +384,10 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: sd
     p%step = contact_stats_t()
+    if (p%self) then
+      call self_correct(p, solids, dt, err)
+      return
+    end if
     ! the slave's det(M) and surface are needed only when both bodies deform
     do sd = 1, 2
       if (p%side(sd)%skip_far) then
@@ -336,6 +413,102 @@ contains
     p%count%cmp_det_max = max(p%count%cmp_det_max, int(p%step%n_cmp_det, i64))
     p%count%cmp_gap_max = max(p%count%cmp_gap_max, int(p%step%n_cmp_gap, i64))
   end subroutine contact_correct
+
+  !> Self-contact corrections of pair p (one body, both sides views of it) for the step dt.
+  !! Where two faces of the body meet, each face's particles penetrate the other face; a
+  !! single pass over all of them would put back each penetration twice (once by the
+  !! particle's own force, once by the reactions of the other face's particles). So, as
+  !! for two bodies (eq. 28), two passes with the correction between them: the first takes
+  !! as slave only a particle numbered below both ends of the segment it hit (in each
+  !! contact zone one face is slave, the other master), the second every particle still
+  !! penetrating after that correction.
+  !!
+  !! Skipping (&contact skip_far, exact): a candidate found at clearance c from the supports
+  !! of its non-neighbours (cloud_clearance) cannot be covered by them before the bound on
+  !! their relative motion since then, twice the bound on any particle's motion summed over
+  !! the steps (side_near_positions), reaches c. A step with no candidate due does nothing
+  !! (no positions, no re-binning); otherwise only the due candidates are evaluated, and
+  !! the second pass is made only when the first flagged a candidate.
+  subroutine self_correct(p, solids, dt, err)
+    type(contact_pair_t), intent(inout) :: p
+    type(solid_t), intent(inout) :: solids(:)
+    real(wp), intent(in) :: dt
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, ndue
+    associate (s => p%side(1))
+      p%count%screened = p%count%screened + size(s%cand)
+      if (s%skip_far) then
+        call self_travel(s, solids(s%isolid))
+        ndue = 0
+        do k = 1, size(s%cand)
+          s%near(s%cand(k)) = s%travel >= s%due(s%cand(k))
+          if (s%near(s%cand(k))) ndue = ndue + 1
+        end do
+        p%count%skipped = p%count%skipped + (size(s%cand) - ndue)
+        if (ndue == 0) return
+      end if
+    end associate
+    p%side(2)%near = p%side(1)%near
+    call self_positions(p%side(1), p%side(2), solids, err)
+    if (allocated(err)) return
+    call contact_pass(p, p%side(1), p%side(2), solids, dt, .true., err, lower_only=.true.)
+    if (allocated(err)) return
+    ! nothing flagged: the second pass would see the same positions and flag nothing
+    if (p%step%n_flagged == 0) return
+    call self_positions(p%side(2), p%side(1), solids, err)
+    if (allocated(err)) return
+    call contact_pass(p, p%side(2), p%side(1), solids, dt, .false., err)
+    if (allocated(err)) return
+    p%count%detected_max = max(p%count%detected_max, int(p%step%n_flagged, i64))
+  end subroutine self_correct
+
+  !> Predicted positions of a self-contact body for a pass: computed once for the slave view
+  !! a, copied to the master view b, whose cloud and surface move to them. (The positions at
+  !! the start of the step are needed only where a force acts: self_old_positions.)
+  subroutine self_positions(a, b, solids, err)
+    type(side_t), intent(inout) :: a, b
+    type(solid_t), intent(in) :: solids(:)
+    type(error_t), allocatable, intent(inout) :: err
+    call solid_positions(solids(a%isolid), at_prediction, a%x_pred)
+    b%x_pred = a%x_pred
+    call cloud_move(b%cloud, b%x_pred, err)
+    if (allocated(err)) return
+    call surface_update(b%surface, b%x_pred, err)
+  end subroutine self_positions
+
+  !> Self-contact: the positions at the start of the step of a's active particles and of the
+  !! ends of the segments they hit (the slip of eq. 90 is relative to the master point).
+  subroutine self_old_positions(a, b, sol)
+    type(side_t), intent(inout) :: a, b
+    type(solid_t), intent(in) :: sol
+    integer :: j, i0, i1
+    do j = 1, a%np
+      if (.not. a%active(j)) cycle
+      a%x_old(:, j) = solid_point_position(sol, j, at_step_start)
+      i0 = b%surface%i0(a%seg(j))
+      i1 = b%surface%i1(a%seg(j))
+      b%x_old(:, i0) = solid_point_position(sol, i0, at_step_start)
+      b%x_old(:, i1) = solid_point_position(sol, i1, at_step_start)
+    end do
+  end subroutine self_old_positions
+
+  !> The bound on any particle's motion of self-contact side s, summed since t = 0 (travel):
+  !! one step adds lip max_I |d_I - d'_I| (side_near_positions), twice that for the motion
+  !! of two particles towards each other.
+  subroutine self_travel(s, sol)
+    type(side_t), intent(inout) :: s
+    type(solid_t), intent(in) :: sol
+    integer :: i
+    real(wp) :: dmax2
+    dmax2 = 0.0_wp
+    !$omp parallel do default(none) shared(s, sol) reduction(max: dmax2) schedule(static)
+    do i = 1, s%np
+      dmax2 = max(dmax2, sum((sol%d(:, i) - s%d_scr(:, i))**2))
+      s%d_scr(:, i) = sol%d(:, i)
+    end do
+    !$omp end parallel do
+    s%travel = s%travel + 2.0_wp*s%lip*sqrt(dmax2)
+  end subroutine self_travel
 
   !> The pair evaluates det(M) of its masters: its detector is det(M), or it compares.
   pure logical function need_det(p)
@@ -448,13 +621,15 @@ contains
 
   !> One detection-and-force pass of side a's particles against side b (b's detector,
   !! b's surface). count_stats: this pass feeds the step's statistics and counters.
-  subroutine contact_pass(p, a, b, solids, dt, count_stats, err)
+  subroutine contact_pass(p, a, b, solids, dt, count_stats, err, lower_only)
     type(contact_pair_t), intent(inout) :: p
     type(side_t), intent(inout) :: a, b
     type(solid_t), intent(inout) :: solids(:)
     real(wp), intent(in) :: dt
     logical, intent(in) :: count_stats
     type(error_t), allocatable, intent(inout) :: err
+    !> self-contact: only particles numbered below both ends of the segment they hit
+    logical, intent(in), optional :: lower_only
     integer :: j, i0, i1
     integer(i64) :: neval, ndet, ncon
     real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
@@ -463,13 +638,18 @@ contains
     real(wp) :: t0
     ! detection: which of a's particles penetrate b, with gap, normal, segment, projection
     t0 = omp_get_wtime()
-    select case (p%detector)
-    case (detector_nts)
+    if (p%self) then
+      call detect_self(a, b, present(lower_only), neval, ndet)
+    else
+      select case (p%detector)
+      case (detector_nts)
       call detect_node_to_segment(a, b, neval, ndet)
-    case default
-      call detect_det_m(a, b, neval, ndet)
-    end select
+      case default
+        call detect_det_m(a, b, neval, ndet)
+      end select
+    end if
     p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
+    if (p%self) call self_old_positions(a, b, solids(a%isolid))
     if (p%compare) call compare_detectors(p, a, b)
     ! forces (eqs. 93-96) at the penetrating particles, whichever detector found them
     ncon = 0
@@ -507,12 +687,14 @@ contains
       invmb = 0.0_wp
       if (b%isolid > 0) then
         if (p%shared_mass) then
-          invmb = (1.0_wp - xi)*b%share(i0)/b%mass(i0) + xi*b%share(i1)/b%mass(i1)
+          invmb = (1.0_wp - xi)*b%share(i0)*b%imass(i0) + xi*b%share(i1)*b%imass(i1)
         else
-          invmb = (1.0_wp - xi)**2/b%mass(i0) + xi**2/b%mass(i1)
+          invmb = (1.0_wp - xi)**2*b%imass(i0) + xi**2*b%imass(i1)
         end if
       end if
-      meff = 1.0_wp/(1.0_wp/a%mass(j) + invmb)
+      ! (0 when both are held by kinematic conditions: nothing can move)
+      meff = 0.0_wp
+      if (a%imass(j) + invmb > 0.0_wp) meff = 1.0_wp/(a%imass(j) + invmb)
       slip = dot_product(a%x_pred(:, j) - a%x_old(:, j) - dxb, tng)
       a%slip(j) = slip
       call contact_point_force(g, nrm, tng, slip, meff, dt, p%mu, fj, stick)
@@ -523,7 +705,7 @@ contains
       rad = max(rad, a%x_pred(1, j))
     end do
     !$omp end parallel do
-    p%count%screened = p%count%screened + a%np
+    if (.not. p%self) p%count%screened = p%count%screened + a%np
     p%count%evaluated = p%count%evaluated + neval
     p%count%detected = p%count%detected + ndet
     p%count%contacts = p%count%contacts + ncon
@@ -553,18 +735,23 @@ contains
         b%fphys(:, i1) = b%fphys(:, i1) - a%xi(j)*a%fphys(:, j)
       end do
       call solid_add_point_forces(solids(b%isolid), b%fphys)
-      call solid_correct(solids(b%isolid), dt)
+      ! (self-contact: one solid, corrected once below)
+      if (b%isolid /= a%isolid) call solid_correct(solids(b%isolid), dt)
     end if
     call solid_add_point_forces(solids(a%isolid), a%fphys)
     call solid_correct(solids(a%isolid), dt)
     ! penetration left after the correction (eq. 98 spreads the forces): the
-    ! corrected positions of the particles that had a force (and of b when it moves)
-    if (b%isolid > 0) call side_positions(b, solids, .true., need_det(p), need_nts(p), err)
+    ! corrected positions of the particles that had a force (and of b's surface when it
+    ! moves; its cloud is moved again before it is next used)
+    if (b%isolid > 0) call side_positions(b, solids, .true., .false., need_nts(p), err)
     if (allocated(err)) return
     do j = 1, a%np
       if (.not. a%active(j)) cycle
       a%x_pred(:, j) = solid_point_position(solids(a%isolid), j)
-      if (p%detector == detector_nts) then
+      if (p%self) then
+        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, &
+          xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))
+      else if (p%detector == detector_nts) then
         call nts_gap(b%buckets, b%surface, a%x_pred(:, j), b%buckets%capture, found, g, &
           nrm, tng)
       else
@@ -603,6 +790,78 @@ contains
     end do
     !$omp end parallel do
   end subroutine detect_det_m
+
+  !> Self-contact detection (Sections 1 and 7): a's candidates (its surface particles) with
+  !! det(M) of the same body (b's cloud), assembled only from the particles that are not
+  !! their neighbours in the reference configuration (beyond rex), above the threshold are
+  !! flagged (ndet of neval evaluated); the flagged ones get the gap to b's closest segment
+  !! within their support whose ends are not reference neighbours either, and those with
+  !! g < 0 are marked active with it. lower_only: only a particle numbered below both ends
+  !! of its segment (self_correct).
+  subroutine detect_self(a, b, lower_only, neval, ndet)
+    type(side_t), intent(inout) :: a
+    type(side_t), intent(in) :: b
+    logical, intent(in) :: lower_only
+    integer(i64), intent(out) :: neval, ndet
+    integer :: k, j, jseg
+    real(wp) :: det, g, nrm(2), tng(2), xi
+    logical :: found
+    neval = 0
+    ndet = 0
+    a%active = .false.
+    !$omp parallel do default(none) shared(a, b, lower_only) &
+    !$omp private(j, det, found, g, nrm, tng, jseg, xi) reduction(+: neval, ndet) &
+    !$omp schedule(dynamic, 16)
+    do k = 1, size(a%cand)
+      j = a%cand(k)
+      if (.not. a%near(j)) cycle   ! skipping: no non-neighbour can reach it yet
+      neval = neval + 1
+      det = cloud_det_excluding(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j))
+      ! skipping: when it is screened again (pass 1 keeps the schedule): next step if a
+      ! non-neighbour covers it (det > 0), else once they may have closed its clearance
+      ! (searched up to rex; less a relative 1e-9 for the rounding of the sums)
+      if (a%skip_far) then
+        a%due(j) = a%travel
+        if (det == 0.0_wp) a%due(j) = a%travel + (1.0_wp - 1.0e-9_wp)*max(0.0_wp, &
+          cloud_clearance(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j), a%rex(j)))
+      end if
+      if (.not. (det > b%threshold)) cycle
+      ndet = ndet + 1
+      call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, jseg, xi, &
+        xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))
+      if (.not. found .or. .not. (g < 0.0_wp)) cycle
+      if (lower_only) then
+        if (j >= min(b%surface%i0(jseg), b%surface%i1(jseg))) cycle
+      end if
+      call mark_active(a, j, g, nrm, tng, jseg, xi)
+    end do
+    !$omp end parallel do
+  end subroutine detect_self
+
+  !> det(M) of self-contact pair p's body at each of its particles (current positions, the
+  !! prediction), assembled from the particles that are not the particle's neighbours in
+  !! the reference configuration (detect_self): 0 away from any fold, above the threshold
+  !! where faces of the body meet. Work for output only, done at snapshots.
+  subroutine contact_self_det(p, solids, det, err)
+    type(contact_pair_t), intent(in) :: p
+    type(solid_t), intent(in) :: solids(:)
+    real(wp), intent(out) :: det(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(rk_cloud_t) :: c
+    real(wp), allocatable :: x(:, :)
+    integer :: j
+    x = p%side(1)%x_ref
+    call solid_positions(solids(p%side(1)%isolid), at_prediction, x)
+    call cloud_init(c, x, p%side(1)%rho, p%side(1)%vol, p%side(1)%kid, p%side(1)%wshape, &
+      p%side(1)%bid, p%side(1)%h, err)
+    if (allocated(err)) return
+    call cloud_set_reference(c, p%side(1)%x_ref)
+    !$omp parallel do default(none) shared(c, p, x, det) schedule(static)
+    do j = 1, p%side(1)%np
+      det(j) = cloud_det_excluding(c, x(:, j), p%side(1)%x_ref(:, j), p%side(1)%rex(j))
+    end do
+    !$omp end parallel do
+  end subroutine contact_self_det
 
   !> The conventional detector (contact_nts_m): a's particles in b's grown box (neval) get
   !! the gap to b's closest segment from the segment buckets, within the buckets' capture

@@ -19,11 +19,11 @@ module cst4_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
   use body_m, only: body_t
-  use generators_m, only: make_rectangle, set_supports
+  use generators_m, only: make_rectangle, make_annulus, set_supports
   use solid_tables_m, only: solid_tables_t, tables_transpose
   implicit none
   private
-  public :: cst4_mesh_t, cst4_rectangle, cst4_tables
+  public :: cst4_mesh_t, cst4_rectangle, cst4_annulus, cst4_tables
 
   !> Relative tolerance (of the nominal spacing) for "the node lies on the axis r = 0" and
   !! for checking make_rectangle's lattice: far above round-off of X, far below a box.
@@ -140,6 +140,70 @@ contains
       corner = i + (j - 1)*(nbox(1) + 1)
     end function corner
   end subroutine cst4_rectangle
+
+  !> CST4 elements on an annulus sector (a ring when theta1 - theta0 = 2 pi): the polar
+  !! lattice of make_annulus (nr radii on [r0, r1], nt angles, radius fastest; its boundary
+  !! flags and loops) gives (nr - 1) x (nt - 1) polar boxes, nt around a full ring (the
+  !! last closes onto the first), each cut by its diagonals into four triangles around a
+  !! centre node at the mean of its corners (nodes numbered after the corners, box order,
+  !! radius fastest). b%vol is the lumped nodal area, a third of each touching triangle's
+  !! area (m^2); supports are the caller's (make_annulus's local spacing).
+  subroutine cst4_annulus(center, r0, r1, t0, t1, nr, nt, b, mesh, err)
+    real(wp), intent(in) :: center(2), r0, r1, t0, t1
+    integer, intent(in) :: nr, nt
+    type(body_t), intent(out) :: b
+    type(cst4_mesh_t), intent(out) :: mesh
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: x(:, :)
+    logical, allocatable :: bnd(:)
+    real(wp) :: xt(2, 3), dn(2, 3), area, alt
+    integer :: nc, nbt, ncen, np, ib, jb, c(4), m, e, box
+    logical :: full
+    call make_annulus(b, center, r0, r1, t0, t1, nr, nt, err)
+    if (allocated(err)) return
+    full = t1 - t0 >= 2.0_wp*pi - 1.0e-12_wp
+    nbt = merge(nt, nt - 1, full)
+    nc = b%np
+    ncen = (nr - 1)*nbt
+    np = nc + ncen
+    mesh%nbox = [nr - 1, nbt]
+    mesh%ncorner = nc
+    mesh%ne = 4*ncen
+    allocate(x(2, np), bnd(np), mesh%tri(3, mesh%ne))
+    x(:, 1:nc) = b%x
+    bnd(1:nc) = b%boundary
+    bnd(nc + 1:np) = .false.
+    do jb = 1, nbt
+      do ib = 1, nr - 1
+        box = ib + (jb - 1)*(nr - 1)
+        ! counter-clockwise: outwards along the radius, then on in the angle
+        c = [corner(ib, jb), corner(ib + 1, jb), corner(ib + 1, jb + 1), corner(ib, jb + 1)]
+        m = nc + box
+        x(:, m) = 0.25_wp*sum(x(:, c), dim=2)
+        e = 4*(box - 1)
+        mesh%tri(:, e + 1) = [c(1), c(2), m]
+        mesh%tri(:, e + 2) = [c(2), c(3), m]
+        mesh%tri(:, e + 3) = [c(3), c(4), m]
+        mesh%tri(:, e + 4) = [c(4), c(1), m]
+      end do
+    end do
+    call move_alloc(x, b%x)
+    call move_alloc(bnd, b%boundary)
+    b%np = np
+    deallocate(b%vol)
+    allocate(b%vol(np))
+    b%vol = 0.0_wp
+    do e = 1, mesh%ne
+      xt = b%x(:, mesh%tri(:, e))
+      call triangle_gradients(xt, area, dn, alt)
+      b%vol(mesh%tri(:, e)) = b%vol(mesh%tri(:, e)) + area/3.0_wp
+    end do
+  contains
+    pure integer function corner(i, j)
+      integer, intent(in) :: i, j
+      corner = i + (modulo(j - 1, nt))*nr
+    end function corner
+  end subroutine cst4_annulus
 
   !> Tables of the total-Lagrangian solid on the triangles of mesh over the nodes of b:
   !! one point per triangle at its centroid; axisym selects r = X1, z = X2 (nodes must lie

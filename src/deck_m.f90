@@ -138,6 +138,9 @@ module deck_m
     !> eq. (93) against a deformable master with the master nodes' masses shared among the
     !! particles that push them (contact_params_t%shared_mass)
     logical :: shared_mass = .false.
+    !> master = slave: self-contact; a point's reference neighbours, within self_radius
+    !! times its largest support, take no part in its det(M) or its gap
+    real(wp) :: self_radius = 2.0_wp
     integer :: imaster = 0, islave = 0
   end type contact_spec_t
 
@@ -931,10 +934,12 @@ contains
         join_names(discretizations)//" (rkpm particles, the default; fem: CST4 elements)", err)
       return
     end if
-    if (s%discretization == 'fem' .and. (s%shape /= 'rectangle' .or. nd /= 2)) then
+    if (s%discretization == 'fem' .and. ((s%shape /= 'rectangle' .and. &
+      s%shape /= 'annulus_sector') .or. nd /= 2)) then
       call bad(deck, grp, 'discretization', "'fem'", "CST4 meshes are generated on a "// &
-        "'rectangle' in 2D (shape = 'rectangle', n = nodes per direction: n - 1 boxes); "// &
-        "use discretization = 'rkpm' for shape '"//trim(s%shape)//"'", err)
+        "'rectangle' or an 'annulus_sector' in 2D (n = nodes per direction: n - 1 boxes, "// &
+        "n(2) around a full ring); use discretization = 'rkpm' for shape '"// &
+        trim(s%shape)//"'", err)
       return
     end if
     if (s%stabilization < 0.0_wp .or. s%stabilization > 10.0_wp) then
@@ -1426,7 +1431,7 @@ contains
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
     character(len=64) :: master, slave
-    real(wp) :: eps_cr, eps_rel, mu, edge_point(3)
+    real(wp) :: eps_cr, eps_rel, mu, edge_point(3), self_radius
     character(len=16) :: detector
     logical :: compare_detectors, skip_far, shared_mass
     integer :: ios, k, j
@@ -1434,7 +1439,7 @@ contains
     type(contact_spec_t) :: dflt, tmp(max_contacts)
     character(len=:), allocatable :: grp
     namelist /contact/ master, slave, eps_cr, eps_rel, mu, edge_point, detector, &
-      compare_detectors, skip_far, shared_mass
+      compare_detectors, skip_far, shared_mass, self_radius
     rewind(u)
     k = 0
     do
@@ -1448,6 +1453,7 @@ contains
       compare_detectors = dflt%compare_detectors
       skip_far = dflt%skip_far
       shared_mass = dflt%shared_mass
+      self_radius = dflt%self_radius
       read(u, nml=contact, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -1464,7 +1470,7 @@ contains
       detector = lower(detector)
       tmp(k) = contact_spec_t(master=master, slave=slave, eps_cr=eps_cr, eps_rel=eps_rel, &
         mu=mu, detector=detector, compare_detectors=compare_detectors, skip_far=skip_far, &
-        shared_mass=shared_mass, edge_point=edge_point)
+        shared_mass=shared_mass, edge_point=edge_point, self_radius=self_radius)
       do j = 1, deck%nbodies
         if (deck%bodies(j)%name == master) tmp(k)%imaster = j
         if (deck%bodies(j)%name == slave) tmp(k)%islave = j
@@ -1475,12 +1481,20 @@ contains
       else if (tmp(k)%islave == 0) then
         call bad(deck, grp, 'slave', "'"//trim(slave)//"'", 'name one of the bodies: '// &
           join_names(deck%bodies%name), err)
-      else if (tmp(k)%imaster == tmp(k)%islave) then
-        call bad(deck, grp, 'slave', "'"//trim(slave)//"'", 'master and slave must be '// &
-          'different bodies', err)
       else if (deck%bodies(tmp(k)%islave)%role /= 'deformable') then
         call bad(deck, grp, 'slave', "'"//trim(slave)//"'", 'the slave must be a '// &
           "deformable body (role = 'deformable')", err)
+      else if (tmp(k)%imaster == tmp(k)%islave .and. detector /= 'det_m') then
+        call bad(deck, grp, 'detector', "'"//trim(detector)//"'", "self-contact (master = "// &
+          "slave) needs 'det_m': a closest-segment search cannot tell a face folded onto "// &
+          "the body from the body's own curved surface, det(M) of the non-neighbours can", err)
+      else if (tmp(k)%imaster == tmp(k)%islave .and. compare_detectors) then
+        call bad(deck, grp, 'compare_detectors', '.true.', 'self-contact (master = slave) '// &
+          'has no node-to-segment detector to compare with; give .false.', err)
+      else if (.not. (self_radius >= 1.0_wp .and. self_radius <= 20.0_wp)) then
+        call bad(deck, grp, 'self_radius', rtoa(self_radius), 'give a multiple of the '// &
+          'support in [1, 20] (default 2): below 1, particles whose support covers a point '// &
+          'in the reference configuration would count as coming into contact with it', err)
       else if (.not. (eps_cr > 0.0_wp)) then
         call bad(deck, grp, 'eps_cr', rtoa(eps_cr), 'give a small positive threshold '// &
           '(paper: 5e-10)', err)
@@ -1757,7 +1771,7 @@ contains
       s = 'body, region_lo, region_hi, component, kind, value'
     case ('contact')
       s = 'master, slave, eps_cr, eps_rel, mu, edge_point, detector, compare_detectors, '// &
-        'skip_far, shared_mass'
+        'skip_far, shared_mass, self_radius'
     case default
       s = ''
     end select
@@ -1867,7 +1881,7 @@ contains
     case ('contact')
       strs = 'master, slave, detector'
       logs = 'compare_detectors, skip_far, shared_mass'
-      reals = 'eps_cr, eps_rel, mu, edge_point(3)'
+      reals = 'eps_cr, eps_rel, mu, edge_point(3), self_radius'
     end select
   end subroutine typed_vars
 

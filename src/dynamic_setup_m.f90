@@ -206,6 +206,8 @@ contains
         prm%compare = cs%compare_detectors
         prm%skip_far = cs%skip_far
         prm%shared_mass = cs%shared_mass
+        prm%self_contact = cs%imaster == cs%islave
+        prm%self_radius = cs%self_radius
         prm%track_edge = cs%edge_point(1) > -huge(1.0_wp)
         if (prm%track_edge) prm%edge_point = cs%edge_point(1:2)
         im = cs%imaster
@@ -239,6 +241,10 @@ contains
           '                                        ', p%compare))//'; segment buckets of ', &
           p%side(2)%buckets%cell, ' m, ', p%side(2)%buckets%nc(1), ' x ', &
           p%side(2)%buckets%nc(2), ' cells'
+        if (p%self) write(output_unit, '(a,i0,a,f5.2,a)') 'contact: self-contact of '''// &
+          trim(p%side(1)%name)//''': ', size(p%side(1)%cand), ' surface particles checked '// &
+          'against det(M) of their non-neighbours (beyond ', deck%contacts(k)%self_radius, &
+          ' supports in the reference configuration), two passes a step'
         if (p%shared_mass .and. p%both_ways) write(output_unit, '(a)') 'contact: eq. (93) '// &
           'with the master nodes'' masses shared among the particles that push them '// &
           '(shared_mass)'

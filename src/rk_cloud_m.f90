@@ -13,7 +13,7 @@ module rk_cloud_m
   implicit none
   private
   public :: rk_cloud_t, cloud_init, cloud_det, cloud_moment, cloud_shape, cloud_count_cover
-  public :: cloud_move
+  public :: cloud_move, cloud_set_reference, cloud_det_excluding, cloud_clearance
 
   type :: rk_cloud_t
     integer :: ndim = 0, np = 0
@@ -26,6 +26,9 @@ module rk_cloud_m
     real(wp), allocatable :: rinv(:, :)  !< 1/rho
     real(wp), allocatable :: vol(:)      !< particle volume (weight Delta V)
     integer, allocatable :: perm(:)      !< bin-order slot -> caller's particle index
+    !> reference positions in bin order (ndim, np), when set (cloud_set_reference): which
+    !! particles are neighbours of a point in the reference configuration (self-contact)
+    real(wp), allocatable :: xr(:, :)
     type(bins_t) :: bins
   end type rk_cloud_t
 
@@ -83,7 +86,7 @@ contains
     type(rk_cloud_t), intent(inout) :: c
     real(wp), intent(in) :: x(:, :)
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: rho(:, :), vol(:)
+    real(wp), allocatable :: rho(:, :), vol(:), xr(:, :)
     real(wp) :: h(3)
     integer :: q, kid, wshape, bid
     allocate(rho(c%ndim, c%np), vol(c%np))
@@ -91,23 +94,49 @@ contains
       rho(:, c%perm(q)) = c%rho(:, q)
       vol(c%perm(q)) = c%vol(q)
     end do
+    if (allocated(c%xr)) then
+      allocate(xr(c%ndim, c%np))
+      do q = 1, c%np
+        xr(:, c%perm(q)) = c%xr(:, q)
+      end do
+    end if
     h = 1.0_wp/c%hinv
     kid = c%kid
     wshape = c%wshape
     bid = c%bid
     call cloud_init(c, x, rho, vol, kid, wshape, bid, h(1:size(x, 1)), err)
+    if (allocated(xr)) call cloud_set_reference(c, xr)
   end subroutine cloud_move
 
-  !> Moment matrix M(p) (full, symmetric) and the number of particles covering p.
-  pure subroutine cloud_moment(c, p, mm, ncover)
+  !> Record the particles' reference positions xr (ndim, np; caller order), kept through
+  !! cloud_move, for cloud_det_excluding.
+  subroutine cloud_set_reference(c, xr)
+    type(rk_cloud_t), intent(inout) :: c
+    real(wp), intent(in) :: xr(:, :)
+    integer :: q
+    if (allocated(c%xr)) deallocate(c%xr)
+    allocate(c%xr(c%ndim, c%np))
+    do q = 1, c%np
+      c%xr(:, q) = xr(:, c%perm(q))
+    end do
+  end subroutine cloud_set_reference
+
+  !> Moment matrix M(p) (full, symmetric) and the number of particles covering p. With xc
+  !! and rex (the cloud's reference positions set), the particles whose reference position
+  !! lies within rex of xc are left out.
+  pure subroutine cloud_moment(c, p, mm, ncover, xc, rex)
     type(rk_cloud_t), intent(in) :: c
     real(wp), intent(in) :: p(:)
     real(wp), intent(out) :: mm(:, :)
     integer, intent(out) :: ncover
+    real(wp), intent(in), optional :: xc(:), rex
     integer :: clo(3), chi(3), i, j, k, cc, q, nd
-    logical :: empty
-    real(wp) :: d(3), pv(mmax), phi
+    logical :: empty, excl
+    real(wp) :: d(3), pv(mmax), phi, rex2
     nd = c%ndim
+    excl = present(xc) .and. present(rex)
+    rex2 = 0.0_wp
+    if (excl) rex2 = rex*rex
     mm(1:c%m, 1:c%m) = 0.0_wp
     ncover = 0
     call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
@@ -119,6 +148,9 @@ contains
           do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
             d(1:nd) = c%x(:, q) - p(1:nd)
             if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
+            if (excl) then
+              if (sum((c%xr(:, q) - xc(1:nd))**2) < rex2) cycle
+            end if
             call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
             if (phi <= 0.0_wp) cycle
             ncover = ncover + 1
@@ -156,6 +188,54 @@ contains
     call chol_small(c%m, mm, ok, singular_pivot)
     if (ok) det = chol_det(c%m, mm)
   end function cloud_det
+
+  !> det(M(p)) assembled only from the particles that are not neighbours, in the reference
+  !! configuration, of the material point at reference position xc: those whose reference
+  !! position lies at rex or more from xc (self-contact, Sections 1 and 7). 0 when fewer
+  !! particles than basis functions remain or the Cholesky factorization fails. Needs the
+  !! reference positions (cloud_set_reference).
+  pure real(wp) function cloud_det_excluding(c, p, xc, rex) result(det)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:), xc(:), rex
+    real(wp) :: mm(mmax, mmax)
+    integer :: ncover
+    logical :: ok
+    call cloud_moment(c, p, mm, ncover, xc, rex)
+    det = 0.0_wp
+    if (ncover < c%m) return
+    call chol_small(c%m, mm, ok, singular_pivot)
+    if (ok) det = chol_det(c%m, mm)
+  end function cloud_det_excluding
+
+  !> How far p is from the support of every particle that is not a reference neighbour of
+  !! xc (reference position at rex or more from xc): the smallest |x_I - p| - |rho_I| over
+  !! them (a support of half-widths rho_I, box or ellipse, lies inside the ball of radius
+  !! |rho_I|), capped at reach (m). No such particle covers p until p and it have moved
+  !! apart-to-together by this much; <= 0 when one may cover p now.
+  pure real(wp) function cloud_clearance(c, p, xc, rex, reach) result(clear)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:), xc(:), rex, reach
+    integer :: clo(3), chi(3), i, j, k, cc, q, nd
+    logical :: empty
+    real(wp) :: r(3), rex2
+    nd = c%ndim
+    clear = reach
+    r(1:nd) = reach + norm2(c%rmax(1:nd))
+    rex2 = rex*rex
+    call bins_cell_block(c%bins, p, r(1:nd), clo, chi, empty)
+    if (empty) return
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
+        do i = clo(1), chi(1)
+          do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
+            if (sum((c%xr(:, q) - xc(1:nd))**2) < rex2) cycle
+            clear = min(clear, norm2(c%x(:, q) - p(1:nd)) - norm2(c%rho(:, q)))
+          end do
+        end do
+      end do
+    end do
+  end function cloud_clearance
 
   !> Hot path for the paper's default (2D, bilinear basis, tensor-product window):
   !! the ten distinct moments summed in registers, then a 4x4 Cholesky.

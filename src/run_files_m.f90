@@ -20,7 +20,7 @@ module run_files_m
   use run_checkpoint_m, only: checkpoint_write
   use dynamic_output_m, only: history_t, history_create, history_flush, snapshot_write, &
     xdmf_write
-  use run_report_m, only: run_record_t, det_fields_out
+  use run_report_m, only: run_record_t, det_fields_out, self_det_out
   use log_m, only: log_print
   use file_system_m, only: remove_file
   implicit none
@@ -153,6 +153,7 @@ contains
       out%nsnap_done = out%nsnap_done + 1
       write(lab, '(i4.4)') out%nsnap_done
       call snapshot_write(out%f, trim(lab), r%t, r%n, solids, err)
+      if (.not. allocated(err)) call self_det_out(out%f, trim(lab), pairs, solids, err)
       if (allocated(err)) return
       if (deck%output%det_fields) call det_fields_out(out%f, trim(lab), pairs, solids, &
         deck%output%det_grid_lo, deck%output%det_grid_hi, deck%output%det_grid_n, err)

@@ -12,6 +12,7 @@ module run_report_m
   use run_health_m, only: energies_t
   use body_measures_m, only: measures_t, body_measures
   use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_det_fields, detector_name, &
+    contact_self_det, &
     detector_det_m
   use hdf5_io_m, only: h5file_t, h5_group, h5_attr, h5_write
   use dynamic_output_m, only: history_names
@@ -19,7 +20,7 @@ module run_report_m
   implicit none
   private
   public :: run_record_t, record_contact, log_header, log_line, history_row, &
-    det_fields_out, report_summary, run_status
+    det_fields_out, report_summary, run_status, self_det_out
 
   !> The running record of a dynamic run.
   type :: run_record_t
@@ -93,6 +94,33 @@ contains
       en%residual, real(r%contact%n_contact, wp), r%contact%force_normal, r%contact%radius, &
       r%contact%pen_after, m%length, m%foot_radius, r%impulse]
   end function history_row
+
+  !> /snapshots/<lab>/<body>/det_self of every self-contact pair's body: det(M) at each
+  !! particle from the particles that are not its reference neighbours (contact_self_det).
+  subroutine self_det_out(f, lab, pairs, solids, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: lab
+    type(contact_pair_t), intent(in) :: pairs(:)
+    type(solid_t), intent(in) :: solids(:)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: det(:)
+    integer :: kp
+    character(len=:), allocatable :: g
+    do kp = 1, size(pairs)
+      if (allocated(err)) return
+      if (.not. pairs(kp)%self) cycle
+      allocate(det(pairs(kp)%side(1)%np))
+      call contact_self_det(pairs(kp), solids, det, err)
+      g = '/snapshots/'//lab//'/'//trim(pairs(kp)%side(1)%name)
+      if (.not. allocated(err)) call h5_write(f, g//'/det_self', det, '1', err, &
+        'det(M) at each particle from the particles that are not its neighbours in the '// &
+        'reference configuration (self-contact of contact'//itoa(kp)//'): above '// &
+        'det_self_threshold where faces of the body meet')
+      if (.not. allocated(err)) call h5_attr(f, g, 'det_self_threshold', &
+        pairs(kp)%side(2)%threshold, err)
+      deallocate(det)
+    end do
+  end subroutine self_det_out
 
   !> /snapshots/<lab>/det/contact<k>: det(M_master), det(M_slave) on the grid lo..hi with
   !! n points and det(M_master) at the slave's nodes.
@@ -230,6 +258,8 @@ contains
         pairs(k)%count%evaluated, pairs(k)%count%detected, pairs(k)%count%contacts], wp), err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)//'_detector', &
         detector_name(pairs(k)%detector), err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)//'_self', &
+        merge(1, 0, pairs(k)%self), err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
         '_detected_max_per_step', real(pairs(k)%count%detected_max, wp), err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
@@ -288,7 +318,7 @@ contains
       if (pairs(k)%side(1)%skip_far) write(output_unit, '(a,i0,a,f5.1,a)') 'summary: '// &
         'contact '//itoa(k)//': skip_far: ', pairs(k)%count%skipped, ' screenings ('// &
         '', 100.0_wp*real(pairs(k)%count%skipped, wp)/real(max(pairs(k)%count%screened, &
-        1_i64), wp), '%) skipped: particles that could not have reached the master''s box'
+        1_i64), wp), '%) skipped: '//skip_reason(pairs(k)%self)
       if (.not. pairs(k)%compare) cycle
       associate (c => pairs(k)%count)
         write(output_unit, '(a,6(i0,a),es10.3,a,es10.3,a)') 'summary: contact '//itoa(k)// &
@@ -317,4 +347,14 @@ contains
     write(output_unit, '(a)') 'summary: wrote '//files
     flush(output_unit)
   end subroutine report_summary
+  !> What the skipped screenings of a pair could not have done.
+  pure function skip_reason(self) result(why)
+    logical, intent(in) :: self
+    character(len=:), allocatable :: why
+    if (self) then
+      why = 'surface particles that no non-neighbour could have reached'
+    else
+      why = 'particles that could not have reached the master''s box'
+    end if
+  end function skip_reason
 end module run_report_m

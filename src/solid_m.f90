@@ -516,6 +516,10 @@ contains
       s%freac(:, i) = merge(s%fint(:, i) - s%fext(:, i), 0.0_wp, s%pres(:, i))
       du = s%d(:, i) - s%d_old(:, i)
       wbc = wbc + 0.5_wp*sum((s%freac_old(:, i) + s%freac(:, i))*du)
+      ! a contact force on a prescribed component is held by the condition: its reaction
+      ! does the opposite work (a driven plate pushing a body supplies what contact
+      ! delivers to the body; w_contact counts both and nets to ~0)
+      wbc = wbc - 0.5_wp*sum(merge(s%fcon(:, i), 0.0_wp, s%pres(:, i))*du)
       s%freac_old(:, i) = s%freac(:, i)
       wc = wc + 0.5_wp*sum(s%fcon(:, i)*du)
       s%ipoint(:, i) = s%ipoint(:, i) + 0.5_wp*dt*s%fpoint(:, i)
