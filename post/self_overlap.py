@@ -63,6 +63,26 @@ def distance_to_segments(loops: List[np.ndarray], pts: np.ndarray) -> np.ndarray
     return d
 
 
+def row_winding(loops: List[np.ndarray], y: float, xs: np.ndarray) -> np.ndarray:
+    """Winding number of the loops at the points (xs, y) of one raster row, xs ascending,
+    by the same crossing rule as winding_number: every edge crossing the row to the right of
+    a point counts +1 going up, -1 going down."""
+    a = np.concatenate([l[:-1] for l in loops])
+    b = np.concatenate([l[1:] for l in loops])
+    up = (a[:, 1] <= y) & (b[:, 1] > y)
+    down = (a[:, 1] > y) & (b[:, 1] <= y)
+    sel = up | down
+    if not sel.any():
+        return np.zeros(xs.size, dtype=int)
+    a, b, sign = a[sel], b[sel], np.where(up[sel], 1, -1)
+    xc = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    order = np.argsort(xc)
+    xc, sign = xc[order], sign[order]
+    # sum of the signs of the crossings at xc > x: a suffix sum
+    suffix = np.concatenate([np.cumsum(sign[::-1])[::-1], [0]])
+    return suffix[np.searchsorted(xc, xs, side="right")]
+
+
 def overlap(loops: List[np.ndarray], step: float) -> Tuple[float, float, np.ndarray]:
     """(overlap area [m^2], overlap depth [m], centres of the doubly covered cells (k, 2))
     of the closed loops on a raster of the given step over their bounding box."""
@@ -71,19 +91,18 @@ def overlap(loops: List[np.ndarray], step: float) -> Tuple[float, float, np.ndar
     hi = allp.max(axis=0) + step
     xs = np.arange(lo[0] + 0.5 * step, hi[0], step)
     ys = np.arange(lo[1] + 0.5 * step, hi[1], step)
-    area = 0.0
-    depth = 0.0
     cells = []
-    for j0 in range(0, ys.size, 64):
-        gx, gy = np.meshgrid(xs, ys[j0:j0 + 64])
-        pts = np.column_stack([gx.ravel(), gy.ravel()])
-        w = winding_number(loops, pts)
-        hit = pts[w >= 2]
-        if hit.size:
-            area += hit.shape[0] * step * step
-            depth = max(depth, 2.0 * float(distance_to_segments(loops, hit).max()))
-            cells.append(hit)
-    return area, depth, (np.concatenate(cells) if cells else np.zeros((0, 2)))
+    for y in ys:
+        w = row_winding(loops, y, xs)
+        if (w >= 2).any():
+            hx = xs[w >= 2]
+            cells.append(np.column_stack([hx, np.full(hx.size, y)]))
+    if not cells:
+        return 0.0, 0.0, np.zeros((0, 2))
+    hit = np.concatenate(cells)
+    area = hit.shape[0] * step * step
+    depth = 2.0 * float(distance_to_segments(loops, hit).max())
+    return area, depth, hit
 
 
 def run_overlap(path: str, body: str | None = None, step_fraction: float = 0.05):

@@ -299,10 +299,10 @@ contains
   !! the power iteration (stable_step_m). Current after solid_internal_force.
   pure real(wp) function solid_step_estimate(s) result(dt)
     type(solid_t), intent(in) :: s
-    if (s%kappa > 0.0_wp) then
+    if (s%kappa > 0.0_wp .and. s%dt_cal < huge(1.0_wp)) then
       dt = s%dt_cal/sqrt(s%kappa)
     else
-      dt = huge(1.0_wp)   ! no integration point: nothing limits the step
+      dt = huge(1.0_wp)   ! no integration point or no free component: nothing limits it
     end if
   end function solid_step_estimate
 

@@ -72,6 +72,9 @@ contains
     end do
     where (tb%pres) x = 0.0_wp
     omega2 = 0.0_wp
+    ! every component prescribed (a driven plate): no free mode limits the step
+    dt = huge(1.0_wp)
+    if (all(tb%pres)) return
     do it = 1, 60
       nrm = sqrt(sum(spread(tb%t%mass, 1, 2)*x*x))
       x = x/nrm
@@ -99,8 +102,11 @@ contains
     type(step_control_t), intent(inout) :: c
     type(solid_t), intent(inout) :: solids(:)
     integer :: k
+    real(wp) :: dtk
     do k = 1, size(solids)
-      solids(k)%dt_cal = critical_step(solids(k))*sqrt(solids(k)%kappa0)
+      dtk = critical_step(solids(k))
+      solids(k)%dt_cal = huge(1.0_wp)
+      if (dtk < huge(1.0_wp)) solids(k)%dt_cal = dtk*sqrt(solids(k)%kappa0)
     end do
     call step_control_update(c, solids)
     c%dtc0 = c%dtc
