@@ -59,6 +59,9 @@ module contact_m
     real(wp) :: buffer_gap_sum = 0.0_wp  !< sum of g over the buffer-zone flags (m)
     real(wp) :: buffer_gap_max = 0.0_wp  !< largest such g: the buffer zone's depth (m)
     real(wp) :: t_detect = 0.0_wp        !< wall time in the pair's detector (s)
+    !> wall time in the pair's whole correction (positions, re-binning, detection, forces,
+    !! spreading; s): its cost against the rest of the step
+    real(wp) :: t_pair = 0.0_wp
   end type contact_counters_t
 
 contains

@@ -44,6 +44,10 @@ module contact_pair_m
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
 
+  !> Self-contact skipping: a step that re-bins the body screens also the surface
+  !! particles due within this many more steps (bench/self_contact.py)
+  integer, parameter :: self_lookahead = 32
+
   !> A pair's parameters (deck group &contact).
   type :: contact_params_t
     real(wp) :: eps_cr = 5.0e-10_wp      !< det(M_master) threshold (paper: 5e-10)
@@ -435,17 +439,27 @@ contains
     real(wp), intent(in) :: dt
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, ndue
+    real(wp) :: step_travel, horizon
     associate (s => p%side(1))
       p%count%screened = p%count%screened + size(s%cand)
       if (s%skip_far) then
+        step_travel = s%travel
         call self_travel(s, solids(s%isolid))
+        step_travel = s%travel - step_travel
+        if (.not. any(s%travel >= s%due(s%cand))) then
+          p%count%skipped = p%count%skipped + size(s%cand)
+          return
+        end if
+        ! a step that re-bins anyway also screens the particles due within the next
+        ! self_lookahead steps (at this step's travel), so that their dues fall together
+        ! and the re-binning is not repeated for one particle every step
+        horizon = s%travel + real(self_lookahead, wp)*step_travel
         ndue = 0
         do k = 1, size(s%cand)
-          s%near(s%cand(k)) = s%travel >= s%due(s%cand(k))
+          s%near(s%cand(k)) = horizon >= s%due(s%cand(k))
           if (s%near(s%cand(k))) ndue = ndue + 1
         end do
         p%count%skipped = p%count%skipped + (size(s%cand) - ndue)
-        if (ndue == 0) return
       end if
     end associate
     p%side(2)%near = p%side(1)%near
@@ -545,8 +559,11 @@ contains
     type(contact_stats_t), intent(out) :: total
     type(error_t), allocatable, intent(inout) :: err
     integer :: k
+    real(wp) :: t0
     do k = 1, size(pairs)
+      t0 = omp_get_wtime()
       call contact_correct(pairs(k), solids, dt, err)
+      pairs(k)%count%t_pair = pairs(k)%count%t_pair + (omp_get_wtime() - t0)
       if (allocated(err)) return
       total%n_contact = total%n_contact + pairs(k)%step%n_contact
       total%force_normal = total%force_normal + pairs(k)%step%force_normal

@@ -208,10 +208,11 @@ contains
   end function cloud_det_excluding
 
   !> How far p is from the support of every particle that is not a reference neighbour of
-  !! xc (reference position at rex or more from xc): the smallest |x_I - p| - |rho_I| over
-  !! them (a support of half-widths rho_I, box or ellipse, lies inside the ball of radius
-  !! |rho_I|), capped at reach (m). No such particle covers p until p and it have moved
-  !! apart-to-together by this much; <= 0 when one may cover p now.
+  !! xc (reference position at rex or more from xc): the smallest max_k (|x_Ik - p_k| -
+  !! rho_Ik) over them (a support of half-widths rho_I, box or ellipse, lies inside the box
+  !! of those half-widths), capped at reach (m). No such particle covers p until p and it
+  !! have moved towards each other by this much in some direction (and so by at least this
+  !! much in distance); <= 0 when one may cover p now.
   pure real(wp) function cloud_clearance(c, p, xc, rex, reach) result(clear)
     type(rk_cloud_t), intent(in) :: c
     real(wp), intent(in) :: p(:), xc(:), rex, reach
@@ -220,7 +221,7 @@ contains
     real(wp) :: r(3), rex2
     nd = c%ndim
     clear = reach
-    r(1:nd) = reach + norm2(c%rmax(1:nd))
+    r(1:nd) = reach + c%rmax(1:nd)
     rex2 = rex*rex
     call bins_cell_block(c%bins, p, r(1:nd), clo, chi, empty)
     if (empty) return
@@ -230,7 +231,7 @@ contains
         do i = clo(1), chi(1)
           do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
             if (sum((c%xr(:, q) - xc(1:nd))**2) < rex2) cycle
-            clear = min(clear, norm2(c%x(:, q) - p(1:nd)) - norm2(c%rho(:, q)))
+            clear = min(clear, maxval(abs(c%x(:, q) - p(1:nd)) - c%rho(:, q)))
           end do
         end do
       end do

@@ -110,6 +110,9 @@ contains
           'buffer-zone gaps since t = 0: sum, largest')
         if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
           '_detect_time', [c%t_detect], 's', err, 'wall time in the detector since t = 0')
+        if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+          '_pair_time', [c%t_pair], 's', err, 'wall time in the pair''s correction since '// &
+          't = 0')
       end associate
       ! skip_far's state, so that a restarted run skips what the uninterrupted one skips
       associate (s => pairs(k)%side(1))
@@ -432,7 +435,7 @@ contains
     type(error_t), allocatable :: e2
     integer, allocatable :: dims(:)
     integer(i64) :: counts(4), more(7), nskip(1)
-    real(wp) :: bgap(2), tdet(1), travel(1)
+    real(wp) :: bgap(2), tdet(1), travel(1), tpair(1)
     integer :: k
     nsnap_done = 0
     allocate(snap_times(0))
@@ -488,6 +491,11 @@ contains
         c%buffer_gap_max = bgap(2)
         c%t_detect = tdet(1)
       end associate
+      ! the pair's wall time (absent from checkpoints written before it)
+      if (h5_has(f, '/contacts/contact'//itoa(k)//'_pair_time')) then
+        call h5_read(f, '/contacts/contact'//itoa(k)//'_pair_time', tpair, err)
+        if (.not. allocated(err)) pairs(k)%count%t_pair = tpair(1)
+      end if
     end do
     if (.not. allocated(err)) call h5_read_attr(f, '/output', 'nsnap_done', nsnap_done, err)
     if (.not. allocated(err)) call h5_shape(f, '/output/snapshot_times', dims, err)

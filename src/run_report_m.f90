@@ -7,7 +7,7 @@ module run_report_m
   use omp_lib, only: omp_get_wtime, omp_get_max_threads
   use kinds_m, only: wp, i64
   use errors_m, only: error_t
-  use strings_m, only: itoa
+  use strings_m, only: itoa, rtoa
   use solid_m, only: solid_t
   use run_health_m, only: energies_t
   use body_measures_m, only: measures_t, body_measures
@@ -267,6 +267,8 @@ contains
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
         '_detect_time', pairs(k)%count%t_detect, err)
       if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
+        '_pair_time', pairs(k)%count%t_pair, err)
+      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
         '_skipped_far', real(pairs(k)%count%skipped, wp), err)
       associate (c => pairs(k)%count)
         if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
@@ -314,7 +316,8 @@ contains
         pairs(k)%count%contacts, ' contact forces'
       write(output_unit, '(a,i0,a,f9.3,a)') 'summary: contact '//itoa(k)//': detector '// &
         detector_name(pairs(k)%detector)//', at most ', pairs(k)%count%detected_max, &
-        ' particles flagged in one step, ', pairs(k)%count%t_detect, ' s in detection'
+        ' particles flagged in one step, ', pairs(k)%count%t_detect, ' s in detection, '// &
+        trim(rtoa(pairs(k)%count%t_pair))//' s in the pair''s whole correction'
       if (pairs(k)%side(1)%skip_far) write(output_unit, '(a,i0,a,f5.1,a)') 'summary: '// &
         'contact '//itoa(k)//': skip_far: ', pairs(k)%count%skipped, ' screenings ('// &
         '', 100.0_wp*real(pairs(k)%count%skipped, wp)/real(max(pairs(k)%count%screened, &
