@@ -14,8 +14,8 @@ friction, adaptive step, the edge particle tracked), with OMP_NUM_THREADS = 1 an
   (numpy array_equal, no tolerance), and its own checkpoints replaced the one it was
   restarted from. The 2-thread deck has overwrite = .false.: the checkpoint given to
   --restart is the one existing file the run may replace.
-Other decks (arguments 3...: deformable master, CST4 elements, a prescribed velocity), one
-thread: the run is restarted from the last checkpoint of the uninterrupted run, taken at
+Other decks (arguments 3...: deformable master, CST4 elements, a prescribed velocity,
+self-contact with its skipping state), one thread: the run is restarted from the last checkpoint of the uninterrupted run, taken at
 about 60% of its steps, and must equal it likewise.
 Refused with exit 2, nothing created: the checkpoint with a deck that differs in one number
 (the message names both files and says 'written by a different deck'); an mfcd output file;
@@ -42,8 +42,9 @@ OTHERS = [os.path.abspath(d) for d in sys.argv[3:]]
 EVERY = 500
 TIMING = {"wall_time", "time_loop_kinematics_material_force_contact_snapshots",
           "particle_steps_per_second", "point_steps_per_second"}
-# per contact pair: contact<k>_detect_time, the wall time in the detector
-TIMING_SUFFIXES = ("_detect_time",)
+# per contact pair: contact<k>_detect_time and contact<k>_pair_time, wall times in the
+# detector and in the pair's whole correction
+TIMING_SUFFIXES = ("_detect_time", "_pair_time")
 results = []
 
 
