@@ -399,16 +399,17 @@ contains
           p%count%skipped)
         cycle
       end if
-      call side_positions(p%side(sd), solids, sd == 2 .or. p%both_ways, need_det(p), &
-        need_nts(p), err)
+      ! only the master's cloud, surface and buckets are needed in this pass
+      call side_positions(p%side(sd), solids, sd == 2, need_det(p), need_nts(p), err)
       if (allocated(err)) return
     end do
     call contact_pass(p, p%side(1), p%side(2), solids, dt, .true., err)
     if (allocated(err)) return
     if (p%both_ways) then
-      ! eq. (28), second condition: the master's particles against the slave
+      ! eq. (28), second condition: the master's particles against the slave, whose
+      ! cloud and surface now move to the corrected positions
       do sd = 1, 2
-        call side_positions(p%side(sd), solids, .true., need_det(p), need_nts(p), err)
+        call side_positions(p%side(sd), solids, sd == 1, need_det(p), need_nts(p), err)
         if (allocated(err)) return
       end do
       call contact_pass(p, p%side(2), p%side(1), solids, dt, .false., err)
