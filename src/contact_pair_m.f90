@@ -551,7 +551,7 @@ contains
   end function detector_name
 
   !> The contact corrections of every pair for the step dt, between the prediction (64) and
-  !! the forces (62), and what they did together: contacts and mean normal force summed,
+  !! the forces (62), and what they did together: contacts, flags and mean normal force summed,
   !! radius and remaining penetration the largest, the tracked edge in contact in any pair.
   subroutine contact_step(pairs, solids, dt, total, err)
     type(contact_pair_t), intent(inout) :: pairs(:)
@@ -567,6 +567,9 @@ contains
       pairs(k)%count%t_pair = pairs(k)%count%t_pair + (omp_get_wtime() - t0)
       if (allocated(err)) return
       total%n_contact = total%n_contact + pairs(k)%step%n_contact
+      total%n_flagged = total%n_flagged + pairs(k)%step%n_flagged
+      total%n_cmp_det = total%n_cmp_det + pairs(k)%step%n_cmp_det
+      total%n_cmp_gap = total%n_cmp_gap + pairs(k)%step%n_cmp_gap
       total%force_normal = total%force_normal + pairs(k)%step%force_normal
       total%radius = max(total%radius, pairs(k)%step%radius)
       total%pen_before = max(total%pen_before, pairs(k)%step%pen_before)
