@@ -818,7 +818,10 @@ contains
   !! flagged (ndet of neval evaluated); the flagged ones get the gap to b's closest segment
   !! within their support whose ends are not reference neighbours either, and those with
   !! g < 0 are marked active with it. lower_only: only a particle numbered below both ends
-  !! of its segment (self_correct).
+  !! of its segment (self_correct's first pass). In the second pass (not lower_only) b's
+  !! active flags are the first pass's: a particle put on the surface there is not taken
+  !! again (its gap is round-off, |g| ~ 1e-17 m; what the reactions leave is caught next
+  !! step), so no particle is counted or pushed twice in a step.
   subroutine detect_self(a, b, lower_only, neval, ndet)
     type(side_t), intent(inout) :: a
     type(side_t), intent(in) :: b
@@ -836,6 +839,9 @@ contains
     do k = 1, size(a%cand)
       j = a%cand(k)
       if (.not. a%near(j)) cycle   ! skipping: no non-neighbour can reach it yet
+      if (.not. lower_only) then
+        if (b%active(j)) cycle     ! put on the surface by the first pass
+      end if
       neval = neval + 1
       det = cloud_det_excluding(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j))
       ! skipping: when it is screened again (pass 1 keeps the schedule): next step if a
