@@ -877,7 +877,7 @@ contains
     type(rk_cloud_t) :: c
     real(wp), allocatable :: x(:, :)
     integer :: j
-    x = p%side(1)%x_ref
+    allocate(x, source=p%side(1)%x_ref)
     call solid_positions(solids(p%side(1)%isolid), at_prediction, x)
     call cloud_init(c, x, p%side(1)%rho, p%side(1)%vol, p%side(1)%kid, p%side(1)%wshape, &
       p%side(1)%bid, p%side(1)%h, err)
