@@ -29,6 +29,13 @@ snapshot, element values:
         s = f.snapshot("0005").bodies["bar"]         # s.epsbar_cells (ne,), s.stress_cells (ne, 4)
         e = cell_field_values(s, "epsbar")           # per element, units as FIELDS
         outline = bar.polylines(x=s.x)[0]            # deformed boundary (k, 2)
+
+A body in self-contact (&contact master = slave) has det_self in each snapshot:
+
+    with MfcdFile("output/ring_crush.h5") as f:
+        name = f.self_contact_bodies()[0]            # 'ring'
+        s = f.snapshot(f.snapshot_labels()[-1]).bodies[name]
+        met = s.det_self > s.det_self_threshold      # particles another face covers
 """
 
 from __future__ import annotations
@@ -495,6 +502,16 @@ class MfcdFile:
                 det_self_threshold=float(decode(gb.attrs["det_self_threshold"]))
                 if "det_self_threshold" in gb.attrs else None)
         return snap
+
+    def self_contact_bodies(self, label: Optional[str] = None) -> List[str]:
+        """Names of the bodies of self-contact pairs (&contact master = slave): those with a
+        det_self dataset in snapshot `label` (default the first snapshot), without reading
+        any array; [] when the run has no snapshots or no self-contact."""
+        labels = self.snapshot_labels()
+        if not labels:
+            return []
+        g = self.h5["snapshots"][label or labels[0]]
+        return [n for n in g.keys() if isinstance(g[n], h5py.Group) and "det_self" in g[n]]
 
     def history(self) -> Dict[str, np.ndarray]:
         """/history columns as arrays (time in s, energies in J or J/m); {} if none."""
