@@ -109,6 +109,14 @@ def run_overlap(path: str, body: str | None = None, step_fraction: float = 0.05)
     """[(label, time, area, depth)] for every snapshot of a body of an mfcd run."""
     out = []
     with MfcdFile(path) as f:
+        if body is None:
+            # the self-contact body, else the only body that has snapshots
+            names = f.self_contact_bodies()
+            if not names and f.snapshot_labels():
+                names = list(f.snapshot(f.snapshot_labels()[0]).bodies)
+            if len(names) != 1:
+                raise SystemExit(f"{path}: give --body, one of {names}")
+            body = names[0]
         b = f.body(body)
         step = step_fraction * float(np.min(np.atleast_1d(b.attrs["spacing"])[:2]))
         for lab in f.snapshot_labels():
@@ -121,7 +129,8 @@ def run_overlap(path: str, body: str | None = None, step_fraction: float = 0.05)
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("file")
-    ap.add_argument("--body", default=None)
+    ap.add_argument("--body", default=None,
+                    help="the body (default: the self-contact body, or the only deformable one)")
     ap.add_argument("--step-fraction", type=float, default=0.05,
                     help="raster step as a fraction of the body's spacing (default 0.05)")
     a = ap.parse_args(argv)
