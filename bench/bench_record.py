@@ -10,8 +10,11 @@ load, command), in one place for the bench/ scripts.
 import datetime
 import os
 import subprocess
+import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# post/mfcd_h5.py, the reader of mfcd's output files, for every bench script
+sys.path.insert(0, os.path.join(ROOT, "post"))
 
 
 def sh(cmd):

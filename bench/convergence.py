@@ -35,6 +35,7 @@ import h5py
 import numpy as np
 
 from bench_record import ROOT, load_row, record_head, write_results
+from mfcd_h5 import MfcdFile
 
 MFCD = os.path.join(ROOT, "build", "bin", "mfcd")
 DECKS = {"RKPM": "taylor_bar_rkpm.nml", "FEM": "taylor_bar_fem_cfl.nml"}
@@ -70,12 +71,11 @@ def run(method, m, threads, tmp):
     if p.returncode != 0:
         res["error"] = (p.stdout + p.stderr)[-600:]
         return res
-    with h5py.File(out, "r") as f:
-        s = f["/summary"].attrs
-        meas = np.ravel(s["bar_length_width_footradius_maxepsbar"])
-        hist = {k: f["/history"][k][()] for k in f["/history"] if
-                isinstance(f["/history"][k], h5py.Dataset)}
-    res.update(L=1e3 * meas[0], Rf=1e3 * meas[2], maxeps=float(meas[3]),
+    with MfcdFile(out) as f:
+        bar = f.summary_bodies()["bar"]
+        hist = f.history()
+    res.update(L=1e3 * bar["length"], Rf=1e3 * bar["foot_radius"],
+               maxeps=float(bar["max_epsbar"]),
                Rc=1e3 * float(np.max(hist["contact_radius"])),
                Wp=float(hist["w_plastic"][-1]), steps=int(hist["step"][-1])
                if "step" in hist else None)

@@ -33,6 +33,10 @@ import time
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                "post"))
+from mfcd_h5 import MfcdFile  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # name: (deck, what it stands for). Add the patch test here when its deck exists.
 CASES = {
@@ -43,7 +47,6 @@ CASES = {
                   "the patch test"),
 }
 DETECTORS = ("det_m", "node_to_segment")
-PHASES = "time_loop_kinematics_material_force_contact_snapshots"
 
 
 def variant(deck, detector, compare, out, tag):
@@ -71,26 +74,25 @@ def run(mfcd, deck, out):
 
 
 def measure(path):
-    with h5py.File(path, "r") as f:
-        s = f["summary"].attrs
-        h = f["history"]
-        steps = int(s["steps"])
-        ph = s[PHASES]
-        cnt = s["contact1_counts_screened_evaluated_detected_contacts"]
-        cmp_ = s["contact1_compare_det_gap_buffer_missed_detmax_gapmax"]
-        gap = s["contact1_buffer_gap_mean_max"]
-        deck = f["deck"][()].decode() if isinstance(f["deck"][()], bytes) else str(f["deck"][()])
-        slave = re.search(r"slave\s*=\s*'([^']+)'", deck).group(1)
-        dx = float(min(f[f"bodies/{slave}"].attrs["spacing"][:2]))
+    with MfcdFile(path) as f:
+        s = f.summary
+        h = f.history()
+        ph = f.summary_timing
+        c = f.summary_contacts()[1]
+        deck = f.deck
+        slave = c["slave"]
+        dx = float(min(np.atleast_1d(f.body(slave).attrs["spacing"])[:2]))
         t, n, fc = h["time"][:], h["n_contact"][:], h["f_contact"][:]
-        r = {"steps": steps, "t_loop": ph[0], "t_contact": ph[4],
-             "t_detect": float(s["contact1_detect_time"][0]),
-             "evaluated": cnt[1], "flagged": cnt[2], "contacts": cnt[3],
-             "flag_max": float(s["contact1_detected_max_per_step"][0]),
-             "cmp": cmp_, "gap_mean": gap[0], "gap_max": gap[1], "dx": dx,
-             "residual": float(s["energy_residual"][0] / s["energy_scale"][0]),
+        cmp_ = [c[k] for k in ("compare_det", "compare_gap", "compare_buffer", "compare_missed",
+                               "compare_det_max", "compare_gap_max")]
+        r = {"steps": int(s["steps"]), "t_loop": ph["time_loop"], "t_contact": ph["contact"],
+             "t_detect": float(c["detect_time"]),
+             "evaluated": c["evaluated"], "flagged": c["detected"], "contacts": c["contacts"],
+             "flag_max": float(c["detected_max_per_step"]),
+             "cmp": cmp_, "gap_mean": c["buffer_gap_mean"], "gap_max": c["buffer_gap_max"],
+             "dx": dx, "residual": float(s["energy_residual"] / s["energy_scale"]),
              "length0": h["length"][0], "length": h["length"][-1],
-             "foot": float(s[f"{slave}_length_width_footradius_maxepsbar"][2]),
+             "foot": float(f.summary_bodies()[slave]["foot_radius"]),
              "impulse": h["impulse"][-1] if "impulse" in h else np.nan}
         on = np.nonzero(n > 0)[0]
         r["stress"] = np.nan

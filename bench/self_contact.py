@@ -5,7 +5,7 @@ skipping on (&contact skip_far, the default) and off, and its control without th
     .venv/bin/python bench/self_contact.py [--threads 1] [--cases c_shape_fold,ring_crush,...]
 
 Per run, from the log's summary and /summary: steps, wall time of the time loop, the
-self-contact pair's own wall time (contact<k>_pair_time: positions, re-binning, det(M) of
+self-contact pair's own wall time (/summary/contacts/contact<k> pair_time: positions, re-binning, det(M) of
 the non-neighbours, gaps, forces), its cost relative to the rest of the step
 (t_pair / (t_loop - t_pair)), microseconds per step and nanoseconds per surface-particle
 step, the share of surface-particle screenings skipped, and the same-run ratio of the loop
@@ -22,14 +22,11 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
 import numpy as np
 
 from bench_record import ROOT, load_row, record_head, write_results
-
-sys.path.insert(0, os.path.join(ROOT, "post"))
-from self_overlap import overlap  # noqa: E402
-from mfcd_h5 import MfcdFile  # noqa: E402
+from self_overlap import overlap
+from mfcd_h5 import MfcdFile
 
 MFCD = os.path.join(ROOT, "build", "bin", "mfcd")
 CASES = {"c_shape_fold": "c", "ring_crush": "ring", "torus_crush": "torus",
@@ -52,18 +49,15 @@ def run(tmp, deck, label, threads, skip=True):
         sys.exit("bench/self_contact.py: %s failed:\n%s" % (label, p.stdout[-1500:] + p.stderr))
     h5 = os.path.join(tmp, "out", label + ".h5")
     out = {"loop": float(LOOP.search(p.stdout).group(1)), "h5": h5}
-    with h5py.File(h5, "r") as f:
-        s = f["/summary"].attrs
-        out["steps"] = int(np.ravel(s["steps"])[0])
+    with MfcdFile(h5) as f:
+        out["steps"] = int(f.summary["steps"])
         out["t_pair"] = 0.0
-        for key in s:
-            m = re.fullmatch(r"contact(\d+)_self", key)
-            if m and int(np.ravel(s[key])[0]) == 1:
-                k = m.group(1)
-                c = np.ravel(s["contact%s_counts_screened_evaluated_detected_contacts" % k])
-                out.update(t_pair=float(np.ravel(s["contact%s_pair_time" % k])[0]),
-                           screened=c[0], evaluated=c[1], contacts=c[3],
-                           skipped=float(np.ravel(s["contact%s_skipped_far" % k])[0]))
+        k = f.self_contact_pair()
+        if k is not None:
+            c = f.summary_contacts()[k]
+            out.update(t_pair=float(c["pair_time"]), screened=c["screened"],
+                       evaluated=c["evaluated"], contacts=c["contacts"],
+                       skipped=float(c["skipped_far"]))
     return out
 
 

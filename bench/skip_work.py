@@ -23,6 +23,7 @@ import tempfile
 import h5py
 
 from bench_record import ROOT, load_row, record_head, write_results
+from mfcd_h5 import MfcdFile
 
 MFCD = os.path.join(ROOT, "build", "bin", "mfcd")
 CASES = {"paper": "taylor_bar_rkpm.nml", "coarse": "taylor_bar_rkpm_coarse.nml",
@@ -76,14 +77,13 @@ def main():
                     sys.exit("run failed: %s\n%s" % (deck, p.stdout[-2000:] + p.stderr))
                 tl = float(m.group(1))
                 shares = [float(m.group(i)) for i in range(2, 6)]
-                with h5py.File(out, "r") as f:
-                    s = f["/summary"].attrs
-                    meas = s["bar_length_width_footradius_maxepsbar"]
-                    far = float(s["contact1_skipped_far"].ravel()[0])
-                    quiet = float(s["bar_quiet_point_steps_skipped"].ravel()[0])
+                with MfcdFile(out) as f:
+                    bar = f.summary_bodies()["bar"]
+                    far = float(f.summary_contacts()[1]["skipped_far"])
+                    quiet = float(bar["quiet_point_steps_skipped"])
                 row = "| %s | %s | %.2f | %.2f | %.2f | %.3g | %.3g | %.4f | %.4f | %.4f |" % (
                     case, name, tl, tl*shares[3]/100, tl*sum(shares[:3])/100, far, quiet,
-                    1e3*meas[0], 1e3*meas[2], meas[3])
+                    1e3*bar["length"], 1e3*bar["foot_radius"], bar["max_epsbar"])
                 lines.append(row)
                 print(row, flush=True)
     lines.append("")

@@ -221,9 +221,12 @@ def finite_output(f):
     for key in f.get("history", {}):
         if not np.all(np.isfinite(f["history"][key][:])):
             return False
-    for v in f["summary"].attrs.values():
-        if isinstance(v, np.ndarray) and v.dtype.kind == "f" and not np.all(np.isfinite(v)):
-            return False
+    groups = [f["summary"]]
+    f["summary"].visit(lambda k: groups.append(f["summary"][k]))
+    for g in groups:
+        for v in g.attrs.values():
+            if isinstance(v, np.ndarray) and v.dtype.kind == "f" and not np.all(np.isfinite(v)):
+                return False
     snaps = sorted(k for k in f.get("snapshots", {}) if k != "failure")
     if snaps:
         for body in f["snapshots"][snaps[-1]].values():
@@ -266,12 +269,14 @@ def stress_run(part, deckname, text, param, label, **extra):
         if "energy_residual" in a and a["energy_scale"][0] > 0:
             rec["residual"] = float(a["energy_residual"][0] / a["energy_scale"][0])
         rec["penetration"] = first("max_remaining_penetration")
-        if "bar_length_width_footradius_maxepsbar" in a:
-            ext = a["bar_length_width_footradius_maxepsbar"]
-            rec["length"], rec["foot"], rec["epsbar"] = float(ext[0]), float(ext[2]), float(ext[3])
-        if "contact1_counts_screened_evaluated_detected_contacts" in a:
-            counts = a["contact1_counts_screened_evaluated_detected_contacts"]
-            rec["counts"] = [float(c) for c in counts]
+        if "bodies/bar" in f["summary"]:
+            b = f["summary/bodies/bar"].attrs
+            rec["length"], rec["foot"], rec["epsbar"] = (float(b[k][0]) for k in (
+                "length", "foot_radius", "max_epsbar"))
+        if "contacts/contact1" in f["summary"]:
+            c = f["summary/contacts/contact1"].attrs
+            rec["counts"] = [float(c[k][0]) for k in ("screened", "evaluated", "detected",
+                                                      "contacts")]
     if p.returncode == 0:
         if f is not None and "summary" in f and finite_output(f):
             rec["outcome"] = "completed"

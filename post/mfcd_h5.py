@@ -49,7 +49,7 @@ import numpy as np
 
 __all__ = ["decode", "decode_attrs", "Body", "QuerySet", "MfcdFile", "open_run",
            "SnapshotBody", "Snapshot", "parse_deck", "deck_group", "FIELDS", "field_values",
-           "CELL_FIELDS", "cell_field_values"]
+           "CELL_FIELDS", "cell_field_values", "is_timing", "TIMING_VALUES"]
 
 QUERY_KINDS = ("line", "grid", "points")
 
@@ -526,12 +526,98 @@ class MfcdFile:
 
     @property
     def summary(self) -> Dict[str, object]:
-        """Attributes of /summary (status, steps, time, energy_residual, ...)."""
-        return decode_attrs(self.h5["summary"]) if "summary" in self.h5 else {}
+        """The run's values in /summary (status, steps, time, energy_residual, ...), numbers
+        as float / int, strings as str; {} before the run has ended. Units:
+        summary_units()."""
+        return self._summary_group("summary")[0]
+
+    def summary_units(self, group: str = "") -> Dict[str, str]:
+        """The unit of each number in /summary (group ''), or in one of its groups
+        ('timing', 'bodies/<name>', 'contacts/contact<k>'): {name: unit}."""
+        return self._summary_group("summary/" + group if group else "summary")[1]
+
+    @property
+    def summary_timing(self) -> Dict[str, float]:
+        """/summary/timing: wall time of the time loop and of its parts (s): time_loop,
+        kinematics, material, internal_force, contact, snapshots."""
+        return self._summary_group("summary/timing")[0]
+
+    def summary_bodies(self) -> Dict[str, Dict[str, object]]:
+        """/summary/bodies: per deformable body at the end of the run, {name: {length,
+        width, foot_radius (m), max_epsbar, quiet_point_steps_skipped}}."""
+        if "summary/bodies" not in self.h5:
+            return {}
+        return {n: self._summary_group("summary/bodies/" + n)[0]
+                for n in self.h5["summary/bodies"].keys()}
+
+    def summary_contacts(self) -> Dict[int, Dict[str, object]]:
+        """/summary/contacts: per &contact group k (1-based, deck order), {k: {master,
+        slave, detector, self, screened, evaluated, detected, contacts, skipped_far,
+        detect_time, pair_time, ...}} (doc/output.md lists them with their units)."""
+        if "summary/contacts" not in self.h5:
+            return {}
+        out = {}
+        for n in self.h5["summary/contacts"].keys():
+            out[int(n[len("contact"):])] = self._summary_group("summary/contacts/" + n)[0]
+        return dict(sorted(out.items()))
+
+    def summary_flat(self) -> Dict[str, object]:
+        """Every value of /summary keyed by its path below /summary: 'steps',
+        'timing/contact', 'bodies/bar/length', 'contacts/contact1/screened', ... (to
+        compare two runs value by value; is_timing() tells the wall-clock ones)."""
+        out = dict(self.summary)
+        if "summary" not in self.h5:
+            return out
+        groups = []
+        self.h5["summary"].visit(lambda k: groups.append(k)
+                                 if isinstance(self.h5["summary"][k], h5py.Group) else None)
+        for g in groups:
+            for k, v in self._summary_group("summary/" + g)[0].items():
+                out[g + "/" + k] = v
+        return out
+
+    def self_contact_pair(self) -> Optional[int]:
+        """The number k of the run's self-contact pair (master = slave), None if it has
+        none (the first, if it has several)."""
+        for k, c in self.summary_contacts().items():
+            if int(c.get("self", 0)) == 1:
+                return k
+        return None
+
+    def _summary_group(self, path: str):
+        """(values, units) of a /summary group: its attributes decoded, 1-element numbers
+        as scalars, the 'units' attribute parsed into {name: unit}."""
+        if path not in self.h5:
+            return {}, {}
+        vals = {}
+        units: Dict[str, str] = {}
+        for k, v in decode_attrs(self.h5[path]).items():
+            if k == "units":
+                for item in str(v).split(";"):
+                    if "=" in item:
+                        name, unit = item.split("=", 1)
+                        units[name.strip()] = unit.strip()
+                continue
+            if isinstance(v, np.ndarray) and v.size == 1:
+                v = v.reshape(()).item()
+            vals[k] = v
+        return vals, units
 
     def deck_groups(self) -> List[tuple]:
         """The stored deck parsed by parse_deck."""
         return parse_deck(self.deck)
+
+
+#: /summary values that are wall-clock measurements (they differ between identical runs)
+TIMING_VALUES = ("wall_time", "particle_steps_per_second", "point_steps_per_second")
+
+
+def is_timing(key: str) -> bool:
+    """True for a summary_flat() key that is a wall-clock measurement: wall_time, the
+    throughputs, everything in /summary/timing, and each contact pair's detect_time and
+    pair_time."""
+    return (key in TIMING_VALUES or key.startswith("timing/")
+            or (key.startswith("contacts/") and key.endswith(("/detect_time", "/pair_time"))))
 
 
 def open_run(path: str) -> MfcdFile:

@@ -207,85 +207,95 @@ contains
     integer :: k
     real(wp) :: wall, rate, sh(3), tl
     type(measures_t) :: m
+    character(len=:), allocatable :: g, units, eunit
+    ! energies per unit thickness in plane strain, of the whole revolution in axisymmetry
+    eunit = 'J/m'
+    if (size(solids) > 0) then
+      if (solids(1)%t%axisym) eunit = 'J'
+    end if
     wall = omp_get_wtime() - r%wall0
     tl = max(r%t_loop, 1.0e-9_wp)
     rate = real(r%node_steps, wp)/tl
     sh = time_shares(r, solids)
+    ! /summary: one named attribute per value, and in each group an attribute 'units'
+    ! ("name=unit; ...") that gives every value's unit (doc/output.md)
     call h5_group(f, '/summary', err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'status', run_status(r), err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'failure', r%reason, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'steps', r%n, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'time', r%t, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt', r%dt, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_min', r%step%dt_min, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_max', r%step%dt_max, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_min_time', r%step%t_dt_min, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_adaptive', &
-      merge(1, 0, r%step%adaptive), err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical', r%step%dtc0, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical_min', &
-      r%step%dtc_min, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_critical_min_at', &
-      step_limit_text(r%step, solids, .true.), err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'dt_fixed_over_critical_steps', &
-      r%step%n_over, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'wall_time', wall, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', &
-      'time_loop_kinematics_material_force_contact_snapshots', [r%t_loop, sh, &
-      r%t_contact, r%t_output], err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'threads', omp_get_max_threads(), &
-      err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'particle_steps_per_second', rate, &
-      err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'point_steps_per_second', &
-      real(r%point_steps, wp)/tl, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'energy_residual', en%residual, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'energy_scale', en%scale, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'kinetic_energy', en%ke, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'internal_work', en%w_int, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'plastic_dissipation', &
-      en%w_plastic, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact_work', en%w_contact, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'max_remaining_penetration', &
-      r%pen_max, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'edge_first_contact_time', &
-      r%t_edge_first, err)
-    if (.not. allocated(err)) call h5_attr(f, '/summary', 'edge_separation_time', &
-      r%t_edge_sep, err)
+    g = '/summary'
+    units = ''
+    call put_s('status', run_status(r))
+    call put_s('failure', r%reason)
+    call put_i('steps', r%n, '1')
+    call put_r('time', r%t, 's')
+    call put_r('dt', r%dt, 's')
+    call put_r('dt_min', r%step%dt_min, 's')
+    call put_r('dt_max', r%step%dt_max, 's')
+    call put_r('dt_min_time', r%step%t_dt_min, 's')
+    call put_i('dt_adaptive', merge(1, 0, r%step%adaptive), '1')
+    call put_r('dt_critical', r%step%dtc0, 's')
+    call put_r('dt_critical_min', r%step%dtc_min, 's')
+    call put_s('dt_critical_min_at', step_limit_text(r%step, solids, .true.))
+    call put_i('dt_fixed_over_critical_steps', r%step%n_over, '1')
+    call put_r('wall_time', wall, 's')
+    call put_i('threads', omp_get_max_threads(), '1')
+    call put_r('particle_steps_per_second', rate, '1/s')
+    call put_r('point_steps_per_second', real(r%point_steps, wp)/tl, '1/s')
+    call put_r('energy_residual', en%residual, eunit)
+    call put_r('energy_scale', en%scale, eunit)
+    call put_r('kinetic_energy', en%ke, eunit)
+    call put_r('internal_work', en%w_int, eunit)
+    call put_r('plastic_dissipation', en%w_plastic, eunit)
+    call put_r('contact_work', en%w_contact, eunit)
+    call put_r('max_remaining_penetration', r%pen_max, 'm')
+    call put_r('edge_first_contact_time', r%t_edge_first, 's')
+    call put_r('edge_separation_time', r%t_edge_sep, 's')
+    call close_group()
+    ! where the time loop's wall time went
+    call open_group('/summary/timing')
+    call put_r('time_loop', r%t_loop, 's')
+    call put_r('kinematics', sh(1), 's')
+    call put_r('material', sh(2), 's')
+    call put_r('internal_force', sh(3), 's')
+    call put_r('contact', r%t_contact, 's')
+    call put_r('snapshots', r%t_output, 's')
+    call close_group()
+    if (.not. allocated(err)) call h5_group(f, '/summary/contacts', err)
     do k = 1, size(pairs)
-      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
-        '_counts_screened_evaluated_detected_contacts', real([pairs(k)%count%screened, &
-        pairs(k)%count%evaluated, pairs(k)%count%detected, pairs(k)%count%contacts], wp), err)
-      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)//'_detector', &
-        detector_name(pairs(k)%detector), err)
-      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)//'_self', &
-        merge(1, 0, pairs(k)%self), err)
-      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
-        '_detected_max_per_step', real(pairs(k)%count%detected_max, wp), err)
-      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
-        '_compare_detectors', merge(1, 0, pairs(k)%compare), err)
-      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
-        '_detect_time', pairs(k)%count%t_detect, err)
-      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
-        '_pair_time', pairs(k)%count%t_pair, err)
-      if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
-        '_skipped_far', real(pairs(k)%count%skipped, wp), err)
-      associate (c => pairs(k)%count)
-        if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
-          '_compare_det_gap_buffer_missed_detmax_gapmax', real([c%cmp_det, c%cmp_gap, &
-          c%cmp_buffer, c%cmp_missed, c%cmp_det_max, c%cmp_gap_max], wp), err)
-        if (.not. allocated(err)) call h5_attr(f, '/summary', 'contact'//itoa(k)// &
-          '_buffer_gap_mean_max', [c%buffer_gap_sum/real(max(c%cmp_buffer, 1_i64), wp), &
-          c%buffer_gap_max], err)
+      call open_group('/summary/contacts/contact'//itoa(k))
+      associate (p => pairs(k), c => pairs(k)%count)
+        call put_s('master', trim(p%side(2)%name))
+        call put_s('slave', trim(p%side(1)%name))
+        call put_s('detector', detector_name(p%detector))
+        call put_i('self', merge(1, 0, p%self), '1')
+        call put_i('compare_detectors', merge(1, 0, p%compare), '1')
+        call put_r('screened', real(c%screened, wp), '1')
+        call put_r('evaluated', real(c%evaluated, wp), '1')
+        call put_r('detected', real(c%detected, wp), '1')
+        call put_r('contacts', real(c%contacts, wp), '1')
+        call put_r('detected_max_per_step', real(c%detected_max, wp), '1')
+        call put_r('skipped_far', real(c%skipped, wp), '1')
+        call put_r('detect_time', c%t_detect, 's')
+        call put_r('pair_time', c%t_pair, 's')
+        call put_r('compare_det', real(c%cmp_det, wp), '1')
+        call put_r('compare_gap', real(c%cmp_gap, wp), '1')
+        call put_r('compare_buffer', real(c%cmp_buffer, wp), '1')
+        call put_r('compare_missed', real(c%cmp_missed, wp), '1')
+        call put_r('compare_det_max', real(c%cmp_det_max, wp), '1')
+        call put_r('compare_gap_max', real(c%cmp_gap_max, wp), '1')
+        call put_r('buffer_gap_mean', c%buffer_gap_sum/real(max(c%cmp_buffer, 1_i64), wp), 'm')
+        call put_r('buffer_gap_max', c%buffer_gap_max, 'm')
       end associate
+      call close_group()
     end do
+    if (.not. allocated(err)) call h5_group(f, '/summary/bodies', err)
     do k = 1, size(solids)
       m = body_measures(solids(k))
-      if (.not. allocated(err)) call h5_attr(f, '/summary', trim(solids(k)%name)// &
-        '_length_width_footradius_maxepsbar', [m%length, m%width, m%foot_radius, &
-        m%max_epsbar], err)
-      if (.not. allocated(err)) call h5_attr(f, '/summary', trim(solids(k)%name)// &
-        '_quiet_point_steps_skipped', real(solids(k)%quiet_skipped, wp), err)
+      call open_group('/summary/bodies/'//trim(solids(k)%name))
+      call put_r('length', m%length, 'm')
+      call put_r('width', m%width, 'm')
+      call put_r('foot_radius', m%foot_radius, 'm')
+      call put_r('max_epsbar', m%max_epsbar, '1')
+      call put_r('quiet_point_steps_skipped', real(solids(k)%quiet_skipped, wp), '1')
+      call close_group()
     end do
     write(output_unit, '(a,i0,a,es12.5,a,f9.2,a,f7.2,a,es10.3,a,es10.3,a)') 'summary: ', &
       r%n, ' steps to t = ', r%t, ' s in ', wall, ' s wall (set-up ', wall - r%t_loop, &
@@ -349,6 +359,38 @@ contains
       100.0_wp*(1.0_wp - sum(sh) - (r%t_contact + r%t_output)/tl), '%'
     write(output_unit, '(a)') 'summary: wrote '//files
     flush(output_unit)
+  contains
+    subroutine open_group(path)
+      character(len=*), intent(in) :: path
+      g = path
+      units = ''
+      if (.not. allocated(err)) call h5_group(f, g, err)
+    end subroutine open_group
+    !> The group's 'units' attribute: "name=unit; ..." for every numeric value in it.
+    subroutine close_group()
+      if (.not. allocated(err)) call h5_attr(f, g, 'units', units, err)
+    end subroutine close_group
+    subroutine note_unit(name, unit)
+      character(len=*), intent(in) :: name, unit
+      if (len(units) > 0) units = units//'; '
+      units = units//name//'='//unit
+    end subroutine note_unit
+    subroutine put_r(name, val, unit)
+      character(len=*), intent(in) :: name, unit
+      real(wp), intent(in) :: val
+      if (.not. allocated(err)) call h5_attr(f, g, name, val, err)
+      call note_unit(name, unit)
+    end subroutine put_r
+    subroutine put_i(name, val, unit)
+      character(len=*), intent(in) :: name, unit
+      integer, intent(in) :: val
+      if (.not. allocated(err)) call h5_attr(f, g, name, val, err)
+      call note_unit(name, unit)
+    end subroutine put_i
+    subroutine put_s(name, val)
+      character(len=*), intent(in) :: name, val
+      if (.not. allocated(err)) call h5_attr(f, g, name, val, err)
+    end subroutine put_s
   end subroutine report_summary
   !> What the skipped screenings of a pair could not have done.
   pure function skip_reason(self) result(why)

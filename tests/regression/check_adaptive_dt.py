@@ -25,6 +25,9 @@ import tempfile
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "post"))
+from mfcd_h5 import MfcdFile  # noqa: E402
+
 MFCD = os.path.abspath(sys.argv[1])
 DECKS = [os.path.abspath(d) for d in sys.argv[2:5]]
 CFL = 0.5
@@ -59,8 +62,9 @@ def run(deck):
           over <= 1e-12, over)
     rel = s["energy_residual"][0] / s["energy_scale"][0]
     check(f"{name}: energy residual {rel:+.2e} of scale < 1%", abs(rel) < 0.01, rel)
-    m = s["bar_length_width_footradius_maxepsbar"]
-    return m[0], m[2]
+    with MfcdFile(os.path.join(work, out)) as mf:
+        bar = mf.summary_bodies()["bar"]
+    return bar["length"], bar["foot_radius"]
 
 
 def main():

@@ -63,15 +63,14 @@ def run(mfcd, tmp, src):
     return name, os.path.join(tmp, "out", name + ".h5")
 
 
-def self_pair(summary):
-    """(k, counts) of the run's self-contact pair: contact<k>_self = 1."""
-    for key, val in summary.items():
-        m = re.fullmatch(r"contact(\d+)_self", key)
-        if m and int(np.ravel(val)[0]) == 1:
-            k = m.group(1)
-            return k, np.ravel(summary["contact%s_counts_screened_evaluated_detected_contacts"
-                                       % k])
-    return None, None
+def self_pair(f):
+    """(k, [screened, evaluated, detected, contacts]) of the run's self-contact pair
+    (/summary/contacts/contact<k> with self = 1), (None, None) without one."""
+    k = f.self_contact_pair()
+    if k is None:
+        return None, None
+    c = f.summary_contacts()[k]
+    return k, np.array([c[n] for n in ("screened", "evaluated", "detected", "contacts")])
 
 
 def self_body(f):
@@ -83,15 +82,16 @@ def self_body(f):
 
 
 def energy_ok(name, summary):
-    res = float(np.ravel(summary["energy_residual"])[0])
-    scale = float(np.ravel(summary["energy_scale"])[0])
+    res = float(summary["energy_residual"])
+    scale = float(summary["energy_scale"])
     check(name + ": energy balance closes (|residual|/scale %.2e < %g)"
           % (abs(res) / scale, ENERGY_TOL), abs(res) <= ENERGY_TOL * scale)
 
 
 def depths(path, name=None):
     """Overlap depth at every snapshot (m) of the body name (default: the self-contact
-    body), its support radius (m), its name and the run's summary."""
+    body), its support radius (m), its name, the run's summary and its self-contact pair
+    (self_pair)."""
     with MfcdFile(path) as f:
         name = name or self_body(f)
         b = f.body(name)
@@ -103,7 +103,7 @@ def depths(path, name=None):
                 continue
             _, d, _ = overlap(b.polylines(x=f.snapshot(lab).bodies[name].x), step)
             out.append(d)
-        return np.array(out), rho, name, f.summary
+        return np.array(out), rho, name, f.summary, self_pair(f)
 
 
 def folding_case(mfcd, tmp, with_deck, free_deck):
@@ -111,8 +111,7 @@ def folding_case(mfcd, tmp, with_deck, free_deck):
     name_free, path_free = run(mfcd, tmp, free_deck)
     if not (os.path.exists(path) and os.path.exists(path_free)):
         return
-    d, rho, body, summary = depths(path)
-    k, counts = self_pair(summary)
+    d, rho, body, summary, (k, counts) = depths(path)
     check(name + ": has a self-contact pair", k is not None)
     if k is not None:
         check(name + ": self-contact forces applied (%d)" % counts[3], counts[3] > 0)
@@ -120,8 +119,7 @@ def folding_case(mfcd, tmp, with_deck, free_deck):
           "%.3f support)" % (TOL_DEPTH, 1e3 * d.max(), d.max() / rho),
           d.max() <= TOL_DEPTH * rho, d)
     energy_ok(name, summary)
-    d_free, rho_free, _, summary_free = depths(path_free, body)
-    k_free, _ = self_pair(summary_free)
+    d_free, rho_free, _, summary_free, (k_free, _) = depths(path_free, body)
     check(name_free + ": no self-contact pair", k_free is None)
     check(name_free + ": passes through itself (overlap depth %.3f mm = %.2f support > %.2f)"
           % (1e3 * d_free[-1], d_free[-1] / rho_free, 2 * TOL_DEPTH),
@@ -135,11 +133,11 @@ def bent_case(mfcd, tmp, deck):
         return
     with MfcdFile(path) as f:
         summary = f.summary
+        k, counts = self_pair(f)
         body = self_body(f)
         last = f.snapshot(f.snapshot_labels()[-1]).bodies[body]
         sweep = float(np.max(np.abs(last.u[:, 1])))
         epsmax = float(np.max(last.epsbar))
-    k, counts = self_pair(summary)
     check(name + ": has a self-contact pair", k is not None)
     check(name + ": bent hard (max epsbar %.2f > 0.3, end swept %.1f mm > 30)"
           % (epsmax, 1e3 * sweep), epsmax > 0.3 and sweep > 0.030)
