@@ -24,6 +24,13 @@ module body_m
     !! off the lattice points (&body perturbation): the cells, and so the volumes and the SCNI
     !! smoothing domains, stay the lattice's. Unallocated: every cell is centred on its particle
     real(wp), allocatable :: cell_centre(:, :)
+    !> Lattice cells merged into particle cells (polygon bodies, make_polygon): the cells of
+    !! lattice points outside the polygon that still hold part of it. Particle i's cell is its
+    !! own lattice cell plus the lattice cells centred at merged_centre(:, merged_ptr(i) :
+    !! merged_ptr(i+1)-1), each clipped by the polygon; its volume is their total area, so the
+    !! cells tile the body. Unallocated: no cell is merged (every other shape)
+    integer, allocatable :: merged_ptr(:)
+    real(wp), allocatable :: merged_centre(:, :)
     !> Boundary polylines in CSR form: loop k is loop_idx(loop_ptr(k) : loop_ptr(k+1)-1),
     !! counter-clockwise (outward normal = e3 x t on the right of the walking direction).
     integer :: nloops = 0

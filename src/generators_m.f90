@@ -83,15 +83,29 @@ contains
   end subroutine make_rectangle
 
   !> Lattice points origin + (i dx, j dy) inside or on the polygon v(2, nv).
+  !! A particle's cell is its lattice cell clipped by the polygon. The lattice cells whose
+  !! point lies outside the polygon but which still hold part of it (orphan pieces, along
+  !! the outline) are merged into a particle's cell (b%merged_ptr, b%merged_centre): so the
+  !! cells tile the polygon, and the volumes sum to its area to round-off. Each orphan piece
+  !! goes to the neighbouring cell (left, right, below, above) with which it shares the
+  !! longest stretch of lattice line inside the polygon, taken among the cells that already
+  !! have a particle: first the cells of the particles themselves, then, in further rounds,
+  !! the orphan pieces merged in the round before (a piece whose neighbours are all orphans,
+  !! as near an acute vertex, reaches a particle through them). A piece with no such
+  !! neighbour (none is known for a simple polygon) goes to the particle nearest its lattice
+  !! point. The merged cell is a union of clipped lattice cells, each a polygon: SCNI and
+  !! Gauss integration (rkpm_tl_m) integrate over each piece and add, so the lines the
+  !! pieces share cancel and each cell's boundary integral is over its true boundary.
+  !! Boundary flags and the boundary polyline come from the particle's own clipped cell.
   subroutine make_polygon(b, v_in, dx, origin, err)
     type(body_t), intent(out) :: b
     real(wp), intent(in) :: v_in(:, :), dx(2), origin(2)
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: v(:, :), xs(:, :), vols(:), key(:)
+    real(wp), allocatable :: v(:, :), xs(:, :), vols(:), key(:), oarea(:)
     logical, allocatable :: bnd(:)
-    integer, allocatable :: order(:), bl(:)
-    real(wp) :: lo(2), hi(2), p(2), sd, tol, w(2, 64), cell, area
-    integer :: nv, i, j, i0, i1, j0, j1, np, cap, nw, k, nb
+    integer, allocatable :: order(:), bl(:), own(:, :), oij(:, :), oown(:), onew(:)
+    real(wp) :: lo(2), hi(2), p(2), sd, tol, w(2, 64), cell, area, reach, a, dmin
+    integer :: nv, i, j, i0, i1, j0, j1, np, cap, nw, k, nb, no, q, nleft
     nv = size(v_in, 2)
     if (nv < 3 .or. any(dx <= 0.0_wp)) then
       call set_error(err, 'polygon needs at least 3 vertices and a positive spacing')
@@ -129,26 +143,91 @@ contains
       return
     end if
     cap = (i1 - i0 + 1)*(j1 - j0 + 1)
-    allocate(xs(2, cap), vols(cap), bnd(cap))
+    allocate(xs(2, cap), vols(cap), bnd(cap), own(i0:i1, j0:j1), oij(2, cap), oarea(cap))
     cell = dx(1)*dx(2)
+    ! a cell lies within half its diagonal of its point: points farther out meet nothing
+    reach = 0.5_wp*norm2(dx)
+    ! own(i, j): the particle whose cell holds lattice cell (i, j); -1 an orphan piece not
+    ! yet merged; 0 a cell outside the polygon
+    own = 0
     np = 0
+    no = 0
     do j = j0, j1
       do i = i0, i1
         p = origin + [real(i, wp)*dx(1), real(j, wp)*dx(2)]
         sd = signed_distance(b%geom, p)
-        if (sd > tol) cycle
-        np = np + 1
-        xs(:, np) = p
+        if (sd > tol .and. sd >= reach) cycle
         call clip_polygon_box(v, p - 0.5_wp*dx, p + 0.5_wp*dx, w, nw)
-        vols(np) = 0.0_wp
-        if (nw >= 3) vols(np) = polygon_area(w, nw)
+        a = 0.0_wp
+        if (nw >= 3) a = polygon_area(w, nw)
+        if (sd > tol) then
+          if (a > 0.0_wp) then
+            no = no + 1
+            oij(:, no) = [i, j]
+            oarea(no) = a
+            own(i, j) = -1
+          end if
+          cycle
+        end if
+        np = np + 1
+        own(i, j) = np
+        xs(:, np) = p
+        vols(np) = a
         bnd(np) = abs(sd) <= tol .or. vols(np) < (1.0_wp - geom_tol)*cell
+      end do
+    end do
+    ! merge the orphan pieces, in rounds: a round sees only the owners of the rounds before
+    allocate(oown(no), onew(no))
+    oown = 0
+    nleft = no
+    do while (nleft > 0)
+      onew = 0
+      do k = 1, no
+        if (oown(k) == 0) onew(k) = neighbour_owner(oij(1, k), oij(2, k))
+      end do
+      if (all(onew == 0)) exit
+      do k = 1, no
+        if (onew(k) == 0) cycle
+        oown(k) = onew(k)
+        own(oij(1, k), oij(2, k)) = onew(k)
+        nleft = nleft - 1
+      end do
+    end do
+    do k = 1, no
+      if (oown(k) /= 0 .or. np == 0) cycle
+      p = origin + real(oij(:, k), wp)*dx
+      dmin = huge(1.0_wp)
+      do q = 1, np
+        if (norm2(xs(:, q) - p) < dmin) then
+          dmin = norm2(xs(:, q) - p)
+          oown(k) = q
+        end if
       end do
     end do
     b%np = np
     b%x = xs(:, 1:np)
     b%vol = vols(1:np)
     b%boundary = bnd(1:np)
+    ! the merged lattice cells by particle (CSR), and their areas added to the volumes
+    allocate(b%merged_ptr(np + 1), b%merged_centre(2, count(oown > 0)))
+    b%merged_ptr = 0
+    do k = 1, no
+      if (oown(k) > 0) b%merged_ptr(oown(k) + 1) = b%merged_ptr(oown(k) + 1) + 1
+    end do
+    b%merged_ptr(1) = 1
+    do q = 1, np
+      b%merged_ptr(q + 1) = b%merged_ptr(q + 1) + b%merged_ptr(q)
+    end do
+    allocate(bl(np))
+    bl = b%merged_ptr(1:np)
+    do k = 1, no
+      q = oown(k)
+      if (q == 0) cycle
+      b%merged_centre(:, bl(q)) = origin + real(oij(:, k), wp)*dx
+      bl(q) = bl(q) + 1
+      b%vol(q) = b%vol(q) + oarea(k)
+    end do
+    deallocate(bl)
     b%spacing = 0.0_wp
     b%spacing(1:2) = dx
     ! One closed loop: boundary particles ordered by (nearest edge, position along it).
@@ -163,6 +242,51 @@ contains
     b%loop_ptr = [1, nb + 1]
     b%loop_idx = bl(order)
     b%loop_closed = [.true.]
+  contains
+    !> The owner of the neighbour of orphan cell (ii, jj) that shares the longest stretch of
+    !! lattice line with its piece, among the neighbours owned already; 0 if none. The
+    !! piece is counter-clockwise, so its edges on its right side run up, on its top side
+    !! left, and so on: the signed sums below cancel the zero-width bridges along the box
+    !! that clipping a concave polygon leaves, and count only where the material meets.
+    integer function neighbour_owner(ii, jj) result(best)
+      integer, intent(in) :: ii, jj
+      real(wp) :: pc(2), c(2), d(2), shared(4), etol(2), ww(2, 64)
+      integer :: nww, m, side, nb_i(4), nb_j(4), mbest
+      best = 0
+      pc = origin + [real(ii, wp)*dx(1), real(jj, wp)*dx(2)]
+      call clip_polygon_box(v, pc - 0.5_wp*dx, pc + 0.5_wp*dx, ww, nww)
+      etol = geom_tol*dx
+      shared = 0.0_wp
+      do m = 1, nww
+        c = ww(:, m)
+        d = ww(:, modulo(m, nww) + 1) - c
+        ! 1 left (x = lo), 2 right (x = hi), 3 below (y = lo), 4 above (y = hi)
+        if (abs(c(1) - (pc(1) - 0.5_wp*dx(1))) <= etol(1) .and. abs(d(1)) <= etol(1)) &
+          shared(1) = shared(1) - d(2)
+        if (abs(c(1) - (pc(1) + 0.5_wp*dx(1))) <= etol(1) .and. abs(d(1)) <= etol(1)) &
+          shared(2) = shared(2) + d(2)
+        if (abs(c(2) - (pc(2) - 0.5_wp*dx(2))) <= etol(2) .and. abs(d(2)) <= etol(2)) &
+          shared(3) = shared(3) + d(1)
+        if (abs(c(2) - (pc(2) + 0.5_wp*dx(2))) <= etol(2) .and. abs(d(2)) <= etol(2)) &
+          shared(4) = shared(4) - d(1)
+      end do
+      nb_i = [ii - 1, ii + 1, ii, ii]
+      nb_j = [jj, jj, jj - 1, jj + 1]
+      ! a stretch must be longer than the "on the line" tolerance to count
+      shared(1:2) = shared(1:2) - etol(2)
+      shared(3:4) = shared(3:4) - etol(1)
+      do side = 1, 4
+        if (shared(side) <= 0.0_wp) cycle
+        if (nb_i(side) < i0 .or. nb_i(side) > i1 .or. nb_j(side) < j0 .or. nb_j(side) > j1) &
+          cycle
+        if (own(nb_i(side), nb_j(side)) <= 0) cycle
+        if (best > 0) then
+          if (shared(side) <= shared(mbest)) cycle
+        end if
+        best = own(nb_i(side), nb_j(side))
+        mbest = side
+      end do
+    end function neighbour_owner
   end subroutine make_polygon
 
   !> Position along the polygon boundary: edge index - 1 + fraction along the edge.
@@ -321,8 +445,9 @@ contains
   !! (doc/stability.md). Boundary particles stay, so the surface polyline and the exact
   !! geometry stay valid. The volumes stay the lattice cells': for fraction < 1/2 each moved
   !! particle stays inside its own cell, the cells still tile the body and the volumes still
-  !! sum to its area. b%cell_centre keeps the lattice points, so SCNI and Gauss integration
-  !! use the same conforming cells as before the move. The offsets come from xorshift64
+  !! sum to its area. b%cell_centre keeps the lattice points (and the merged cells of a
+  !! polygon stay), so SCNI and Gauss integration use the same conforming cells as before
+  !! the move. The offsets come from xorshift64
   !! (integer shifts and exclusive ors only) drawn in particle order, two per particle: one
   !! seed gives the same cloud with every compiler and on every machine.
   !! fraction: 0 <= fraction < max_perturbation; seed: any integer.

@@ -206,7 +206,47 @@ contains
     end do
     nw = na
     w(:, 1:nw) = a(:, 1:nw)
+    call remove_spikes(w, nw)
   end subroutine clip_polygon_box
+
+  !> Removes the zero-width spikes Sutherland-Hodgman leaves when a concave polygon is
+  !! clipped: where an intermediate clip splits the polygon, the pieces stay joined by
+  !! edges along the clip line, out and back, and a later clip can cut those to a spike
+  !! (C-shape: the strip of a box below the notch keeps an edge up into the notch and back).
+  !! A spike encloses no area but reaches out of the polygon, where the RK shape functions
+  !! of an integration point may not be defined. Removed: vertices repeating the previous
+  !! one (to the round-off of the cut points) and vertices where the outline turns back on
+  !! itself along a line. Zero-width bridges between separate pieces of the same box (a
+  !! thin notch across it) are not spikes and stay; fewer than 3 vertices left: empty.
+  pure subroutine remove_spikes(w, nw)
+    real(wp), intent(inout) :: w(:, :)
+    integer, intent(inout) :: nw
+    real(wp) :: a(2), b(2), tol
+    integer :: k
+    logical :: found
+    if (nw < 3) return
+    ! the round-off of a cut point: a few eps of the coordinates
+    tol = 64.0_wp*epsilon(1.0_wp)*maxval(abs(w(:, 1:nw)))
+    do
+      if (nw < 3) exit
+      found = .false.
+      do k = 1, nw
+        a = w(:, k) - w(:, merge(nw, k - 1, k == 1))
+        b = w(:, merge(1, k + 1, k == nw)) - w(:, k)
+        if (norm2(a) <= tol) then
+          found = .true.
+        else if (dot_product(a, b) < 0.0_wp .and. &
+          abs(a(1)*b(2) - a(2)*b(1)) <= tol*(norm2(a) + norm2(b))) then
+          found = .true.
+        end if
+        if (found) exit
+      end do
+      if (.not. found) exit
+      w(:, k:nw - 1) = w(:, k + 1:nw)
+      nw = nw - 1
+    end do
+    if (nw < 3) nw = 0
+  end subroutine remove_spikes
 
   pure subroutine clip_half(a, na, edge, lo, hi, b, nb)
     real(wp), intent(in) :: a(:, :), lo(2), hi(2)

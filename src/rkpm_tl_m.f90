@@ -9,7 +9,10 @@
 !!
 !! Integration schemes:
 !!  - SCNI (default; Chen, Wu, Yoon, You 2001): one point per particle, its lattice cell
-!!    clipped by the body; smoothed gradients b_I = (1/A_L) \oint N_I n dGamma with two Gauss
+!!    clipped by the body, plus the clipped lattice cells merged into it along the outline
+!!    (make_polygon: cells whose point lies outside the body), so the cells tile the body
+!!    and their weights sum to its area (axisymmetry: volume); each piece is integrated
+!!    and the pieces added, so the lines they share cancel; smoothed gradients b_I = (1/A_L) \oint N_I n dGamma with two Gauss
 !!    points per cell edge. In axisymmetry the smoothing is weighted with r:
 !!    V_L = \int_L r dA, b_Ia = (1/V_L)[\oint N_I n_a r dGamma - delta_a1 \int_L N_I dA],
 !!    h_I = (1/V_L) \int_L N_I dA (the hoop term u_r/r), W_L = 2 pi V_L. For linear fields
@@ -30,7 +33,7 @@ module rkpm_tl_m
   use strings_m, only: itoa
   use body_m, only: body_t
   use solid_tables_m, only: solid_tables_t, tables_transpose
-  use geometry_m, only: geom_polygon, clip_polygon_box, polygon_area
+  use geometry_m, only: geom_polygon, clip_polygon_box
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape, cloud_count_cover
   use neighbour_bins_m, only: bins_candidates
   implicit none
@@ -134,17 +137,31 @@ contains
     t%total_volume = sum(t%wgt)
   end subroutine tl_build
 
-  !> The lattice cell of particle i clipped by the body polygon: vertices cv(2, ncv).
-  pure subroutine particle_cell(b, i, cv, ncv)
+  !> Piece k of particle i's cell, clipped by the body polygon: vertices cv(2, ncv). Piece 0
+  !! is the particle's own lattice cell, pieces 1 .. cell_pieces(b, i) the lattice cells
+  !! merged into it (b%merged_centre).
+  pure subroutine particle_cell(b, i, k, cv, ncv)
     type(body_t), intent(in) :: b
-    integer, intent(in) :: i
+    integer, intent(in) :: i, k
     real(wp), intent(out) :: cv(2, max_cv)
     integer, intent(out) :: ncv
     real(wp) :: half(2), o(2)
     half = 0.5_wp*b%spacing(1:2)
-    o = cell_centre_of(b, i)
+    if (k == 0) then
+      o = cell_centre_of(b, i)
+    else
+      o = b%merged_centre(:, b%merged_ptr(i) + k - 1)
+    end if
     call clip_polygon_box(b%geom%v, o - half, o + half, cv, ncv)
   end subroutine particle_cell
+
+  !> Number of lattice cells merged into particle i's cell (besides its own).
+  pure integer function cell_pieces(b, i) result(n)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: i
+    n = 0
+    if (allocated(b%merged_ptr)) n = b%merged_ptr(i + 1) - b%merged_ptr(i)
+  end function cell_pieces
 
   !> Centre of particle i's lattice cell (m): the particle itself unless the particles were
   !! moved off the lattice (&body perturbation), whose cells stay the lattice's.
@@ -236,9 +253,9 @@ contains
     real(wp), allocatable :: gl(:, :, :), hl(:, :), ml(:, :), sub(:, :, :), wsub(:, :)
     integer, allocatable :: idl(:, :), nl(:), slot(:)
     real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), p(2), nrm(2), e(2), len_e
-    real(wp) :: vol_l, area, fn(2, max_nb), fdn(2, 2, max_nb), rw, gw, hv(2), vh(2), big
-    real(wp) :: hc(2, max_cv), o(2)
-    integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad, j, nhc, dir
+    real(wp) :: vol_l, fn(2, max_nb), fdn(2, 2, max_nb), rw, gw, hv(2), vh(2), big
+    real(wp) :: hc(2, max_cv), o(2), hpiece
+    integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad, j, nhc, dir, piece
     logical :: ok
     real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
     t%nq = np
@@ -250,73 +267,77 @@ contains
     bad = 0
     !$omp parallel default(none) shared(b, c, twin, np, t, gl, hl, ml, idl, nl, maxk, rho0, &
     !$omp sub, wsub, big) &
-    !$omp private(cv, ncv, xg, wg, ngp, k, q, p, nrm, e, len_e, vol_l, area, fn, fdn, nf, fid, &
-    !$omp ok, s, slot, rw, gw, j, hc, nhc, dir, hv, vh, o) reduction(max: bad)
+    !$omp private(cv, ncv, xg, wg, ngp, k, q, p, nrm, e, len_e, vol_l, fn, fdn, nf, fid, &
+    !$omp ok, s, slot, rw, gw, j, hc, nhc, dir, hv, vh, o, piece, hpiece) reduction(max: bad)
     allocate(slot(np))
     slot = 0
     !$omp do schedule(dynamic, 64)
     do i = 1, np
-      call particle_cell(b, i, cv, ncv)
-      area = polygon_area(cv, ncv)
-      call cell_area_points(cv, ncv, xg, wg, ngp)
       nl(i) = 0
       sub(:, :, i) = 0.0_wp
-      ! area integrals: V_L, int N dA (hoop) and int rho0 N r dA (mass)
       vol_l = 0.0_wp
-      do q = 1, ngp
-        rw = 1.0_wp
-        if (t%axisym) rw = xg(1, q)
-        vol_l = vol_l + wg(q)*rw
-        call folded_shape(c, twin, np, xg(:, q), nf, fid, fn, fdn, ok)
-        if (.not. ok) then
-          bad = max(bad, i)
-          cycle
-        end if
-        do k = 1, nf
-          call add_slot(fid(k), i, slot, nl, idl, gl, hl, ml, s)
-          ml(s, i) = ml(s, i) + wg(q)*rw*fn(2, k)
-          hl(s, i) = hl(s, i) + wg(q)*fn(1, k)
-          if (t%axisym) gl(1, s, i) = gl(1, s, i) - wg(q)*fn(1, k)
-          if (t%axisym) gl(3, s, i) = gl(3, s, i) - wg(q)*fn(2, k)
-        end do
-      end do
-      ! boundary integrals: two Gauss points per edge, outward normal of a CCW cell
-      do k = 1, ncv
-        e = cv(:, modulo(k, ncv) + 1) - cv(:, k)
-        len_e = norm2(e)
-        if (len_e == 0.0_wp) cycle
-        nrm = [e(2), -e(1)]/len_e
-        do q = 1, 2
-          p = cv(:, k) + gx(q)*e
+      hv = 0.0_wp
+      o = cell_centre_of(b, i)
+      ! the cell is the union of its pieces: each piece's area and boundary integrals are
+      ! added, the edges two pieces share cancelling (the same Gauss points, opposite normals)
+      do piece = 0, cell_pieces(b, i)
+        call particle_cell(b, i, piece, cv, ncv)
+        call cell_area_points(cv, ncv, xg, wg, ngp)
+        ! area integrals: V_L, int N dA (hoop) and int rho0 N r dA (mass)
+        do q = 1, ngp
           rw = 1.0_wp
-          if (t%axisym) rw = p(1)
-          gw = 0.5_wp*len_e*rw
-          call folded_shape(c, twin, np, p, nf, fid, fn, fdn, ok)
+          if (t%axisym) rw = xg(1, q)
+          vol_l = vol_l + wg(q)*rw
+          call folded_shape(c, twin, np, xg(:, q), nf, fid, fn, fdn, ok)
           if (.not. ok) then
             bad = max(bad, i)
             cycle
           end if
-          do j = 1, nf
-            call add_slot(fid(j), i, slot, nl, idl, gl, hl, ml, s)
-            gl(1:2, s, i) = gl(1:2, s, i) + gw*fn(1, j)*nrm
-            gl(3:4, s, i) = gl(3:4, s, i) + gw*fn(2, j)*nrm
+          do k = 1, nf
+            call add_slot(fid(k), i, slot, nl, idl, gl, hl, ml, s)
+            ml(s, i) = ml(s, i) + wg(q)*rw*fn(2, k)
+            hl(s, i) = hl(s, i) + wg(q)*fn(1, k)
+            if (t%axisym) gl(1, s, i) = gl(1, s, i) - wg(q)*fn(1, k)
+            if (t%axisym) gl(3, s, i) = gl(3, s, i) - wg(q)*fn(2, k)
           end do
         end do
-      end do
-      ! the half cells right of and above the cell centre (stabilization): the same
-      ! smoothing on each, for d/dX1 (right half) and d/dX2 (upper half)
-      o = cell_centre_of(b, i)
-      do dir = 1, 2
-        if (dir == 1) then
-          call clip_polygon_box(cv(:, 1:ncv), [o(1), -big], [big, big], hc, nhc)
-        else
-          call clip_polygon_box(cv(:, 1:ncv), [-big, o(2)], [big, big], hc, nhc)
-        end if
-        hv(dir) = 0.0_wp
-        if (nhc < 3) cycle
-        call half_cell(c, twin, np, t%axisym, hc, nhc, dir, i, slot, nl, idl, gl, hl, ml, &
-          sub, hv(dir), ok)
-        if (.not. ok) bad = max(bad, i)
+        ! boundary integrals: two Gauss points per edge, outward normal of a CCW cell
+        do k = 1, ncv
+          e = cv(:, modulo(k, ncv) + 1) - cv(:, k)
+          len_e = norm2(e)
+          if (len_e == 0.0_wp) cycle
+          nrm = [e(2), -e(1)]/len_e
+          do q = 1, 2
+            p = cv(:, k) + gx(q)*e
+            rw = 1.0_wp
+            if (t%axisym) rw = p(1)
+            gw = 0.5_wp*len_e*rw
+            call folded_shape(c, twin, np, p, nf, fid, fn, fdn, ok)
+            if (.not. ok) then
+              bad = max(bad, i)
+              cycle
+            end if
+            do j = 1, nf
+              call add_slot(fid(j), i, slot, nl, idl, gl, hl, ml, s)
+              gl(1:2, s, i) = gl(1:2, s, i) + gw*fn(1, j)*nrm
+              gl(3:4, s, i) = gl(3:4, s, i) + gw*fn(2, j)*nrm
+            end do
+          end do
+        end do
+        ! the parts of the piece right of and above the cell centre (stabilization): the
+        ! same smoothing on each, for d/dX1 (right half) and d/dX2 (upper half)
+        do dir = 1, 2
+          if (dir == 1) then
+            call clip_polygon_box(cv(:, 1:ncv), [o(1), -big], [big, big], hc, nhc)
+          else
+            call clip_polygon_box(cv(:, 1:ncv), [-big, o(2)], [big, big], hc, nhc)
+          end if
+          if (nhc < 3) cycle
+          call half_cell(c, twin, np, t%axisym, hc, nhc, dir, i, slot, nl, idl, gl, hl, ml, &
+            sub, hpiece, ok)
+          if (.not. ok) bad = max(bad, i)
+          hv(dir) = hv(dir) + hpiece
+        end do
       end do
       t%xq(:, i) = b%x(:, i)
       t%owner(i) = i
@@ -433,18 +454,27 @@ contains
     end if
   end subroutine add_slot
 
-  !> Upper bound of the particles touching one cell (its box grown by the largest support).
+  !> Upper bound of the particles touching one cell (the box around its pieces grown by the
+  !! largest support).
   function union_bound(b, c) result(maxk)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     integer :: maxk
     integer, allocatable :: cand(:)
-    integer :: i, n
+    integer :: i, n, k
+    real(wp) :: lo(2), hi(2), m(2)
     allocate(cand(c%np))
     maxk = 1
     do i = 1, b%np
-      call bins_candidates(c%bins, cell_centre_of(b, i), c%rmax(1:2) + 0.5_wp*b%spacing(1:2), &
-        cand, n)
+      lo = cell_centre_of(b, i)
+      hi = lo
+      do k = 1, cell_pieces(b, i)
+        m = b%merged_centre(:, b%merged_ptr(i) + k - 1)
+        lo = min(lo, m)
+        hi = max(hi, m)
+      end do
+      call bins_candidates(c%bins, 0.5_wp*(lo + hi), c%rmax(1:2) + 0.5_wp*b%spacing(1:2) &
+        + 0.5_wp*(hi - lo), cand, n)
       maxk = max(maxk, n)
     end do
   end function union_bound
@@ -460,24 +490,28 @@ contains
     integer, allocatable :: owner(:), idl(:, :), nl(:)
     real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), fn(2, max_nb), fdn(2, 2, max_nb)
     real(wp) :: rw
-    integer :: i, ncv, ngp, q, nq, k, nf, fid(max_nb), maxk, bad
+    integer :: i, ncv, ngp, q, nq, k, nf, fid(max_nb), maxk, bad, piece
     logical :: ok
     ! count the points first
     nq = 0
     do i = 1, np
-      call particle_cell(b, i, cv, ncv)
-      call cell_area_points(cv, ncv, xg, wg, ngp)
-      nq = nq + ngp
+      do piece = 0, cell_pieces(b, i)
+        call particle_cell(b, i, piece, cv, ncv)
+        call cell_area_points(cv, ncv, xg, wg, ngp)
+        nq = nq + ngp
+      end do
     end do
     allocate(xq(2, nq), wq(nq), owner(nq))
     nq = 0
     do i = 1, np
-      call particle_cell(b, i, cv, ncv)
-      call cell_area_points(cv, ncv, xg, wg, ngp)
-      xq(:, nq + 1:nq + ngp) = xg(:, 1:ngp)
-      wq(nq + 1:nq + ngp) = wg(1:ngp)
-      owner(nq + 1:nq + ngp) = i
-      nq = nq + ngp
+      do piece = 0, cell_pieces(b, i)
+        call particle_cell(b, i, piece, cv, ncv)
+        call cell_area_points(cv, ncv, xg, wg, ngp)
+        xq(:, nq + 1:nq + ngp) = xg(:, 1:ngp)
+        wq(nq + 1:nq + ngp) = wg(1:ngp)
+        owner(nq + 1:nq + ngp) = i
+        nq = nq + ngp
+      end do
     end do
     maxk = union_bound(b, c)
     allocate(gl(4, maxk, nq), hl(maxk, nq), ml(maxk, nq), idl(maxk, nq), nl(nq))
