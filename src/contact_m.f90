@@ -44,7 +44,7 @@ module contact_m
   type :: contact_counters_t
     integer(i64) :: screened = 0    !< slave particles tested against the master's box
     integer(i64) :: evaluated = 0   !< detector evaluations (inside the grown box)
-    integer(i64) :: detected = 0    !< flagged: det(M_master) > threshold, or g < 0 (NTS)
+    integer(i64) :: detected = 0    !< flagged (det(M_master) > threshold, or g < 0 for NTS)
     integer(i64) :: contacts = 0    !< flagged with g < 0: force applied
     !> screened particles skipped because they cannot have reached the master's box since
     !! they were last found outside it (&contact skip_far); their positions are not computed

@@ -64,7 +64,7 @@ module contact_pair_m
     !! particles that push it (the row sum of the constraint's mass matrix), so they do not
     !! each claim its whole mobility and over-correct together (doc/contact.md).
     logical :: shared_mass = .false.
-    !> Self-contact: slave and master are the same body (Sections 1 and 7). A point's
+    !> Self-contact, where slave and master are the same body (Sections 1 and 7). A point's
     !! neighbours in the reference configuration, the particles within self_radius times
     !! its largest support of it there, take no part in its det(M) and their segments none
     !! in its gap.
@@ -134,7 +134,7 @@ module contact_pair_m
   end type side_t
 
   type :: contact_pair_t
-    type(side_t) :: side(2)              !< 1: slave, 2: master
+    type(side_t) :: side(2)              !< side 1 the slave, side 2 the master
     real(wp) :: eps_cr = 0.0_wp, eps_rel = 0.0_wp, mu = 0.0_wp
     integer :: detector = detector_det_m
     logical :: compare = .false.
@@ -491,7 +491,7 @@ contains
     call surface_update(b%surface, b%x_pred, err)
   end subroutine self_positions
 
-  !> Self-contact: the positions at the start of the step of a's active particles and of the
+  !> For self-contact, the positions at the start of the step of a's active particles and of the
   !! ends of the segments they hit (the slip of eq. 90 is relative to the master point).
   subroutine self_old_positions(a, b, sol)
     type(side_t), intent(inout) :: a, b
@@ -649,7 +649,7 @@ contains
     real(wp), intent(in) :: dt
     logical, intent(in) :: count_stats
     type(error_t), allocatable, intent(inout) :: err
-    !> self-contact: only particles numbered below both ends of the segment they hit
+    !> in self-contact, only particles numbered below both ends of the segment they hit
     logical, intent(in), optional :: lower_only
     integer :: j, i0, i1
     integer(i64) :: neval, ndet, ncon

@@ -189,7 +189,7 @@ contains
     a = 0.5_wp*a
   end function polygon_area
 
-  !> Sutherland-Hodgman: clip polygon v (any shape) by the box [lo, hi]; result w(2, nw).
+  !> Clip polygon v (any shape) by the box [lo, hi] (Sutherland-Hodgman); result w(2, nw).
   pure subroutine clip_polygon_box(v, lo, hi, w, nw)
     real(wp), intent(in) :: v(:, :), lo(2), hi(2)
     real(wp), intent(out) :: w(:, :)

@@ -53,7 +53,7 @@ module material_m
     real(wp) :: theta = 0.5_wp              !< theta of eq. (86), 0 explicit .. 1 (-)
     ! j2_plastic
     real(wp) :: yield_stress = 460.0e6_wp   !< initial yield stress (Pa)
-    real(wp) :: hardening_modulus = 0.0_wp  !< H: yield = yield_stress + H epsbar (Pa)
+    real(wp) :: hardening_modulus = 0.0_wp  !< H, in yield = yield_stress + H epsbar (Pa)
   end type material_params_t
 
   !> Per-point state in structure-of-arrays form.

@@ -38,8 +38,8 @@ module solid_m
     'J outside its bounds', 'non-finite stress', 'effective plastic strain above its limit', &
     'plastic strain increment above its limit']
 
-  integer, parameter :: at_step_start = 1   !< solid_positions: x at the start of the step
-  integer, parameter :: at_prediction = 2   !< solid_positions: x at the (corrected) prediction
+  integer, parameter :: at_step_start = 1   !< solid_positions gives x at the start of the step
+  integer, parameter :: at_prediction = 2   !< solid_positions gives x at the (corrected) prediction
 
   !> Material points are updated in blocks of this many (dynamic scheduling over blocks).
   integer, parameter :: material_block = 256

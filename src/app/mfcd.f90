@@ -1,4 +1,4 @@
-!> mfcd: meshfree contact detection (Li, Qian, Liu, Belytschko, CMAME 190, 2001).
+!> The program mfcd: meshfree contact detection (Li, Qian, Liu, Belytschko, CMAME 190, 2001).
 !! Usage: mfcd [--check] [--restart checkpoint.h5] deck.nml | --help | --version.
 !! Exit codes: 0 success, 2 bad input (nothing written), 1 a run that failed.
 !! The log (stdout) is flushed line by line; its last line says how the run ended.
