@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Draw the figures of doc/examples.md: Example 2.1 (Figs. 2-3) and Example 2.2, convex and
 # concave (Figs. 4-7, 11), and of doc/verification.md: the elastic stress wave's profiles
-# against the closed form and its energy history, from output/*.h5 into doc/figures/.
+# against the closed form and its energy history, from output/*.h5 into output/figures/
+# (git-ignored; bash tools/doc_figures.sh copies them into doc/figures/).
 #
 #   post/make_figures.sh                 # from anywhere; works in the repository root
 #   PYTHON=python3 post/make_figures.sh  # another interpreter (default .venv/bin/python)
 #   MFCD=build/bin/mfcd                  # the solver used when an output file is missing
+#   OUT=DIR post/make_figures.sh         # another figure directory (default output/figures)
 #
 # An output file that is missing is made first by running its deck input/<name>.nml.
 # Exits non-zero when a run or a figure fails.
@@ -16,7 +18,7 @@ cd "$root"
 
 PYTHON="${PYTHON:-.venv/bin/python}"
 MFCD="${MFCD:-build/bin/mfcd}"
-OUT="${OUT:-doc/figures}"
+OUT="${OUT:-output/figures}"
 examples=(example_2_1 example_2_2 example_2_2_concave)
 dynamic=(elastic_wave)
 

@@ -12,7 +12,16 @@ module dynamic_output_m
   implicit none
   private
   public :: history_t, history_names, snapshot_write, history_create, history_flush
-  public :: history_push, xdmf_write
+  public :: history_push, xdmf_write, xdmf_body_t
+
+  !> A rigid body as the XDMF file shows it: the same grid at every time step, on the
+  !! reference positions /bodies/<name>/x (rigid bodies do not move and have no snapshots).
+  type :: xdmf_body_t
+    character(len=64) :: name = ''
+    integer :: np = 0          !< particles (nodes)
+    integer :: ne = 0          !< CST4 triangles (/bodies/<name>/triangles); 0: particles
+    integer :: ndim = 2
+  end type xdmf_body_t
 
   !> Columns of /history, one row per history step.
   character(len=*), parameter :: history_names(17) = [character(len=14) :: &
@@ -201,12 +210,14 @@ contains
 
   !> The XDMF companion of the HDF5 file: a temporal collection of grids, one per snapshot
   !! and body (polyvertex for particles, triangles for CST4 meshes, with element fields),
-  !! pointing at the datasets in the HDF5 file (ParaView opens it).
-  subroutine xdmf_write(path, h5name, labels, times, solids)
+  !! pointing at the datasets in the HDF5 file (ParaView opens it). The rigid bodies are in
+  !! every snapshot too, on their reference positions and without fields.
+  subroutine xdmf_write(path, h5name, labels, times, solids, rigid)
     character(len=*), intent(in) :: path, h5name
     character(len=*), intent(in) :: labels(:)
     real(wp), intent(in) :: times(:)
     type(solid_t), intent(in) :: solids(:)
+    type(xdmf_body_t), intent(in) :: rigid(:)
     integer :: u, s, k, np
     character(len=:), allocatable :: g, nps, nes
     open(newunit=u, file=path, status='replace', action='write')
@@ -246,11 +257,39 @@ contains
         end if
         write(u, '(a)') '</Grid>'
       end do
+      do k = 1, size(rigid)
+        call rigid_grid(u, rigid(k))
+      end do
       write(u, '(a)') '</Grid>'
     end do
     write(u, '(a)') '</Grid></Domain></Xdmf>'
     close(u)
   contains
+    !> Rigid body b at its reference positions: a Polyvertex grid over its particles, or
+    !! a Triangle grid on its CST4 elements.
+    subroutine rigid_grid(unit, b)
+      integer, intent(in) :: unit
+      type(xdmf_body_t), intent(in) :: b
+      character(len=:), allocatable :: gb, nps, nes, geo
+      gb = h5name//':/bodies/'//trim(b%name)
+      nps = itoa(b%np)
+      write(unit, '(a)') '<Grid Name="'//trim(b%name)//'" GridType="Uniform">'
+      if (b%ne > 0) then
+        nes = itoa(b%ne)
+        write(unit, '(a)') '<Topology TopologyType="Triangle" NumberOfElements="'//nes// &
+          '"><DataItem Dimensions="'//nes//' 3" Format="HDF" NumberType="Int" '// &
+          'Precision="4">'//gb//'/triangles</DataItem></Topology>'
+      else
+        write(unit, '(a)') '<Topology TopologyType="Polyvertex" NumberOfElements="'//nps//'"/>'
+      end if
+      geo = 'XY'
+      if (b%ndim == 3) geo = 'XYZ'
+      write(unit, '(a)') '<Geometry GeometryType="'//geo//'"><DataItem Dimensions="'//nps// &
+        ' '//itoa(b%ndim)//'" Format="HDF" NumberType="Float" Precision="8">'//gb// &
+        '/x</DataItem></Geometry>'
+      write(unit, '(a)') '</Grid>'
+    end subroutine rigid_grid
+
     !> The 4 stress components (11, 22, 33, 12; axisymmetric: rr, zz, theta-theta, rz) of
     !! the (n, 4) dataset item as 4 scalar attributes name_11, name_22, name_33, name_12,
     !! each a HyperSlab of one column: VTK's XDMF readers take a 4-component 'Matrix' or

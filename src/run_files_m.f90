@@ -19,7 +19,7 @@ module run_files_m
     base_name, checkpoint_commit
   use run_checkpoint_m, only: checkpoint_write
   use dynamic_output_m, only: history_t, history_create, history_flush, snapshot_write, &
-    xdmf_write
+    xdmf_write, xdmf_body_t
   use run_report_m, only: run_record_t, det_fields_out, self_det_out
   use log_m, only: log_print
   use file_system_m, only: remove_file
@@ -39,6 +39,7 @@ module run_files_m
     real(wp), allocatable :: earlier_times(:)
     integer :: checkpoint_step = -1              !< step of the last checkpoint (-1: none)
     character(len=:), allocatable :: checkpoint  !< and its file
+    type(xdmf_body_t), allocatable :: rigid(:)   !< the rigid bodies, for the XDMF file
   end type run_files_t
 
 contains
@@ -53,7 +54,14 @@ contains
     type(run_files_t), intent(out) :: out
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in), optional :: restart
-    allocate(out%labels(0), out%times(0), out%earlier_times(0))
+    integer :: k
+    allocate(out%labels(0), out%times(0), out%earlier_times(0), out%rigid(0))
+    do k = 1, size(bodies)
+      if (deck%bodies(k)%role /= 'rigid') cycle
+      out%rigid = [out%rigid, xdmf_body_t(name=bodies(k)%name, np=bodies(k)%np, &
+        ne=0, ndim=bodies(k)%ndim)]
+      if (allocated(bodies(k)%cells)) out%rigid(size(out%rigid))%ne = size(bodies(k)%cells, 2)
+    end do
     call output_open(deck, .true., out%path, out%f, err, restart)
     if (allocated(err)) return
     call write_header(out%f, deck, err)
@@ -163,7 +171,7 @@ contains
       call history_flush(out%f, out%hist, err)
       if (allocated(err)) return
       call xdmf_write(out%path%tmp_xdmf, base_name(out%path%tmp_h5), out%labels, out%times, &
-        solids)
+        solids, out%rigid)
       write(line, '(a,es12.5,a)') 'dynamic: snapshot '//trim(lab)//' at t = ', r%t, ' s'
       call log_print(trim(line))
     end do
@@ -180,7 +188,7 @@ contains
     out%labels = [character(len=8) :: out%labels, 'failure']
     out%times = [out%times, r%t]
     call xdmf_write(out%path%tmp_xdmf, base_name(out%path%tmp_h5), out%labels, out%times, &
-      solids)
+      solids, out%rigid)
   end subroutine failure_snapshot
 
   !> The end of the run, however it ends: close the HDF5 file, write the XDMF file naming
@@ -202,10 +210,10 @@ contains
     ! the XDMF file names the HDF5 file as it is called after the rename, relative to it
     if (completed) then
       call xdmf_write(out%path%tmp_xdmf, base_name(out%path%h5), out%labels, out%times, &
-        solids)
+        solids, out%rigid)
     else
       call xdmf_write(out%path%tmp_xdmf, base_name(out%path%failed_h5), out%labels, &
-        out%times, solids)
+        out%times, solids, out%rigid)
     end if
     call output_commit(out%path, completed, note, e2)
     if (allocated(e2)) then

@@ -3,7 +3,9 @@
 # (input/taylor_bar_rkpm.nml) and draw its figures (Figs. 9, 10 and 14, contact and energy
 # histories), the FEM twin at the paper's mesh on the adaptive step (Fig. 15, RKPM beside
 # FEM), plus the Section 2 examples (Figs. 2-7, 11).
-# Output: output/*.h5 (+ .xdmf for ParaView) and doc/figures/*.png.
+# Output: output/*.h5 (+ .xdmf for ParaView) and output/figures/ (PNG files and the RKPM-FEM
+# table taylor_comparison_cfl.md). It writes nothing in the repository's tracked files: the
+# committed copies in doc/figures/ are refreshed by bash tools/doc_figures.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
@@ -11,17 +13,18 @@ bash tools/build.sh Release
 echo "== mfcd input/taylor_bar_rkpm.nml"
 ./build/bin/mfcd input/taylor_bar_rkpm.nml | grep -v '^deck| '
 py=.venv/bin/python
-$py post/plot_taylor.py output/taylor_bar_rkpm.h5 --out doc/figures
-$py post/plot_snapshots.py output/taylor_bar_rkpm.h5 --out doc/figures --snapshots 0002,0003,0004,0005 --history
-$py post/plot_snapshots.py output/taylor_bar_rkpm.h5 --out doc/figures --snapshots 0002,0003,0004,0005 \
+figs=output/figures
+$py post/plot_taylor.py output/taylor_bar_rkpm.h5 --out $figs
+$py post/plot_snapshots.py output/taylor_bar_rkpm.h5 --out $figs --snapshots 0002,0003,0004,0005 --history
+$py post/plot_snapshots.py output/taylor_bar_rkpm.h5 --out $figs --snapshots 0002,0003,0004,0005 \
   --mirror --vmax 2.0 --window=-0.012,0.012,-0.003,0.012 --suffix _foot
 # The FEM twin (CST4, Fig. 15) at the paper's mesh, on the default time step (cfl 0.5 of the
 # critical step, which follows the deformation: 30,140 steps against the paper's fixed
 # 38,400 of input/taylor_bar_fem.nml), then RKPM beside FEM (doc/taylor.md).
 echo "== mfcd input/taylor_bar_fem_cfl.nml"
 ./build/bin/mfcd input/taylor_bar_fem_cfl.nml | grep -E '^(summary|mfcd)'
-$py post/plot_fem.py output/taylor_bar_fem_cfl.h5 --out doc/figures
+$py post/plot_fem.py output/taylor_bar_fem_cfl.h5 --out $figs
 $py post/compare_taylor.py output/taylor_bar_rkpm.h5 output/taylor_bar_fem_cfl.h5 \
-  --out doc/figures --name taylor_rkpm_vs_fem_cfl --table doc/figures/taylor_comparison_cfl.md
-PYTHON=$py bash post/make_figures.sh
-echo "main: done. HDF5 files in output/, figures in doc/figures/"
+  --out $figs --name taylor_rkpm_vs_fem_cfl --table $figs/taylor_comparison_cfl.md
+PYTHON=$py OUT=$figs bash post/make_figures.sh
+echo "main: done. HDF5 files in output/, figures in $figs/"

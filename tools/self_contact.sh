@@ -12,7 +12,8 @@
 # and prints one line per run from its log (the energy residual and mfcd's closing line;
 # the full log is output/<deck>.log), then post/self_overlap.py's table for each run (the
 # self-overlap area and depth of the body at every snapshot: about zero with self-contact,
-# growing without), then draws with post/plot_self_contact.py into doc/figures/:
+# growing without), then draws with post/plot_self_contact.py into output/figures/ (git-ignored;
+# bash tools/doc_figures.sh copies them into doc/figures/):
 #   <case>_shapes.png    deformed shapes with (left) and without (right), overlap in red
 #   <case>_det_self.png  det(M) of the non-neighbour particles where the faces meet
 # Set OMP_NUM_THREADS to the cores you own (default: what the OpenMP runtime picks).
@@ -22,7 +23,7 @@ cd "$(dirname "$0")/.."
 
 py=.venv/bin/python
 mfcd=build/bin/mfcd
-out=doc/figures
+out=output/figures
 # case, self-contact body
 cases=("c_shape_fold c" "ring_crush ring" "torus_crush torus")
 

@@ -15,8 +15,14 @@ has it), checked against the .h5 it points at (input/bar_impact_elastic_fem_coar
   every deformable body: the point arrays stress_11, _22, _33, _12 (np values each) equal the
      columns of the file's stress;
   particle bodies: a deformable one (in the snapshots) is a block of np points whose cells are
-     vertices over all np points; a rigid one (only in /bodies: the snapshots and the XDMF
-     hold deformable bodies only, doc/output.md) has no block.
+     vertices over all np points;
+  rigid bodies (only in /bodies, not in the snapshots): at the first and at the last time
+     step a block named after the body with np points at /bodies/<name>/x (they do not move)
+     and, for a particle body, vertex cells over all np points; for a finite-element one,
+     its triangles. The deck must have a rigid body.
+Then the deck again with its rigid bodies made finite-element bodies (discretization =
+'fem' added to each rigid &body group, written to a scratch directory): the rigid blocks
+are triangle grids on /bodies/<name>/triangles.
 The program must run the deck to completion (exit 0). Without the vtk module the check is
 skipped (exit 77, registered with SKIP_RETURN_CODE 77): pip install vtk.
 Usage: check_xdmf_vtk.py /path/to/mfcd /path/to/deck.nml
@@ -150,26 +156,34 @@ def cell_types_and_connectivity(ds):
     return types, conn, offs
 
 
-def main():
-    if len(sys.argv) < 3:
-        print(__doc__)
-        sys.exit(2)
-    mfcd, deck = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-    vtk, reader, cls = load_reader()
-    info(f"vtk {vtk.vtkVersion.GetVTKVersion()}, reader {cls}")
+def run_deck(mfcd, deck_text, deck_name, tag):
+    """Run the deck text in a scratch directory: (h5 path, xdmf path) or None."""
     work = tempfile.mkdtemp(prefix="mfcd_xdmf_vtk_")
+    deck = os.path.join(work, deck_name)
+    with open(deck, "w") as fh:
+        fh.write(deck_text)
     p = subprocess.run([mfcd, deck], cwd=work, capture_output=True, text=True, timeout=1800)
-    check("run exits 0", p.returncode == 0, p.stderr[-2000:])
+    check(tag + "run exits 0", p.returncode == 0, p.stderr[-2000:])
     if p.returncode:
-        finish()
-    out = [l for l in open(deck) if re.match(r"\s*file\s*=", l) and ".h5" in l][0]
+        return None
+    out = [l for l in deck_text.splitlines() if re.match(r"\s*file\s*=", l) and ".h5" in l][0]
     h5path = os.path.join(work, re.search(r"['\"]([^'\"]+)['\"]", out).group(1))
     xdmf = os.path.splitext(h5path)[0] + ".xdmf"
-    check("the .h5 and the .xdmf exist", os.path.isfile(h5path) and os.path.isfile(xdmf),
-          (h5path, xdmf))
+    check(tag + "the .h5 and the .xdmf exist",
+          os.path.isfile(h5path) and os.path.isfile(xdmf), (h5path, xdmf))
     if not os.path.isfile(xdmf):
-        finish()
+        return None
+    return h5path, xdmf
 
+
+def rigid_as_fem(deck_text):
+    """The deck with discretization = 'fem' after the role = 'rigid' line of every rigid
+    &body group (such a deck keeps the rigid body's nodes and adds its triangles)."""
+    return re.sub(r"^(\s*role\s*=\s*['\"]rigid['\"].*)$", r"\1\n  discretization = 'fem'",
+                  deck_text, flags=re.M | re.I)
+
+
+def check_file(vtk, reader, cls, h5path, xdmf, tag="", need_fem=True):
     f = h5py.File(h5path, "r")
     labels = sorted(f["snapshots"].keys(), key=lambda k: float(f["snapshots"][k].attrs["time"][0]))
     snap_t = np.array([float(f["snapshots"][k].attrs["time"][0]) for k in labels])
@@ -179,84 +193,130 @@ def main():
         g = f["bodies"][name]
         disc = g.attrs.get("discretization", b"rkpm")
         disc = (disc.decode() if isinstance(disc, bytes) else str(disc)).strip()
-        bodies[name] = dict(np=g["x"].shape[0], disc=disc,
+        bodies[name] = dict(np=g["x"].shape[0], disc=disc, x=g["x"][()],
                             tri=g["triangles"][()] if "triangles" in g else None,
                             deformable=name in f["snapshots"][last])
-    check("the file has a finite-element body",
-          any(b["tri"] is not None for b in bodies.values()),
-          {n: b["disc"] for n, b in bodies.items()})
+    if need_fem:
+        check(tag + "the file has a deformable finite-element body",
+              any(b["tri"] is not None and b["deformable"] for b in bodies.values()),
+              {n: b["disc"] for n, b in bodies.items()})
+    check(tag + "the file has a rigid body (in /bodies, not in the snapshots)",
+          any(not b["deformable"] for b in bodies.values()), sorted(bodies))
 
     cap = Captured(vtk, reader)
     with cap:
         can = reader.CanReadFile(xdmf)
         reader.SetFileName(xdmf)
+        reader.Modified()
         reader.UpdateInformation()
-    check(f"{cls} can read {os.path.basename(xdmf)}", can, can)
+    check(tag + f"{cls} can read {os.path.basename(xdmf)}", can, can)
     oi = reader.GetOutputInformation(0)
     sddp = vtk.vtkStreamingDemandDrivenPipeline
     steps = np.array(oi.Get(sddp.TIME_STEPS()) if oi.Has(sddp.TIME_STEPS()) else [])
-    check(f"{steps.size} time steps at the {len(labels)} snapshot times",
+    check(tag + f"{steps.size} time steps at the {len(labels)} snapshot times",
           steps.size == len(labels) and np.allclose(steps, snap_t, rtol=1e-9, atol=1e-15),
           (steps, snap_t))
-    with cap:
-        ok = reader.UpdateTimeStep(float(snap_t[-1])) if steps.size else reader.Update()
-    probs = cap.problems()
-    check("the reader reports no error", ok in (None, 1, True) and not probs,
-          f"update returned {ok}; " + " | ".join(probs))
-    got = blocks(vtk, reader.GetOutputDataObject(0))
-    info(f"blocks at t = {snap_t[-1]:.6g} s ({last}): "
-         + ", ".join(f"{n}: {d.GetNumberOfPoints()} points, {d.GetNumberOfCells()} cells"
-                     for n, d in got.items()))
+
+    def read_at(t):
+        with cap:
+            ok = reader.UpdateTimeStep(float(t)) if steps.size else reader.Update()
+        probs = cap.problems()
+        check(tag + f"the reader reports no error at t = {t:.6g} s",
+              ok in (None, 1, True) and not probs,
+              f"update returned {ok}; " + " | ".join(probs))
+        got = blocks(vtk, reader.GetOutputDataObject(0))
+        info(tag + f"blocks at t = {t:.6g} s: "
+             + ", ".join(f"{n}: {d.GetNumberOfPoints()} points, {d.GetNumberOfCells()} cells"
+                         for n, d in got.items()))
+        return got
+
+    first_blocks = read_at(snap_t[0])
+    # the rigid bodies' blocks are copied out before the reader runs again
+    first_rigid = {}
+    for name, b in bodies.items():
+        if not b["deformable"] and name in first_blocks:
+            d = first_blocks[name].NewInstance()
+            d.DeepCopy(first_blocks[name])
+            first_rigid[name] = d
+    got = read_at(snap_t[-1])
+    from vtkmodules.util.numpy_support import vtk_to_numpy
 
     for name, b in bodies.items():
-        ds = got.get(name)
+        npt = b["np"]
         if not b["deformable"]:
-            check(f"{name}: {b['disc']} body, rigid (not in the snapshots): no block",
-                  ds is None, "a block exists")
+            for when, ds in (("first", first_rigid.get(name)), ("last", got.get(name))):
+                what = f"{name}: rigid {b['disc']} body at the {when} time step: "
+                check(tag + what + "a block", ds is not None,
+                      sorted(first_rigid if when == "first" else got))
+                if ds is None:
+                    continue
+                check(tag + what + f"{ds.GetNumberOfPoints()} points = np = {npt}",
+                      ds.GetNumberOfPoints() == npt, ds.GetNumberOfPoints())
+                pts = vtk_to_numpy(ds.GetPoints().GetData()) if ds.GetPoints() is not None \
+                    else None
+                nd = b["x"].shape[1]
+                check(tag + what + f"points = /bodies/{name}/x",
+                      pts is not None and pts.shape[0] == npt
+                      and np.array_equal(pts[:, :nd], b["x"]) and np.all(pts[:, nd:] == 0.0),
+                      None if pts is None else (pts[:3], b["x"][:3]))
+                types, conn, offs = cell_types_and_connectivity(ds)
+                if b["tri"] is not None:
+                    tri = np.asarray(b["tri"], dtype=np.int64)
+                    check(tag + what + f"{types.size} VTK_TRIANGLE cells = /bodies/{name}/"
+                          "triangles", types.size == tri.shape[0]
+                          and np.all(types == vtk.VTK_TRIANGLE)
+                          and (conn is None or np.array_equal(conn.reshape(-1, 3), tri)),
+                          (types.size, tri.shape))
+                else:
+                    vert = (vtk.VTK_VERTEX, vtk.VTK_POLY_VERTEX)
+                    covered = np.unique(conn) if conn is not None else None
+                    check(tag + what + f"vertex cells over all {npt} points",
+                          types.size > 0 and np.all(np.isin(types, vert))
+                          and (covered is None or covered.size == npt),
+                          (np.unique(types), None if covered is None else covered.size))
             continue
+        ds = got.get(name)
         if ds is None:
-            check(f"{name}: a block for the deformable body", False, sorted(got))
+            check(tag + f"{name}: a block for the deformable body", False, sorted(got))
             continue
         g = f["snapshots"][last][name]
-        npt = b["np"]
-        check(f"{name}: {ds.GetNumberOfPoints()} points = np = {npt}",
+        check(tag + f"{name}: {ds.GetNumberOfPoints()} points = np = {npt}",
               ds.GetNumberOfPoints() == npt, ds.GetNumberOfPoints())
-        from vtkmodules.util.numpy_support import vtk_to_numpy
         pts = vtk_to_numpy(ds.GetPoints().GetData()) if ds.GetPoints() is not None else None
-        check(f"{name}: points at the last snapshot's x",
+        check(tag + f"{name}: points at the last snapshot's x",
               pts is not None and pts.shape[0] == npt
               and np.allclose(pts[:, :2], g["x"][()], rtol=0, atol=1e-12)
               and np.all(pts[:, 2:] == 0.0), None if pts is None else pts[:3])
         types, conn, offs = cell_types_and_connectivity(ds)
         v = array(ds.GetPointData(), "v")
-        check(f"{name}: point array v with {npt} tuples (the file's v)",
+        check(tag + f"{name}: point array v with {npt} tuples (the file's v)",
               v is not None and v.shape[0] == npt and np.allclose(v[:, :2], g["v"][()]),
               None if v is None else v.shape)
         if b["tri"] is not None:
             tri = np.asarray(b["tri"], dtype=np.int64)
             ne = tri.shape[0]
-            check(f"{name}: {types.size} cells = ne = {ne}", types.size == ne, types.size)
-            check(f"{name}: every cell VTK_TRIANGLE ({vtk.VTK_TRIANGLE})",
+            check(tag + f"{name}: {types.size} cells = ne = {ne}", types.size == ne, types.size)
+            check(tag + f"{name}: every cell VTK_TRIANGLE ({vtk.VTK_TRIANGLE})",
                   types.size > 0 and np.all(types == vtk.VTK_TRIANGLE), np.unique(types))
             if conn is not None:
-                check(f"{name}: cell connectivity = /bodies/{name}/triangles (0-based)",
+                check(tag + f"{name}: cell connectivity = /bodies/{name}/triangles (0-based)",
                       conn.size == 3 * ne and np.array_equal(conn.reshape(-1, 3), tri),
                       (conn[:6], tri[:2]))
             e = array(ds.GetCellData(), "epsbar_cells")
-            check(f"{name}: cell array epsbar_cells with {ne} values (the file's)",
+            check(tag + f"{name}: cell array epsbar_cells with {ne} values (the file's)",
                   e is not None and e.shape == (ne, 1)
                   and np.allclose(e[:, 0], g["epsbar_cells"][()]),
                   None if e is None else e.shape)
             for c, comp in enumerate(("11", "22", "33", "12")):
                 sc = array(ds.GetCellData(), "stress_cells_" + comp)
-                check(f"{name}: cell array stress_cells_{comp} = column {c} of the file's "
-                      f"stress_cells", sc is not None and sc.shape == (ne, 1)
+                check(tag + f"{name}: cell array stress_cells_{comp} = column {c} of the "
+                      f"file's stress_cells", sc is not None and sc.shape == (ne, 1)
                       and np.allclose(sc[:, 0], g["stress_cells"][()][:, c], rtol=0,
                                       atol=1e-9 * max(1.0, np.abs(g["stress_cells"][()]).max())),
                       None if sc is None else sc.shape)
         for c, comp in enumerate(("11", "22", "33", "12")):
             sp = array(ds.GetPointData(), "stress_" + comp)
-            check(f"{name}: point array stress_{comp} = column {c} of the file's stress",
+            check(tag + f"{name}: point array stress_{comp} = column {c} of the file's stress",
                   sp is not None and sp.shape == (npt, 1)
                   and np.allclose(sp[:, 0], g["stress"][()][:, c], rtol=0,
                                   atol=1e-9 * max(1.0, np.abs(g["stress"][()]).max())),
@@ -264,12 +324,35 @@ def main():
         if b["tri"] is None:
             vert = (vtk.VTK_VERTEX, vtk.VTK_POLY_VERTEX)
             covered = np.unique(conn) if conn is not None else None
-            check(f"{name}: particle body: vertex cells over all {npt} points",
+            check(tag + f"{name}: particle body: vertex cells over all {npt} points",
                   types.size > 0 and np.all(np.isin(types, vert))
                   and (covered is None or covered.size == npt),
                   (np.unique(types), None if covered is None else covered.size))
-    finish()
+    f.close()
 
+
+def main():
+    if len(sys.argv) < 3:
+        print(__doc__)
+        sys.exit(2)
+    mfcd, deck = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    vtk, reader, cls = load_reader()
+    info(f"vtk {vtk.vtkVersion.GetVTKVersion()}, reader {cls}")
+    text = open(deck).read()
+    files = run_deck(mfcd, text, os.path.basename(deck), "")
+    if files is None:
+        finish()
+    check_file(vtk, reader, cls, *files)
+    # the same deck with its rigid bodies as finite-element meshes: triangle grids
+    fem_text = rigid_as_fem(text)
+    check("rigid_fem: the deck has a rigid body to make a mesh of", fem_text != text)
+    if fem_text != text:
+        # a fresh reader: the XDMF readers cache what they read by file name
+        _, reader2, _ = load_reader()
+        files = run_deck(mfcd, fem_text, "rigid_fem_" + os.path.basename(deck), "rigid_fem: ")
+        if files is not None:
+            check_file(vtk, reader2, cls, *files, tag="rigid_fem: ", need_fem=False)
+    finish()
 
 if __name__ == "__main__":
     main()
