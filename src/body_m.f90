@@ -7,9 +7,11 @@ module body_m
   use geometry_m, only: geometry_t
   implicit none
   private
-  public :: body_t, name_len
+  public :: body_t, name_len, max_cell_vertices
 
   integer, parameter :: name_len = 64
+  !> Vertices of one integration cell at most (a clipped lattice cell, a file's cell)
+  integer, parameter :: max_cell_vertices = 64
 
   type :: body_t
     character(len=name_len) :: name = ''
@@ -31,6 +33,12 @@ module body_m
     !! cells tile the body. Unallocated: no cell is merged (every other shape)
     integer, allocatable :: merged_ptr(:)
     real(wp), allocatable :: merged_centre(:, :)
+    !> Explicit integration cells (an HDF5 particle file with /cells, e.g. the median-dual
+    !! cells of a mesh from tools/mesh_body.py): particle i's cell is the polygon
+    !! cell_xy(:, cell_ptr(i) : cell_ptr(i+1)-1), counter-clockwise; the cells tile the body
+    !! and their areas are the volumes. Unallocated: lattice cells (or none)
+    integer, allocatable :: cell_ptr(:)
+    real(wp), allocatable :: cell_xy(:, :)
     !> Boundary polylines in CSR form: loop k is loop_idx(loop_ptr(k) : loop_ptr(k+1)-1),
     !! counter-clockwise (outward normal = e3 x t on the right of the walking direction).
     integer :: nloops = 0

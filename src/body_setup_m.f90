@@ -7,14 +7,16 @@ module body_setup_m
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
-  use body_m, only: body_t
+  use body_m, only: body_t, max_cell_vertices
   use deck_m, only: deck_t, body_spec_t, body_count_var, body_place_var, body_make_vars
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, &
     make_from_arrays, set_supports, perturb_interior
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
-  use hdf5_io_m, only: read_particle_file_h5
+  use kinds_m, only: i64
+  use hdf5_io_m, only: read_particle_file_h5, h5file_t, h5_open_read, h5_close, h5_has, &
+    h5_shape, h5_read
   use detection_m, only: body_cloud, body_plateau
   use geometry_m, only: geom_none, signed_distance
   use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
@@ -205,6 +207,18 @@ contains
       if (.not. allocated(e2)) call make_from_arrays(b, xs, vols, loop, order, e2)
       if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
       if (.not. allocated(e2)) call check_file_layout(trim(s%file), b, e2)
+      if (.not. allocated(e2)) call read_mesh_extras(trim(s%file), s, &
+        deck%run%mode == 'dynamic', b, local, e2)
+      if (.not. allocated(e2) .and. deck%run%mode == 'dynamic' .and. s%role == &
+        'deformable' .and. s%discretization == 'rkpm' .and. s%integration /= 'direct' .and. &
+        .not. allocated(b%cell_ptr)) then
+        call set_error(err, where//", variable integration = '"//trim(s%integration)// &
+          "': "//trim(s%integration)//" integrates over each particle's cell, and the "// &
+          "particle file '"//trim(s%file)//"' has no /cells (ptr, xy); give a file with "// &
+          "them (tools/mesh_body.py writes the median-dual cells of a mesh) or "// &
+          "integration = 'direct', a negative control, in plane strain")
+        return
+      end if
     end select
     if (allocated(e2)) then
       call set_error(err, where//', variable '//body_make_vars(s%shape)//': '//e2%message)
@@ -222,7 +236,10 @@ contains
     b%kid = s%kid
     b%wshape = s%wshape
     b%bid = s%bid
-    if (s%shape == 'annulus_sector') then
+    if (allocated(local)) then
+      ! a mesh file: supports from the element sizes around each node
+      call set_supports(b, s%support_factor, local)
+    else if (s%shape == 'annulus_sector') then
       dr = (s%r_outer - s%r_inner)/real(s%n(1) - 1, wp)
       dt = (s%theta_end - s%theta_start)*pi/180.0_wp
       if (s%theta_end - s%theta_start >= 360.0_wp - 1.0e-9_wp) then
@@ -497,6 +514,103 @@ contains
       call read_particle_columns(path, ndim, x, vol, loop, order, err)
     end if
   end subroutine read_particles
+
+  !> What an HDF5 particle file may add to its particles (tools/mesh_body.py writes both):
+  !! /mesh/triangles (ne, 3 in h5py; 1-based rows of /particles/x), the elements of an FE
+  !! body, and /cells/ptr, /cells/xy, each particle's integration cell (1-based CSR over the
+  !! polygon vertices), for SCNI and Gauss. With triangles, local(i) is the longest edge of
+  !! the triangles at particle i: supports follow a graded mesh. Errors name what is missing
+  !! for the body's discretization and integration.
+  subroutine read_mesh_extras(path, s, dynamic, b, local, err)
+    character(len=*), intent(in) :: path
+    type(body_spec_t), intent(in) :: s
+    logical, intent(in) :: dynamic    !< mode dynamic: the discretization needs its data
+    type(body_t), intent(inout) :: b
+    real(wp), allocatable, intent(inout) :: local(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    integer, allocatable :: dims(:)
+    integer(i64), allocatable :: tri(:, :), ptr(:)
+    real(wp), allocatable :: xy(:, :)
+    logical :: is_h5, has_tri, has_cells
+    integer :: l, e, k, i, j, ne
+    real(wp) :: len_e
+    l = len_trim(path)
+    is_h5 = l > 3 .and. (path(max(1, l - 2):l) == '.h5' .or. path(max(1, l - 4):l) == '.hdf5')
+    has_tri = .false.
+    has_cells = .false.
+    if (is_h5) then
+      call h5_open_read(f, path, err)
+      if (allocated(err)) return
+      has_tri = h5_has(f, '/mesh/triangles')
+      has_cells = h5_has(f, '/cells/ptr') .and. h5_has(f, '/cells/xy')
+      if (has_tri) then
+        call h5_shape(f, '/mesh/triangles', dims, err)
+        if (.not. allocated(err)) then
+          if (size(dims) /= 2 .or. dims(1) /= 3) call set_error(err, "particle file '"// &
+            path//"': /mesh/triangles must be (ne, 3) node numbers")
+        end if
+        if (.not. allocated(err)) then
+          allocate(tri(3, dims(2)))
+          call h5_read(f, '/mesh/triangles', tri, err)
+        end if
+        if (.not. allocated(err)) then
+          if (any(tri < 1 .or. tri > b%np)) call set_error(err, "particle file '"//path// &
+            "': /mesh/triangles names a node outside 1.."//itoa(b%np))
+        end if
+      end if
+      if (has_cells .and. .not. allocated(err)) then
+        call h5_shape(f, '/cells/xy', dims, err)
+        if (.not. allocated(err)) then
+          allocate(ptr(b%np + 1), xy(2, dims(2)))
+          call h5_read(f, '/cells/ptr', ptr, err)
+        end if
+        if (.not. allocated(err)) call h5_read(f, '/cells/xy', xy, err)
+        if (.not. allocated(err)) then
+          if (ptr(1) /= 1 .or. ptr(b%np + 1) /= size(xy, 2) + 1 .or. &
+            any(ptr(2:) - ptr(:b%np) < 3) .or. any(ptr(2:) - ptr(:b%np) > &
+            max_cell_vertices)) call set_error(err, "particle file '"//path// &
+            "': /cells/ptr must start at 1, end at the number of /cells/xy vertices + 1 "// &
+            "and give every particle a polygon of 3 to "//itoa(max_cell_vertices)// &
+            " vertices")
+        end if
+      end if
+      call h5_close(f, e2)
+      if (allocated(err)) return
+    end if
+    if (s%discretization == 'fem' .and. dynamic) then
+      if (.not. has_tri) then
+        call set_error(err, "particle file '"//path//"' has no /mesh/triangles: an FE body "// &
+          "needs its elements (tools/mesh_body.py writes them), or discretization = 'rkpm'")
+        return
+      end if
+      b%cells = int(tri)
+    end if
+    if (has_cells) then
+      b%cell_ptr = int(ptr)
+      b%cell_xy = xy
+    end if
+    if (has_tri) then
+      ne = size(tri, 2)
+      allocate(local(b%np))
+      local = 0.0_wp
+      do e = 1, ne
+        do k = 1, 3
+          i = int(tri(k, e))
+          j = int(tri(modulo(k, 3) + 1, e))
+          len_e = norm2(b%x(:, i) - b%x(:, j))
+          local(i) = max(local(i), len_e)
+          local(j) = max(local(j), len_e)
+        end do
+      end do
+      if (any(local <= 0.0_wp)) then
+        call set_error(err, "particle file '"//path//"': a particle belongs to no triangle "// &
+          "of /mesh/triangles (or a triangle is degenerate)")
+        return
+      end if
+    end if
+  end subroutine read_mesh_extras
 
   !> Plain columns, one particle a line: x [y [z]] volume [loop order]; '#' starts a comment.
   !! loop = 0 for interior particles, k > 0 for particles on boundary polyline k, with order

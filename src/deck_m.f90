@@ -935,10 +935,11 @@ contains
       return
     end if
     if (s%discretization == 'fem' .and. ((s%shape /= 'rectangle' .and. &
-      s%shape /= 'annulus_sector') .or. nd /= 2)) then
-      call bad(deck, grp, 'discretization', "'fem'", "CST4 meshes are generated on a "// &
-        "'rectangle' or an 'annulus_sector' in 2D (n = nodes per direction: n - 1 boxes, "// &
-        "n(2) around a full ring); use discretization = 'rkpm' for shape '"// &
+      s%shape /= 'annulus_sector' .and. s%shape /= 'file') .or. nd /= 2)) then
+      call bad(deck, grp, 'discretization', "'fem'", "finite elements are generated on a "// &
+        "'rectangle' or an 'annulus_sector' (CST4; n = nodes per direction: n - 1 boxes, "// &
+        "n(2) around a full ring) or read from an HDF5 particle file with /mesh/triangles "// &
+        "(tools/mesh_body.py), in 2D; use discretization = 'rkpm' for shape '"// &
         trim(s%shape)//"'", err)
       return
     end if
@@ -969,12 +970,14 @@ contains
     if (deck%run%mode == 'dynamic' .and. s%role == 'deformable' .and. &
       s%discretization == 'rkpm') then
       ! what the RKPM tables would refuse at set-up (rkpm_tl_m), named here
-      if (s%integration /= 'direct' .and. s%shape /= 'rectangle' .and. s%shape /= 'polygon') &
-        then
+      ! (a 'file' body brings its cells, or the body set-up says it has none)
+      if (s%integration /= 'direct' .and. s%shape /= 'rectangle' .and. s%shape /= 'polygon' &
+        .and. s%shape /= 'file') then
         call bad(deck, grp, 'integration', "'"//trim(s%integration)//"'", trim(s%integration)// &
-          " integrates over the lattice cells of a 'rectangle' or 'polygon' body, and shape '"// &
-          trim(s%shape)//"' has none; use shape = 'rectangle' or 'polygon' (or integration "// &
-          "= 'direct', a negative control, in plane strain)", err)
+          " integrates over the cells of a 'rectangle' or 'polygon' body or of a particle "// &
+          "file that carries them (/cells, tools/mesh_body.py), and shape '"// &
+          trim(s%shape)//"' has none; use shape = 'rectangle', 'polygon' or 'file' (or "// &
+          "integration = 'direct', a negative control, in plane strain)", err)
         return
       end if
       if (s%integration == 'direct' .and. deck%run%geometry == 'axisymmetric') then

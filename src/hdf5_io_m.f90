@@ -35,7 +35,7 @@ module hdf5_io_m
 
   !> Dataset readers into arrays of the caller's shape: the stored shape must match it.
   interface h5_read
-    module procedure read_ds_r1, read_ds_r2, read_ds_i64
+    module procedure read_ds_r1, read_ds_r2, read_ds_i64, read_ds_i64_2
   end interface h5_read
 
   !> Attribute readers: text (any length), integer scalar, real rank 1 of the caller's size.
@@ -670,6 +670,28 @@ contains
     end if
     a = buf
   end subroutine read_ds_i64
+
+  subroutine read_ds_i64_2(f, path, a, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer(i64), intent(inout) :: a(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(i64), allocatable, target :: buf(:, :)
+    type(c_ptr) :: ptr
+    integer(hid_t) :: d
+    integer :: st, s2
+    call open_checked(f, path, shape(a), d, err)
+    if (allocated(err)) return
+    allocate(buf(size(a, 1), size(a, 2)))
+    ptr = c_loc(buf)
+    call h5dread_f(d, h5kind_to_type(i64, H5_INTEGER_KIND), ptr, st)
+    call h5dclose_f(d, s2)
+    if (st /= 0) then
+      call read_fail(f, path, 'read failed', err)
+      return
+    end if
+    a = buf
+  end subroutine read_ds_i64_2
 
   !> A text dataset written by h5_text, whole.
   subroutine h5_read_text(f, path, text, err)

@@ -31,7 +31,7 @@ module rkpm_tl_m
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
-  use body_m, only: body_t
+  use body_m, only: body_t, max_cell_vertices
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_polygon, clip_polygon_box
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape, cloud_count_cover
@@ -45,7 +45,7 @@ module rkpm_tl_m
   character(len=*), parameter :: scheme_names(3) = [character(len=6) :: &
     'scni', 'gauss', 'direct']
   integer, parameter :: max_nb = 512    !< particles covering one evaluation point
-  integer, parameter :: max_cv = 64     !< vertices of one clipped cell
+  integer, parameter :: max_cv = max_cell_vertices   !< vertices of one cell
 
 contains
 
@@ -80,9 +80,11 @@ contains
       call set_error(err, 'the RKPM solver needs ndim = 2 (plane strain or axisymmetric)')
       return
     end if
-    if (b%geom%kind /= geom_polygon .and. scheme /= scheme_direct) then
+    if (b%geom%kind /= geom_polygon .and. .not. allocated(b%cell_ptr) .and. &
+      scheme /= scheme_direct) then
       call set_error(err, "body '"//trim(b%name)//"': SCNI and Gauss integration need "// &
-        "the cells of a 'rectangle' or 'polygon' body (shape = '"//trim(b%shape)//"')")
+        "the cells of a 'rectangle' or 'polygon' body or of a particle file with /cells "// &
+        "(shape = '"//trim(b%shape)//"')")
       return
     end if
     if (axisym .and. scheme == scheme_direct) then
@@ -146,6 +148,12 @@ contains
     real(wp), intent(out) :: cv(2, max_cv)
     integer, intent(out) :: ncv
     real(wp) :: half(2), o(2)
+    if (allocated(b%cell_ptr)) then
+      ! the particle file's own cell (one piece)
+      ncv = min(b%cell_ptr(i + 1) - b%cell_ptr(i), max_cv)
+      cv(:, 1:ncv) = b%cell_xy(:, b%cell_ptr(i):b%cell_ptr(i) + ncv - 1)
+      return
+    end if
     half = 0.5_wp*b%spacing(1:2)
     if (k == 0) then
       o = cell_centre_of(b, i)

@@ -3,8 +3,18 @@
 # gfortran, CMake, Ninja, HDF5 (Fortran API), LAPACK, Python 3 with venv, and a virtual
 # environment .venv with numpy, matplotlib and h5py for post/ and the regression checks.
 # Safe to run again: it installs only what is missing.
+#   bash tools/setup.sh           what the build, the main job and the tests need
+#   bash tools/setup.sh --gmsh    also gmsh (PyPI) in .venv and the X11/OpenGL libraries its
+#                                 wheel links against: for meshing .geo bodies (tools/mesh_body.py)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+gmsh=0
+for arg in "$@"; do
+  case "$arg" in
+    --gmsh) gmsh=1 ;;
+    *) echo "setup: unknown option '$arg' (use --gmsh or nothing)" >&2; exit 2 ;;
+  esac
+done
 
 pkgs=()
 command -v gfortran >/dev/null 2>&1 || pkgs+=(gfortran)
@@ -17,6 +27,13 @@ have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q 'install ok
 have_pkg libhdf5-dev || pkgs+=(libhdf5-dev)
 have_pkg liblapack-dev || pkgs+=(liblapack-dev)
 have_pkg make || pkgs+=(make)
+if [ "$gmsh" = 1 ]; then
+  # the libraries libgmsh.so of the PyPI wheel needs on a headless Debian 12
+  for p in libglu1-mesa libgl1 libopengl0 libxrender1 libxcursor1 libxfixes3 libxext6 \
+           libxft2 libfontconfig1 libxinerama1 libx11-6; do
+    have_pkg "$p" || pkgs+=("$p")
+  done
+fi
 
 if [ ${#pkgs[@]} -gt 0 ]; then
   echo "setup: installing ${pkgs[*]}"
@@ -34,5 +51,9 @@ if ! .venv/bin/python -c 'import numpy, matplotlib, h5py, vtk' >/dev/null 2>&1; 
   echo "setup: installing post/requirements.txt into .venv"
   .venv/bin/python -m pip install -q --upgrade pip
   .venv/bin/python -m pip install -q -r post/requirements.txt
+fi
+if [ "$gmsh" = 1 ] && ! .venv/bin/python -c 'import gmsh' >/dev/null 2>&1; then
+  echo "setup: installing gmsh into .venv"
+  .venv/bin/python -m pip install -q gmsh
 fi
 echo "setup: ok ($(gfortran --version | head -n 1); cmake $(cmake --version | head -n 1 | awk '{print $3}'))"

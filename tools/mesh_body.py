@@ -1,0 +1,201 @@
+#!/usr/bin/env python3
+"""Mesh a gmsh geometry (.geo) into an mfcd body file: the nodes as particles, the linear
+triangles as a finite-element mesh, and each node's median-dual cell as its nodal
+integration cell.
+
+    .venv/bin/python tools/mesh_body.py input/hertz_disk.geo output/meshes/disk.h5 \\
+        --set h=0.5e-3 [--set R=5e-3 ...]
+
+gmsh (PyPI `gmsh`, installed by `bash tools/setup.sh --gmsh`) reads the .geo with the
+parser numbers given by --set (the script reads them as `If (!Exists(h)) h = ...; EndIf`),
+meshes its surfaces with first-order triangles, and this script writes what mfcd reads with
+`&body shape = 'file'` (doc/deck.md):
+
+| dataset | shape (h5py) | meaning |
+|---|---|---|
+| /particles/x | (np, 2) | node coordinates (m): the particles of an RKPM body, the nodes of an FE body |
+| /particles/volume | (np,) | each node's median-dual cell area (m^2): a third of every triangle touching it, so the volumes sum to the area of the mesh to round-off |
+| /particles/loop, /particles/order | (np,) | boundary loop (0 interior) and position along it, counter-clockwise around the material (holes clockwise) |
+| /mesh/triangles | (ne, 3) | node numbers (1-based rows of /particles/x), counter-clockwise |
+| /cells/ptr, /cells/xy | (np+1,), (nv, 2) | node i's median-dual cell: the polygon xy[ptr[i]-1 : ptr[i+1]-1] (1-based CSR), counter-clockwise: the edge midpoints and triangle centroids around the node (and the node itself on the boundary). The cells tile the mesh exactly: SCNI integrates over them |
+
+Only the nodes of the triangles are kept (gmsh's construction points are dropped). Exits 2
+with a message on a bad geometry or an empty mesh.
+"""
+import argparse
+import os
+import sys
+
+import h5py
+import numpy as np
+
+
+def mesh_geo(geo, numbers, quiet=True):
+    """(x (np, 2), triangles (ne, 3) 0-based, counter-clockwise) of the .geo's 2D mesh."""
+    import gmsh
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0 if quiet else 1)
+        for name, value in numbers.items():
+            gmsh.parser.setNumber(name, [value])
+        gmsh.merge(geo)   # merge, not open: open resets the parser numbers set above
+        gmsh.option.setNumber("Mesh.ElementOrder", 1)
+        gmsh.model.mesh.generate(2)
+        tags, xyz, _ = gmsh.model.mesh.getNodes()
+        types, _, nodes = gmsh.model.mesh.getElements(2)
+        version = gmsh.__version__
+    finally:
+        gmsh.finalize()
+    tri = [np.asarray(n, dtype=np.int64).reshape(-1, 3)
+           for t, n in zip(types, nodes) if t == 2]
+    if not tri:
+        raise ValueError(f"{geo}: the mesh has no triangles (is there a Plane Surface?)")
+    tri = np.concatenate(tri)
+    index = {int(t): k for k, t in enumerate(tags)}
+    tri = np.vectorize(index.__getitem__)(tri)
+    x = np.asarray(xyz, dtype=float).reshape(-1, 3)[:, :2]
+    used = np.unique(tri)
+    renum = -np.ones(x.shape[0], dtype=np.int64)
+    renum[used] = np.arange(used.size)
+    x, tri = x[used], renum[tri]
+    # counter-clockwise
+    a = signed_areas(x, tri)
+    flip = a < 0
+    tri[flip] = tri[flip][:, [0, 2, 1]]
+    return x, tri, version
+
+
+def signed_areas(x, tri):
+    p0, p1, p2 = x[tri[:, 0]], x[tri[:, 1]], x[tri[:, 2]]
+    return 0.5 * ((p1[:, 0] - p0[:, 0]) * (p2[:, 1] - p0[:, 1])
+                  - (p2[:, 0] - p0[:, 0]) * (p1[:, 1] - p0[:, 1]))
+
+
+def boundary_loops(tri):
+    """Closed boundary loops as lists of node numbers: the directed triangle edges that no
+    other triangle has reversed, chained; with counter-clockwise triangles each runs with
+    the material on its left."""
+    edges = {}
+    for t in tri:
+        for k in range(3):
+            edges[(int(t[k]), int(t[(k + 1) % 3]))] = True
+    nxt = {a: b for (a, b) in edges if (b, a) not in edges}
+    loops = []
+    while nxt:
+        start = min(nxt)
+        loop = [start]
+        node = nxt.pop(start)
+        while node != start:
+            loop.append(node)
+            if node not in nxt:
+                raise ValueError("the boundary is not a set of closed loops (a node where "
+                                 "two boundary chains meet?)")
+            node = nxt.pop(node)
+        loops.append(loop)
+    return loops
+
+
+def dual_cells(x, tri):
+    """Median-dual cell of every node, counter-clockwise: around the node, for each
+    triangle (i, a, b) in turn the midpoint of i-a, the centroid and the midpoint of i-b;
+    a boundary node's cell starts and ends at the node itself."""
+    fans = [[] for _ in range(x.shape[0])]
+    for t in tri:
+        for k in range(3):
+            i, a, b = int(t[k]), int(t[(k + 1) % 3]), int(t[(k + 2) % 3])
+            fans[i].append((a, b, x[t].mean(axis=0)))
+    ptr, xy = [1], []
+    for i, fan in enumerate(fans):
+        by_a = {a: (a, b, c) for a, b, c in fan}
+        bs = {b for _, b, _ in fan}
+        starts = [a for a in by_a if a not in bs]
+        boundary = bool(starts)
+        a = starts[0] if boundary else fan[0][0]
+        poly = [x[i]] if boundary else []
+        seen = 0
+        while a in by_a and seen < len(fan):
+            _, b, c = by_a[a]
+            poly += [0.5 * (x[i] + x[a]), c]
+            seen += 1
+            a = b
+            if not boundary and a == fan[0][0]:
+                break
+        if boundary:
+            poly.append(0.5 * (x[i] + x[a]))
+        if seen != len(fan):
+            raise ValueError(f"node {i + 1}: its triangles do not form one fan (a pinched "
+                             "mesh)")
+        xy += poly
+        ptr.append(ptr[-1] + len(poly))
+    return np.array(ptr, dtype=np.int64), np.array(xy)
+
+
+def polygon_area(p):
+    return 0.5 * float(np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]))
+
+
+def write_body(path, x, tri, loops, ptr, xy, attrs):
+    np_ = x.shape[0]
+    area = signed_areas(x, tri)
+    vol = np.zeros(np_)
+    for k in range(3):
+        np.add.at(vol, tri[:, k], area / 3.0)
+    loop = np.zeros(np_, dtype=np.int32)
+    order = np.zeros(np_, dtype=np.int32)
+    for k, lp in enumerate(loops, start=1):
+        loop[lp] = k
+        order[lp] = np.arange(len(lp))
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    with h5py.File(path, "w") as f:
+        f["particles/x"] = x
+        f["particles/volume"] = vol
+        f["particles/loop"] = loop
+        f["particles/order"] = order
+        f["mesh/triangles"] = (tri + 1).astype(np.int32)
+        f["cells/ptr"] = ptr.astype(np.int32)
+        f["cells/xy"] = xy
+        for k, v in attrs.items():
+            f.attrs[k] = v
+    return vol, area
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("geo")
+    ap.add_argument("out")
+    ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="a gmsh parser number, e.g. h=0.5e-3 (repeat for more)")
+    a = ap.parse_args(argv)
+    numbers = {}
+    for item in a.set:
+        name, _, value = item.partition("=")
+        try:
+            numbers[name.strip()] = float(value)
+        except ValueError:
+            print(f"mesh_body: error: --set {item!r}: give NAME=NUMBER", file=sys.stderr)
+            return 2
+    try:
+        import gmsh  # noqa: F401
+    except ImportError:
+        print("mesh_body: error: the gmsh Python module is missing: run "
+              "`bash tools/setup.sh --gmsh` (PyPI gmsh into .venv)", file=sys.stderr)
+        return 2
+    try:
+        x, tri, version = mesh_geo(a.geo, numbers)
+        loops = boundary_loops(tri)
+        ptr, xy = dual_cells(x, tri)
+    except (ValueError, Exception) as e:   # gmsh raises plain Exceptions
+        print(f"mesh_body: error: {a.geo}: {e}", file=sys.stderr)
+        return 2
+    attrs = {"source": os.path.basename(a.geo), "gmsh_version": version,
+             "parameters": "; ".join(f"{k}={v:g}" for k, v in numbers.items())}
+    vol, area = write_body(a.out, x, tri, loops, ptr, xy, attrs)
+    cells = sum(polygon_area(xy[ptr[i] - 1:ptr[i + 1] - 1]) for i in range(x.shape[0]))
+    print(f"mesh_body: {a.out}: {x.shape[0]} nodes, {tri.shape[0]} triangles, {len(loops)} "
+          f"boundary loop(s); area {area.sum():.6e} m^2, nodal volumes sum to "
+          f"{vol.sum():.6e}, dual cells to {cells:.6e}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
