@@ -21,7 +21,7 @@ straight segments between nodes can still cross where two faces' nodes do not ma
 corners), and at the tight ends of a fold the faces are reference neighbours, excluded
 by design; measured 0.05 support (C-shape, corner of the tips), 0 (torus), 0.16 (ring,
 fold ends; tools/self_contact.sh); the controls reach 0.64 (torus) to 3 (C-shape)
-supports. ENERGY_TOL = 1e-3: measured 2.3e-4 (C-shape) and 7.5e-5 (torus) with
+supports. ENERGY_TOL = 1e-3: measured 2.2e-4 (C-shape) and 7.5e-5 (torus) with
 self-contact, below 4e-5 without; the run's own guard stops at 5e-2.
 
 Usage: check_self_contact.py /path/to/mfcd DECK_WITH DECK_FREE [DECK_WITH DECK_FREE ...]
