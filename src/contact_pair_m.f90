@@ -513,6 +513,15 @@ contains
   subroutine self_travel(s, sol)
     type(side_t), intent(inout) :: s
     type(solid_t), intent(in) :: sol
+    call add_travel(s, sol, 2.0_wp)
+  end subroutine self_travel
+
+  !> Add to s%travel factor x lip x max_I |d_I - d'_I|, d' the coefficients at the last
+  !! call (kept in s%d_scr): a bound on any particle's motion since then, times factor.
+  subroutine add_travel(s, sol, factor)
+    type(side_t), intent(inout) :: s
+    type(solid_t), intent(in) :: sol
+    real(wp), intent(in) :: factor
     integer :: i
     real(wp) :: dmax2
     dmax2 = 0.0_wp
@@ -522,8 +531,8 @@ contains
       s%d_scr(:, i) = sol%d(:, i)
     end do
     !$omp end parallel do
-    s%travel = s%travel + 2.0_wp*s%lip*sqrt(dmax2)
-  end subroutine self_travel
+    s%travel = s%travel + factor*s%lip*sqrt(dmax2)
+  end subroutine add_travel
 
   !> The pair evaluates det(M) of its masters: its detector is det(M), or it compares.
   pure logical function need_det(p)
@@ -610,17 +619,10 @@ contains
     type(solid_t), intent(in) :: sol
     type(side_t), intent(in) :: b
     integer(i64), intent(inout) :: nskip
-    integer :: i, j
+    integer :: j
     integer(i64) :: nfar
-    real(wp) :: dmax2, r(2)
-    dmax2 = 0.0_wp
-    !$omp parallel do default(none) shared(s, sol) reduction(max: dmax2) schedule(static)
-    do i = 1, s%np
-      dmax2 = max(dmax2, sum((sol%d(:, i) - s%d_scr(:, i))**2))
-      s%d_scr(:, i) = sol%d(:, i)
-    end do
-    !$omp end parallel do
-    s%travel = s%travel + s%lip*sqrt(dmax2)
+    real(wp) :: r(2)
+    call add_travel(s, sol, 1.0_wp)
     nfar = 0
     !$omp parallel do default(none) shared(s, sol, b) private(r) reduction(+: nfar) &
     !$omp schedule(static)

@@ -57,7 +57,7 @@ contains
     real(wp), allocatable :: x(:, :)
     logical, allocatable :: bnd(:)
     real(wp) :: dx(2), tol, a3
-    integer :: nc, ncen, np, ib, jb, c(4), m, k, e, box
+    integer :: nc, ncen, np, ib, jb, c(4), k, e, box
     if (any(nbox < 1)) then
       call set_error(err, 'CST4 rectangle: nbox = ('//itoa(nbox(1))//', '//itoa(nbox(2))// &
         '): need at least one box in each direction')
@@ -112,14 +112,8 @@ contains
       do ib = 1, nbox(1)
         box = ib + (jb - 1)*nbox(1)
         c = [corner(ib, jb), corner(ib + 1, jb), corner(ib + 1, jb + 1), corner(ib, jb + 1)]
-        m = nc + box
         ! the diagonals of a rectangle cross at the mean of its corners
-        x(:, m) = 0.25_wp*sum(x(:, c), dim=2)
-        e = 4*(box - 1)
-        mesh%tri(:, e + 1) = [c(1), c(2), m]
-        mesh%tri(:, e + 2) = [c(2), c(3), m]
-        mesh%tri(:, e + 3) = [c(3), c(4), m]
-        mesh%tri(:, e + 4) = [c(4), c(1), m]
+        call split_box(c, nc + box, 4*(box - 1), x, mesh%tri)
       end do
     end do
     call move_alloc(x, b%x)
@@ -157,7 +151,7 @@ contains
     real(wp), allocatable :: x(:, :)
     logical, allocatable :: bnd(:)
     real(wp) :: xt(2, 3), dn(2, 3), area, alt
-    integer :: nc, nbt, ncen, np, ib, jb, c(4), m, e, box
+    integer :: nc, nbt, ncen, np, ib, jb, c(4), e, box
     logical :: full
     call make_annulus(b, center, r0, r1, t0, t1, nr, nt, err)
     if (allocated(err)) return
@@ -178,13 +172,7 @@ contains
         box = ib + (jb - 1)*(nr - 1)
         ! counter-clockwise: outwards along the radius, then on in the angle
         c = [corner(ib, jb), corner(ib + 1, jb), corner(ib + 1, jb + 1), corner(ib, jb + 1)]
-        m = nc + box
-        x(:, m) = 0.25_wp*sum(x(:, c), dim=2)
-        e = 4*(box - 1)
-        mesh%tri(:, e + 1) = [c(1), c(2), m]
-        mesh%tri(:, e + 2) = [c(2), c(3), m]
-        mesh%tri(:, e + 3) = [c(3), c(4), m]
-        mesh%tri(:, e + 4) = [c(4), c(1), m]
+        call split_box(c, nc + box, 4*(box - 1), x, mesh%tri)
       end do
     end do
     call move_alloc(x, b%x)
@@ -204,6 +192,20 @@ contains
       corner = i + (modulo(j - 1, nt))*nr
     end function corner
   end subroutine cst4_annulus
+
+  !> The box with corners c (counter-clockwise) cut by its diagonals: its centre node m at
+  !! the mean of the corners, and triangles e+1..e+4 (bottom, right, top, left of a
+  !! rectangle) around it.
+  pure subroutine split_box(c, m, e, x, tri)
+    integer, intent(in) :: c(4), m, e
+    real(wp), intent(inout) :: x(:, :)
+    integer, intent(inout) :: tri(:, :)
+    x(:, m) = 0.25_wp*sum(x(:, c), dim=2)
+    tri(:, e + 1) = [c(1), c(2), m]
+    tri(:, e + 2) = [c(2), c(3), m]
+    tri(:, e + 3) = [c(3), c(4), m]
+    tri(:, e + 4) = [c(4), c(1), m]
+  end subroutine split_box
 
   !> Tables of the total-Lagrangian solid on the triangles of mesh over the nodes of b:
   !! one point per triangle at its centroid; axisym selects r = X1, z = X2 (nodes must lie
