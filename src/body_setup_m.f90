@@ -544,7 +544,8 @@ contains
       call h5_open_read(f, path, err)
       if (allocated(err)) return
       has_tri = h5_has(f, '/mesh/triangles')
-      has_cells = h5_has(f, '/cells/ptr') .and. h5_has(f, '/cells/xy')
+      has_cells = h5_has(f, '/cells/ptr')
+      if (has_cells) has_cells = h5_has(f, '/cells/xy')
       if (has_tri) then
         call h5_shape(f, '/mesh/triangles', dims, err)
         if (.not. allocated(err)) then

@@ -21,32 +21,40 @@ module neighbour_bins_m
     real(wp) :: cell(3) = 1.0_wp     !< cell size per direction (m)
     real(wp) :: inv_cell(3) = 1.0_wp
     integer :: nc(3) = 1             !< cells per direction
-    integer, allocatable :: start(:) !< CSR pointer, size ncells + 1
+    integer, allocatable :: start(:) !< CSR pointer, ncells + 1 used (may be longer)
     integer, allocatable :: idx(:)   !< particle ids sorted by cell
+    integer, allocatable :: cid(:), fill(:)   !< work space of the build, kept for rebuilds
   end type bins_t
 
 contains
 
-  !> Build bins over x(ndim, np) with cells at least min_cell(ndim) wide (m).
+  !> Build bins over x(ndim, np) with cells at least min_cell(ndim) wide (m). b may hold
+  !! earlier bins: their arrays are reused when large enough, so re-binning a moving cloud
+  !! every step allocates only when its grid outgrows every earlier one.
   subroutine bins_build(b, x, min_cell, err)
-    type(bins_t), intent(out) :: b
+    type(bins_t), intent(inout) :: b
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(in) :: min_cell(:)
     type(error_t), allocatable, intent(inout) :: err
     integer :: ndim, np, i, c, ncell
-    integer, allocatable :: cid(:), fill(:)
     real(wp) :: ext(3)
     ndim = size(x, 1)
     np = size(x, 2)
     b%ndim = ndim
     b%np = np
+    b%lo = 0.0_wp
+    b%hi = 0.0_wp
+    b%cell = 1.0_wp
+    b%inv_cell = 1.0_wp
+    b%nc = 1
     if (any(min_cell(1:ndim) <= 0.0_wp)) then
       call set_error(err, 'neighbour bins: cell size must be positive')
       return
     end if
     if (np == 0) then
-      allocate(b%start(2), b%idx(0))
-      b%start = 1
+      call ensure(b%start, 2)
+      call ensure(b%idx, 0)
+      b%start(1:2) = 1
       return
     end if
     b%lo(1:ndim) = minval(x, dim=2)
@@ -62,23 +70,40 @@ contains
     end do
     b%inv_cell(1:ndim) = 1.0_wp/b%cell(1:ndim)
     ncell = product(b%nc)
-    allocate(cid(np), fill(ncell), b%start(ncell + 1), b%idx(np))
-    fill = 0
-    do i = 1, np
-      cid(i) = cell_of(b, x(:, i))
-      fill(cid(i)) = fill(cid(i)) + 1
-    end do
-    b%start(1) = 1
-    do c = 1, ncell
-      b%start(c + 1) = b%start(c) + fill(c)
-    end do
-    fill = 0
-    do i = 1, np
-      c = cid(i)
-      b%idx(b%start(c) + fill(c)) = i
-      fill(c) = fill(c) + 1
-    end do
+    call ensure(b%cid, np)
+    call ensure(b%fill, ncell)
+    call ensure(b%start, ncell + 1)
+    call ensure(b%idx, np)
+    associate (cid => b%cid, fill => b%fill)
+      fill(1:ncell) = 0
+      do i = 1, np
+        cid(i) = cell_of(b, x(:, i))
+        fill(cid(i)) = fill(cid(i)) + 1
+      end do
+      b%start(1) = 1
+      do c = 1, ncell
+        b%start(c + 1) = b%start(c) + fill(c)
+      end do
+      fill(1:ncell) = 0
+      do i = 1, np
+        c = cid(i)
+        b%idx(b%start(c) + fill(c)) = i
+        fill(c) = fill(c) + 1
+      end do
+    end associate
   end subroutine bins_build
+
+  !> a allocated with at least n entries (reallocated, contents lost, only when shorter);
+  !! start and idx may be longer than the bins use.
+  subroutine ensure(a, n)
+    integer, allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: n
+    if (allocated(a)) then
+      if (size(a) >= n) return
+      deallocate(a)
+    end if
+    allocate(a(max(n, 1)))
+  end subroutine ensure
 
   !> Flat cell id (1-based) of a point known to lie in the grid.
   pure integer function cell_of(b, p) result(c)

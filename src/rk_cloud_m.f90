@@ -30,6 +30,9 @@ module rk_cloud_m
     !! particles are neighbours of a point in the reference configuration (self-contact)
     real(wp), allocatable :: xr(:, :)
     type(bins_t) :: bins
+    ! work space of cloud_move, allocated at the first move and reused
+    integer, allocatable :: wslot(:)
+    real(wp), allocatable :: wrho(:, :), wvol(:), wxr(:, :)
   end type rk_cloud_t
 
 contains
@@ -80,32 +83,42 @@ contains
     if (any(c%rho <= 0.0_wp)) call set_error(err, 'rk cloud: support radius must be positive')
   end subroutine cloud_init
 
-  !> The same particles at new positions x (caller order): re-binned and re-packed (a
-  !! deformable contact master moves every step; a rigid one is never moved).
+  !> The same particles at new positions x (caller order): re-binned and re-packed in place,
+  !! in the order cloud_init would give them (a deformable contact master moves every step;
+  !! a rigid one is never moved). Allocates only at the first move, or when the grid grows
+  !! beyond every earlier one.
   subroutine cloud_move(c, x, err)
     type(rk_cloud_t), intent(inout) :: c
     real(wp), intent(in) :: x(:, :)
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: rho(:, :), vol(:), xr(:, :)
-    real(wp) :: h(3)
-    integer :: q, kid, wshape, bid
-    allocate(rho(c%ndim, c%np), vol(c%np))
+    integer :: q, i, o, nd
+    nd = c%ndim
+    if (.not. allocated(c%wslot)) allocate(c%wslot(c%np), c%wrho(nd, c%np), c%wvol(c%np))
+    if (allocated(c%xr) .and. .not. allocated(c%wxr)) allocate(c%wxr(nd, c%np))
+    ! the old slot of each particle, before the new bins overwrite the order
     do q = 1, c%np
-      rho(:, c%perm(q)) = c%rho(:, q)
-      vol(c%perm(q)) = c%vol(q)
+      c%wslot(c%perm(q)) = q
     end do
-    if (allocated(c%xr)) then
-      allocate(xr(c%ndim, c%np))
-      do q = 1, c%np
-        xr(:, c%perm(q)) = c%xr(:, q)
-      end do
-    end if
-    h = 1.0_wp/c%hinv
-    kid = c%kid
-    wshape = c%wshape
-    bid = c%bid
-    call cloud_init(c, x, rho, vol, kid, wshape, bid, h(1:size(x, 1)), err)
-    if (allocated(xr)) call cloud_set_reference(c, xr)
+    call bins_build(c%bins, x, max(c%rmax(1:nd), tiny(1.0_wp))/merge(3.0_wp, 1.0_wp, &
+      nd == 2), err)
+    if (allocated(err)) return
+    do q = 1, c%np
+      i = c%bins%idx(q)
+      o = c%wslot(i)
+      c%wrho(:, q) = c%rho(:, o)
+      c%wvol(q) = c%vol(o)
+      if (allocated(c%xr)) c%wxr(:, q) = c%xr(:, o)
+    end do
+    do q = 1, c%np
+      i = c%bins%idx(q)
+      c%x(:, q) = x(:, i)
+      c%perm(q) = i
+      c%rho(:, q) = c%wrho(:, q)
+      c%rinv(:, q) = 1.0_wp/c%wrho(:, q)
+      c%vol(q) = c%wvol(q)
+      if (allocated(c%xr)) c%xr(:, q) = c%wxr(:, q)
+      c%bins%idx(q) = q
+    end do
   end subroutine cloud_move
 
   !> Record the particles' reference positions xr (ndim, np; caller order), kept through
