@@ -36,13 +36,13 @@ import sys
 import tempfile
 import time
 
-import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "post"))
 from contact_measures import (surface_row, pressure, vertical_gap, hertz_line,  # noqa: E402
                               edge_half_width, fit_half_width, observed_order)
+from mfcd_h5 import MfcdFile  # noqa: E402
 
 MFCD = os.path.join(ROOT, "build", "bin", "mfcd")
 FIGS = os.path.join(ROOT, "doc", "figures")
@@ -244,13 +244,13 @@ def run(text, name, work):
     wall = time.time() - t0
     h5 = os.path.join(work, "out", name + ".h5")
     last = p.stdout.strip().splitlines()[-1] if p.stdout.strip() else p.stderr[-300:]
-    return (h5py.File(h5, "r") if p.returncode == 0 else None), wall, last
+    return (MfcdFile(h5) if p.returncode == 0 else None), wall, last
 
 
 def patch_measures(f, m, nu):
     """Errors of one patch run (dict)."""
     pex, _ = p_exact(nu)
-    lab = sorted(f["snapshots"])[-1]
+    lab = sorted(f.snapshot_labels())[-1]
     _, xu, fu = surface_row(f, lab, "upper")
     _, xl, fl = surface_row(f, lab, "lower")
     pu, pl = pressure(xu, fu, +1.0) / pex - 1, pressure(xl, fl, -1.0) / pex - 1
@@ -321,9 +321,9 @@ def patch_study(work):
 
 def hertz_measures(f):
     rows = []
-    labs = sorted(f["snapshots"])
+    labs = sorted(f.snapshot_labels())
     for lab in labs[2::2]:
-        t = float(f["snapshots"][lab].attrs["time"][0])
+        t = f.snapshot_time(lab)
         _, x, fc = surface_row(f, lab, "block")
         right = x[:, 0] >= -1e-9 * A_TARGET          # x >= 0 but for round-off
         xs, p = x[right, 0], pressure(x, fc, -1.0)[right]

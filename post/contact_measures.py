@@ -20,12 +20,13 @@ __all__ = ["surface_row", "tributary", "pressure", "vertical_gap", "hertz_line",
 
 def surface_row(f, label, body, y0=0.0):
     """The particles of `body` whose reference y is y0 (a flat surface row), sorted by x:
-    (indices, physical positions (n, 2) in m, f_contact (n, 2) in N/m) at snapshot label."""
-    X = f[f"bodies/{body}/x"][()]
+    (indices, physical positions (n, 2) in m, f_contact (n, 2) in N/m) at snapshot label.
+    f: an open mfcd_h5.MfcdFile."""
+    X = f.body(body).x
     tol = 1e-9 * max(1.0, float(np.abs(X).max()))     # round-off of the generated lattice
     idx = np.nonzero(np.abs(X[:, 1] - y0) <= tol)[0]
-    s = f[f"snapshots/{label}/{body}"]
-    x, fc = s["x"][()][idx], s["f_contact"][()][idx]
+    s = f.snapshot(label).bodies[body]
+    x, fc = s.x[idx], s.f_contact[idx]
     o = np.argsort(x[:, 0])
     return idx[o], x[o], fc[o]
 

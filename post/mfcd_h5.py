@@ -1,5 +1,12 @@
 """Read mfcd HDF5 output files (layout: doc/output.md).
 
+This is the one reader of mfcd output: every script in post/ and every regression check
+(tests/regression/check_*.py) reads /history, /summary, /bodies, /snapshots, /detection,
+/deck and the root attributes through it, so a change of the layout is made here once.
+Only what is not an output file's content is read with h5py directly: particle and
+checkpoint files (mfcd's inputs), the bit-for-bit comparisons that walk every dataset of
+two files, and checks of the raw layout itself (units on every dataset, XDMF references).
+
 mfcd writes Fortran arrays, so an array that is (ndim, n) in the code is (n, ndim) here;
 strings are fixed-length bytes and real attributes are 1-element arrays. This module
 hides both: attributes come back as str / float / int / numpy arrays, particle positions
@@ -36,6 +43,21 @@ A body in self-contact (&contact master = slave) has det_self in each snapshot:
         name = f.self_contact_bodies()[0]            # 'ring'
         s = f.snapshot(f.snapshot_labels()[-1]).bodies[name]
         met = s.det_self > s.det_self_threshold      # particles another face covers
+
+A contact run has each particle's mean contact force in each snapshot, and with
+&output det_fields = .true. det(M) around each contact pair (the paper's Figs. 9-10):
+
+    with MfcdFile("output/taylor_bar_rkpm.h5") as f:
+        s = f.snapshot("0002")
+        fc = s.bodies["bar"].f_contact               # (np, 2) N/m, or N in axisymmetry
+        d = s.det[1]                                 # DetField of &contact group 1
+        plt.contour(d.axis1, d.axis2, d.slave, levels=[d.threshold])
+        print(f.snapshot_time("0002"), f.snapshot_body_names("0002"))   # no arrays read
+
+Root attributes are in f.attrs (decoded); a run continued with --restart has f.restart:
+
+    with MfcdFile("out/run.h5") as f:
+        print(f.attrs["code_version"], f.restart.get("restart_step"))
 """
 
 from __future__ import annotations
@@ -49,7 +71,7 @@ import numpy as np
 
 __all__ = ["decode", "decode_attrs", "Body", "QuerySet", "MfcdFile", "open_run",
            "SnapshotBody", "Snapshot", "parse_deck", "deck_group", "FIELDS", "field_values",
-           "CELL_FIELDS", "cell_field_values", "is_timing", "TIMING_VALUES"]
+           "CELL_FIELDS", "cell_field_values", "is_timing", "TIMING_VALUES", "DetField"]
 
 QUERY_KINDS = ("line", "grid", "points")
 
@@ -97,6 +119,13 @@ class Body:
     @property
     def np(self) -> int:
         return self.x.shape[0]
+
+    @property
+    def spacing(self) -> Optional[np.ndarray]:
+        """The particle spacing per direction (ndim,) [m] (attribute spacing), always an
+        array, also in 1D; None when the body has none."""
+        sp = self.attrs.get("spacing")
+        return None if sp is None else np.atleast_1d(np.asarray(sp, dtype=float))
 
     @property
     def discretization(self) -> str:
@@ -195,6 +224,9 @@ class SnapshotBody:
     #: particles that are not its reference neighbours (np,) [-], and the threshold
     det_self: Optional[np.ndarray] = None
     det_self_threshold: Optional[float] = None
+    #: mean contact force on each particle since the previous snapshot (np, 2) [N/m in plane
+    #: strain, N in axisymmetry]; zero in the first snapshot (doc/output.md)
+    f_contact: Optional[np.ndarray] = None
 
     @property
     def np(self) -> int:
@@ -210,13 +242,30 @@ class SnapshotBody:
 
 
 @dataclass
+class DetField:
+    """det(M) around one contact pair at one snapshot (/snapshots/<label>/det/contact<k>,
+    written with &output det_fields = .true.): the paper's Figs. 9-10."""
+
+    contact: int                     #: k, the &contact group (1-based, deck order)
+    axis1: np.ndarray                #: grid coordinates along x1 (r) (nx,) [m]
+    axis2: np.ndarray                #: grid coordinates along x2 (z) (ny,) [m]
+    master: np.ndarray               #: det(M) of the master on the grid (ny, nx) [-]
+    slave: np.ndarray                #: det(M) of the slave (current positions) (ny, nx) [-]
+    master_at_slave: np.ndarray      #: det(M_master) at the slave's particles (np_slave,) [-]
+    threshold: float                 #: the pair's detection threshold [-]
+    master_plateau: float            #: the master's interior plateau of det(M) [-]
+
+
+@dataclass
 class Snapshot:
-    """One snapshot (/snapshots/<label>): its time, step and bodies."""
+    """One snapshot (/snapshots/<label>): its time, step, bodies and det(M) fields."""
 
     label: str
     time: float                         #: [s]
     step: int
     bodies: Dict[str, SnapshotBody] = field(default_factory=dict)
+    #: det(M) fields by contact pair k (&output det_fields = .true.); {} without them
+    det: Dict[int, DetField] = field(default_factory=dict)
 
 
 #: Fields that plot_snapshots.py can colour by: name -> (label, unit, scale to the unit).
@@ -348,7 +397,11 @@ def deck_group(text: str, group: str, **match) -> Optional[Dict[str, object]]:
 
 
 class MfcdFile:
-    """An mfcd output file opened read-only; use as a context manager or call close()."""
+    """An mfcd output file opened read-only; use as a context manager or call close().
+
+    attrs: the root attributes decoded (code, code_version, git_commit, created, deck_path,
+    title, mode, geometry, ndim, units and, after --restart, those of `restart`).
+    """
 
     def __init__(self, path: str):
         self.path = str(path)
@@ -381,8 +434,20 @@ class MfcdFile:
 
     @property
     def deck(self) -> str:
-        """The deck verbatim (/deck)."""
-        return decode(self.h5["deck"][()]) if "deck" in self.h5 else ""
+        """The deck verbatim (/deck): stored at its exact length, so nothing is stripped
+        (a deck that ends in blanks keeps them)."""
+        if "deck" not in self.h5:
+            return ""
+        v = self.h5["deck"][()]
+        return v.decode("utf-8", errors="replace") if isinstance(v, bytes) else str(v)
+
+    @property
+    def restart(self) -> Dict[str, object]:
+        """The root attributes of a run continued with --restart (restarted_from,
+        restart_step, restart_time, snapshots_before_restart; doc/output.md), {} for a
+        run from t = 0. Every root attribute is in self.attrs."""
+        keys = ("restarted_from", "restart_step", "restart_time", "snapshots_before_restart")
+        return {k: self.attrs[k] for k in keys if k in self.attrs}
 
     # bodies ----------------------------------------------------------------------------
     def body_names(self) -> List[str]:
@@ -476,10 +541,21 @@ class MfcdFile:
         if "snapshots" not in self.h5:
             return []
         labs = list(self.h5["snapshots"].keys())
-        return sorted(labs, key=lambda l: float(decode(self.h5["snapshots"][l].attrs["time"])))
+        return sorted(labs, key=self.snapshot_time)
+
+    def snapshot_time(self, label: str) -> float:
+        """The time of snapshot `label` (s), without reading its arrays."""
+        return float(decode(self.h5["snapshots"][label].attrs["time"]))
+
+    def snapshot_body_names(self, label: str) -> List[str]:
+        """The bodies in snapshot `label` (the deformable ones: groups with x), without
+        reading their arrays."""
+        g = self.h5["snapshots"][label]
+        return [n for n in g.keys() if isinstance(g[n], h5py.Group) and "x" in g[n]]
 
     def snapshot(self, label: str) -> Snapshot:
-        """/snapshots/<label> with every body in it, arrays as (np, 2) / (np, 4) / (np,)."""
+        """/snapshots/<label> with every body in it, arrays as (np, 2) / (np, 4) / (np,),
+        and its det(M) fields (Snapshot.det) if the run wrote them."""
         g = self.h5["snapshots"][label]
         snap = Snapshot(label=label, time=float(decode(g.attrs["time"])),
                         step=int(decode(g.attrs.get("step", -1))))
@@ -500,7 +576,23 @@ class MfcdFile:
                 stress_cells=arr("stress_cells", 4), epsbar_cells=arr("epsbar_cells"),
                 J_cells=arr("J_cells"), det_self=arr("det_self"),
                 det_self_threshold=float(decode(gb.attrs["det_self_threshold"]))
-                if "det_self_threshold" in gb.attrs else None)
+                if "det_self_threshold" in gb.attrs else None,
+                f_contact=arr("f_contact", 2))
+        if "det" in g:
+            for name, gd in g["det"].items():
+                if not name.startswith("contact"):
+                    continue
+                k = int(name[len("contact"):])
+                snap.det[k] = DetField(
+                    contact=k,
+                    axis1=np.asarray(gd["axis1"][()], dtype=float),
+                    axis2=np.asarray(gd["axis2"][()], dtype=float),
+                    master=np.asarray(gd["master"][()], dtype=float),
+                    slave=np.asarray(gd["slave"][()], dtype=float),
+                    master_at_slave=np.asarray(gd["master_at_slave"][()], dtype=float),
+                    threshold=float(decode(gd.attrs["threshold"])),
+                    master_plateau=float(decode(gd.attrs["master_plateau"])))
+            snap.det = dict(sorted(snap.det.items()))
         return snap
 
     def self_contact_bodies(self, label: Optional[str] = None) -> List[str]:
@@ -520,9 +612,12 @@ class MfcdFile:
         return {k: np.asarray(v[()]) for k, v in self.h5["history"].items()}
 
     def history_units(self) -> Dict[str, str]:
+        """{column: unit} of the /history columns that carry a units attribute (all of
+        them in mfcd's output; a column without one is left out)."""
         if "history" not in self.h5:
             return {}
-        return {k: str(decode(v.attrs.get("units", b""))) for k, v in self.h5["history"].items()}
+        return {k: str(decode(v.attrs["units"])) for k, v in self.h5["history"].items()
+                if "units" in v.attrs}
 
     @property
     def summary(self) -> Dict[str, object]:

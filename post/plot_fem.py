@@ -75,8 +75,7 @@ def deck_times(f: MfcdFile) -> list:
 
 
 def snapshot_times(f: MfcdFile) -> dict:
-    return {lab: float(np.ravel(f.h5["snapshots"][lab].attrs["time"])[0])
-            for lab in f.snapshot_labels()}
+    return {lab: f.snapshot_time(lab) for lab in f.snapshot_labels()}
 
 
 def missing_times(f: MfcdFile, times: dict) -> list:
@@ -117,8 +116,7 @@ def pick_labels(f: MfcdFile, wanted: str | None, times: dict) -> list:
 
 
 def pick_body(f: MfcdFile, name: str | None, label: str) -> str:
-    snap_bodies = [k for k in f.h5["snapshots"][label].keys()
-                   if "x" in f.h5["snapshots"][label][k]]
+    snap_bodies = f.snapshot_body_names(label)
     if name:
         if name not in f.body_names():
             raise Fail(f"no body {name!r} in {f.path} (bodies: {', '.join(f.body_names())})")

@@ -148,7 +148,7 @@ def pick_body(fw: MfcdFile, fo: MfcdFile, name: str | None) -> str:
         if name not in f.body_names():
             raise Fail(f"no body {name!r} in {f.path} (bodies: {', '.join(f.body_names())})")
         labs = f.snapshot_labels()
-        if not labs or name not in f.h5["snapshots"][labs[0]]:
+        if not labs or name not in f.snapshot_body_names(labs[0]):
             raise Fail(f"body {name!r} is not in the snapshots of {f.path} (a rigid body?)")
     if name not in selfb:
         raise Fail(f"body {name!r} of {fw.path} has no det_self: it is not in self-contact")

@@ -14,34 +14,33 @@ import argparse
 import os
 import sys
 
-import h5py
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-
-def snapshot_time(f, label):
-    return float(f[f"snapshots/{label}"].attrs["time"][0])
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mfcd_h5 import MfcdFile  # noqa: E402
 
 
 def det_panels(f, out, stem, after):
-    labels = sorted(k for k in f["snapshots"] if "det" in f[f"snapshots/{k}"])
+    snaps = {lab: f.snapshot(lab) for lab in sorted(f.snapshot_labels())}
+    labels = [lab for lab, s in snaps.items() if s.det]
     if not labels:
         print("no det(M) fields in the file (&output det_fields = .true.)")
         return None
     before = labels[0]
     after = after or (labels[1] if len(labels) > 1 else labels[0])
-    slave = [k for k in f[f"snapshots/{before}"] if k != "det"][0]
+    slave = list(snaps[before].bodies)[0]
     fig, axes = plt.subplots(2, 2, figsize=(12, 8.5), constrained_layout=True)
     for row, lab in enumerate((before, after)):
-        g = f[f"snapshots/{lab}/det/contact1"]
-        a1, a2 = g["axis1"][:] * 1e3, g["axis2"][:] * 1e3
-        dm, ds = g["master"][:], g["slave"][:]
-        thr = float(g.attrs["threshold"][0])
-        plateau = float(g.attrs["master_plateau"][0])
-        t_us = snapshot_time(f, lab) * 1e6
+        g = snaps[lab].det[1]
+        a1, a2 = g.axis1 * 1e3, g.axis2 * 1e3
+        dm, ds = g.master, g.slave
+        thr = g.threshold
+        plateau = g.master_plateau
+        t_us = snaps[lab].time * 1e6
         ax = axes[row, 0]
         cm = ax.pcolormesh(a1, a2, dm / plateau, shading="auto", cmap="Blues", vmin=0, vmax=1.2)
         ax.contour(a1, a2, ds, levels=[thr], colors="red", linewidths=1.0)
@@ -53,8 +52,8 @@ def det_panels(f, out, stem, after):
         ax.set_aspect("equal")
         fig.colorbar(cm, ax=ax, label="det(M_target) / plateau")
         ax = axes[row, 1]
-        x = f[f"snapshots/{lab}/{slave}/x"][:] * 1e3
-        dms = g["master_at_slave"][:]
+        x = snaps[lab].bodies[slave].x * 1e3
+        dms = g.master_at_slave
         near = x[:, 1] < a2.max()
         logd = np.log10(np.maximum(dms[near] / plateau, 1e-12))
         sc = ax.scatter(x[near, 0], x[near, 1], c=logd, s=4, cmap="viridis", vmin=-12, vmax=0)
@@ -75,21 +74,20 @@ def det_panels(f, out, stem, after):
 
 
 def histories(f, out, stem):
-    h = f["history"]
-    t = h["time"][:] * 1e6
-    plane = f.attrs["geometry"].decode().strip() != "axisymmetric"
+    h = f.history()
+    t = h["time"] * 1e6
+    plane = f.geometry != "axisymmetric"
     fig, axes = plt.subplots(2, 2, figsize=(11, 7), constrained_layout=True, sharex=True)
     unit = "kN/m" if plane else "kN"
-    axes[0, 0].plot(t, h["f_contact"][:] / 1e3)
+    axes[0, 0].plot(t, h["f_contact"] / 1e3)
     axes[0, 0].set_ylabel(f"contact force [{unit}]")
-    axes[0, 1].plot(t, h["contact_radius"][:] * 1e3)
+    axes[0, 1].plot(t, h["contact_radius"] * 1e3)
     axes[0, 1].set_ylabel("contact radius [mm]")
-    axes[1, 0].plot(t, h["length"][:] * 1e3)
+    axes[1, 0].plot(t, h["length"] * 1e3)
     axes[1, 0].set_ylabel("bar length [mm]")
-    axes[1, 1].plot(t, h["foot_radius"][:] * 1e3)
+    axes[1, 1].plot(t, h["foot_radius"] * 1e3)
     axes[1, 1].set_ylabel("foot radius [mm]")
-    s = f["summary"].attrs
-    t_sep = float(s["edge_separation_time"][0]) * 1e6
+    t_sep = float(f.summary["edge_separation_time"]) * 1e6
     for ax in axes.ravel():
         ax.grid(alpha=0.3)
         if t_sep > 0:
@@ -98,7 +96,7 @@ def histories(f, out, stem):
         ax.set_xlabel("time [us]")
     axes[0, 1].text(0.98, 0.05, f"edge separates at {t_sep:.2f} us (red)", ha="right",
                     transform=axes[0, 1].transAxes, fontsize=9, color="r")
-    fig.suptitle(f.attrs["title"].decode().strip(), fontsize=11)
+    fig.suptitle(f.title.strip(), fontsize=11)
     path = os.path.join(out, f"{stem}_contact.png")
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -114,7 +112,7 @@ def main(argv=None):
     out = a.out or os.path.dirname(os.path.abspath(a.file))
     os.makedirs(out, exist_ok=True)
     stem = os.path.splitext(os.path.basename(a.file))[0]
-    with h5py.File(a.file, "r") as f:
+    with MfcdFile(a.file) as f:
         for p in (det_panels(f, out, stem, a.after), histories(f, out, stem)):
             if p:
                 print("wrote", p)

@@ -22,7 +22,6 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "post"))
@@ -48,22 +47,21 @@ def run(deck):
     if p.returncode:
         return None
     out = [l for l in open(deck) if "file" in l and ".h5" in l][0].split("'")[1]
-    f = h5py.File(os.path.join(work, out), "r")
-    s = f["summary"].attrs
-    status = s["status"].decode() if isinstance(s["status"], bytes) else str(s["status"])
+    with MfcdFile(os.path.join(work, out)) as f:
+        s = f.summary
+        h = f.history()
+        bar = f.summary_bodies()["bar"]
+    status = s["status"]
     check(f"{name}: status completed", status == "completed", status)
-    h = f["history"]
-    dt, dtc = h["dt"][:], h["dt_critical"][:]
-    ratio = s["dt_min"][0] / s["dt_max"][0]
+    dt, dtc = h["dt"], h["dt_critical"]
+    ratio = s["dt_min"] / s["dt_max"]
     check(f"{name}: dt followed the deformation (dt_min/dt_max = {ratio:.2f})", ratio <= 0.6,
           ratio)
     over = np.max(dt[1:] / (CFL * dtc[:-1])) - 1.0
     check(f"{name}: dt <= cfl x dt_critical of the step before ({over:+.2e})",
           over <= 1e-12, over)
-    rel = s["energy_residual"][0] / s["energy_scale"][0]
+    rel = s["energy_residual"] / s["energy_scale"]
     check(f"{name}: energy residual {rel:+.2e} of scale < 1%", abs(rel) < 0.01, rel)
-    with MfcdFile(os.path.join(work, out)) as mf:
-        bar = mf.summary_bodies()["bar"]
     return bar["length"], bar["foot_radius"]
 
 

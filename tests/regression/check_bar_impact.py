@@ -22,8 +22,10 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "post"))
+from mfcd_h5 import MfcdFile  # noqa: E402
 
 MFCD = os.path.abspath(sys.argv[1])
 DECKS = [os.path.abspath(d) for d in sys.argv[2:5]]
@@ -47,25 +49,27 @@ def run(deck, work):
         print(p.stdout[-3000:], p.stderr[-3000:])
         return None
     out = [l for l in open(deck) if "file" in l and ".h5" in l][0].split("'")[1]
-    return h5py.File(os.path.join(work, out), "r")
+    return os.path.join(work, out)
 
 
-def measure(f):
-    h = f["history"]
-    t, n, fc = h["time"][:], h["n_contact"][:], h["f_contact"][:]
+def measure(path):
+    with MfcdFile(path) as f:
+        h = f.history()
+        last = sorted(f.snapshot_labels())[-1]
+        v = f.snapshot(last).bodies["bar"].v
+        bar = f.body("bar")
+    t, n, fc = h["time"], h["n_contact"], h["f_contact"]
     on = np.nonzero(n > 0)[0]
     t0, t1 = t[on[0]], t[on[-1]]
     # separation: the first step after the last one with a contact force
     t_sep = t[min(on[-1] + 1, len(t) - 1)]
     mid = (t > t0 + 0.2 * (t1 - t0)) & (t < t0 + 0.8 * (t1 - t0))
     stress = fc[mid].mean() / W
-    last = sorted(f["snapshots"].keys())[-1]
-    g = f[f"snapshots/{last}/bar"]
-    mass = f["bodies/bar/volume"][:] * RHO
-    v_mean = np.sum(mass * g["v"][:, 1]) / mass.sum()
+    mass = bar.volume * RHO
+    v_mean = np.sum(mass * v[:, 1]) / mass.sum()
     ke_ratio = h["ke"][-1] / h["ke"][0]
     return {"stress": stress / SIG - 1, "duration": (t_sep - t0) / T_C - 1,
-            "rebound": v_mean / V - 1, "energy": ke_ratio - 1, "dx": f["bodies/bar"].attrs["spacing"][0]}
+            "rebound": v_mean / V - 1, "energy": ke_ratio - 1, "dx": bar.spacing[0]}
 
 
 def main():

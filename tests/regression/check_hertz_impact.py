@@ -26,7 +26,7 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
+import h5py  # reads the mesh's particle file (tools/mesh_body.py): mfcd's input, not output
 import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))

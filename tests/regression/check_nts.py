@@ -31,7 +31,6 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "post"))
@@ -74,12 +73,12 @@ def run(deck, work):
     if p.returncode:
         print(p.stdout[-3000:], p.stderr[-3000:])
         return None, p.stdout
-    return h5py.File(os.path.join(work, os.path.basename(deck)[:-4] + ".h5"), "r"), p.stdout
+    return MfcdFile(os.path.join(work, os.path.basename(deck)[:-4] + ".h5")), p.stdout
 
 
 def closed_form_errors(f):
-    h = f["history"]
-    t, n, fc = h["time"][:], h["n_contact"][:], h["f_contact"][:]
+    h = f.history()
+    t, n, fc = h["time"], h["n_contact"], h["f_contact"]
     on = np.nonzero(n > 0)[0]
     t0, t1 = t[on[0]], t[on[-1]]
     t_sep = t[min(on[-1] + 1, len(t) - 1)]
@@ -88,9 +87,9 @@ def closed_form_errors(f):
 
 
 def final_velocities(f):
-    last = sorted(f["snapshots"].keys())[-1]
-    g = f[f"snapshots/{last}"]
-    return np.concatenate([g[b]["v"][:].ravel() for b in sorted(g.keys()) if "v" in g[b]])
+    last = sorted(f.snapshot_labels())[-1]
+    g = f.snapshot(last).bodies
+    return np.concatenate([g[b].v.ravel() for b in sorted(g) if g[b].v is not None])
 
 
 def main():
@@ -106,17 +105,17 @@ def main():
                   f"detector {det}" in log and "detectors compared" in log)
             out[det] = f
         a, b = out["det_m"], out["node_to_segment"]
-        with MfcdFile(a.filename) as fa, MfcdFile(b.filename) as fb:
-            pa, pb = fa.summary_contacts()[1], fb.summary_contacts()[1]
-            ta, tb = fa.summary_timing, fb.summary_timing
+        pa, pb = a.summary_contacts()[1], b.summary_contacts()[1]
+        ta, tb = a.summary_timing, b.summary_timing
         check(f"{case}: /summary names the detector",
               pb["detector"] == "node_to_segment" and pa["detector"] == "det_m")
         es, ed = closed_form_errors(b)
         ts, td = TOL[case]
         check(f"{case}: node_to_segment contact stress = rho c0 v ({es:+.4f})", abs(es) <= ts, es)
         check(f"{case}: node_to_segment duration = 2 L / c0 ({ed:+.4f})", abs(ed) <= td, ed)
+        ha, hb = a.history(), b.history()
         for key in ("f_contact", "ke", "n_contact"):
-            x, y = a["history"][key][:], b["history"][key][:]
+            x, y = ha[key], hb[key]
             ok = x.shape == y.shape and np.max(np.abs(x - y)) <= AGREE * np.max(np.abs(x))
             check(f"{case}: {key} histories agree", ok,
                   np.max(np.abs(x - y)) if x.shape == y.shape else (x.shape, y.shape))
@@ -141,7 +140,7 @@ def main():
         gmean, gmax = pb["buffer_gap_mean"], pb["buffer_gap_max"]
         # the buffer zone lies outside the surface, within the master's support reach
         # (support_factor 2 x the 1 mm or 0.5 mm spacing)
-        dx = min(f_.attrs["spacing"][0] for f_ in b["bodies"].values())
+        dx = min(b.body(n).spacing[0] for n in b.body_names())
         check(f"{case}: buffer zone outside the surface, within one support "
               f"(mean {gmean / dx:.3f} dx, largest {gmax / dx:.3f} dx)",
               0.0 <= gmean <= gmax <= 2.0 * dx, (gmean, gmax, dx))
@@ -149,6 +148,8 @@ def main():
               f"buffer {cmp_b[2]:.0f}, missed {cmp_b[3]:.0f}; contact phase "
               f"{ta['contact']:.3f} s vs {tb['contact']:.3f} s "
               "(with both compared)")
+        a.close()
+        b.close()
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if all(results) else 1)
 

@@ -9,8 +9,11 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
+import h5py  # only to write the HDF5 particle file (an input of mfcd, not its output)
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "post"))
+from mfcd_h5 import MfcdFile  # noqa: E402
 
 MFCD = os.path.abspath(sys.argv[1])
 results = []
@@ -50,10 +53,12 @@ def main():
     rc, err = run(work, "gen", deck("  shape = 'rectangle'\n  lo = 5, 5\n  hi = 25, 15\n"
                                     "  n = 41, 21", "gen.h5"))
     check("generator run", rc == 0, err)
-    g = h5py.File(os.path.join(work, "gen.h5"), "r")
-    b = g["bodies/block"]
-    x, vol = b["x"][:], b["volume"][:]
-    ptr, idx = b["loop_ptr"][:], b["loop_idx"][:]
+    with MfcdFile(os.path.join(work, "gen.h5")) as g:
+        b = g.body("block")
+        ref = g.query("grid").det
+    x, vol = b.x, b.volume
+    # the file's loop_idx: the boundary loops, 1-based, one after the other
+    idx = np.concatenate(b.loops) + 1
     loop = np.zeros(len(vol), int)
     order = np.zeros(len(vol), int)
     loop[idx - 1] = 1
@@ -68,7 +73,6 @@ def main():
         f["particles/volume"] = vol
         f["particles/loop"] = loop.astype(np.int32)
         f["particles/order"] = order.astype(np.int32)
-    ref = g["detection/grid/det"][:]
     for kind, fname in (("plain columns", "block.txt"), ("HDF5", "block.h5")):
         out = fname.replace(".", "_") + "_out.h5"
         text = deck(f"  shape = 'file'\n  file = '{fname}'\n  spacing = 0.5, 0.5", out)
@@ -76,15 +80,15 @@ def main():
         check(f"{kind}: run", rc == 0, err)
         if rc != 0:
             continue
-        h = h5py.File(os.path.join(work, out), "r")
-        det = h["detection/grid/det"][:]
+        with MfcdFile(os.path.join(work, out)) as h:
+            det = h.query("grid").det
+            idx_h = np.concatenate(h.body("block").loops) + 1
+            plateau = h.detection["plateau"]
         check(f"{kind}: det(M) equals the generator's", np.allclose(det, ref, rtol=1e-12,
                                                                      atol=1e-20),
               np.abs(det - ref).max())
-        check(f"{kind}: boundary polyline kept", np.array_equal(
-            h["bodies/block/loop_idx"][:], idx))
-        check(f"{kind}: plateau 1/20736", abs(h["detection"].attrs["plateau"][0] - 1 / 20736)
-              < 1e-17)
+        check(f"{kind}: boundary polyline kept", np.array_equal(idx_h, idx))
+        check(f"{kind}: plateau 1/20736", abs(plateau - 1 / 20736) < 1e-17)
     with open(os.path.join(work, "bad.txt"), "w") as f:
         f.write("1.0 2.0\nnot a number here\n")
     rc, err = run(work, "bad", deck("  shape = 'file'\n  file = 'bad.txt'", "bad_out.h5"))

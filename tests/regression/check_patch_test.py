@@ -29,12 +29,12 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "post"))
 from contact_measures import surface_row, pressure, vertical_gap  # noqa: E402
+from mfcd_h5 import MfcdFile  # noqa: E402
 
 MFCD, DECK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 E, RHO, V_REL, W = 211e9, 7800.0, 1.0, 0.006
@@ -58,14 +58,15 @@ def run_case(tag, text, work):
         return
     if "shared_mass = .true." in text:
         check(f"{tag}: log names the shared effective mass", "shared among" in p.stdout)
-    f = h5py.File(os.path.join(work, "out", tag + ".h5"), "r")
-    lab = sorted(f["snapshots"])[-1]
+    f = MfcdFile(os.path.join(work, "out", tag + ".h5"))
+    lab = sorted(f.snapshot_labels())[-1]
     _, xu, fu = surface_row(f, lab, "upper")
     _, xl, fl = surface_row(f, lab, "lower")
     h = xu[1, 0] - xu[0, 0]
     total = fu[:, 1].sum() / W / P_EX - 1
     check(f"{tag}: total force = p W ({total:+.4f})", abs(total) < 0.01, total)
-    fall = [f[f"snapshots/{lab}/{b}/f_contact"][()].sum(axis=0) for b in ("upper", "lower")]
+    snap = f.snapshot(lab)
+    fall = [snap.bodies[b].f_contact.sum(axis=0) for b in ("upper", "lower")]
     react = np.abs(fall[0] + fall[1]).max() / abs(fall[0][1])
     check(f"{tag}: action = reaction ({react:.1e})", react < 1e-12, react)
     pu = pressure(xu, fu, +1.0) / P_EX

@@ -33,7 +33,7 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
+import h5py  # checkpoints (not output files), the snapshot walk of compare(), refusals' inputs
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "post"))
@@ -81,6 +81,7 @@ def make_deck(src, work, every, extra_output="", edge=False, name="deck.nml"):
 
 
 def step_of(path):
+    # a checkpoint is mfcd's input, not an output file: mfcd_h5 does not read it
     with h5py.File(path, "r") as f:
         return int(f.attrs["step"])
 
@@ -91,15 +92,15 @@ def attr_text(v):
 
 def compare(tag, ref, new, restart_step):
     """new (restarted) against ref (uninterrupted), exactly."""
-    with h5py.File(ref, "r") as a, h5py.File(new, "r") as b:
-        check(f"{tag}: /deck is the deck", a["deck"][()] == b["deck"][()])
-        cols = list(a["history"])
-        bad = [c for c in cols if a["history"][c].shape != b["history"][c].shape
-               or not np.array_equal(a["history"][c][()], b["history"][c][()])]
+    with MfcdFile(ref) as fa, MfcdFile(new) as fb:
+        check(f"{tag}: /deck is the deck", fa.deck == fb.deck)
+        ha, hb = fa.history(), fb.history()
+        cols = list(ha)
+        bad = [c for c in cols if ha[c].shape != hb[c].shape
+               or not np.array_equal(ha[c], hb[c])]
         check(f"{tag}: /history equal in all {len(cols)} columns, "
-              f"{a['history/step'].shape[0]} rows from t = 0", not bad, bad)
-        with MfcdFile(ref) as fa, MfcdFile(new) as fb:
-            sa, sb = fa.summary_flat(), fb.summary_flat()
+              f"{ha['step'].shape[0]} rows from t = 0", not bad, bad)
+        sa, sb = fa.summary_flat(), fb.summary_flat()
         # every value but the wall-clock ones (mfcd_h5.is_timing)
         keys = [k for k in sa if not is_timing(k)]
         diff = [k for k in keys if not np.array_equal(np.asarray(sa[k]), np.asarray(sb.get(k)))]
@@ -107,10 +108,13 @@ def compare(tag, ref, new, restart_step):
               f"steps {sb['steps']}, time {sb['time']:.6e}, energies, counters, bodies)",
               not diff, [(k, sa[k], sb.get(k)) for k in diff])
         check(f"{tag}: status completed", attr_text(sb["status"]) == "completed")
-        labels = [l for l in a["snapshots"] if float(a["snapshots"][l].attrs["time"][0])
-                  > float(b.attrs["restart_time"][0])]
+        labels_a, labels_b = sorted(fa.snapshot_labels()), sorted(fb.snapshot_labels())
+        labels = [l for l in labels_a if fa.snapshot_time(l) > fb.restart["restart_time"]]
         check(f"{tag}: the snapshots after the restart, {labels}, and only they",
-              sorted(b["snapshots"]) == sorted(labels), (list(b["snapshots"]), labels))
+              labels_b == sorted(labels), (labels_b, labels))
+        restart = fb.restart
+    # bit for bit: walks every dataset of each snapshot group, known to the reader or not
+    with h5py.File(ref, "r") as a, h5py.File(new, "r") as b:
         bad = []
         for lab in labels:
             for body in a["snapshots"][lab]:
@@ -120,9 +124,9 @@ def compare(tag, ref, new, restart_step):
                         bad.append(pa)
         check(f"{tag}: snapshot fields equal ({labels[-1] if labels else '-'} is the final "
               "state)", labels and not bad, bad)
-        check(f"{tag}: root attributes name the restart (step {restart_step})",
-              int(b.attrs["restart_step"]) == restart_step
-              and int(b.attrs["snapshots_before_restart"]) == len(a["snapshots"]) - len(labels))
+    check(f"{tag}: root attributes name the restart (step {restart_step})",
+          int(restart["restart_step"]) == restart_step
+          and int(restart["snapshots_before_restart"]) == len(labels_a) - len(labels))
 
 
 def main_deck(threads, root):
@@ -140,8 +144,8 @@ def main_deck(threads, root):
         return None
     ref = os.path.join(ref_dir, "out", "run.h5")
     ck = os.path.join(ref_dir, "out", "run.checkpoint.h5")
-    with h5py.File(ref, "r") as f:
-        nsteps = int(f["summary"].attrs["steps"])
+    with MfcdFile(ref) as f:
+        nsteps = int(f.summary["steps"])
     last = EVERY * (nsteps // EVERY)
     check(f"{tag}: checkpoint kept after completion, the last one (step {last} of {nsteps})",
           os.path.exists(ck) and step_of(ck) == last, os.listdir(os.path.dirname(ck)))
@@ -192,8 +196,8 @@ def other_deck(src, root):
     check(f"{tag}: first run exits 0", rc == 0, err)
     if rc:
         return
-    with h5py.File(os.path.join(work, "out", "run.h5"), "r") as f:
-        nsteps = int(f["summary"].attrs["steps"])
+    with MfcdFile(os.path.join(work, "out", "run.h5")) as f:
+        nsteps = int(f.summary["steps"])
     every = max(1, (6 * nsteps) // 10)
     deck = make_deck(src, work, every)
     rc, _, err = run([deck], work)
@@ -222,6 +226,7 @@ def refusals(root, ref, ck, deck):
     assert other != text
     open(os.path.join(work, "other.nml"), "w").write(other)
     shutil.copy(ck, os.path.join(work, "fmt.h5"))
+    # checkpoints altered to be refused: mfcd's inputs, written with h5py
     with h5py.File(os.path.join(work, "fmt.h5"), "a") as f:
         f.attrs["format_version"] = np.int32(99)
     shutil.copy(ck, os.path.join(work, "ver.h5"))

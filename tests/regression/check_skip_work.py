@@ -31,7 +31,7 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
+import h5py  # compare() walks every dataset of two files, whatever the reader knows of
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "post"))
@@ -68,6 +68,7 @@ def run(tmp, src, name, edits):
 
 def compare(name, on, off, counter, rtol=0.0, evaluated=None):
     diffs = []
+    # bit for bit: every dataset of the two files (visititems), known to mfcd_h5 or not
     with h5py.File(on, "r") as a, h5py.File(off, "r") as b:
         def visit(key, obj):
             if not isinstance(obj, h5py.Dataset):

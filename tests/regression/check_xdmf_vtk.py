@@ -33,8 +33,10 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "post"))
+from mfcd_h5 import MfcdFile  # noqa: E402
 
 SKIP = 77
 results = []
@@ -184,18 +186,16 @@ def rigid_as_fem(deck_text):
 
 
 def check_file(vtk, reader, cls, h5path, xdmf, tag="", need_fem=True):
-    f = h5py.File(h5path, "r")
-    labels = sorted(f["snapshots"].keys(), key=lambda k: float(f["snapshots"][k].attrs["time"][0]))
-    snap_t = np.array([float(f["snapshots"][k].attrs["time"][0]) for k in labels])
+    f = MfcdFile(h5path)
+    labels = f.snapshot_labels()
+    snap_t = np.array([f.snapshot_time(k) for k in labels])
     last = labels[-1]
+    last_snap = f.snapshot(last)
     bodies = {}
-    for name in f["bodies"]:
-        g = f["bodies"][name]
-        disc = g.attrs.get("discretization", b"rkpm")
-        disc = (disc.decode() if isinstance(disc, bytes) else str(disc)).strip()
-        bodies[name] = dict(np=g["x"].shape[0], disc=disc, x=g["x"][()],
-                            tri=g["triangles"][()] if "triangles" in g else None,
-                            deformable=name in f["snapshots"][last])
+    for name in f.body_names():
+        g = f.body(name)
+        bodies[name] = dict(np=g.np, disc=g.discretization, x=g.x, tri=g.triangles,
+                            deformable=name in last_snap.bodies)
     if need_fem:
         check(tag + "the file has a deformable finite-element body",
               any(b["tri"] is not None and b["deformable"] for b in bodies.values()),
@@ -279,18 +279,18 @@ def check_file(vtk, reader, cls, h5path, xdmf, tag="", need_fem=True):
         if ds is None:
             check(tag + f"{name}: a block for the deformable body", False, sorted(got))
             continue
-        g = f["snapshots"][last][name]
+        g = last_snap.bodies[name]
         check(tag + f"{name}: {ds.GetNumberOfPoints()} points = np = {npt}",
               ds.GetNumberOfPoints() == npt, ds.GetNumberOfPoints())
         pts = vtk_to_numpy(ds.GetPoints().GetData()) if ds.GetPoints() is not None else None
         check(tag + f"{name}: points at the last snapshot's x",
               pts is not None and pts.shape[0] == npt
-              and np.allclose(pts[:, :2], g["x"][()], rtol=0, atol=1e-12)
+              and np.allclose(pts[:, :2], g.x, rtol=0, atol=1e-12)
               and np.all(pts[:, 2:] == 0.0), None if pts is None else pts[:3])
         types, conn, offs = cell_types_and_connectivity(ds)
         v = array(ds.GetPointData(), "v")
         check(tag + f"{name}: point array v with {npt} tuples (the file's v)",
-              v is not None and v.shape[0] == npt and np.allclose(v[:, :2], g["v"][()]),
+              v is not None and v.shape[0] == npt and np.allclose(v[:, :2], g.v),
               None if v is None else v.shape)
         if b["tri"] is not None:
             tri = np.asarray(b["tri"], dtype=np.int64)
@@ -305,21 +305,21 @@ def check_file(vtk, reader, cls, h5path, xdmf, tag="", need_fem=True):
             e = array(ds.GetCellData(), "epsbar_cells")
             check(tag + f"{name}: cell array epsbar_cells with {ne} values (the file's)",
                   e is not None and e.shape == (ne, 1)
-                  and np.allclose(e[:, 0], g["epsbar_cells"][()]),
+                  and np.allclose(e[:, 0], g.epsbar_cells),
                   None if e is None else e.shape)
             for c, comp in enumerate(("11", "22", "33", "12")):
                 sc = array(ds.GetCellData(), "stress_cells_" + comp)
                 check(tag + f"{name}: cell array stress_cells_{comp} = column {c} of the "
                       f"file's stress_cells", sc is not None and sc.shape == (ne, 1)
-                      and np.allclose(sc[:, 0], g["stress_cells"][()][:, c], rtol=0,
-                                      atol=1e-9 * max(1.0, np.abs(g["stress_cells"][()]).max())),
+                      and np.allclose(sc[:, 0], g.stress_cells[:, c], rtol=0,
+                                      atol=1e-9 * max(1.0, np.abs(g.stress_cells).max())),
                       None if sc is None else sc.shape)
         for c, comp in enumerate(("11", "22", "33", "12")):
             sp = array(ds.GetPointData(), "stress_" + comp)
             check(tag + f"{name}: point array stress_{comp} = column {c} of the file's stress",
                   sp is not None and sp.shape == (npt, 1)
-                  and np.allclose(sp[:, 0], g["stress"][()][:, c], rtol=0,
-                                  atol=1e-9 * max(1.0, np.abs(g["stress"][()]).max())),
+                  and np.allclose(sp[:, 0], g.stress[:, c], rtol=0,
+                                  atol=1e-9 * max(1.0, np.abs(g.stress).max())),
                   None if sp is None else sp.shape)
         if b["tri"] is None:
             vert = (vtk.VTK_VERTEX, vtk.VTK_POLY_VERTEX)
