@@ -131,6 +131,11 @@ module contact_pair_m
     ! particle is shielded by them); rex: each one's reference-neighbour radius (m)
     integer, allocatable :: cand(:)
     real(wp), allocatable :: rex(:)
+    ! the particles a pass looks at (side_select): with subcycling (subcycle_m) the
+    ! solid's nodes of the rate being stepped, listed; else all (listed false, nlist = np)
+    logical :: listed = .false.
+    integer :: nlist = 0
+    integer, allocatable :: list(:)
   end type side_t
 
   type :: contact_pair_t
@@ -388,6 +393,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: sd
     p%step = contact_stats_t()
+    call side_select(p%side(1), solids)
+    call side_select(p%side(2), solids)
     if (p%self) then
       call self_correct(p, solids, dt, err)
       return
@@ -522,11 +529,15 @@ contains
     type(side_t), intent(inout) :: s
     type(solid_t), intent(in) :: sol
     real(wp), intent(in) :: factor
-    integer :: i
+    integer :: i, ii
     real(wp) :: dmax2
     dmax2 = 0.0_wp
-    !$omp parallel do default(none) shared(s, sol) reduction(max: dmax2) schedule(static)
-    do i = 1, s%np
+    ! (with subcycling a pass looks at the nodes being stepped only: each particle's motion
+    ! is still counted in the calls between its screenings, which is what the bound needs)
+    !$omp parallel do default(none) shared(s, sol) private(i) reduction(max: dmax2) &
+    !$omp schedule(static)
+    do ii = 1, s%nlist
+      i = side_particle(s, ii)
       dmax2 = max(dmax2, sum((sol%d(:, i) - s%d_scr(:, i))**2))
       s%d_scr(:, i) = sol%d(:, i)
     end do
@@ -587,6 +598,33 @@ contains
     end do
   end subroutine contact_step
 
+  !> The particles of side s that this step's passes look at: all of them, or with
+  !! subcycling the solid's nodes of the rate being stepped (the only ones that move).
+  subroutine side_select(s, solids)
+    type(side_t), intent(inout) :: s
+    type(solid_t), intent(in) :: solids(:)
+    integer :: r
+    s%listed = .false.
+    s%nlist = s%np
+    if (s%isolid == 0) return
+    associate (sol => solids(s%isolid))
+      if (sol%sub_rate < 0) return
+      r = sol%sub_rate
+      if (.not. allocated(s%list)) allocate(s%list(s%np))
+      s%listed = .true.
+      s%nlist = sol%nptr(r + 1) - sol%nptr(r)
+      s%list(1:s%nlist) = sol%nlist(sol%nptr(r):sol%nptr(r + 1) - 1)
+    end associate
+  end subroutine side_select
+
+  !> Particle jj of the ones side s looks at (side_select).
+  pure integer function side_particle(s, jj) result(j)
+    type(side_t), intent(in) :: s
+    integer, intent(in) :: jj
+    j = jj
+    if (s%listed) j = s%list(jj)
+  end function side_particle
+
   !> Old and predicted physical positions of a side; a deformable side is re-binned and its
   !! surface moved to the prediction.
   subroutine side_positions(s, solids, move, with_det, with_nts, err)
@@ -619,14 +657,15 @@ contains
     type(solid_t), intent(in) :: sol
     type(side_t), intent(in) :: b
     integer(i64), intent(inout) :: nskip
-    integer :: j
+    integer :: j, jj
     integer(i64) :: nfar
     real(wp) :: r(2)
     call add_travel(s, sol, 1.0_wp)
     nfar = 0
-    !$omp parallel do default(none) shared(s, sol, b) private(r) reduction(+: nfar) &
+    !$omp parallel do default(none) shared(s, sol, b) private(r, j) reduction(+: nfar) &
     !$omp schedule(static)
-    do j = 1, s%np
+    do jj = 1, s%nlist
+      j = side_particle(s, jj)
       s%near(j) = s%travel >= s%due(j)
       if (.not. s%near(j)) then
         nfar = nfar + 1
@@ -653,7 +692,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     !> in self-contact, only particles numbered below both ends of the segment they hit
     logical, intent(in), optional :: lower_only
-    integer :: j, i0, i1
+    integer :: j, jj, i0, i1
     integer(i64) :: neval, ndet, ncon
     real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
     real(wp) :: dxb(2)
@@ -691,9 +730,10 @@ contains
       end do
     end if
     !$omp parallel do default(none) shared(a, b, dt, p) &
-    !$omp private(g, nrm, tng, slip, fj, stick, xi, i0, i1, invmb, meff, dxb) &
+    !$omp private(j, g, nrm, tng, slip, fj, stick, xi, i0, i1, invmb, meff, dxb) &
     !$omp reduction(+: ncon, fnsum) reduction(max: pen, rad) schedule(static)
-    do j = 1, a%np
+    do jj = 1, a%nlist
+      j = side_particle(a, jj)
       a%fphys(:, j) = 0.0_wp
       if (.not. a%active(j)) cycle
       g = a%gap(j)
@@ -728,7 +768,7 @@ contains
       rad = max(rad, a%x_pred(1, j))
     end do
     !$omp end parallel do
-    if (.not. p%self) p%count%screened = p%count%screened + a%np
+    if (.not. p%self) p%count%screened = p%count%screened + a%nlist
     p%count%evaluated = p%count%evaluated + neval
     p%count%detected = p%count%detected + ndet
     p%count%contacts = p%count%contacts + ncon
@@ -768,7 +808,8 @@ contains
     ! moves; its cloud is moved again before it is next used)
     if (b%isolid > 0) call side_positions(b, solids, .true., .false., need_nts(p), err)
     if (allocated(err)) return
-    do j = 1, a%np
+    do jj = 1, a%nlist
+      j = side_particle(a, jj)
       if (.not. a%active(j)) cycle
       a%x_pred(:, j) = solid_point_position(solids(a%isolid), j)
       if (p%self) then
@@ -792,14 +833,16 @@ contains
     type(side_t), intent(inout) :: a
     type(side_t), intent(in) :: b
     integer(i64), intent(out) :: neval, ndet
-    integer :: j, jseg
+    integer :: j, jj, jseg
     real(wp) :: det, g, nrm(2), tng(2), xi
     logical :: found
     neval = 0
     ndet = 0
-    !$omp parallel do default(none) shared(a, b) private(det, found, g, nrm, tng, jseg, xi) &
-    !$omp reduction(+: neval, ndet) schedule(static)
-    do j = 1, a%np
+    !$omp parallel do default(none) shared(a, b) &
+    !$omp private(j, det, found, g, nrm, tng, jseg, xi) reduction(+: neval, ndet) &
+    !$omp schedule(static)
+    do jj = 1, a%nlist
+      j = side_particle(a, jj)
       a%active(j) = .false.
       if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
       if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
@@ -899,14 +942,15 @@ contains
     type(side_t), intent(inout) :: a
     type(side_t), intent(in) :: b
     integer(i64), intent(out) :: neval, ndet
-    integer :: j, jseg
+    integer :: j, jj, jseg
     real(wp) :: g, nrm(2), tng(2), xi
     logical :: found
     neval = 0
     ndet = 0
-    !$omp parallel do default(none) shared(a, b) private(found, g, nrm, tng, jseg, xi) &
+    !$omp parallel do default(none) shared(a, b) private(j, found, g, nrm, tng, jseg, xi) &
     !$omp reduction(+: neval, ndet) schedule(static)
-    do j = 1, a%np
+    do jj = 1, a%nlist
+      j = side_particle(a, jj)
       a%active(j) = .false.
       if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
       if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle

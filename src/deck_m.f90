@@ -108,6 +108,10 @@ module deck_m
     !> points whose nodes all still move in the body's initial uniform translation skip F,
     !! the material update and the internal force (exact to round-off)
     logical :: skip_quiet = .true.
+    !> split a step where a few points' critical step falls below it: those points and
+    !! their nodes advance in 2^L sub-steps, the rest once (element meshes against rigid
+    !! masters; doc/solver.md, "Subcycling")
+    logical :: subcycle = .false.
   end type solver_spec_t
 
   !> A kinematic condition (&bc) on the particles of a body inside a reference box.
@@ -220,7 +224,36 @@ contains
     if (.not. allocated(err)) call read_output(u, deck, err)
     close(u)
     if (.not. allocated(err)) call check_across(deck, err)
+    if (.not. allocated(err)) call check_subcycle(deck, err)
   end subroutine read_deck
+
+  !> &solver subcycle needs element meshes (a contact force on an element node moves that
+  !! node only) against rigid masters (a sub-step corrects only the slave's fast nodes).
+  subroutine check_subcycle(deck, err)
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    if (.not. deck%solver%subcycle .or. deck%run%mode /= 'dynamic') return
+    do k = 1, deck%nbodies
+      if (deck%bodies(k)%role == 'rigid') cycle
+      if (deck%bodies(k)%discretization /= 'fem') then
+        call bad(deck, 'solver', 'subcycle', '.true.', "body '"// &
+          trim(deck%bodies(k)%name)//"' is RKPM; subcycling splits element meshes only: "// &
+          "give it discretization = 'fem' or set subcycle = .false.", err)
+        return
+      end if
+    end do
+    do k = 1, deck%ncontacts
+      associate (c => deck%contacts(k))
+        if (c%imaster == c%islave .or. deck%bodies(c%imaster)%role /= 'rigid') then
+          call bad(deck, 'solver', 'subcycle', '.true.', "contact "//itoa(k)//" ('"// &
+            trim(c%master)//"' on '"//trim(c%slave)//"') has a deformable master; "// &
+            "subcycling needs rigid masters: set subcycle = .false.", err)
+          return
+        end if
+      end associate
+    end do
+  end subroutine check_subcycle
 
   !> Checks that span groups, after every group is read and checked on its own.
   subroutine check_across(deck, err)
@@ -1301,11 +1334,11 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp) :: t_end, dt, cfl, energy_tol, snapshot_times(max_snapshots)
     integer :: log_every, history_every, max_steps, ios, j
-    logical :: skip_quiet
+    logical :: skip_quiet, subcycle
     character(len=512) :: msg
     type(solver_spec_t) :: sv
     namelist /solver/ t_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, &
-      max_steps, skip_quiet
+      max_steps, skip_quiet, subcycle
     t_end = sv%t_end
     dt = sv%dt
     cfl = sv%cfl
@@ -1315,6 +1348,7 @@ contains
     energy_tol = sv%energy_tol
     max_steps = sv%max_steps
     skip_quiet = sv%skip_quiet
+    subcycle = sv%subcycle
     rewind(u)
     read(u, nml=solver, iostat=ios, iomsg=msg)
     if (ios == iostat_end) then
@@ -1333,6 +1367,7 @@ contains
     sv%energy_tol = energy_tol
     sv%max_steps = max_steps
     sv%skip_quiet = skip_quiet
+    sv%subcycle = subcycle
     sv%nsnap = 0
     do j = 1, max_snapshots
       if (snapshot_times(j) /= unset) sv%nsnap = j
@@ -1769,7 +1804,7 @@ contains
         'rate_m, eps0, eps1, epsdot0, back_stress_b, theta, yield_stress, hardening_modulus'
     case ('solver')
       s = 't_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, max_steps, '// &
-        'skip_quiet'
+        'skip_quiet, subcycle'
     case ('bc')
       s = 'body, region_lo, region_hi, component, kind, value'
     case ('contact')
@@ -1876,7 +1911,7 @@ contains
     case ('solver')
       ints = 'log_every, history_every, max_steps'
       reals = 't_end, dt, cfl, snapshot_times('//itoa(max_snapshots)//'), energy_tol'
-      logs = 'skip_quiet'
+      logs = 'skip_quiet, subcycle'
     case ('bc')
       strs = 'body, kind'
       ints = 'component'

@@ -147,6 +147,8 @@ contains
     ! the foot-radius band of body_measures: one nominal spacing
     s%spacing = minval(b%spacing(1:2))
     if (deck%solver%skip_quiet) call solid_quiet_init(s, bs%velocity(1:2))
+    ! (read_deck refuses subcycle for anything but element meshes against rigid masters)
+    s%sub_on = deck%solver%subcycle .and. s%t%interpolating
   end subroutine setup_solid
 
   !> The deck's &bc groups of body k as masks over the nodes' reference positions: a node

@@ -20,6 +20,7 @@ module explicit_driver_m
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
     set_health_limits
   use stable_step_m, only: step_control_next, step_control_update
+  use subcycle_m, only: subcycle_next, subcycle_rates, subcycle_end
   use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
   use dynamic_output_m, only: history_t, history_push, history_flush
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
@@ -103,18 +104,28 @@ contains
     call log_line(r, en)
     t_loop0 = omp_get_wtime()
     do while (r%t < r%t_end - 0.5_wp*r%dt .and. r%n < deck%solver%max_steps)
-      if (r%n > 0) r%dt = step_control_next(r%step, r%t, next_stop(deck, r%t))
+      ! the step, and with &solver subcycle its sub-steps (subcycle_m)
+      if (r%n > 0) r%dt = subcycle_next(r%step, solids, r%t, next_stop(deck, r%t), &
+        deck%solver%subcycle, r%sub)
       do k = 1, size(solids)
         call solid_predict(solids(k), r%dt)                                     ! (64)
       end do
       tw = omp_get_wtime()
       call contact_step(pairs, solids, r%dt, cstep, err)                        ! (93)-(98)
+      r%t_contact = r%t_contact + (omp_get_wtime() - tw)
+      if (allocated(err)) exit
+      call subcycle_rates(pairs, solids, r%dt, cstep, r%sub, r%t_contact, k, bad_q, &
+        bad_j, err)
       if (allocated(err)) exit
       call record_contact(r, cstep, r%t + r%dt)
-      r%t_contact = r%t_contact + (omp_get_wtime() - tw)
       r%n = r%n + 1
       r%t = r%t + r%dt
-      call internal_forces_and_update(solids, r)                               ! (62), (63)
+      if (k > 0) then
+        call check_solid(solids(k), r%n, bad_q, bad_j, r%failed, r%reason)
+      else
+        call internal_forces_and_update(solids, r)                             ! (62), (63)
+      end if
+      call subcycle_end(solids)
       call step_control_update(r%step, solids)
       call check_step(r%step, solids, r%n, r%failed, r%reason)
       call energy_totals(solids, en)

@@ -156,6 +156,9 @@ contains
     if (.not. allocated(err)) call h5_attr(f, g, 'energy_over', r%energy_over, err)
     if (.not. allocated(err)) call h5_write(f, g//'/node_point_steps', &
       [r%node_steps, r%point_steps], '1', err, 'nodes x steps, integration points x steps')
+    if (.not. allocated(err)) call h5_write(f, g//'/subcycle_counts', [r%sub%steps, &
+      r%sub%substeps, r%sub%fine_evals, r%sub%uniform_evals, int(r%sub%m_max, i64)], '1', &
+      err, 'subcycled steps, sub-steps, fine point updates, unsplit updates, most sub-steps')
     if (.not. allocated(err)) call h5_attr(f, g, 'wall', omp_get_wtime() - r%wall0, err)
     if (.not. allocated(err)) call h5_attr(f, g, 't_loop', t_loop, err)
     if (.not. allocated(err)) call h5_attr(f, g, 't_contact', r%t_contact, err)
@@ -532,7 +535,7 @@ contains
     type(run_record_t), intent(inout) :: r
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), parameter :: g = '/record'
-    integer(i64) :: counts(2)
+    integer(i64) :: counts(2), sc(5)
     integer :: flag
     real(wp) :: wall, v4(4), v3(3)
     call h5_read_attr(f, g, 'n', r%n, err)
@@ -543,6 +546,12 @@ contains
     if (.not. allocated(err)) call h5_read(f, g//'/node_point_steps', counts, err)
     r%node_steps = counts(1)
     r%point_steps = counts(2)
+    if (.not. allocated(err)) call h5_read(f, g//'/subcycle_counts', sc, err)
+    r%sub%steps = sc(1)
+    r%sub%substeps = sc(2)
+    r%sub%fine_evals = sc(3)
+    r%sub%uniform_evals = sc(4)
+    r%sub%m_max = int(sc(5))
     if (.not. allocated(err)) call h5_read_attr(f, g, 'wall', wall, err)
     ! the wall clock goes on from the time already spent
     r%wall0 = omp_get_wtime() - wall

@@ -17,6 +17,7 @@ module run_report_m
   use hdf5_io_m, only: h5file_t, h5_group, h5_attr, h5_write
   use dynamic_output_m, only: history_names
   use stable_step_m, only: step_control_t, step_limit_text
+  use subcycle_m, only: subcycle_record_t
   implicit none
   private
   public :: run_record_t, record_contact, log_header, log_line, history_row, &
@@ -28,6 +29,7 @@ module run_report_m
     real(wp) :: t = 0.0_wp                !< time (s)
     real(wp) :: dt = 0.0_wp               !< the last step (s)
     type(step_control_t) :: step          !< the time-step policy and its record
+    type(subcycle_record_t) :: sub        !< what subcycling did
     real(wp) :: t_end = 0.0_wp            !< the deck's end time (s)
     integer :: nsteps_est = 0             !< steps to t_end at the first step (for defaults)
     logical :: failed = .false.
@@ -238,7 +240,14 @@ contains
     call put_r('wall_time', wall, 's')
     call put_i('threads', omp_get_max_threads(), '1')
     call put_r('particle_steps_per_second', rate, '1/s')
-    call put_r('point_steps_per_second', real(r%point_steps, wp)/tl, '1/s')
+    call put_r('point_steps_per_second', real(r%point_steps + r%sub%fine_evals, wp)/tl, '1/s')
+    ! &solver subcycle: steps split, their sub-steps, the fine points' updates in the
+    ! sub-steps but the last, and what those sub-steps would have cost unsplit
+    call put_i('subcycled_steps', int(r%sub%steps), '1')
+    call put_i('substeps', int(r%sub%substeps), '1')
+    call put_i('substeps_max', r%sub%m_max, '1')
+    call put_r('substep_point_updates', real(r%sub%fine_evals, wp), '1')
+    call put_r('substep_point_updates_unsplit', real(r%sub%uniform_evals, wp), '1')
     call put_r('energy_residual', en%residual, eunit)
     call put_r('energy_scale', en%scale, eunit)
     call put_r('kinetic_energy', en%ke, eunit)
@@ -299,8 +308,13 @@ contains
     end do
     write(output_unit, '(a,i0,a,es12.5,a,f9.2,a,f7.2,a,es10.3,a,es10.3,a)') 'summary: ', &
       r%n, ' steps to t = ', r%t, ' s in ', wall, ' s wall (set-up ', wall - r%t_loop, &
-      ' s), ', rate, ' particle-steps/s (nodes), ', real(r%point_steps, wp)/tl, &
-      ' point-steps/s (integration points) in the time loop'
+      ' s), ', rate, ' particle-steps/s (nodes), ', real(r%point_steps + r%sub%fine_evals, &
+      wp)/tl, ' point-steps/s (integration points) in the time loop'
+    if (r%sub%steps > 0) write(output_unit, '(a,i0,a,i0,a,i0,a,f6.2,a)') 'summary: '// &
+      'subcycle: ', r%sub%steps, ' steps split into ', r%sub%substeps, ' sub-steps (at '// &
+      'most ', r%sub%m_max, '); the fine points'' updates in them cost ', 100.0_wp* &
+      real(r%sub%fine_evals, wp)/real(max(r%sub%uniform_evals, 1_i64), wp), &
+      '% of whole-body sub-steps'
     write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,es10.3,a,es10.3,a)') 'summary: dt ', &
       r%step%dt_min, ' to ', r%step%dt_max, ' s (smallest at t = ', r%step%t_dt_min, &
       ' s); critical step ', r%step%dtc0, ' s at t = 0, smallest ', r%step%dtc_min, &

@@ -21,7 +21,8 @@ module solid_m
   use material_m, only: material_t, material_state_t, material_params_t, make_material
   use solid_tables_m, only: solid_tables_t
   use tl_kinematics_m, only: deformation_gradient, rate_of_deformation, piola_stress, &
-    internal_force, physical_positions, jacobian
+    internal_force, physical_positions, jacobian, deformation_gradient_list, &
+    rate_of_deformation_list, piola_stress_list, internal_force_list
   implicit none
   private
   public :: solid_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
@@ -30,6 +31,8 @@ module solid_m
     solid_quiet_blocks
   public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node
   public :: health_ok, health_j, health_stress, health_epsbar, health_deps, health_names
+  public :: solid_sub_levels, solid_sub_select, solid_sub_begin, &
+    solid_rate_predict, solid_rates_force, solid_rates_update, solid_sub_end
 
   !> point_health codes: what is wrong at an integration point
   integer, parameter :: health_ok = 0, health_j = 1, health_stress = 2, health_epsbar = 3, &
@@ -40,6 +43,7 @@ module solid_m
 
   integer, parameter :: at_step_start = 1   !< solid_positions gives x at the start of the step
   integer, parameter :: at_prediction = 2   !< solid_positions gives x at the (corrected) prediction
+
 
   !> Material points are updated in blocks of this many (dynamic scheduling over blocks).
   integer, parameter :: material_block = 256
@@ -101,6 +105,19 @@ module solid_m
     logical, allocatable :: qact(:)              !< point active (nq)
     logical, allocatable :: bact(:)              !< material block with an active point
     integer(i64) :: quiet_skipped = 0            !< point-steps skipped
+    ! subcycling (&solver subcycle; the step and its rules in subcycle_m): a step dt of
+    ! levels L takes each node over 2^r sub-steps dt/2^r, its rate r (0..L), and evaluates
+    ! each point at the rate of its fastest node
+    logical :: sub_on = .false.                  !< this solid may subcycle (element meshes)
+    integer :: sub_levels = 0                    !< L of this step (0: a plain step)
+    integer :: sub_rate = -1                     !< the rate whose nodes move now (-1: all)
+    real(wp) :: sub_dt = 0.0_wp                  !< the step dt (s)
+    integer, allocatable :: node_rate(:), point_rate(:)   !< (np), (nq)
+    !> nodes and points by rate (CSR over rates 0..L), and for each point rate p the nodes
+    !! of lower rate its points touch (iface), which it needs between their steps' ends
+    integer, allocatable :: nptr(:), nlist(:), qptr(:), qlist(:), iptr(:), ilist(:)
+    integer, allocatable :: lev_node(:), lev_point(:), mark(:)   !< work space
+    real(wp), allocatable :: d_end(:, :)         !< d at the end of each node's current step
   end type solid_t
 
 contains
@@ -364,14 +381,20 @@ contains
     type(solid_t), intent(inout) :: s
     real(wp), intent(in) :: dt
     integer :: i
-    !$omp parallel do default(none) shared(s, dt) schedule(static)
+    real(wp) :: h
+    !$omp parallel do default(none) shared(s, dt) private(h) schedule(static)
     do i = 1, s%np
       where (s%pres(:, i))
         s%v(:, i) = s%vpres(:, i)
         s%a(:, i) = 0.0_wp
       end where
+      ! subcycling: the nodes of rate above 0 wait at d_n for their sub-steps
+      h = dt
+      if (s%sub_rate == 0) then
+        if (s%node_rate(i) > 0) h = 0.0_wp
+      end if
       s%d_old(:, i) = s%d(:, i)
-      s%d(:, i) = s%d(:, i) + dt*s%v(:, i) + 0.5_wp*dt*dt*s%a(:, i)   ! (64)
+      s%d(:, i) = s%d(:, i) + h*s%v(:, i) + 0.5_wp*h*h*s%a(:, i)   ! (64)
       s%a_old(:, i) = s%a(:, i)
       s%fcon(:, i) = 0.0_wp
       s%fpoint(:, i) = 0.0_wp
@@ -388,8 +411,13 @@ contains
     real(wp), intent(in) :: dt
     integer, intent(out) :: bad_q
     real(wp), intent(out) :: bad_j
-    integer :: q, nblocks, i0, i1, blk, kq, qloc
-    real(wp) :: dw, dwp, t0, t1, t2, kmax, kloc, kp
+    integer :: q, nblocks, i0, i1, blk, kq
+    real(wp) :: dw, dwp, t0, t1, t2, kmax
+    if (s%sub_levels > 0) then
+      ! the end of a subcycled step: every rate's points and nodes
+      call solid_rates_force(s, 0, 2**s%sub_levels, bad_q, bad_j)
+      return
+    end if
     t0 = omp_get_wtime()
     if (.not. s%all_awake) call quiet_update(s)
     !$omp parallel do default(none) shared(s) schedule(static)
@@ -443,18 +471,57 @@ contains
         call internal_force(s%t, s%p, s%fint, awake=s%awake)
       end if
     end if
-    bad_q = 0
+    call points_account(s, dt, bad_q, dw, dwp, kmax, kq)
+    if (kq > 0) then
+      s%kappa = kmax
+      s%kappa_q = kq
+    end if
     bad_j = 1.0_wp
+    s%bad_code = health_ok
+    if (bad_q > 0) then
+      bad_j = jacobian(s%f(:, bad_q))
+      s%bad_code = point_health(s, bad_q, dt)
+    end if
+    s%w_int = s%w_int + dw
+    s%w_plastic = s%w_plastic + dwp
+    !$omp parallel do default(none) shared(s) schedule(static)
+    do q = 1, s%np
+      s%a_old(:, q) = s%a(:, q)
+      s%a(:, q) = (s%fext(:, q) - s%fint(:, q))/s%t%mass(q)
+    end do
+    !$omp end parallel do
+    s%wall = s%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
+  end subroutine solid_internal_force
+
+  !> After the material update of a step dt at the points list(1:n) (all points when list
+  !! is absent): their internal and plastic work over the step (dw, dwp), the last point
+  !! with a health problem (bad_q, 0 if none), and the largest kappa_L of the healthy ones
+  !! (kmax at point kq; 0 if none).
+  subroutine points_account(s, dt, bad_q, dw, dwp, kmax, kq, list, n)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer, intent(out) :: bad_q, kq
+    real(wp), intent(out) :: dw, dwp, kmax
+    integer, intent(in), optional :: list(:), n
+    integer :: k, q, nk, qloc
+    real(wp) :: kp, kloc
+    logical :: listed
+    listed = present(list)
+    nk = s%nq
+    if (listed) nk = n
+    bad_q = 0
     dw = 0.0_wp
     dwp = 0.0_wp
     kmax = 0.0_wp
     kq = 0
-    !$omp parallel default(none) shared(s, kmax, kq, dt) private(kp, kloc, qloc) &
-    !$omp reduction(+: dw, dwp) reduction(max: bad_q)
+    !$omp parallel default(none) shared(s, kmax, kq, dt, list, listed, nk) &
+    !$omp private(kp, kloc, qloc, q) reduction(+: dw, dwp) reduction(max: bad_q)
     kloc = 0.0_wp
     qloc = 0
     !$omp do schedule(static)
-    do q = 1, s%nq
+    do k = 1, nk
+      q = k
+      if (listed) q = list(k)
       dw = dw + s%t%wgt(q)*0.5_wp*sum((s%p_old(:, q) + s%p(:, q))*(s%f(:, q) - s%f_old(:, q)))
       dwp = dwp + s%t%wgt(q)*s%dwp(q)
       if (point_health(s, q, dt) /= health_ok) then
@@ -475,25 +542,294 @@ contains
     end if
     !$omp end critical (solid_kappa)
     !$omp end parallel
-    if (kq > 0) then
-      s%kappa = kmax
-      s%kappa_q = kq
+  end subroutine points_account
+
+  !> Kinematics and material update of a step dt at the points list(1:n) only, with their
+  !! work added to the accounts: F from the current d, D and W from F at the points' last
+  !! evaluation, the material, P (no stabilization: element meshes).
+  subroutine update_points(s, dt, list, n, bad_q, kmax, kq)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer, intent(in) :: list(:), n
+    integer, intent(out) :: bad_q, kq
+    real(wp), intent(out) :: kmax
+    integer :: k, q
+    real(wp) :: dw, dwp, t0, t1, t2
+    t0 = omp_get_wtime()
+    !$omp parallel do default(none) shared(s, list, n) private(q) schedule(static)
+    do k = 1, n
+      q = list(k)
+      s%f_old(:, q) = s%f(:, q)
+      s%p_old(:, q) = s%p(:, q)
+    end do
+    !$omp end parallel do
+    call deformation_gradient_list(s%t, s%d, s%f, list, n)
+    call rate_of_deformation_list(dt, s%f_old, s%f, s%dr, s%w12, list, n)
+    t1 = omp_get_wtime()
+    !$omp parallel do default(none) shared(s, dt, list, n) private(q) schedule(dynamic, 32)
+    do k = 1, n
+      q = list(k)
+      call s%mat%update(dt, s%dr, s%w12, s%st, q, q, s%dwp)
+    end do
+    !$omp end parallel do
+    t2 = omp_get_wtime()
+    call piola_stress_list(s%f, s%st%tau, s%p, list, n)
+    call points_account(s, dt, bad_q, dw, dwp, kmax, kq, list, n)
+    s%w_int = s%w_int + dw
+    s%w_plastic = s%w_plastic + dwp
+    s%wall = s%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
+  end subroutine update_points
+
+  !> The subcycling levels for the reference step dref (s): a point whose critical-step
+  !! estimate dt_L satisfies 2^l dref <= dt_L < 2^(l+1) dref has level l (at most lmax); a
+  !! node takes the lowest level of its points (lev_node) and then a point the lowest of
+  !! its nodes (lev_point). npt(l) and nnd(l) count the points and nodes at level l.
+  subroutine solid_sub_levels(s, dref, lmax, npt, nnd)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dref
+    integer, intent(in) :: lmax
+    integer, intent(out) :: npt(0:lmax), nnd(0:lmax)
+    integer :: q, i, k, l
+    real(wp) :: r
+    if (.not. allocated(s%lev_node)) allocate(s%lev_node(s%np), s%lev_point(s%nq))
+    ! each point's own level, from its current kappa_L = kappa0_L/s_min(F)^2
+    !$omp parallel do default(none) shared(s, dref, lmax) private(r) schedule(static)
+    do q = 1, s%nq
+      r = s%dt_cal/(dref*sqrt(s%kap0(q)/stretch2_min(s%f(:, q))))
+      s%lev_point(q) = lmax
+      if (r < 2.0_wp**lmax) s%lev_point(q) = max(0, exponent(r) - 1)
+      ! (a non-finite r, from a broken point, steps at the finest rate)
+      if (.not. (r == r)) s%lev_point(q) = 0
+    end do
+    !$omp end parallel do
+    nnd = 0
+    !$omp parallel do default(none) shared(s, lmax) private(k, l) reduction(+: nnd) &
+    !$omp schedule(static)
+    do i = 1, s%np
+      l = lmax
+      do k = s%t%tptr(i), s%t%tptr(i + 1) - 1
+        l = min(l, s%lev_point(s%t%tq(k)))
+      end do
+      s%lev_node(i) = l
+      nnd(l) = nnd(l) + 1
+    end do
+    !$omp end parallel do
+    npt = 0
+    !$omp parallel do default(none) shared(s, lmax) private(k, l) reduction(+: npt) &
+    !$omp schedule(static)
+    do q = 1, s%nq
+      l = lmax
+      do k = s%t%ptr(q), s%t%ptr(q + 1) - 1
+        l = min(l, s%lev_node(s%t%nbr(k)))
+      end do
+      s%lev_point(q) = l
+      npt(l) = npt(l) + 1
+    end do
+    !$omp end parallel do
+  end subroutine solid_sub_levels
+
+  !> The step ahead, dt, with levels L (after solid_sub_levels; 0 turns subcycling off for
+  !! the step): node rates max(0, L - lev_node), point rates max(0, L - lev_point) (the
+  !! rate of the point's fastest node), the lists by rate and the interface lists; the
+  !! step's prediction then moves the nodes of rate 0 (sub_rate = 0).
+  subroutine solid_sub_select(s, levels, dt)
+    type(solid_t), intent(inout) :: s
+    integer, intent(in) :: levels
+    real(wp), intent(in) :: dt
+    integer :: i, q, k, e, r, n
+    s%sub_levels = levels
+    s%sub_dt = dt
+    s%sub_rate = -1
+    if (levels == 0) return
+    if (.not. allocated(s%node_rate)) then
+      allocate(s%node_rate(s%np), s%point_rate(s%nq), s%nlist(s%np), s%qlist(s%nq), &
+        s%ilist(size(s%t%nbr)), s%mark(s%np), s%d_end(2, s%np), s%nptr(0:32), &
+        s%qptr(0:32), s%iptr(0:32))
+      s%mark = -1
     end if
+    s%node_rate = max(0, levels - s%lev_node)
+    s%point_rate = max(0, levels - s%lev_point)
+    call by_rate(s%node_rate, levels, s%nptr, s%nlist)
+    call by_rate(s%point_rate, levels, s%qptr, s%qlist)
+    ! interface nodes of each point rate r: the nodes of lower rate its points touch
+    n = 0
+    s%iptr(0:1) = 1
+    do r = 1, levels
+      do k = s%qptr(r), s%qptr(r + 1) - 1
+        q = s%qlist(k)
+        do e = s%t%ptr(q), s%t%ptr(q + 1) - 1
+          i = s%t%nbr(e)
+          if (s%node_rate(i) >= r .or. s%mark(i) == r) cycle
+          s%mark(i) = r
+          n = n + 1
+          s%ilist(n) = i
+        end do
+      end do
+      s%iptr(r + 1) = n + 1
+    end do
+    do k = 1, n
+      s%mark(s%ilist(k)) = -1
+    end do
+    s%sub_rate = 0
+  contains
+    !> rate(1:m) sorted by counting: ptr(r) .. ptr(r+1)-1 index list's entries of rate r.
+    subroutine by_rate(rate, lv, ptr, list)
+      integer, intent(in) :: rate(:), lv
+      integer, intent(inout) :: ptr(0:), list(:)
+      integer :: j, c, acc, cnt, cur(0:lv)
+      ptr(0:lv + 1) = 0
+      do j = 1, size(rate)
+        ptr(rate(j)) = ptr(rate(j)) + 1
+      end do
+      acc = 1
+      do c = 0, lv
+        cnt = ptr(c)
+        ptr(c) = acc
+        acc = acc + cnt
+      end do
+      ptr(lv + 1) = acc
+      cur = ptr(0:lv)
+      do j = 1, size(rate)
+        list(cur(rate(j))) = j
+        cur(rate(j)) = cur(rate(j)) + 1
+      end do
+    end subroutine by_rate
+  end subroutine solid_sub_select
+
+  !> The nodes of rate r have just been predicted and corrected by contact for their step:
+  !! keep where that step ends (their positions in between may be overwritten).
+  subroutine solid_sub_begin(s, r)
+    type(solid_t), intent(inout) :: s
+    integer, intent(in) :: r
+    integer :: k
+    do k = s%nptr(r), s%nptr(r + 1) - 1
+      s%d_end(:, s%nlist(k)) = s%d(:, s%nlist(k))
+    end do
+  end subroutine solid_sub_begin
+
+  !> The start of a step of the nodes of rate r (1..L) over dt/2^r: their prediction (64);
+  !! contact then corrects them (sub_rate = r).
+  subroutine solid_rate_predict(s, r)
+    type(solid_t), intent(inout) :: s
+    integer, intent(in) :: r
+    integer :: k, i
+    real(wp) :: h
+    s%sub_rate = r
+    h = s%sub_dt/2.0_wp**r
+    !$omp parallel do default(none) shared(s, h, r) private(i) schedule(static)
+    do k = s%nptr(r), s%nptr(r + 1) - 1
+      i = s%nlist(k)
+      where (s%pres(:, i))
+        s%v(:, i) = s%vpres(:, i)
+        s%a(:, i) = 0.0_wp
+      end where
+      s%d_old(:, i) = s%d(:, i)
+      s%d(:, i) = s%d(:, i) + h*s%v(:, i) + 0.5_wp*h*h*s%a(:, i)   ! (64)
+      s%a_old(:, i) = s%a(:, i)
+      s%fcon(:, i) = 0.0_wp
+      s%fpoint(:, i) = 0.0_wp
+    end do
+    !$omp end parallel do
+  end subroutine solid_rate_predict
+
+  !> At time k dt/2^L of a subcycled step: the points of rates smin..L end a step there.
+  !! The nodes they touch are put at that time (a node whose own step ends there at its
+  !! end, any other on its step's trajectory d_n + tau v_n + tau^2/2 a_n, a_n as contact
+  !! corrected it), the points are updated over their own steps, and the nodes of rates
+  !! smin..L get their force and a (eq. 62). smin = 0 (k = 2^L) ends the step of everything;
+  !! then kappa is current for the step estimate. bad_q, bad_j as solid_internal_force.
+  subroutine solid_rates_force(s, smin, k, bad_q, bad_j)
+    type(solid_t), intent(inout) :: s
+    integer, intent(in) :: smin, k
+    integer, intent(out) :: bad_q
+    real(wp), intent(out) :: bad_j
+    integer :: lv, p, j, i, r, kk, bq, kq, kqa, n0, n
+    real(wp) :: delta, tau, km, kma, t0, dtbad
+    lv = s%sub_levels
+    delta = s%sub_dt/2.0_wp**lv
+    do p = max(smin, 1), lv
+      !$omp parallel do default(none) shared(s, p, smin, lv, k, delta) &
+      !$omp private(i, r, kk, tau) schedule(static)
+      do j = s%iptr(p), s%iptr(p + 1) - 1
+        i = s%ilist(j)
+        r = s%node_rate(i)
+        if (r >= smin) then
+          s%d(:, i) = s%d_end(:, i)
+        else
+          kk = mod(k, 2**(lv - r))
+          tau = real(kk, wp)*delta
+          s%d(:, i) = s%d_old(:, i) + tau*s%v(:, i) + 0.5_wp*tau*tau*s%a(:, i)
+        end if
+      end do
+      !$omp end parallel do
+    end do
+    bad_q = 0
+    dtbad = s%sub_dt
+    kma = 0.0_wp
+    kqa = 0
+    do p = smin, lv
+      n = s%qptr(p + 1) - s%qptr(p)
+      if (n == 0) cycle
+      call update_points(s, s%sub_dt/2.0_wp**p, s%qlist(s%qptr(p):), n, bq, km, kq)
+      if (bq > bad_q) then
+        bad_q = bq
+        dtbad = s%sub_dt/2.0_wp**p
+      end if
+      if (kq > 0 .and. (km > kma .or. (km == kma .and. kq < kqa))) then
+        kma = km
+        kqa = kq
+      end if
+    end do
+    t0 = omp_get_wtime()
+    n0 = s%nptr(smin)
+    n = s%nptr(lv + 1) - n0
+    if (smin == 0) then
+      call internal_force(s%t, s%p, s%fint)
+    else
+      call internal_force_list(s%t, s%p, s%fint, s%nlist(n0:), n)
+    end if
+    !$omp parallel do default(none) shared(s, n0, n) private(i) schedule(static)
+    do j = n0, n0 + n - 1
+      i = s%nlist(j)
+      s%a_old(:, i) = s%a(:, i)
+      s%a(:, i) = (s%fext(:, i) - s%fint(:, i))/s%t%mass(i)
+    end do
+    !$omp end parallel do
+    s%wall(3) = s%wall(3) + (omp_get_wtime() - t0)
+    if (smin == 0 .and. kqa > 0) then
+      s%kappa = kma
+      s%kappa_q = kqa
+    end if
+    bad_j = 1.0_wp
     s%bad_code = health_ok
     if (bad_q > 0) then
       bad_j = jacobian(s%f(:, bad_q))
-      s%bad_code = point_health(s, bad_q, dt)
+      s%bad_code = point_health(s, bad_q, dtbad)
     end if
-    s%w_int = s%w_int + dw
-    s%w_plastic = s%w_plastic + dwp
-    !$omp parallel do default(none) shared(s) schedule(static)
-    do q = 1, s%np
-      s%a_old(:, q) = s%a(:, q)
-      s%a(:, q) = (s%fext(:, q) - s%fint(:, q))/s%t%mass(q)
+  end subroutine solid_rates_force
+
+  !> The velocities (63) of the nodes of rates smin..L, each over its own step, with their
+  !! work (after solid_rates_force at the same time).
+  subroutine solid_rates_update(s, smin)
+    type(solid_t), intent(inout) :: s
+    integer, intent(in) :: smin
+    integer :: r
+    real(wp) :: ke, ker
+    ke = 0.0_wp
+    do r = smin, s%sub_levels
+      call advance_nodes(s, s%sub_dt/2.0_wp**r, s%nptr(r) - 1, s%nptr(r + 1) - s%nptr(r), &
+        ker)
+      ke = ke + ker
     end do
-    !$omp end parallel do
-    s%wall = s%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
-  end subroutine solid_internal_force
+    if (smin == 0) s%ke = ke
+  end subroutine solid_rates_update
+
+  !> The step is over: back to plain steps until the next solid_sub_select.
+  subroutine solid_sub_end(s)
+    type(solid_t), intent(inout) :: s
+    s%sub_levels = 0
+    s%sub_rate = -1
+  end subroutine solid_sub_end
 
   !> The velocity of eq. (63), with the work of the kinematic conditions and of the contact
   !! forces over the step (trapezoid 1/2 f . du, like the internal work; a contact force acts
@@ -501,14 +837,34 @@ contains
   subroutine solid_update(s, dt)
     type(solid_t), intent(inout) :: s
     real(wp), intent(in) :: dt
-    integer :: i
-    real(wp) :: wbc, wc, ke, du(2)
+    real(wp) :: ke
+    if (s%sub_levels > 0) then
+      ! the end of a subcycled step: every node over its own step
+      call solid_rates_update(s, 0)
+    else
+      call advance_nodes(s, dt, -1, s%np, ke)
+      s%ke = ke
+    end if
+    s%ipoint_time = s%ipoint_time + dt
+  end subroutine solid_update
+
+  !> solid_update for a step dt over the nodes nlist(k0 + 1 : k0 + n), or every node when
+  !! k0 < 0; ke: their kinetic energy.
+  subroutine advance_nodes(s, dt, k0, n, ke)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer, intent(in) :: k0, n
+    real(wp), intent(out) :: ke
+    integer :: i, k
+    real(wp) :: wbc, wc, du(2)
     wbc = 0.0_wp
     wc = 0.0_wp
     ke = 0.0_wp
-    !$omp parallel do default(none) shared(s, dt) private(du) reduction(+: wbc, wc, ke) &
-    !$omp schedule(static)
-    do i = 1, s%np
+    !$omp parallel do default(none) shared(s, dt, k0, n) private(du, i) &
+    !$omp reduction(+: wbc, wc, ke) schedule(static)
+    do k = 1, n
+      i = k
+      if (k0 >= 0) i = s%nlist(k0 + k)
       where (s%pres(:, i)) s%a(:, i) = 0.0_wp
       s%v(:, i) = s%v(:, i) + 0.5_wp*dt*(s%a_old(:, i) + s%a(:, i))   ! (63)
       where (s%pres(:, i)) s%v(:, i) = s%vpres(:, i)
@@ -528,9 +884,7 @@ contains
     !$omp end parallel do
     s%w_bc = s%w_bc + wbc
     s%w_contact = s%w_contact + wc
-    s%ipoint_time = s%ipoint_time + dt
-    s%ke = ke
-  end subroutine solid_update
+  end subroutine advance_nodes
 
   !> Physical positions of every node (2, np) at the start of the step or at the current
   !! (predicted, possibly corrected) coefficients (m).
@@ -592,8 +946,17 @@ contains
   subroutine solid_add_point_forces(s, fphys)
     type(solid_t), intent(inout) :: s
     real(wp), intent(in) :: fphys(:, :)
-    integer :: j, e, i
-    do j = 1, s%np
+    integer :: j, e, i, jj, n, k0
+    ! (subcycling: only the nodes of the rate being stepped have forces)
+    k0 = 0
+    n = s%np
+    if (s%sub_rate >= 0) then
+      k0 = s%nptr(s%sub_rate) - 1
+      n = s%nptr(s%sub_rate + 1) - s%nptr(s%sub_rate)
+    end if
+    do jj = 1, n
+      j = jj
+      if (s%sub_rate >= 0) j = s%nlist(k0 + jj)
       if (all(fphys(:, j) == 0.0_wp)) cycle
       s%fpoint(:, j) = s%fpoint(:, j) + fphys(:, j)
       if (s%t%interpolating) then
@@ -611,9 +974,18 @@ contains
   subroutine solid_correct(s, dt)
     type(solid_t), intent(inout) :: s
     real(wp), intent(in) :: dt
-    integer :: i
-    !$omp parallel do default(none) shared(s, dt) schedule(static)
-    do i = 1, s%np
+    integer :: i, k, k0, n
+    ! subcycling: only the nodes of the rate being stepped
+    k0 = 0
+    n = s%np
+    if (s%sub_rate >= 0) then
+      k0 = s%nptr(s%sub_rate) - 1
+      n = s%nptr(s%sub_rate + 1) - s%nptr(s%sub_rate)
+    end if
+    !$omp parallel do default(none) shared(s, dt, n, k0) private(i) schedule(static)
+    do k = 1, n
+      i = k
+      if (s%sub_rate >= 0) i = s%nlist(k0 + k)
       s%a(:, i) = s%a_old(:, i) + s%fcon(:, i)/s%t%mass(i)
       where (s%pres(:, i)) s%a(:, i) = 0.0_wp
       s%d(:, i) = s%d_old(:, i) + dt*s%v(:, i) + 0.5_wp*dt*dt*s%a(:, i)

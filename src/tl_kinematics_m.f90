@@ -13,6 +13,8 @@ module tl_kinematics_m
   private
   public :: deformation_gradient, rate_of_deformation, piola_stress, internal_force
   public :: physical_positions, jacobian, stabilization_force
+  public :: deformation_gradient_list, rate_of_deformation_list, piola_stress_list, &
+    internal_force_list
 
 contains
 
@@ -63,21 +65,52 @@ contains
         s(:, q) = [t%ws(1, q)*stab(1)*dh(1), t%ws(1, q)*stab(2)*dh(2), &
           t%ws(2, q)*stab(2)*dh(3), t%ws(2, q)*stab(1)*dh(4)]
         en = en + 0.5_wp*sum(s(:, q)*dh)
+        f(:, q) = [1.0_wp + a11, a12, a21, 1.0_wp + a22, 1.0_wp + a33]
       else
-        do e = t%ptr(q), t%ptr(q + 1) - 1
-          i = t%nbr(e)
-          a11 = a11 + d(1, i)*t%g(1, e)
-          a12 = a12 + d(1, i)*t%g(2, e)
-          a21 = a21 + d(2, i)*t%g(3, e)
-          a22 = a22 + d(2, i)*t%g(4, e)
-          a33 = a33 + d(1, i)*t%h(e)
-        end do
+        call point_deformation_gradient(t, d, q, f(:, q))
       end if
-      f(:, q) = [1.0_wp + a11, a12, a21, 1.0_wp + a22, 1.0_wp + a33]
     end do
     !$omp end parallel do
     if (present(energy)) energy = en
   end subroutine deformation_gradient
+
+  !> F at the integration points list(1:n) only (no stabilization: element meshes).
+  subroutine deformation_gradient_list(t, d, f, list, n)
+    type(solid_tables_t), intent(in) :: t
+    real(wp), intent(in) :: d(:, :)
+    real(wp), intent(inout) :: f(:, :)
+    integer, intent(in) :: list(:), n
+    integer :: k
+    !$omp parallel do default(none) shared(t, d, f, list, n) schedule(static)
+    do k = 1, n
+      call point_deformation_gradient(t, d, list(k), f(:, list(k)))
+    end do
+    !$omp end parallel do
+  end subroutine deformation_gradient_list
+
+  !> F (5) at integration point q from the coefficients d.
+  pure subroutine point_deformation_gradient(t, d, q, f)
+    type(solid_tables_t), intent(in) :: t
+    real(wp), intent(in) :: d(:, :)
+    integer, intent(in) :: q
+    real(wp), intent(out) :: f(5)
+    integer :: e, i
+    real(wp) :: a11, a12, a21, a22, a33
+    a11 = 0.0_wp
+    a12 = 0.0_wp
+    a21 = 0.0_wp
+    a22 = 0.0_wp
+    a33 = 0.0_wp
+    do e = t%ptr(q), t%ptr(q + 1) - 1
+      i = t%nbr(e)
+      a11 = a11 + d(1, i)*t%g(1, e)
+      a12 = a12 + d(1, i)*t%g(2, e)
+      a21 = a21 + d(2, i)*t%g(3, e)
+      a22 = a22 + d(2, i)*t%g(4, e)
+      a33 = a33 + d(1, i)*t%h(e)
+    end do
+    f = [1.0_wp + a11, a12, a21, 1.0_wp + a22, 1.0_wp + a33]
+  end subroutine point_deformation_gradient
 
   !> J = det F.
   pure real(wp) function jacobian(f) result(j)
@@ -92,27 +125,51 @@ contains
     real(wp), intent(in) :: dt, f0(:, :), f1(:, :)
     real(wp), intent(out) :: d(:, :), w12(:)
     integer :: q
-    real(wp) :: fm(5), df(5), det, inv(4), l11, l12, l21, l22, rdt
+    real(wp) :: rdt
     rdt = 1.0_wp/dt
-    !$omp parallel do default(none) shared(nq, f0, f1, d, w12, rdt) &
-    !$omp private(fm, df, det, inv, l11, l12, l21, l22) schedule(static)
+    !$omp parallel do default(none) shared(nq, f0, f1, d, w12, rdt) schedule(static)
     do q = 1, nq
-      fm = 0.5_wp*(f0(:, q) + f1(:, q))
-      df = f1(:, q) - f0(:, q)
-      det = fm(1)*fm(4) - fm(2)*fm(3)
-      inv = [fm(4), -fm(2), -fm(3), fm(1)]/det
-      l11 = df(1)*inv(1) + df(2)*inv(3)
-      l12 = df(1)*inv(2) + df(2)*inv(4)
-      l21 = df(3)*inv(1) + df(4)*inv(3)
-      l22 = df(3)*inv(2) + df(4)*inv(4)
-      d(1, q) = l11*rdt
-      d(2, q) = l22*rdt
-      d(3, q) = df(5)/fm(5)*rdt
-      d(4, q) = 0.5_wp*(l12 + l21)*rdt
-      w12(q) = 0.5_wp*(l12 - l21)*rdt
+      call point_rate(rdt, f0(:, q), f1(:, q), d(:, q), w12(q))
     end do
     !$omp end parallel do
   end subroutine rate_of_deformation
+
+  !> rate_of_deformation at the integration points list(1:n) only.
+  subroutine rate_of_deformation_list(dt, f0, f1, d, w12, list, n)
+    real(wp), intent(in) :: dt, f0(:, :), f1(:, :)
+    real(wp), intent(inout) :: d(:, :), w12(:)
+    integer, intent(in) :: list(:), n
+    integer :: k, q
+    real(wp) :: rdt
+    rdt = 1.0_wp/dt
+    !$omp parallel do default(none) shared(f0, f1, d, w12, rdt, list, n) private(q) &
+    !$omp schedule(static)
+    do k = 1, n
+      q = list(k)
+      call point_rate(rdt, f0(:, q), f1(:, q), d(:, q), w12(q))
+    end do
+    !$omp end parallel do
+  end subroutine rate_of_deformation_list
+
+  !> D (4) and W12 of one point between f0 and f1, rdt = 1/dt (see rate_of_deformation).
+  pure subroutine point_rate(rdt, f0, f1, d, w12)
+    real(wp), intent(in) :: rdt, f0(5), f1(5)
+    real(wp), intent(out) :: d(4), w12
+    real(wp) :: fm(5), df(5), det, inv(4), l11, l12, l21, l22
+    fm = 0.5_wp*(f0 + f1)
+    df = f1 - f0
+    det = fm(1)*fm(4) - fm(2)*fm(3)
+    inv = [fm(4), -fm(2), -fm(3), fm(1)]/det
+    l11 = df(1)*inv(1) + df(2)*inv(3)
+    l12 = df(1)*inv(2) + df(2)*inv(4)
+    l21 = df(3)*inv(1) + df(4)*inv(3)
+    l22 = df(3)*inv(2) + df(4)*inv(4)
+    d(1) = l11*rdt
+    d(2) = l22*rdt
+    d(3) = df(5)/fm(5)*rdt
+    d(4) = 0.5_wp*(l12 + l21)*rdt
+    w12 = 0.5_wp*(l12 - l21)*rdt
+  end subroutine point_rate
 
   !> P = tau F^-T (P_iJ = tau_ik Finv_Jk); P33 = tau33/F33.
   subroutine piola_stress(nq, f, tau, p)
@@ -120,24 +177,44 @@ contains
     real(wp), intent(in) :: f(:, :), tau(:, :)
     real(wp), intent(out) :: p(:, :)
     integer :: q
-    real(wp) :: det, i11, i12, i21, i22
-    !$omp parallel do default(none) shared(nq, f, tau, p) private(det, i11, i12, i21, i22) &
-    !$omp schedule(static)
+    !$omp parallel do default(none) shared(nq, f, tau, p) schedule(static)
     do q = 1, nq
-      det = f(1, q)*f(4, q) - f(2, q)*f(3, q)
-      i11 = f(4, q)/det
-      i12 = -f(2, q)/det
-      i21 = -f(3, q)/det
-      i22 = f(1, q)/det
-      ! P_iJ = tau_i1 Finv_J1 + tau_i2 Finv_J2
-      p(1, q) = tau(1, q)*i11 + tau(4, q)*i12
-      p(2, q) = tau(1, q)*i21 + tau(4, q)*i22
-      p(3, q) = tau(4, q)*i11 + tau(2, q)*i12
-      p(4, q) = tau(4, q)*i21 + tau(2, q)*i22
-      p(5, q) = tau(3, q)/f(5, q)
+      call point_piola(f(:, q), tau(:, q), p(:, q))
     end do
     !$omp end parallel do
   end subroutine piola_stress
+
+  !> piola_stress at the integration points list(1:n) only.
+  subroutine piola_stress_list(f, tau, p, list, n)
+    real(wp), intent(in) :: f(:, :), tau(:, :)
+    real(wp), intent(inout) :: p(:, :)
+    integer, intent(in) :: list(:), n
+    integer :: k, q
+    !$omp parallel do default(none) shared(f, tau, p, list, n) private(q) schedule(static)
+    do k = 1, n
+      q = list(k)
+      call point_piola(f(:, q), tau(:, q), p(:, q))
+    end do
+    !$omp end parallel do
+  end subroutine piola_stress_list
+
+  !> P (5) of one point from F (5) and tau (4).
+  pure subroutine point_piola(f, tau, p)
+    real(wp), intent(in) :: f(5), tau(4)
+    real(wp), intent(out) :: p(5)
+    real(wp) :: det, i11, i12, i21, i22
+    det = f(1)*f(4) - f(2)*f(3)
+    i11 = f(4)/det
+    i12 = -f(2)/det
+    i21 = -f(3)/det
+    i22 = f(1)/det
+    ! P_iJ = tau_i1 Finv_J1 + tau_i2 Finv_J2
+    p(1) = tau(1)*i11 + tau(4)*i12
+    p(2) = tau(1)*i21 + tau(4)*i22
+    p(3) = tau(4)*i11 + tau(2)*i12
+    p(4) = tau(4)*i21 + tau(2)*i22
+    p(5) = tau(3)/f(5)
+  end subroutine point_piola
 
   !> f_int (2, np) = sum_L W_L P_L : grad N_I (eq. 72), gathered per particle (no races);
   !! with s given (stabilization stresses from deformation_gradient) their forces are added
@@ -181,6 +258,33 @@ contains
     end do
     !$omp end parallel do
   end subroutine internal_force
+
+  !> internal_force at the nodes list(1:n) only (no stabilization: element meshes); the
+  !! other nodes keep their values.
+  subroutine internal_force_list(t, p, fint, list, n)
+    type(solid_tables_t), intent(in) :: t
+    real(wp), intent(in) :: p(:, :)
+    real(wp), intent(inout) :: fint(:, :)
+    integer, intent(in) :: list(:), n
+    integer :: i, k, q, j
+    real(wp) :: f1, f2, w
+    !$omp parallel do default(none) shared(t, p, fint, list, n) private(i, k, q, f1, f2, w) &
+    !$omp schedule(static)
+    do j = 1, n
+      i = list(j)
+      f1 = 0.0_wp
+      f2 = 0.0_wp
+      do k = t%tptr(i), t%tptr(i + 1) - 1
+        q = t%tq(k)
+        w = t%wgt(q)
+        f1 = f1 + w*(p(1, q)*t%tg(1, k) + p(2, q)*t%tg(2, k) + p(5, q)*t%th(k))
+        f2 = f2 + w*(p(3, q)*t%tg(3, k) + p(4, q)*t%tg(4, k))
+      end do
+      fint(1, i) = f1
+      fint(2, i) = f2
+    end do
+    !$omp end parallel do
+  end subroutine internal_force_list
 
   !> SCNI sub-cell stabilization (after Puso, Chen, Zywicz, Elmer, IJNME 74 (2008)): the
   !! half-cell smoothed gradients differ from the cell's by dH (zero for linear fields, so
