@@ -23,10 +23,10 @@ step with a contacting particle.
 
 Cylinder (the run's geometry 'plane': plane strain, everything per unit length; the
 cross-section is the whole disk). Line contact of a cylinder of radius R on a rigid flat
-under a force P per unit length (Johnson, Contact Mechanics, 1985, section 4.2 and eq. 5.36
-for the method): contact half-width b = sqrt(4 P R / (pi E*)), pressure
-p0 sqrt(1 - x^2/b^2), p0 = 2 P / (pi b). The approach in 2D is logarithmic and depends on
-where it is measured and on how the body is held. Here the body is held by its own inertia
+under a force P per unit length (Johnson, Contact Mechanics, 1985, ch. 4 and 5): contact
+half-width b = sqrt(4 P R / (pi E*)), pressure p0 sqrt(1 - x^2/b^2), p0 = 2 P / (pi b).
+The approach in 2D is logarithmic and depends on where it is measured and on how the body
+is held. Here the body is held by its own inertia
 (a uniform body force -P/A balancing the contact force) and the approach is that of its
 centre of mass, which is what the momentum measure above gives:
 
@@ -35,8 +35,8 @@ centre of mass, which is what the momentum measure above gives:
 
 derived in doc/verification.md (Flamant's point force at the contact point, a uniform
 pressure and a linear stress field that takes the body force, the Hertz pressure for the
-local correction; the same steps for a disk squeezed between two flats give Johnson's eq.
-5.36, delta = P / (pi E*) (2 ln(4 R / b) - 1), the approach of its centre). The work of the
+local correction; the same steps for a disk squeezed between two flats give Johnson's
+approach of its centre, delta = P / (pi E*) (2 ln(4 R / b) - 1), ch. 5). The work of the
 contact force, W(P) = int P d(delta) = P^2 / (2 pi E*) (ln(pi E* R / P) - c - 1/2) with
 c = 1/(4 (1 - nu)), takes the kinetic energy: W(P_max) = m v^2 / 2 gives the peak force
 (bisection); delta_max = delta(P_max), b_max = b(P_max), and the contact time
@@ -69,7 +69,7 @@ def line_contact(m, radius, v, e, nu, c=None, n=200):
     """The plane-strain closed forms above for mass m (kg/m), radius (m), speed v (m/s), E
     (Pa), nu: delta (m), force (N/m), radius (the half-width b, m), time (s). c: the
     constant of delta(P) = P / (pi E*) (ln(pi E* R / P) - c), 1/(4 (1 - nu)) by default
-    (1 - 2 ln 2 gives Johnson's diametral compression, eq. 5.36: for comparison only)."""
+    (1 - 2 ln 2 gives Johnson's diametral compression, ch. 5: for comparison only)."""
     es = e / (1.0 - nu * nu)
     k = math.pi * es * radius
     c = 0.25 / (1.0 - nu) if c is None else c

@@ -7,7 +7,7 @@ inertia of a body decelerated by the contact force), with the approach of its ce
 mass to the contact point, delta = u_y(contact) - mean of u_y over the disk.
 
 The closed form (doc/verification.md) gives delta pi E* / P - ln(pi E* R / P) =
--1/(4 (1 - nu)) (-0.357 at nu = 0.3); the diametral-compression law of Johnson's eq. 5.36,
+-1/(4 (1 - nu)) (-0.357 at nu = 0.3); Johnson's diametral-compression law (ch. 5),
 delta = P/(pi E*) (2 ln(4R/b) - 1), would give 2 ln 2 - 1 = +0.386. The script prints the
 constant from the finite-element solution on each mesh asked for (linear triangles, dense
 solve, the rigid motions removed by three Lagrange multipliers: zero mean displacement and
@@ -15,8 +15,10 @@ rotation), so its convergence can be seen:
 
     .venv/bin/python post/line_contact_static.py [--hc 0.04e-3 0.02e-3] [--hf 0.5e-3]
 
-(b = 0.2 mm on R = 5 mm; the largest mesh, hc = b/10 with hf = 0.25 mm, has 4,700 nodes: a
-dense matrix of 0.7 GB and about 10 s on two cores).
+(b = 0.2 mm on R = 5 mm. The matrix is dense: hc = b/10 with hf = 0.25 mm has 4,700 nodes,
+0.7 GB and about 10 s on two cores; hc = b/15, 7,400 nodes, 1.8 GB and 45 s.) Measured
+(doc/verification.md): -0.390, -0.375 at b/5, b/10 with hf = 0.5 mm; -0.385, -0.369,
+-0.367 at b/5, b/10, b/15 with hf = 0.25 mm.
 """
 import argparse
 import math
@@ -84,7 +86,7 @@ def main(argv=None):
     ap.add_argument("--b", type=float, default=0.2e-3, help="contact half-width (m)")
     a = ap.parse_args(argv)
     nu = 0.3
-    print("closed form -1/(4(1-nu)) = %+.4f; Johnson eq. 5.36 (diametral) 2 ln 2 - 1 = %+.4f"
+    print("closed form -1/(4(1-nu)) = %+.4f; Johnson's diametral law 2 ln 2 - 1 = %+.4f"
           % (-0.25 / (1 - nu), 2 * math.log(2) - 1))
     for hc in a.hc:
         n, c = approach_constant(hc, a.hf, a.b, nu=nu)

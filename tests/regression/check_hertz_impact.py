@@ -30,7 +30,7 @@ and energy checks, and (doc/verification.md, measured at b/4, b/8, b/16 and at 1
   converged -2.1%, -2.4%), contact time 4% (+1.8%, +2.1%; converged +1.9%, +1.8%),
   contact half-width 6% (-3.1%, -3.0%: the outermost node in contact, a step of
   hc = b/4 = 25% at worst; -1.6% at b/16). The approach tolerance is below what the wrong
-  2D law would give: Johnson's diametral-compression law (eq. 5.36, the approach of a
+  2D law would give: Johnson's diametral-compression law (ch. 5, the approach of a
   disk's centre squeezed between two flats) predicts an approach 4.8% larger, so the runs
   would miss it by 5.3%; a check requires that gap to stay above TOL;
 - FEM and RKPM agree to 1.5% on each measure (measured 0.5% at most).
@@ -151,7 +151,7 @@ def main():
                 wrong = line_contact(r["mass"], 5e-3, r["speed"], 211e9, 0.3,
                                      c=1.0 - 2.0 * math.log(2.0))
                 err = r["got"]["delta"] / wrong["delta"] - 1
-                check("%s: the diametral law (Johnson eq. 5.36) misses the approach by "
+                check("%s: the diametral law (Johnson ch. 5) misses the approach by "
                       "%+.1f%% (more than %.1f%%)" % (name, 100 * err,
                                                        100 * cfg["tol"]["delta"]),
                       abs(err) > cfg["tol"]["delta"])
