@@ -1,5 +1,8 @@
 #!/usr/bin/env python3
-"""Hertz impact of an elastic sphere on a rigid wall: an mfcd run against the closed forms.
+"""Hertz impact of an elastic sphere (axisymmetric) or cylinder (plane strain) on a rigid
+wall: an mfcd run against the closed forms.
+
+Sphere (the run's geometry 'axisymmetric').
 
 For a sphere of radius R and mass m striking a rigid wall at speed v, with E* = E/(1-nu^2)
 (Johnson, Contact Mechanics, ch. 11; the quasi-static Hertz law F = 4/3 E* sqrt(R)
@@ -17,6 +20,30 @@ travelled towards the wall since first contact, from its momentum: m dv/dt = -F,
 delta(t) = v (t - t0) - int_t0^t (1/m) int_t0^s F dt ds. m comes from the run's initial
 kinetic energy (the body's own mass, not the exact sphere's). Contact time: first to last
 step with a contacting particle.
+
+Cylinder (the run's geometry 'plane': plane strain, everything per unit length; the
+cross-section is the whole disk). Line contact of a cylinder of radius R on a rigid flat
+under a force P per unit length (Johnson, Contact Mechanics, 1985, ch. 4 and 5): contact
+half-width b = sqrt(4 P R / (pi E*)), pressure p0 sqrt(1 - x^2/b^2), p0 = 2 P / (pi b).
+The approach in 2D is logarithmic and depends on where it is measured and on how the body
+is held. Here the body is held by its own inertia
+(a uniform body force -P/A balancing the contact force) and the approach is that of its
+centre of mass, which is what the momentum measure above gives:
+
+    delta(P) = P / (pi E*) * (2 ln(2 R / b) - 1 / (4 (1 - nu)))
+             = P / (pi E*) * (ln(pi E* R / P) - 1 / (4 (1 - nu)))
+
+derived in doc/verification.md (Flamant's point force at the contact point, a uniform
+pressure and a linear stress field that takes the body force, the Hertz pressure for the
+local correction; the same steps for a disk squeezed between two flats give Johnson's
+approach of its centre, delta = P / (pi E*) (2 ln(4 R / b) - 1), ch. 5). The work of the
+contact force, W(P) = int P d(delta) = P^2 / (2 pi E*) (ln(pi E* R / P) - c - 1/2) with
+c = 1/(4 (1 - nu)), takes the kinetic energy: W(P_max) = m v^2 / 2 gives the peak force
+(bisection); delta_max = delta(P_max), b_max = b(P_max), and the contact time
+t_c = 2 int_0^P_max delta'(P) dP / sqrt(v^2 - 2 W(P) / m), by Gauss-Legendre in
+theta with P = P_max sin(theta), theta = (pi/2) u^2 (smooth at both ends: the turning point
+and the logarithm at P = 0). The measures are those of the sphere; contact_radius in
+/history is the largest x of a particle in contact, so the half-width on the x > 0 side.
 
     .venv/bin/python post/hertz_impact.py output/hertz_sphere_fem.h5 [more.h5 ...] \\
         [--radius 5e-3] [--speed 5] [--table output/hertz_sphere.md]
@@ -38,6 +65,36 @@ def hertz(m, radius, v, e, nu):
             "radius": math.sqrt(radius * d), "time": 2.9432 * d / v}
 
 
+def line_contact(m, radius, v, e, nu, c=None, n=200):
+    """The plane-strain closed forms above for mass m (kg/m), radius (m), speed v (m/s), E
+    (Pa), nu: delta (m), force (N/m), radius (the half-width b, m), time (s). c: the
+    constant of delta(P) = P / (pi E*) (ln(pi E* R / P) - c), 1/(4 (1 - nu)) by default
+    (1 - 2 ln 2 gives Johnson's diametral compression, ch. 5: for comparison only)."""
+    es = e / (1.0 - nu * nu)
+    k = math.pi * es * radius
+    c = 0.25 / (1.0 - nu) if c is None else c
+
+    def work(p):
+        return p * p / (2.0 * math.pi * es) * (np.log(k / p) - c - 0.5)
+    ke = 0.5 * m * v * v
+    lo, hi = 0.0, k * math.exp(-(c + 1.0))   # W(P) rises up to hi
+    if work(hi) <= ke:
+        raise ValueError("line_contact: the kinetic energy is beyond the closed form's range")
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if work(mid) < ke else (lo, mid)
+    p = 0.5 * (lo + hi)
+    g, w = np.polynomial.legendre.leggauss(n)
+    u, wu = 0.5 * (g + 1.0), 0.5 * w
+    th, dth = 0.5 * math.pi * u * u, math.pi * u * wu
+    q = p * np.sin(th)
+    ddelta = (np.log(k / q) - 1.0 - c) / (math.pi * es)
+    t = 2.0 * float(np.sum(ddelta * p * np.cos(th) * dth
+                           / np.sqrt(np.maximum(v * v - 2.0 * work(q) / m, 0.0))))
+    return {"delta": p / (math.pi * es) * (math.log(k / p) - c), "force": p,
+            "radius": math.sqrt(4.0 * p * radius / (math.pi * es)), "time": t}
+
+
 def measure(path, radius, speed=None):
     """The run's measures (same keys as hertz()) and its Hertz values, mass, material."""
     with MfcdFile(path) as f:
@@ -45,6 +102,7 @@ def measure(path, radius, speed=None):
         mat = deck_group(f.deck, "material") or {}
         body = deck_group(f.deck, "body", role="deformable") or deck_group(f.deck, "body") or {}
         title = f.title
+        geometry = f.geometry
         energy = f.summary["energy_residual"] / f.summary["energy_scale"]
     v = speed if speed else abs(float(np.atleast_1d(body.get("velocity", [0, -5]))[-1]))
     t, force, n = h["time"], h["f_contact"], h["n_contact"]
@@ -57,36 +115,58 @@ def measure(path, radius, speed=None):
     delta = travel - np.interp(t0, t, travel)
     got = {"delta": float(delta.max()), "force": float(force.max()),
            "radius": float(np.max(h["contact_radius"])), "time": float(t1 - t0)}
-    ref = hertz(m, radius, v, float(mat.get("youngs_modulus", 211e9)),
-                float(mat.get("poisson_ratio", 0.3)))
+    ref = (line_contact if geometry == "plane" else hertz)(
+        m, radius, v, float(mat.get("youngs_modulus", 211e9)),
+        float(mat.get("poisson_ratio", 0.3)))
     # the speed away from the wall at the end, from the momentum the contact gave back
     rebound = float(impulse[-1] / m - v)
-    return {"title": title, "mass": m, "speed": v, "got": got, "hertz": ref,
-            "energy": energy, "rebound": rebound}
+    return {"title": title, "geometry": geometry, "mass": m, "speed": v, "got": got,
+            "hertz": ref, "energy": energy, "rebound": rebound}
+
+
+def table(runs):
+    """Markdown table of [(path, measure(...)), ...], one geometry."""
+    def cell(r, k, scale, fmt):
+        g, z = r["got"], r["hertz"]
+        return (fmt % (g[k] * scale)) + " (%+.1f%%)" % (100.0 * (g[k] / z[k] - 1.0))
+    if runs[0][1]["geometry"] == "plane":
+        lines = ["| run | mass (kg/m) | approach (um) | peak force (kN/m) | contact half-width "
+                 "(mm) | contact time (us) | rebound (m/s) | energy residual |",
+                 "|---|---|---|---|---|---|---|---|"]
+        for path, r in runs:
+            lines.append("| %s | %.4f | %s | %s | %s | %s | %.3f | %.1e |" % (
+                path, r["mass"], cell(r, "delta", 1e6, "%.2f"),
+                cell(r, "force", 1e-3, "%.1f"), cell(r, "radius", 1e3, "%.4f"),
+                cell(r, "time", 1e6, "%.2f"), r["rebound"], r["energy"]))
+        z = runs[-1][1]["hertz"]
+        lines.append("| line contact (last run's mass) | | %.2f | %.1f | %.4f | %.2f | | |" % (
+            1e6 * z["delta"], 1e-3 * z["force"], 1e3 * z["radius"], 1e6 * z["time"]))
+        return lines
+    lines = ["| run | mass (g) | approach (um) | peak force (N) | contact radius (mm) | "
+             "contact time (us) | energy residual |", "|---|---|---|---|---|---|---|"]
+    for path, r in runs:
+        lines.append("| %s | %.4f | %s | %s | %s | %s | %.1e |" % (
+            path, 1e3 * r["mass"], cell(r, "delta", 1e6, "%.2f"), cell(r, "force", 1.0, "%.0f"),
+            cell(r, "radius", 1e3, "%.3f"), cell(r, "time", 1e6, "%.2f"), r["energy"]))
+    z = runs[-1][1]["hertz"]
+    lines.append("| Hertz (last run's mass) | | %.2f | %.0f | %.3f | %.2f | |" % (
+        1e6 * z["delta"], z["force"], 1e3 * z["radius"], 1e6 * z["time"]))
+    return lines
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("files", nargs="+")
-    ap.add_argument("--radius", type=float, default=5e-3, help="sphere radius (m)")
+    ap.add_argument("--radius", type=float, default=5e-3,
+                    help="sphere or cylinder radius (m)")
     ap.add_argument("--speed", type=float, default=None,
                     help="impact speed (m/s; default from the deck's &body velocity)")
     ap.add_argument("--table", default=None, help="also write the Markdown table here")
     a = ap.parse_args(argv)
-    lines = ["| run | mass (g) | approach (um) | peak force (N) | contact radius (mm) | "
-             "contact time (us) | energy residual |", "|---|---|---|---|---|---|---|"]
-    for path in a.files:
-        r = measure(path, a.radius, a.speed)
-        g, z = r["got"], r["hertz"]
-
-        def cell(k, scale, fmt):
-            return (fmt % (g[k] * scale)) + " (%+.1f%%)" % (100.0 * (g[k] / z[k] - 1.0))
-        lines.append("| %s | %.4f | %s | %s | %s | %s | %.1e |" % (
-            path, 1e3 * r["mass"], cell("delta", 1e6, "%.2f"), cell("force", 1.0, "%.0f"),
-            cell("radius", 1e3, "%.3f"), cell("time", 1e6, "%.2f"), r["energy"]))
-    z = r["hertz"]
-    lines.append("| Hertz (last run's mass) | | %.2f | %.0f | %.3f | %.2f | |" % (
-        1e6 * z["delta"], z["force"], 1e3 * z["radius"], 1e6 * z["time"]))
+    runs = [(path, measure(path, a.radius, a.speed)) for path in a.files]
+    if len({r["geometry"] == "plane" for _, r in runs}) > 1:
+        ap.error("give runs of one geometry: spheres (axisymmetric) or cylinders (plane)")
+    lines = table(runs)
     print("\n".join(lines))
     if a.table:
         with open(a.table, "w") as f:
