@@ -117,11 +117,14 @@ def compare(tag, ref, new, restart_step):
     with h5py.File(ref, "r") as a, h5py.File(new, "r") as b:
         bad = []
         for lab in labels:
-            for body in a["snapshots"][lab]:
-                for ds in a["snapshots"][lab][body]:
-                    pa, pb = f"snapshots/{lab}/{body}/{ds}", f"snapshots/{lab}/{body}/{ds}"
-                    if pb not in b or not np.array_equal(a[pa][()], b[pb][()]):
-                        bad.append(pa)
+            # every dataset at any depth (bodies' fields, det/contact<k>/... grids)
+            paths = []
+            a["snapshots"][lab].visititems(
+                lambda n, o: paths.append(n) if isinstance(o, h5py.Dataset) else None)
+            for name in paths:
+                p = f"snapshots/{lab}/{name}"
+                if p not in b or not np.array_equal(a[p][()], b[p][()]):
+                    bad.append(p)
         check(f"{tag}: snapshot fields equal ({labels[-1] if labels else '-'} is the final "
               "state)", labels and not bad, bad)
     check(f"{tag}: root attributes name the restart (step {restart_step})",
