@@ -553,7 +553,7 @@ contains
     integer, intent(in) :: list(:), n
     integer, intent(out) :: bad_q, kq
     real(wp), intent(out) :: kmax
-    integer :: k, q
+    integer :: k, q, c, k1, k2
     real(wp) :: dw, dwp, t0, t1, t2
     t0 = omp_get_wtime()
     !$omp parallel do default(none) shared(s, list, n) private(q) schedule(static)
@@ -566,10 +566,22 @@ contains
     call deformation_gradient_list(s%t, s%d, s%f, list, n)
     call rate_of_deformation_list(dt, s%f_old, s%f, s%dr, s%w12, list, n)
     t1 = omp_get_wtime()
-    !$omp parallel do default(none) shared(s, dt, list, n) private(q) schedule(dynamic, 32)
-    do k = 1, n
-      q = list(k)
-      call s%mat%update(dt, s%dr, s%w12, s%st, q, q, s%dwp)
+    ! in chunks of the list, each run of consecutive points in one call (the slow points of
+    ! a subcycled step are most of the body in a few long runs)
+    !$omp parallel do default(none) shared(s, dt, list, n) private(k, k1, k2) &
+    !$omp schedule(dynamic, 1)
+    do c = 1, (n + material_block - 1)/material_block
+      k = (c - 1)*material_block + 1
+      k2 = min(c*material_block, n)
+      do while (k <= k2)
+        k1 = k
+        do while (k1 < k2)
+          if (list(k1 + 1) /= list(k1) + 1) exit
+          k1 = k1 + 1
+        end do
+        call s%mat%update(dt, s%dr, s%w12, s%st, list(k), list(k1), s%dwp)
+        k = k1 + 1
+      end do
     end do
     !$omp end parallel do
     t2 = omp_get_wtime()
