@@ -1,0 +1,240 @@
+!> Domain decomposition of a solid for distributed-memory runs (issue 12; doc/parallel.md):
+!! the nodes and integration points of a solid's tables split among nparts ranks by a
+!! recursive coordinate bisection of the reference configuration, and each rank's local
+!! tables.
+!!
+!! A rank owns the nodes and the points inside its box of the bisection tree (the same cuts
+!! for both). Its local tables hold
+!!   - its points, and the ghost points: the other ranks' points that touch one of its nodes
+!!     (their stresses P come from their owners: halo exchange of P);
+!!   - the nodes of its points, its own nodes, and the nodes of the position table rows of
+!!     its own nodes (eq. 65: a particle's physical position needs its neighbours'
+!!     coefficients); those it does not own are its ghost nodes (their coefficients come from
+!!     their owners: halo exchange of d, v, a).
+!! Both are numbered in the global order. So a rank's F at its points sums the same entries
+!! in the same order as the serial run, and the force gather at one of its nodes (eq. 72,
+!! over the transpose) visits the same points in the same order: the forces at owned nodes
+!! equal the serial ones to the bit, whatever the number of ranks (checked by
+!! tests/unit/test_decomposition.pf on emulated ranks). A ghost point's row keeps only the
+!! entries of its local nodes: it is never evaluated locally.
+module decomposition_m
+  use kinds_m, only: wp
+  use sorting_m, only: sort_index
+  use solid_tables_m, only: solid_tables_t, tables_transpose
+  implicit none
+  private
+  public :: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
+
+  !> The bisection tree: node k (1 the root) is a leaf of part part(k), or cuts along axis
+  !! axis(k) at cut(k), with the points below the cut in child lo(k), the others in hi(k).
+  type :: rcb_tree_t
+    integer :: nparts = 1
+    integer :: nt = 0
+    integer, allocatable :: part(:), axis(:), lo(:), hi(:)
+    real(wp), allocatable :: cut(:)
+  end type rcb_tree_t
+
+  !> One rank's share of a solid (global numbers 1-based, ascending).
+  type :: local_part_t
+    integer :: rank = 0
+    integer :: nq_own = 0, np_own = 0      !< points and nodes it owns
+    integer, allocatable :: qglob(:)       !< its local points' global numbers (nql)
+    integer, allocatable :: nglob(:)       !< its local nodes' global numbers (npl)
+    logical, allocatable :: own_point(:), own_node(:)   !< (nql), (npl)
+    integer, allocatable :: q_owned(:), n_owned(:)       !< local numbers of the owned ones
+    type(solid_tables_t) :: t              !< the local tables (global order)
+  end type local_part_t
+
+contains
+
+  !> The bisection of the points x (2, n) into nparts parts: at each level the box is cut
+  !! across its longest extent, at the coordinate that leaves floor(nparts/2)/nparts of its
+  !! points below (points on the cut go above, so a lattice row is never split and the
+  !! parts differ by up to a row).
+  subroutine rcb_build(x, nparts, tree)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: nparts
+    type(rcb_tree_t), intent(out) :: tree
+    integer, allocatable :: idx(:)
+    integer :: i, next_part
+    tree%nparts = nparts
+    allocate(tree%part(2*nparts), tree%axis(2*nparts), tree%lo(2*nparts), &
+      tree%hi(2*nparts), tree%cut(2*nparts))
+    tree%part = 0
+    tree%axis = 0
+    tree%lo = 0
+    tree%hi = 0
+    tree%cut = 0.0_wp
+    idx = [(i, i = 1, size(x, 2))]
+    tree%nt = 1
+    next_part = 1
+    call split(1, idx, nparts)
+  contains
+    recursive subroutine split(k, set, np)
+      integer, intent(in) :: k, set(:), np
+      integer, allocatable :: order(:)
+      real(wp), allocatable :: key(:)
+      real(wp) :: ext(2)
+      integer :: ax, nlo, plo
+      if (np == 1) then
+        tree%part(k) = next_part
+        next_part = next_part + 1
+        return
+      end if
+      ext = 0.0_wp
+      if (size(set) > 0) ext = maxval(x(:, set), dim=2) - minval(x(:, set), dim=2)
+      ax = merge(1, 2, ext(1) >= ext(2))
+      plo = np/2
+      key = x(ax, set)
+      allocate(order(size(set)))
+      call sort_index(key, order)
+      nlo = (size(set)*plo)/np
+      ! the cut halfway between the last point below and the first above; equal coordinates
+      ! all go above, so the cut decides for any point, also one not in this set
+      if (nlo > 0 .and. nlo < size(set)) then
+        tree%cut(k) = 0.5_wp*(key(order(nlo)) + key(order(nlo + 1)))
+      else if (nlo == 0) then
+        tree%cut(k) = -huge(1.0_wp)
+      else
+        tree%cut(k) = huge(1.0_wp)
+      end if
+      tree%axis(k) = ax
+      tree%lo(k) = tree%nt + 1
+      tree%hi(k) = tree%nt + 2
+      tree%nt = tree%nt + 2
+      call split(tree%lo(k), pack(set, x(ax, set) < tree%cut(k)), plo)
+      call split(tree%hi(k), pack(set, .not. (x(ax, set) < tree%cut(k))), np - plo)
+    end subroutine split
+  end subroutine rcb_build
+
+  !> The part of the tree's box that holds point xp.
+  pure integer function rcb_part(tree, xp) result(p)
+    type(rcb_tree_t), intent(in) :: tree
+    real(wp), intent(in) :: xp(2)
+    integer :: k
+    k = 1
+    do while (tree%part(k) == 0)
+      if (xp(tree%axis(k)) < tree%cut(k)) then
+        k = tree%lo(k)
+      else
+        k = tree%hi(k)
+      end if
+    end do
+    p = tree%part(k)
+  end function rcb_part
+
+  !> Rank r's local share of the tables t, with node_part (np) and point_part (nq) the
+  !! owners of t's nodes and points (see the module's header).
+  subroutine local_part_build(t, node_part, point_part, r, lp)
+    type(solid_tables_t), intent(in) :: t
+    integer, intent(in) :: node_part(:), point_part(:), r
+    type(local_part_t), intent(out) :: lp
+    logical, allocatable :: lq(:), ln(:)
+    integer, allocatable :: nloc(:)
+    integer :: q, e, i, j, k, nql, npl, nnz
+    logical :: with_gs, with_pos
+    lp%rank = r
+    allocate(lq(t%nq), ln(t%np), nloc(t%np))
+    lq = point_part == r
+    ln = node_part == r
+    ! ghost points: the others' points touching an owned node
+    do q = 1, t%nq
+      if (lq(q)) cycle
+      do e = t%ptr(q), t%ptr(q + 1) - 1
+        if (node_part(t%nbr(e)) == r) then
+          lq(q) = .true.
+          exit
+        end if
+      end do
+    end do
+    ! local nodes: owned, those of owned points, the position neighbours of owned nodes
+    do q = 1, t%nq
+      if (point_part(q) /= r) cycle
+      ln(t%nbr(t%ptr(q):t%ptr(q + 1) - 1)) = .true.
+    end do
+    with_pos = allocated(t%pptr) .and. .not. t%interpolating
+    if (with_pos) then
+      do j = 1, t%np
+        if (node_part(j) /= r) cycle
+        ln(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) = .true.
+      end do
+    end if
+    lp%qglob = pack([(q, q = 1, t%nq)], lq)
+    lp%nglob = pack([(i, i = 1, t%np)], ln)
+    nql = size(lp%qglob)
+    npl = size(lp%nglob)
+    nloc = 0
+    nloc(lp%nglob) = [(k, k = 1, npl)]
+    lp%own_point = point_part(lp%qglob) == r
+    lp%own_node = node_part(lp%nglob) == r
+    lp%nq_own = count(lp%own_point)
+    lp%np_own = count(lp%own_node)
+    lp%q_owned = pack([(k, k = 1, nql)], lp%own_point)
+    lp%n_owned = pack([(k, k = 1, npl)], lp%own_node)
+    ! the local tables: rows of the local points over their local nodes, in global order
+    nnz = 0
+    do k = 1, nql
+      q = lp%qglob(k)
+      nnz = nnz + count(nloc(t%nbr(t%ptr(q):t%ptr(q + 1) - 1)) > 0)
+    end do
+    with_gs = allocated(t%gs)
+    if (with_gs) with_gs = size(t%gs, 2) == size(t%g, 2)
+    associate (u => lp%t)
+      u%np = npl
+      u%nq = nql
+      u%scheme = t%scheme
+      u%axisym = t%axisym
+      u%interpolating = t%interpolating
+      u%hmin = t%hmin
+      u%total_mass = t%total_mass
+      u%total_volume = t%total_volume
+      allocate(u%ptr(nql + 1), u%nbr(nnz), u%g(4, nnz), u%h(nnz))
+      if (with_gs) allocate(u%gs(4, nnz))
+      u%xq = t%xq(:, lp%qglob)
+      u%owner = t%owner(lp%qglob)
+      where (u%owner > 0) u%owner = nloc(u%owner)
+      u%wgt = t%wgt(lp%qglob)
+      if (allocated(t%ws)) u%ws = t%ws(:, lp%qglob)
+      u%mass = t%mass(lp%nglob)
+      u%fix1 = t%fix1(lp%nglob)
+      u%ptr(1) = 1
+      nnz = 0
+      do k = 1, nql
+        q = lp%qglob(k)
+        do e = t%ptr(q), t%ptr(q + 1) - 1
+          if (nloc(t%nbr(e)) == 0) cycle
+          nnz = nnz + 1
+          u%nbr(nnz) = nloc(t%nbr(e))
+          u%g(:, nnz) = t%g(:, e)
+          u%h(nnz) = t%h(e)
+          if (with_gs) u%gs(:, nnz) = t%gs(:, e)
+        end do
+        u%ptr(k + 1) = nnz + 1
+      end do
+      ! position table rows of the local nodes over their local neighbours (exact for the
+      ! owned nodes, whose neighbours are all local)
+      if (allocated(t%pptr)) then
+        allocate(u%pptr(npl + 1))
+        u%pptr(1) = 1
+        nnz = 0
+        do k = 1, npl
+          j = lp%nglob(k)
+          nnz = nnz + count(nloc(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) > 0)
+          u%pptr(k + 1) = nnz + 1
+        end do
+        allocate(u%pnbr(nnz), u%pn(2, nnz))
+        nnz = 0
+        do k = 1, npl
+          j = lp%nglob(k)
+          do e = t%pptr(j), t%pptr(j + 1) - 1
+            if (nloc(t%pnbr(e)) == 0) cycle
+            nnz = nnz + 1
+            u%pnbr(nnz) = nloc(t%pnbr(e))
+            u%pn(:, nnz) = t%pn(:, e)
+          end do
+        end do
+      end if
+    end associate
+    call tables_transpose(lp%t)
+  end subroutine local_part_build
+end module decomposition_m
