@@ -24,6 +24,13 @@ module deck_m
   integer, parameter :: max_points = 32
   !> Most gmsh parser numbers of a shape = 'geo' body (geo_names, geo_values).
   integer, parameter :: max_geo_numbers = 16
+  !> gmsh script commands that mfcd does not run (shape = 'geo'): they run programs
+  !! (SystemCall, NonBlockingSystemCall, OnelabRun, SendToServer), write, delete or rename
+  !! files (Save, Print, CreateDir, DeleteFile, RenameFile; Printf with '>' is caught apart),
+  !! end the process (Exit) or run other scripts mfcd has not checked (Include, Merge).
+  character(len=*), parameter :: geo_commands_refused = 'SystemCall NonBlockingSystemCall '// &
+    'OnelabRun SendToServer Save Print CreateDir DeleteFile RenameFile Exit Include Merge '// &
+    'MergeWithBoundingBox'
   integer, parameter :: max_bodies = 16
   !> Most particles of a generated 2D lattice (rectangle, polygon, annulus sector).
   integer(i64), parameter :: max_lattice = 50000000_i64
@@ -1192,9 +1199,9 @@ contains
     type(body_spec_t), intent(inout) :: s
     logical, intent(in) :: exists
     type(error_t), allocatable, intent(inout) :: err
-    character(len=:), allocatable :: text, used, defaults, name
+    character(len=:), allocatable :: text, used, defaults, name, refused
     type(error_t), allocatable :: e2
-    integer :: nn, nv, k, j
+    integer :: nn, nv, k, j, line
     if (len_trim(s%file) == 0) then
       call bad(deck, grp, 'file', "''", "give the path of a gmsh geometry script (.geo), "// &
         "e.g. file = 'input/hertz_sphere.geo'", err)
@@ -1236,7 +1243,15 @@ contains
         "'hc', 'a' with geo_values = 0.1e-3, 0.4e-3 sets hc = 0.1e-3 and a = 0.4e-3)", err)
       return
     end if
-    call geo_identifiers(text, used, defaults)
+    call geo_identifiers(text, used, defaults, refused, line)
+    if (len(refused) > 0) then
+      call bad(deck, grp, 'file', "'"//trim(s%file)//"'", "line "//itoa(line)//" of the "// &
+        "gmsh script gives "//refused//": mfcd meshes scripts that build geometry, and for "// &
+        "them runs no program, writes, deletes or renames no file, ends no process and "// &
+        "reads no script it has not checked (it refuses "// &
+        join_words(geo_commands_refused)//", Printf > file); remove it from the script", err)
+      return
+    end if
     do k = 1, nn
       name = trim(adjustl(s%geo_names(k)))
       if (.not. is_geo_name(name)) then
@@ -1279,18 +1294,27 @@ contains
   !> The identifiers of a gmsh script (text), blank-separated in used, outside comments and
   !! strings and not after a '.' (Field[1].SizeMin, Mesh.Algorithm: options, not numbers);
   !! defaults lists, comma-separated, those the script tests with Exists(name), the numbers
-  !! it lets a caller set.
-  pure subroutine geo_identifiers(text, used, defaults)
+  !! it lets a caller set. bad is the first command of geo_commands_refused the script
+  !! gives (a word not followed by '.', which would make it an option's category, or
+  !! 'Printf > file'), at line bad_line; '' if none.
+  pure subroutine geo_identifiers(text, used, defaults, bad, bad_line)
     character(len=*), intent(in) :: text
-    character(len=:), allocatable, intent(out) :: used, defaults
+    character(len=:), allocatable, intent(out) :: used, defaults, bad
+    integer, intent(out) :: bad_line
     character(len=:), allocatable :: word, last
     character :: prev
-    integer :: i, j, n
+    integer :: i, j, n, k, line, printf_state, depth
     used = ''
     defaults = ''
+    bad = ''
+    bad_line = 0
     last = ''
     prev = ' '
     n = len(text)
+    line = 1
+    ! Printf: 1 seen, 2 inside its parentheses (depth), 3 closed: a '>' next redirects it
+    printf_state = 0
+    depth = 0
     i = 1
     do while (i <= n)
       if (text(i:min(i + 1, n)) == '//') then
@@ -1300,11 +1324,16 @@ contains
         end do
       else if (text(i:min(i + 1, n)) == '/*') then
         j = index(text(i + 2:), '*/')
-        i = merge(n + 1, i + 2 + j + 1, j == 0)
+        k = merge(n + 1, i + 2 + j + 1, j == 0)
+        line = line + count_newlines(text(i:k - 1))
+        i = k
       else if (text(i:i) == '"') then
         j = index(text(i + 1:), '"')
-        i = merge(n + 1, i + j + 1, j == 0)
+        k = merge(n + 1, i + j + 1, j == 0)
+        line = line + count_newlines(text(i:k - 1))
+        i = k
         prev = '"'
+        if (printf_state == 3) printf_state = 0
       else if (is_name_start(text(i:i)) .or. text(i:i) == '_') then
         j = i
         do while (j <= n)
@@ -1312,6 +1341,7 @@ contains
           j = j + 1
         end do
         word = text(i:j - 1)
+        if (printf_state == 3) printf_state = 0
         if (prev /= '.') then
           if (index(' '//used//' ', ' '//word//' ') == 0) used = used//' '//word
           if (last == 'Exists(') then
@@ -1320,6 +1350,12 @@ contains
               defaults = defaults//word
             end if
           end if
+          if (len(bad) == 0 .and. index(' '//geo_commands_refused//' ', ' '//word//' ') &
+            > 0 .and. next_char(j) /= '.') then
+            bad = word
+            bad_line = line
+          end if
+          if (word == 'Printf' .and. printf_state == 0) printf_state = 1
         end if
         last = word
         prev = 'a'
@@ -1345,19 +1381,78 @@ contains
         end if
         prev = '0'
         last = ''
+        if (printf_state == 3) printf_state = 0
         i = j
       else
+        if (text(i:i) == achar(10)) line = line + 1
         if (text(i:i) == '(' .and. last == 'Exists') then
           last = 'Exists('
         else if (text(i:i) /= ' ' .and. text(i:i) /= achar(9)) then
           last = ''
         end if
+        select case (printf_state)
+        case (1, 2)
+          if (text(i:i) == '(') then
+            depth = depth + 1
+            printf_state = 2
+          else if (text(i:i) == ')' .and. printf_state == 2) then
+            depth = depth - 1
+            if (depth == 0) printf_state = 3
+          end if
+        case (3)
+          if (text(i:i) == '>') then
+            if (len(bad) == 0) then
+              bad = 'Printf > file'
+              bad_line = line
+            end if
+            printf_state = 0
+          else if (scan(text(i:i), ' '//achar(9)//achar(10)//achar(13)) == 0) then
+            printf_state = 0
+          end if
+        end select
         if (scan(text(i:i), ' '//achar(9)//achar(10)//achar(13)) == 0) prev = text(i:i)
         i = i + 1
       end if
     end do
     used = adjustl(used)
+  contains
+    pure integer function count_newlines(t) result(c)
+      character(len=*), intent(in) :: t
+      integer :: m
+      c = 0
+      do m = 1, len(t)
+        if (t(m:m) == achar(10)) c = c + 1
+      end do
+    end function count_newlines
+
+    !> The first character from position a on that is not blank ('' at the end).
+    pure function next_char(a) result(c)
+      integer, intent(in) :: a
+      character :: c
+      integer :: m
+      c = ' '
+      do m = a, n
+        if (scan(text(m:m), ' '//achar(9)//achar(10)//achar(13)) == 0) then
+          c = text(m:m)
+          return
+        end if
+      end do
+    end function next_char
   end subroutine geo_identifiers
+
+  !> The blank-separated words w as a list: 'a, b, c'.
+  pure function join_words(w) result(t)
+    character(len=*), intent(in) :: w
+    character(len=:), allocatable :: t
+    integer :: k
+    t = ''
+    do k = 1, len_trim(w)
+      if (w(k:k) == ' ') then
+        t = t//','
+      end if
+      t = t//w(k:k)
+    end do
+  end function join_words
 
   !> " (did you mean 'hc'?)" for the word of words (blank-separated) at the smallest edit
   !! distance (<= 2), '' if none is that close.

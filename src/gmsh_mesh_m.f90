@@ -8,7 +8,10 @@
 !!
 !! gmsh is C++: while it runs, floating-point traps are off (a Debug build traps invalid
 !! operations, which gmsh's own arithmetic may raise and handle) and mfcd's floating-point
-!! state and OpenMP thread count are restored afterwards.
+!! state and OpenMP thread count are restored afterwards. HOME is /dev/null meanwhile: the
+!! PyPI library's GUI toolkit (FLTK) writes ~/.fltk/fltk.org/fltk.prefs when gmsh starts,
+!! and mfcd creates no file outside its output (with HOME a device, that write fails
+!! quietly; gmsh reads no configuration file from HOME anyway).
 module gmsh_mesh_m
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_size_t, c_char, c_ptr, &
     c_null_ptr, c_null_char, c_associated, c_f_pointer
@@ -101,24 +104,40 @@ module gmsh_mesh_m
       import :: c_ptr, c_size_t
       type(c_ptr), value, intent(in) :: s
     end function c_strlen
+    integer(c_int) function c_setenv(name, value, overwrite) bind(C, name='setenv')
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: name(*), value(*)
+      integer(c_int), value :: overwrite
+    end function c_setenv
+    integer(c_int) function c_unsetenv(name) bind(C, name='unsetenv')
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: name(*)
+    end function c_unsetenv
   end interface
+
+  !> What enter saved for leave: the floating-point state, the thread count and HOME.
+  type :: saved_t
+    type(ieee_status_type) :: fp
+    integer :: threads = 0
+    logical :: has_home = .false.
+    character(len=:), allocatable :: home
+  end type saved_t
 
 contains
 
   !> gmsh's version (its option General.Version), e.g. '4.15.2'; '' when it cannot say.
   function gmsh_version() result(v)
     character(len=:), allocatable :: v
-    type(ieee_status_type) :: fp
+    type(saved_t) :: saved
     integer(c_int) :: ierr
-    integer :: threads
-    call enter(fp, threads)
+    call enter(saved)
     call gmshInitialize(0_c_int, c_null_ptr, 0_c_int, 0_c_int, ierr)
     v = ''
     if (ierr == 0) then
       call option_string('General.Version', v)
       call gmshFinalize(ierr)
     end if
-    call leave(fp, threads)
+    call leave(saved)
   end function gmsh_version
 
   !> Mesh the .geo at path with linear triangles, the parser numbers names(k) = values(k)
@@ -133,15 +152,15 @@ contains
     real(wp), allocatable, intent(out) :: xyz(:)
     character(len=:), allocatable, intent(out) :: version
     type(error_t), allocatable, intent(inout) :: err
-    type(ieee_status_type) :: fp
+    type(saved_t) :: saved
     integer(c_int) :: ierr, ierr2
-    integer :: threads, k
+    integer :: k
     character(len=:), allocatable :: msg
     version = ''
-    call enter(fp, threads)
+    call enter(saved)
     call gmshInitialize(0_c_int, c_null_ptr, 0_c_int, 0_c_int, ierr)
     if (ierr /= 0) then
-      call leave(fp, threads)
+      call leave(saved)
       call set_error(err, 'gmsh failed to initialise')
       return
     end if
@@ -164,24 +183,39 @@ contains
       call set_error(err, msg)
     end if
     call gmshFinalize(ierr2)
-    call leave(fp, threads)
+    call leave(saved)
   end subroutine gmsh_mesh_geo
 
-  !> Before gmsh: traps off (the floating-point state is kept in fp), thread count kept.
-  subroutine enter(fp, threads)
-    type(ieee_status_type), intent(out) :: fp
-    integer, intent(out) :: threads
-    call ieee_get_status(fp)
+  !> Before gmsh: traps off, HOME /dev/null (the module's header says why); what they were
+  !! and the thread count are kept in saved.
+  subroutine enter(saved)
+    type(saved_t), intent(out) :: saved
+    integer :: n, st
+    integer(c_int) :: rc
+    call ieee_get_status(saved%fp)
     call ieee_set_halting_mode(ieee_all, .false.)
-    threads = omp_get_max_threads()
+    saved%threads = omp_get_max_threads()
+    call get_environment_variable('HOME', length=n, status=st)
+    saved%has_home = st == 0
+    if (saved%has_home) then
+      allocate(character(len=n) :: saved%home)
+      call get_environment_variable('HOME', saved%home)
+    end if
+    rc = c_setenv('HOME'//c_null_char, '/dev/null'//c_null_char, 1_c_int)
   end subroutine enter
 
-  !> After gmsh: mfcd's floating-point state (flags, traps, rounding) and thread count back.
-  subroutine leave(fp, threads)
-    type(ieee_status_type), intent(in) :: fp
-    integer, intent(in) :: threads
-    call ieee_set_status(fp)
-    if (omp_get_max_threads() /= threads) call omp_set_num_threads(threads)
+  !> After gmsh: mfcd's floating-point state (flags, traps, rounding), thread count and HOME
+  !! back.
+  subroutine leave(saved)
+    type(saved_t), intent(in) :: saved
+    integer(c_int) :: rc
+    if (saved%has_home) then
+      rc = c_setenv('HOME'//c_null_char, saved%home//c_null_char, 1_c_int)
+    else
+      rc = c_unsetenv('HOME'//c_null_char)
+    end if
+    call ieee_set_status(saved%fp)
+    if (omp_get_max_threads() /= saved%threads) call omp_set_num_threads(saved%threads)
   end subroutine leave
 
   subroutine option_string(name, v)

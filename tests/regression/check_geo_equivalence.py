@@ -27,6 +27,10 @@ centroids as (a + b) + c then / 3), so the volumes and cells are the same double
 there the two bodies take one code path. Any difference, even in the last bit, is a
 difference of the routes.
 
+The shape = 'geo' run gets an empty directory as HOME, which must stay empty: gmsh's GUI
+toolkit would write ~/.fltk/fltk.org/fltk.prefs when gmsh starts, and mfcd creates no file
+outside its output (src/gmsh_mesh_m.f90).
+
 Exit 77 (skipped) when mfcd is built without gmsh or the gmsh Python module is missing
 (`bash tools/setup.sh --gmsh` and a rebuild give both).
 
@@ -154,16 +158,23 @@ def main():
                                 file_group)
             file_group = re.sub(r"(?im)^\s*geo_(names|values)\s*=[^\n]*\n", "", file_group)
             outs = {}
+            home = os.path.join(tmp, "home")
+            os.makedirs(home)
             for route, body in (("geo", group), ("file", file_group)):
                 t = text.replace(group, body)
                 t = re.sub(r"(?ims)(^&output\b.*?^\s*file\s*=\s*)'[^']*'",
                            r"\g<1>'out/%s.h5'" % route, t)
                 with open(os.path.join(tmp, route + ".nml"), "w") as f:
                     f.write(t)
-                p = subprocess.run([mfcd, route + ".nml"], cwd=tmp, env=env,
+                p = subprocess.run([mfcd, route + ".nml"], cwd=tmp,
+                                   env=dict(env, HOME=home) if route == "geo" else env,
                                    capture_output=True, text=True)
                 check("%s: shape = '%s' run completes" % (label, route), p.returncode == 0,
                       p.stdout[-600:] + p.stderr[-600:])
+                if route == "geo":
+                    made = [os.path.relpath(os.path.join(b, f), home)
+                            for b, ds, fs in os.walk(home) for f in ds + fs]
+                    check("%s: nothing made in HOME" % label, not made, made)
                 outs[route] = os.path.join(tmp, "out", route + ".h5")
             if all(os.path.exists(o) for o in outs.values()):
                 compare(label, outs["geo"], outs["file"])
