@@ -3,6 +3,7 @@
 #   <prefix>/<libdir>/cmake/mfcd/mfcdConfig.cmake          finds HDF5, LAPACK and OpenMP again
 #   <prefix>/<libdir>/cmake/mfcd/mfcdConfigVersion.cmake   0.1.x satisfies find_package(mfcd 0.1)
 #   <prefix>/<libdir>/cmake/mfcd/mfcdTargets*.cmake        mfcd::mfcd_solid, ..., mfcd::mfcd
+#   <prefix>/<libdir>/cmake/mfcd/MfcdFindGmsh.cmake        finds libgmsh (a build with gmsh)
 # Every path in them is relative to the file's own place: the prefix can be moved.
 include(CMakePackageConfigHelpers)
 
@@ -15,5 +16,7 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/mfcdConfig.cmake.in
 # Before 1.0 a minor version may change the modules' interfaces: 0.1.x answers only 0.1.
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/mfcdConfigVersion.cmake
   VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
+# MfcdFindGmsh.cmake: with gmsh built in, the config finds libgmsh again through it
 install(FILES ${PROJECT_BINARY_DIR}/mfcdConfig.cmake ${PROJECT_BINARY_DIR}/mfcdConfigVersion.cmake
+  ${PROJECT_SOURCE_DIR}/cmake/MfcdFindGmsh.cmake
   DESTINATION ${MFCD_INSTALL_CMAKEDIR})

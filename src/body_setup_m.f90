@@ -1,7 +1,9 @@
-!> Builds the bodies a deck describes (generators or particle files), then checks that each
-!! is an admissible discretization for its window and basis (Theorem 3.1): the moment matrix
-!! must be non-singular everywhere in the body. On a lattice the smallest working
-!! support_factor is found by scanning a lattice patch, so the error can name it.
+!> Builds the bodies a deck describes (generators, particle files, or gmsh scripts meshed in
+!! memory), then checks that each is an admissible discretization for its window and basis
+!! (Theorem 3.1): the moment matrix must be non-singular everywhere in the body. On a lattice
+!! the smallest working support_factor is found by scanning a lattice patch, so the error can
+!! name it. A gmsh script (shape = 'geo') becomes the arrays a particle file of
+!! tools/mesh_body.py holds (mesh_cells_m) and then takes the particle file's path.
 module body_setup_m
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use kinds_m, only: wp, pi
@@ -22,6 +24,9 @@ module body_setup_m
   use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
   use rk_cloud_m, only: cloud_det
   use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_annulus
+  use mesh_cells_m, only: mesh_from_tags, mesh_body_arrays
+  use gmsh_mesh_m, only: gmsh_mesh_geo
+  use log_m, only: log_print
   implicit none
   private
   public :: build_bodies, build_body, lattice_admissible, min_support_factor
@@ -167,11 +172,12 @@ contains
     integer, intent(in) :: k
     type(body_t), intent(out) :: b
     type(error_t), allocatable, intent(inout) :: err
-    character(len=:), allocatable :: where
-    real(wp), allocatable :: local(:), xs(:, :), vols(:)
-    integer, allocatable :: loop(:), order(:)
+    character(len=:), allocatable :: where, what
+    real(wp), allocatable :: local(:), xs(:, :), vols(:), xy(:, :)
+    integer, allocatable :: loop(:), order(:), tri(:, :), ptr(:)
     real(wp) :: dr, dt, fmin
     integer :: nd, i
+    logical :: has_tri, has_cells
     type(error_t), allocatable :: e2
     type(cst4_mesh_t) :: mesh
     nd = deck%run%ndim
@@ -201,14 +207,28 @@ contains
         call make_annulus(b, s%center, s%r_inner, s%r_outer, s%theta_start*pi/180.0_wp, &
           s%theta_end*pi/180.0_wp, s%n(1), s%n(2), e2)
       end if
-    case ('file')
-      call read_particles(trim(s%file), nd, xs, vols, loop, order, e2)
-      if (.not. allocated(e2)) call check_file_values(trim(s%file), xs, vols, e2)
+    case ('file', 'geo')
+      ! a gmsh script gives in memory what tools/mesh_body.py writes into a particle file:
+      ! from here on the two are one path
+      has_tri = .false.
+      has_cells = .false.
+      if (s%shape == 'geo') then
+        what = "the mesh of '"//trim(s%file)//"'"
+        call mesh_geo(s, xs, vols, loop, order, tri, ptr, xy, e2)
+        has_tri = .not. allocated(e2)
+        has_cells = has_tri
+      else
+        what = "particle file '"//trim(s%file)//"'"
+        call read_particles(trim(s%file), nd, xs, vols, loop, order, e2)
+      end if
+      if (.not. allocated(e2)) call check_file_values(what, xs, vols, e2)
       if (.not. allocated(e2)) call make_from_arrays(b, xs, vols, loop, order, e2)
       if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
-      if (.not. allocated(e2)) call check_file_layout(trim(s%file), b, e2)
-      if (.not. allocated(e2)) call read_mesh_extras(trim(s%file), s, &
-        deck%run%mode == 'dynamic', b, local, e2)
+      if (.not. allocated(e2)) call check_file_layout(what, b, e2)
+      if (.not. allocated(e2) .and. s%shape == 'file') call read_mesh_extras(trim(s%file), &
+        b%np, has_tri, tri, has_cells, ptr, xy, e2)
+      if (.not. allocated(e2)) call set_mesh_extras(what, s, deck%run%mode == 'dynamic', &
+        has_tri, tri, has_cells, ptr, xy, b, local, e2)
       if (.not. allocated(e2) .and. deck%run%mode == 'dynamic' .and. s%role == &
         'deformable' .and. s%discretization == 'rkpm' .and. s%integration /= 'direct' .and. &
         .not. allocated(b%cell_ptr)) then
@@ -307,15 +327,16 @@ contains
     flat = d <= 1.0e3_wp*epsilon(1.0_wp)*tr**nd
   end function flat_layout
 
-  !> Every coordinate and volume of a particle file finite (HDF5 files hold NaN as easily).
-  subroutine check_file_values(path, x, vol, err)
-    character(len=*), intent(in) :: path
+  !> Every coordinate and volume of a particle file finite (HDF5 files hold NaN as easily);
+  !! what names the file ("particle file 'p.h5'").
+  subroutine check_file_values(what, x, vol, err)
+    character(len=*), intent(in) :: what
     real(wp), intent(in) :: x(:, :), vol(:)
     type(error_t), allocatable, intent(inout) :: err
     integer :: i
     do i = 1, size(vol)
       if (.not. (all(ieee_is_finite(x(:, i))) .and. ieee_is_finite(vol(i)))) then
-        call set_error(err, "particle file '"//path//"', particle "//itoa(i)// &
+        call set_error(err, what//", particle "//itoa(i)// &
           ": a coordinate or the volume is not a finite number (NaN or Infinity); fix "// &
           "the file")
         return
@@ -325,9 +346,10 @@ contains
 
   !> A particle file's volumes must fit its particles' extent (a coordinate column read as
   !! the volume does not), and no two particles may coincide (closer than coincide_tol x
-  !! the nominal spacing: the same point given twice carries its volume twice).
-  subroutine check_file_layout(path, b, err)
-    character(len=*), intent(in) :: path
+  !! the nominal spacing: the same point given twice carries its volume twice); what names
+  !! the file.
+  subroutine check_file_layout(what, b, err)
+    character(len=*), intent(in) :: what
     type(body_t), intent(in) :: b
     type(error_t), allocatable, intent(inout) :: err
     type(bins_t) :: bins
@@ -337,7 +359,7 @@ contains
     nd = b%ndim
     box = product(maxval(b%x, dim=2) - minval(b%x, dim=2) + 2.0_wp*b%spacing(1:nd))
     if (sum(b%vol) > volume_excess*box) then
-      call set_error(err, "particle file '"//path//"': the volumes add up to "// &
+      call set_error(err, what//": the volumes add up to "// &
         rtoa(sum(b%vol))//" m^"//itoa(nd)//", "//rtoa(sum(b%vol)/box)//" times the box "// &
         "around the particles grown by one spacing ("//rtoa(box)//" m^"//itoa(nd)//"); "// &
         "is a coordinate read as the volume? A "//itoa(nd)//"-D deck reads "// &
@@ -355,7 +377,7 @@ contains
         j = cand(k)
         if (j == i) cycle
         if (norm2(b%x(:, j) - b%x(:, i)) <= tol) then
-          call set_error(err, "particle file '"//path//"': particles "//itoa(min(i, j))// &
+          call set_error(err, what//": particles "//itoa(min(i, j))// &
             " and "//itoa(max(i, j))//" coincide (both at ("//trim(coords(b%x(:, i)))// &
             "), closer than "//rtoa(tol)//" m = 1e-3 of the spacing); give each particle "// &
             "once")
@@ -515,81 +537,162 @@ contains
     end if
   end subroutine read_particles
 
+  !> A gmsh script meshed in memory (&body shape = 'geo'): gmsh's nodes and triangles
+  !! (gmsh_mesh_m), then the nodes, volumes, boundary loops, counter-clockwise triangles and
+  !! median-dual cells that tools/mesh_body.py would write for them (mesh_cells_m). The log
+  !! says what gmsh made.
+  subroutine mesh_geo(s, x, vol, loop, order, tri, ptr, xy, err)
+    type(body_spec_t), intent(in) :: s
+    real(wp), allocatable, intent(out) :: x(:, :), vol(:), xy(:, :)
+    integer, allocatable, intent(out) :: loop(:), order(:), tri(:, :), ptr(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(i64), allocatable :: tags(:), tri_tags(:)
+    real(wp), allocatable :: xyz(:)
+    character(len=:), allocatable :: version, numbers
+    type(error_t), allocatable :: e2
+    integer :: k
+    numbers = ''
+    do k = 1, s%ngeo
+      if (k > 1) numbers = numbers//', '
+      numbers = numbers//trim(s%geo_names(k))//' = '//rtoa(s%geo_values(k))
+    end do
+    call gmsh_mesh_geo(trim(s%file), s%geo_names(1:s%ngeo), s%geo_values(1:s%ngeo), tags, &
+      xyz, tri_tags, version, e2)
+    if (.not. allocated(e2)) call mesh_from_tags(tags, xyz, tri_tags, x, tri, e2)
+    if (.not. allocated(e2)) call mesh_body_arrays(x, tri, vol, loop, order, ptr, xy, e2)
+    if (allocated(e2)) then
+      if (len(version) == 0) then
+        ! gmsh never started (a build without it): its message says what to do
+        call set_error(err, e2%message)
+      else if (s%ngeo > 0) then
+        call set_error(err, "gmsh "//version//" cannot mesh '"//trim(s%file)//"' with "// &
+          numbers//" (geo_names, geo_values): "//e2%message//"; fix the script or the "// &
+          "numbers")
+      else
+        call set_error(err, "gmsh "//version//" cannot mesh '"//trim(s%file)//"': "// &
+          e2%message//"; fix the script")
+      end if
+      return
+    end if
+    if (len(numbers) > 0) numbers = ' with '//numbers
+    call log_print("body '"//trim(s%name)//"': gmsh "//version//" meshed '"// &
+      trim(s%file)//"'"//numbers//": "//itoa(size(x, 2))//" nodes, "//itoa(size(tri, 2))// &
+      " triangles, "//itoa(maxval(loop))//" boundary loop(s)")
+  end subroutine mesh_geo
+
   !> What an HDF5 particle file may add to its particles (tools/mesh_body.py writes both):
   !! /mesh/triangles (ne, 3 in h5py; 1-based rows of /particles/x), the elements of an FE
   !! body, and /cells/ptr, /cells/xy, each particle's integration cell (1-based CSR over the
-  !! polygon vertices), for SCNI and Gauss. With triangles, local(i) is the longest edge of
-  !! the triangles at particle i: supports follow a graded mesh. Errors name what is missing
-  !! for the body's discretization and integration.
-  subroutine read_mesh_extras(path, s, dynamic, b, local, err)
+  !! polygon vertices), for SCNI and Gauss. has_tri, has_cells: which of them the file has.
+  subroutine read_mesh_extras(path, np, has_tri, tri, has_cells, ptr, xy, err)
     character(len=*), intent(in) :: path
-    type(body_spec_t), intent(in) :: s
-    logical, intent(in) :: dynamic    !< mode dynamic: the discretization needs its data
-    type(body_t), intent(inout) :: b
-    real(wp), allocatable, intent(inout) :: local(:)
+    integer, intent(in) :: np
+    logical, intent(out) :: has_tri, has_cells
+    integer, allocatable, intent(out) :: tri(:, :), ptr(:)
+    real(wp), allocatable, intent(out) :: xy(:, :)
     type(error_t), allocatable, intent(inout) :: err
     type(h5file_t) :: f
     type(error_t), allocatable :: e2
     integer, allocatable :: dims(:)
-    integer(i64), allocatable :: tri(:, :), ptr(:)
-    real(wp), allocatable :: xy(:, :)
-    logical :: is_h5, has_tri, has_cells
-    integer :: l, e, k, i, j, ne
-    real(wp) :: len_e
+    integer(i64), allocatable :: tri8(:, :), ptr8(:)
+    logical :: is_h5
+    integer :: l
     l = len_trim(path)
     is_h5 = l > 3 .and. (path(max(1, l - 2):l) == '.h5' .or. path(max(1, l - 4):l) == '.hdf5')
     has_tri = .false.
     has_cells = .false.
-    if (is_h5) then
-      call h5_open_read(f, path, err)
-      if (allocated(err)) return
-      has_tri = h5_has(f, '/mesh/triangles')
-      has_cells = h5_has(f, '/cells/ptr')
-      if (has_cells) has_cells = h5_has(f, '/cells/xy')
-      if (has_tri) then
-        call h5_shape(f, '/mesh/triangles', dims, err)
-        if (.not. allocated(err)) then
-          if (size(dims) /= 2 .or. dims(1) /= 3) call set_error(err, "particle file '"// &
-            path//"': /mesh/triangles must be (ne, 3) node numbers")
-        end if
-        if (.not. allocated(err)) then
-          allocate(tri(3, dims(2)))
-          call h5_read(f, '/mesh/triangles', tri, err)
-        end if
-        if (.not. allocated(err)) then
-          if (any(tri < 1 .or. tri > b%np)) call set_error(err, "particle file '"//path// &
-            "': /mesh/triangles names a node outside 1.."//itoa(b%np))
-        end if
+    if (.not. is_h5) return
+    call h5_open_read(f, path, err)
+    if (allocated(err)) return
+    has_tri = h5_has(f, '/mesh/triangles')
+    has_cells = h5_has(f, '/cells/ptr')
+    if (has_cells) has_cells = h5_has(f, '/cells/xy')
+    if (has_tri) then
+      call h5_shape(f, '/mesh/triangles', dims, err)
+      if (.not. allocated(err)) then
+        if (size(dims) /= 2 .or. dims(1) /= 3) call set_error(err, "particle file '"// &
+          path//"': /mesh/triangles must be (ne, 3) node numbers")
       end if
-      if (has_cells .and. .not. allocated(err)) then
-        call h5_shape(f, '/cells/xy', dims, err)
-        if (.not. allocated(err)) then
-          allocate(ptr(b%np + 1), xy(2, dims(2)))
-          call h5_read(f, '/cells/ptr', ptr, err)
-        end if
-        if (.not. allocated(err)) call h5_read(f, '/cells/xy', xy, err)
-        if (.not. allocated(err)) then
-          if (ptr(1) /= 1 .or. ptr(b%np + 1) /= size(xy, 2) + 1 .or. &
-            any(ptr(2:) - ptr(:b%np) < 3) .or. any(ptr(2:) - ptr(:b%np) > &
-            max_cell_vertices)) call set_error(err, "particle file '"//path// &
-            "': /cells/ptr must start at 1, end at the number of /cells/xy vertices + 1 "// &
-            "and give every particle a polygon of 3 to "//itoa(max_cell_vertices)// &
-            " vertices")
-        end if
+      if (.not. allocated(err)) then
+        allocate(tri8(3, dims(2)))
+        call h5_read(f, '/mesh/triangles', tri8, err)
       end if
-      call h5_close(f, e2)
-      if (allocated(err)) return
+      if (.not. allocated(err)) then
+        ! range-checked before the conversion to default integers
+        if (any(tri8 < 1 .or. tri8 > np)) call set_error(err, "particle file '"//path// &
+          "': /mesh/triangles names a node outside 1.."//itoa(np))
+      end if
+      if (.not. allocated(err)) tri = int(tri8)
+    end if
+    if (has_cells .and. .not. allocated(err)) then
+      call h5_shape(f, '/cells/xy', dims, err)
+      if (.not. allocated(err)) then
+        allocate(ptr8(np + 1), xy(2, dims(2)))
+        call h5_read(f, '/cells/ptr', ptr8, err)
+      end if
+      if (.not. allocated(err)) call h5_read(f, '/cells/xy', xy, err)
+      if (.not. allocated(err)) then
+        ! checked before the conversion to default integers (set_mesh_extras checks again)
+        if (ptr8(1) /= 1 .or. ptr8(np + 1) /= size(xy, 2) + 1 .or. &
+          any(ptr8(2:) - ptr8(:np) < 3) .or. any(ptr8(2:) - ptr8(:np) > &
+          max_cell_vertices)) call set_error(err, "particle file '"//path// &
+          "': /cells/ptr must start at 1, end at the number of /cells/xy vertices + 1 "// &
+          "and give every particle a polygon of 3 to "//itoa(max_cell_vertices)// &
+          " vertices")
+      end if
+      if (.not. allocated(err)) ptr = int(ptr8)
+    end if
+    call h5_close(f, e2)
+  end subroutine read_mesh_extras
+
+  !> A mesh's triangles tri(3, ne) (when has_tri) and cells ptr, xy (when has_cells), from a
+  !! particle file or a gmsh script (what names it), onto body b: an FE body's elements
+  !! (mode dynamic), the integration cells, and local(i), the longest edge of the triangles
+  !! at particle i, from which the supports follow a graded mesh. Errors name what is
+  !! missing for the body's discretization and integration.
+  subroutine set_mesh_extras(what, s, dynamic, has_tri, tri, has_cells, ptr, xy, b, local, err)
+    character(len=*), intent(in) :: what
+    type(body_spec_t), intent(in) :: s
+    logical, intent(in) :: dynamic    !< mode dynamic: the discretization needs its data
+    logical, intent(in) :: has_tri, has_cells
+    integer, allocatable, intent(in) :: tri(:, :), ptr(:)
+    real(wp), allocatable, intent(in) :: xy(:, :)
+    type(body_t), intent(inout) :: b
+    real(wp), allocatable, intent(inout) :: local(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: e, k, i, j, ne
+    real(wp) :: len_e
+    if (has_tri) then
+      if (any(tri < 1 .or. tri > b%np)) then
+        call set_error(err, what//": /mesh/triangles names a node outside 1.."//itoa(b%np))
+        return
+      end if
+    end if
+    if (has_cells) then
+      if (size(ptr) /= b%np + 1) then
+        call set_error(err, what//": /cells/ptr must have one entry per particle and one "// &
+          "more")
+        return
+      end if
+      if (ptr(1) /= 1 .or. ptr(b%np + 1) /= size(xy, 2) + 1 .or. &
+        any(ptr(2:) - ptr(:b%np) < 3) .or. any(ptr(2:) - ptr(:b%np) > &
+        max_cell_vertices)) then
+        call set_error(err, what//": /cells/ptr must start at 1, end at the number of "// &
+          "/cells/xy vertices + 1 and give every particle a polygon of 3 to "// &
+          itoa(max_cell_vertices)//" vertices")
+        return
+      end if
     end if
     if (s%discretization == 'fem' .and. dynamic) then
       if (.not. has_tri) then
-        call set_error(err, "particle file '"//path//"' has no /mesh/triangles: an FE body "// &
-          "needs its elements (tools/mesh_body.py writes them), or discretization = 'rkpm'")
+        call set_error(err, what//" has no /mesh/triangles: an FE body needs its elements "// &
+          "(tools/mesh_body.py writes them), or discretization = 'rkpm'")
         return
       end if
-      b%cells = int(tri)
+      b%cells = tri
     end if
     if (has_cells) then
-      b%cell_ptr = int(ptr)
+      b%cell_ptr = ptr
       b%cell_xy = xy
     end if
     if (has_tri) then
@@ -598,20 +701,20 @@ contains
       local = 0.0_wp
       do e = 1, ne
         do k = 1, 3
-          i = int(tri(k, e))
-          j = int(tri(modulo(k, 3) + 1, e))
+          i = tri(k, e)
+          j = tri(modulo(k, 3) + 1, e)
           len_e = norm2(b%x(:, i) - b%x(:, j))
           local(i) = max(local(i), len_e)
           local(j) = max(local(j), len_e)
         end do
       end do
       if (any(local <= 0.0_wp)) then
-        call set_error(err, "particle file '"//path//"': a particle belongs to no triangle "// &
-          "of /mesh/triangles (or a triangle is degenerate)")
+        call set_error(err, what//": a particle belongs to no triangle of /mesh/triangles "// &
+          "(or a triangle is degenerate)")
         return
       end if
     end if
-  end subroutine read_mesh_extras
+  end subroutine set_mesh_extras
 
   !> Plain columns, one particle a line: x [y [z]] volume [loop order]; '#' starts a comment.
   !! loop = 0 for interior particles, k > 0 for particles on boundary polyline k, with order

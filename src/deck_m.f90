@@ -17,11 +17,20 @@ module deck_m
   private
   public :: deck_t, run_params_t, body_spec_t, detection_spec_t, output_spec_t
   public :: material_spec_t, solver_spec_t, bc_spec_t, contact_spec_t
-  public :: read_deck, max_vertices, max_points, unset, untyped_vars
+  public :: read_deck, max_vertices, max_points, max_geo_numbers, unset, untyped_vars
   public :: body_count_var, body_place_var, body_make_vars
 
   integer, parameter :: max_vertices = 64
   integer, parameter :: max_points = 32
+  !> Most gmsh parser numbers of a shape = 'geo' body (geo_names, geo_values).
+  integer, parameter :: max_geo_numbers = 16
+  !> gmsh script commands that mfcd does not run (shape = 'geo'): they run programs
+  !! (SystemCall, NonBlockingSystemCall, OnelabRun, SendToServer), write, delete or rename
+  !! files (Save, Print, CreateDir, DeleteFile, RenameFile; Printf with '>' is caught apart),
+  !! end the process (Exit) or run other scripts mfcd has not checked (Include, Merge).
+  character(len=*), parameter :: geo_commands_refused = 'SystemCall NonBlockingSystemCall '// &
+    'OnelabRun SendToServer Save Print CreateDir DeleteFile RenameFile Exit Include Merge '// &
+    'MergeWithBoundingBox'
   integer, parameter :: max_bodies = 16
   !> Most particles of a generated 2D lattice (rectangle, polygon, annulus sector).
   integer(i64), parameter :: max_lattice = 50000000_i64
@@ -47,8 +56,8 @@ module deck_m
   integer, parameter :: max_contacts = 8
   character(len=*), parameter :: geometries(2) = [character(len=12) :: &
     'plane', 'axisymmetric']
-  character(len=*), parameter :: shapes(5) = [character(len=14) :: &
-    'segment', 'rectangle', 'polygon', 'annulus_sector', 'file']
+  character(len=*), parameter :: shapes(6) = [character(len=14) :: &
+    'segment', 'rectangle', 'polygon', 'annulus_sector', 'file', 'geo']
 
   type :: run_params_t
     character(len=128) :: title = ''
@@ -70,6 +79,11 @@ module deck_m
     real(wp) :: r_inner = 0.0_wp, r_outer = 0.0_wp
     real(wp) :: theta_start = 0.0_wp, theta_end = 360.0_wp   !< degrees in the deck
     character(len=path_len) :: file = ''
+    !> shape 'geo': the gmsh parser numbers set before the .geo script is read, as names
+    !! (ngeo of them) and values
+    character(len=64) :: geo_names(max_geo_numbers) = ''
+    real(wp) :: geo_values(max_geo_numbers) = unset
+    integer :: ngeo = 0
     character(len=16) :: kernel = 'cubic_spline'
     character(len=8) :: window = 'tensor'
     character(len=20) :: basis = 'bilinear'
@@ -285,23 +299,29 @@ contains
     end do
   end subroutine check_across
 
-  subroutine read_text(path, text, err)
+  !> The file at path, whole; what names it in a message ('deck' unless given).
+  subroutine read_text(path, text, err, what)
     character(len=*), intent(in) :: path
     character(len=:), allocatable, intent(out) :: text
     type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: what
+    character(len=:), allocatable :: label
     integer :: u, ios, sz
     character(len=512) :: msg
+    label = 'deck'
+    if (present(what)) label = what
     open(newunit=u, file=path, access='stream', form='unformatted', status='old', &
       action='read', iostat=ios, iomsg=msg)
     if (ios /= 0) then
-      call set_error(err, "deck '"//path//"' cannot be read: "//trim(msg))
+      call set_error(err, label//" '"//path//"' cannot be read: "//trim(msg))
       return
     end if
     inquire(unit=u, size=sz)
     allocate(character(len=max(sz, 0)) :: text)
+    ios = 0
     if (sz > 0) read(u, iostat=ios, iomsg=msg) text
     close(u)
-    if (ios /= 0) call set_error(err, "deck '"//path//"' cannot be read: "//trim(msg))
+    if (ios /= 0) call set_error(err, label//" '"//path//"' cannot be read: "//trim(msg))
   end subroutine read_text
 
   !> Scan the deck before gfortran reads it, so that every mistake is named by line, group
@@ -824,6 +844,8 @@ contains
     real(wp) :: r_inner, r_outer, theta_start, theta_end, support_factor(3), velocity(3)
     real(wp) :: stabilization, perturbation
     integer :: perturbation_seed
+    character(len=64) :: geo_names(max_geo_numbers)
+    real(wp) :: geo_values(max_geo_numbers)
     character(len=10) :: role
     character(len=64) :: material
     character(len=6) :: integration
@@ -835,7 +857,7 @@ contains
     namelist /body/ name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, &
       r_outer, theta_start, theta_end, file, kernel, window, basis, support_factor, role, &
       material, velocity, integration, stabilization, discretization, perturbation, &
-      perturbation_seed
+      perturbation_seed, geo_names, geo_values
     allocate(tmp(max_bodies))
     rewind(u)
     k = 0
@@ -866,6 +888,8 @@ contains
       discretization = dflt%discretization
       perturbation = dflt%perturbation
       perturbation_seed = dflt%perturbation_seed
+      geo_names = dflt%geo_names
+      geo_values = dflt%geo_values
       read(u, nml=body, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -906,6 +930,8 @@ contains
       s%discretization = lower(discretization)
       s%perturbation = perturbation
       s%perturbation_seed = perturbation_seed
+      s%geo_names = geo_names
+      s%geo_values = geo_values
       call check_body(deck, k, tmp(1:k - 1), s, err)
       if (allocated(err)) return
       tmp(k) = s
@@ -968,11 +994,13 @@ contains
       return
     end if
     if (s%discretization == 'fem' .and. ((s%shape /= 'rectangle' .and. &
-      s%shape /= 'annulus_sector' .and. s%shape /= 'file') .or. nd /= 2)) then
+      s%shape /= 'annulus_sector' .and. s%shape /= 'file' .and. s%shape /= 'geo') .or. &
+      nd /= 2)) then
       call bad(deck, grp, 'discretization', "'fem'", "finite elements are generated on a "// &
         "'rectangle' or an 'annulus_sector' (CST4; n = nodes per direction: n - 1 boxes, "// &
-        "n(2) around a full ring) or read from an HDF5 particle file with /mesh/triangles "// &
-        "(tools/mesh_body.py), in 2D; use discretization = 'rkpm' for shape '"// &
+        "n(2) around a full ring), meshed from a gmsh script (shape = 'geo') or read from "// &
+        "an HDF5 particle file with /mesh/triangles (tools/mesh_body.py), in 2D; use "// &
+        "discretization = 'rkpm' for shape '"// &
         trim(s%shape)//"'", err)
       return
     end if
@@ -1005,12 +1033,13 @@ contains
       ! what the RKPM tables would refuse at set-up (rkpm_tl_m), named here
       ! (a 'file' body brings its cells, or the body set-up says it has none)
       if (s%integration /= 'direct' .and. s%shape /= 'rectangle' .and. s%shape /= 'polygon' &
-        .and. s%shape /= 'file') then
+        .and. s%shape /= 'file' .and. s%shape /= 'geo') then
         call bad(deck, grp, 'integration', "'"//trim(s%integration)//"'", trim(s%integration)// &
-          " integrates over the cells of a 'rectangle' or 'polygon' body or of a particle "// &
-          "file that carries them (/cells, tools/mesh_body.py), and shape '"// &
-          trim(s%shape)//"' has none; use shape = 'rectangle', 'polygon' or 'file' (or "// &
-          "integration = 'direct', a negative control, in plane strain)", err)
+          " integrates over the cells of a 'rectangle' or 'polygon' body, of a gmsh mesh "// &
+          "(shape = 'geo') or of a particle file that carries them (/cells, "// &
+          "tools/mesh_body.py), and shape '"//trim(s%shape)//"' has none; use shape = "// &
+          "'rectangle', 'polygon', 'geo' or 'file' (or integration = 'direct', a negative "// &
+          "control, in plane strain)", err)
         return
       end if
       if (s%integration == 'direct' .and. deck%run%geometry == 'axisymmetric') then
@@ -1132,7 +1161,7 @@ contains
         call bad(deck, grp, 'n', itoa(s%n(1))//', '//itoa(s%n(2)), &
           'give n = n_radial, n_angular, both >= 2 (at most 5e7 particles)', err)
       end if
-    case ('file')
+    case ('file', 'geo')
       do j = 2, 3
         if (s%spacing(j) == unset) s%spacing(j) = s%spacing(j - 1)
       end do
@@ -1142,12 +1171,311 @@ contains
         return
       end if
       inquire(file=trim(s%file), exist=exists)
-      if (len_trim(s%file) == 0 .or. .not. exists) then
+      if (s%shape == 'geo') then
+        call check_geo(deck, grp, s, exists, err)
+      else if (len_trim(s%file) == 0 .or. .not. exists) then
         call bad(deck, grp, 'file', "'"//trim(s%file)//"'", 'give the path of an existing '// &
           'particle file (HDF5 .h5 or plain columns; see doc/deck.md)', err)
       end if
     end select
+    if (allocated(err) .or. s%shape == 'geo') return
+    if (any(s%geo_names /= '')) then
+      call bad(deck, grp, 'geo_names', "'"//trim(s%geo_names(1))//"', ...", "gmsh parser "// &
+        "numbers are read by shape = 'geo' only (this body: shape '"//trim(s%shape)// &
+        "'); remove geo_names and geo_values", err)
+    else if (any(s%geo_values /= unset)) then
+      call bad(deck, grp, 'geo_values', rtoa(s%geo_values(1))//', ...', "gmsh parser "// &
+        "numbers are read by shape = 'geo' only (this body: shape '"//trim(s%shape)// &
+        "'); remove geo_values", err)
+    end if
   end subroutine check_body
+
+  !> A shape = 'geo' body: file names a readable gmsh script, and the parser numbers are
+  !! pairs geo_names(k) = geo_values(k) given in a row, each name a gmsh identifier that the
+  !! script uses, given once (the values are finite reals: check_groups saw to that).
+  subroutine check_geo(deck, grp, s, exists, err)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: grp
+    type(body_spec_t), intent(inout) :: s
+    logical, intent(in) :: exists
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: text, used, defaults, name, refused
+    type(error_t), allocatable :: e2
+    integer :: nn, nv, k, j, line
+    if (len_trim(s%file) == 0) then
+      call bad(deck, grp, 'file', "''", "give the path of a gmsh geometry script (.geo), "// &
+        "e.g. file = 'input/hertz_sphere.geo'", err)
+      return
+    else if (.not. exists) then
+      call bad(deck, grp, 'file', "'"//trim(s%file)//"'", "no such file: give the path of "// &
+        "a gmsh geometry script (.geo), relative to where mfcd runs", err)
+      return
+    end if
+    call read_text(trim(s%file), text, e2, 'gmsh script')
+    if (allocated(e2)) then
+      call bad(deck, grp, 'file', "'"//trim(s%file)//"'", e2%message//"; give a readable "// &
+        ".geo file", err)
+      return
+    end if
+    nn = 0
+    nv = 0
+    do k = 1, max_geo_numbers
+      if (s%geo_names(k) /= '') nn = k
+      if (s%geo_values(k) /= unset) nv = k
+    end do
+    do k = 1, nn
+      if (s%geo_names(k) == '') then
+        call bad(deck, grp, 'geo_names', "entry "//itoa(k)//" empty", "give the names in a "// &
+          "row, geo_names = 'a', 'b', ... (no empty entry before the last)", err)
+        return
+      end if
+    end do
+    do k = 1, nv
+      if (s%geo_values(k) == unset) then
+        call bad(deck, grp, 'geo_values', "entry "//itoa(k)//" unset", "give the values "// &
+          "in a row, geo_values = 1.0e-3, 0.4e-3, ... (no gap before the last)", err)
+        return
+      end if
+    end do
+    if (nv /= nn) then
+      call bad(deck, grp, 'geo_values', itoa(nv)//" value(s)", "geo_names gives "// &
+        itoa(nn)//" name(s); give one value per name, in the same order (geo_names = "// &
+        "'hc', 'a' with geo_values = 0.1e-3, 0.4e-3 sets hc = 0.1e-3 and a = 0.4e-3)", err)
+      return
+    end if
+    call geo_identifiers(text, used, defaults, refused, line)
+    if (len(refused) > 0) then
+      call bad(deck, grp, 'file', "'"//trim(s%file)//"'", "line "//itoa(line)//" of the "// &
+        "gmsh script gives "//refused//": mfcd meshes scripts that build geometry, and for "// &
+        "them runs no program, writes, deletes or renames no file, ends no process and "// &
+        "reads no script it has not checked (it refuses "// &
+        join_words(geo_commands_refused)//", Printf > file); remove it from the script", err)
+      return
+    end if
+    do k = 1, nn
+      name = trim(adjustl(s%geo_names(k)))
+      if (.not. is_geo_name(name)) then
+        call bad(deck, grp, 'geo_names', "'"//trim(s%geo_names(k))//"'", "not a gmsh parser "// &
+          "name: give letters, digits and '_', starting with a letter or '_' (the name the "// &
+          "script uses, e.g. 'hc')", err)
+        return
+      end if
+      s%geo_names(k) = name
+      do j = 1, k - 1
+        if (s%geo_names(j) == name) then
+          call bad(deck, grp, 'geo_names', "'"//name//"'", "given twice (entries "// &
+            itoa(j)//" and "//itoa(k)//"); give each parser number once", err)
+          return
+        end if
+      end do
+      if (index(' '//used//' ', ' '//name//' ') == 0) then
+        if (len(defaults) == 0) defaults = '(none)'
+        call bad(deck, grp, 'geo_names', "'"//name//"'", "the gmsh script '"// &
+          trim(s%file)//"' never uses a number '"//name//"'"//nearest_word(used, name)// &
+          "; the numbers it lets a caller set (If (!Exists(name))): "//defaults, err)
+        return
+      end if
+    end do
+    s%ngeo = nn
+  end subroutine check_geo
+
+  !> A gmsh parser name: a letter or '_', then letters, digits and '_'.
+  pure logical function is_geo_name(w)
+    character(len=*), intent(in) :: w
+    integer :: i
+    is_geo_name = len(w) > 0
+    if (.not. is_geo_name) return
+    is_geo_name = is_name_start(w(1:1)) .or. w(1:1) == '_'
+    do i = 2, len(w)
+      if (.not. is_name_char(w(i:i))) is_geo_name = .false.
+    end do
+  end function is_geo_name
+
+  !> The identifiers of a gmsh script (text), blank-separated in used, outside comments and
+  !! strings and not after a '.' (Field[1].SizeMin, Mesh.Algorithm: options, not numbers);
+  !! defaults lists, comma-separated, those the script tests with Exists(name), the numbers
+  !! it lets a caller set. bad is the first command of geo_commands_refused the script
+  !! gives (a word not followed by '.', which would make it an option's category, or
+  !! 'Printf > file'), at line bad_line; '' if none.
+  pure subroutine geo_identifiers(text, used, defaults, bad, bad_line)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable, intent(out) :: used, defaults, bad
+    integer, intent(out) :: bad_line
+    character(len=:), allocatable :: word, last
+    character :: prev
+    integer :: i, j, n, k, line, printf_state, depth
+    used = ''
+    defaults = ''
+    bad = ''
+    bad_line = 0
+    last = ''
+    prev = ' '
+    n = len(text)
+    line = 1
+    ! Printf: 1 seen, 2 inside its parentheses (depth), 3 closed: a '>' next redirects it
+    printf_state = 0
+    depth = 0
+    i = 1
+    do while (i <= n)
+      if (text(i:min(i + 1, n)) == '//') then
+        do while (i <= n)
+          if (text(i:i) == achar(10)) exit
+          i = i + 1
+        end do
+      else if (text(i:min(i + 1, n)) == '/*') then
+        j = index(text(i + 2:), '*/')
+        k = merge(n + 1, i + 2 + j + 1, j == 0)
+        line = line + count_newlines(text(i:k - 1))
+        i = k
+      else if (text(i:i) == '"') then
+        j = index(text(i + 1:), '"')
+        k = merge(n + 1, i + j + 1, j == 0)
+        line = line + count_newlines(text(i:k - 1))
+        i = k
+        prev = '"'
+        if (printf_state == 3) printf_state = 0
+      else if (is_name_start(text(i:i)) .or. text(i:i) == '_') then
+        j = i
+        do while (j <= n)
+          if (.not. is_name_char(text(j:j))) exit
+          j = j + 1
+        end do
+        word = text(i:j - 1)
+        if (printf_state == 3) printf_state = 0
+        if (prev /= '.') then
+          if (index(' '//used//' ', ' '//word//' ') == 0) used = used//' '//word
+          if (last == 'Exists(') then
+            if (index(', '//defaults//',', ', '//word//',') == 0) then
+              if (len(defaults) > 0) defaults = defaults//', '
+              defaults = defaults//word
+            end if
+          end if
+          if (len(bad) == 0 .and. index(' '//geo_commands_refused//' ', ' '//word//' ') &
+            > 0 .and. next_char(j) /= '.') then
+            bad = word
+            bad_line = line
+          end if
+          if (word == 'Printf' .and. printf_state == 0) printf_state = 1
+        end if
+        last = word
+        prev = 'a'
+        i = j
+      else if (scan(text(i:i), '0123456789') > 0) then
+        ! a number, with its exponent: 1.5e-3
+        j = i
+        do while (j <= n)
+          if (scan(text(j:j), '0123456789.') == 0) exit
+          j = j + 1
+        end do
+        if (j <= n) then
+          if (scan(text(j:j), 'eEdD') > 0) then
+            j = j + 1
+            if (j <= n) then
+              if (scan(text(j:j), '+-') > 0) j = j + 1
+            end if
+            do while (j <= n)
+              if (scan(text(j:j), '0123456789') == 0) exit
+              j = j + 1
+            end do
+          end if
+        end if
+        prev = '0'
+        last = ''
+        if (printf_state == 3) printf_state = 0
+        i = j
+      else
+        if (text(i:i) == achar(10)) line = line + 1
+        if (text(i:i) == '(' .and. last == 'Exists') then
+          last = 'Exists('
+        else if (text(i:i) /= ' ' .and. text(i:i) /= achar(9)) then
+          last = ''
+        end if
+        select case (printf_state)
+        case (1, 2)
+          if (text(i:i) == '(') then
+            depth = depth + 1
+            printf_state = 2
+          else if (text(i:i) == ')' .and. printf_state == 2) then
+            depth = depth - 1
+            if (depth == 0) printf_state = 3
+          end if
+        case (3)
+          if (text(i:i) == '>') then
+            if (len(bad) == 0) then
+              bad = 'Printf > file'
+              bad_line = line
+            end if
+            printf_state = 0
+          else if (scan(text(i:i), ' '//achar(9)//achar(10)//achar(13)) == 0) then
+            printf_state = 0
+          end if
+        end select
+        if (scan(text(i:i), ' '//achar(9)//achar(10)//achar(13)) == 0) prev = text(i:i)
+        i = i + 1
+      end if
+    end do
+    used = adjustl(used)
+  contains
+    pure integer function count_newlines(t) result(c)
+      character(len=*), intent(in) :: t
+      integer :: m
+      c = 0
+      do m = 1, len(t)
+        if (t(m:m) == achar(10)) c = c + 1
+      end do
+    end function count_newlines
+
+    !> The first character from position a on that is not blank ('' at the end).
+    pure function next_char(a) result(c)
+      integer, intent(in) :: a
+      character :: c
+      integer :: m
+      c = ' '
+      do m = a, n
+        if (scan(text(m:m), ' '//achar(9)//achar(10)//achar(13)) == 0) then
+          c = text(m:m)
+          return
+        end if
+      end do
+    end function next_char
+  end subroutine geo_identifiers
+
+  !> The blank-separated words w as a list: 'a, b, c'.
+  pure function join_words(w) result(t)
+    character(len=*), intent(in) :: w
+    character(len=:), allocatable :: t
+    integer :: k
+    t = ''
+    do k = 1, len_trim(w)
+      if (w(k:k) == ' ') then
+        t = t//','
+      end if
+      t = t//w(k:k)
+    end do
+  end function join_words
+
+  !> " (did you mean 'hc'?)" for the word of words (blank-separated) at the smallest edit
+  !! distance (<= 2), '' if none is that close.
+  pure function nearest_word(words, word) result(hint)
+    character(len=*), intent(in) :: words, word
+    character(len=:), allocatable :: hint, w
+    integer :: a, z, d, dbest
+    hint = ''
+    dbest = 3
+    a = 1
+    do while (a <= len(words))
+      z = index(words(a:)//' ', ' ')
+      w = words(a:a + z - 2)
+      if (len(w) > 0) then
+        d = edit_distance(lower(w), lower(word))
+        if (d < dbest) then
+          dbest = d
+          hint = " (did you mean '"//w//"'?)"
+        end if
+      end if
+      a = a + z
+    end do
+  end function nearest_word
 
   subroutine read_detection(u, deck, err)
     integer, intent(in) :: u
@@ -1732,7 +2060,7 @@ contains
     select case (shape)
     case ('polygon')
       v = 'spacing'
-    case ('file')
+    case ('file', 'geo')
       v = 'file'
     case default
       v = 'n'
@@ -1777,7 +2105,7 @@ contains
     select case (shape)
     case ('segment')
       shape_ndim = 1
-    case ('rectangle', 'polygon', 'annulus_sector')
+    case ('rectangle', 'polygon', 'annulus_sector', 'geo')
       shape_ndim = 2
     case default
       shape_ndim = 0
@@ -1794,7 +2122,7 @@ contains
       s = 'name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, r_outer, '// &
         'theta_start, theta_end, file, kernel, window, basis, support_factor, role, '// &
         'material, velocity, integration, stabilization, discretization, perturbation, '// &
-        'perturbation_seed'
+        'perturbation_seed, geo_names, geo_values'
     case ('detection')
       s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
     case ('output')
@@ -1889,11 +2217,11 @@ contains
       ints = 'ndim'
     case ('body')
       strs = 'name, shape, file, kernel, window, basis, role, material, integration, '// &
-        'discretization'
+        'discretization, geo_names('//itoa(max_geo_numbers)//')'
       ints = 'n(3), perturbation_seed'
       reals = 'lo(3), hi(3), vertices('//itoa(2*max_vertices)//'), spacing(3), origin(2), '// &
         'center(2), r_inner, r_outer, theta_start, theta_end, support_factor(3), '// &
-        'velocity(3), stabilization, perturbation'
+        'velocity(3), stabilization, perturbation, geo_values('//itoa(max_geo_numbers)//')'
     case ('detection')
       strs = 'body'
       ints = 'line_n, grid_n(3)'

@@ -150,7 +150,8 @@ contains
       do m = 1, deck%nbodies
         if (len_trim(deck%bodies(m)%file) == 0) cycle
         if (rp /= real_path(trim(deck%bodies(m)%file))) cycle
-        call set_error(err, where//"'"//d//"' is the particle file of &body '"// &
+        call set_error(err, where//"'"//d//"' is the "//trim(merge('gmsh script  ', &
+          'particle file', deck%bodies(m)%shape == 'geo'))//" of &body '"// &
           trim(deck%bodies(m)%name)//"' ("//rp//"); give another output name")
         return
       end do

@@ -172,7 +172,7 @@ contains
     select case (s%shape)
     case ('polygon')
       t = rtoa(s%spacing(1))//', '//rtoa(s%spacing(2))
-    case ('file')
+    case ('file', 'geo')
       t = "'"//trim(s%file)//"'"
     case default
       t = itoa(s%n(1))

@@ -7,14 +7,15 @@
 #   bash tools/hertz.sh            # both; from anywhere; on a fresh clone: sets up gmsh, builds
 #   bash tools/hertz.sh sphere     # or: cylinder
 #
-# Sphere: meshes input/hertz_sphere.geo with tools/mesh_body.py at contact element sizes
+# Sphere: runs input/hertz_sphere_fem.nml and input/hertz_sphere_rkpm.nml, which mesh
+# input/hertz_sphere.geo themselves (&body shape = 'geo'), at contact element sizes
 # hc = 0.1, 0.05 and 0.025 mm (a/4, a/8 and a/16 of the Hertz contact radius a = 0.40 mm),
-# runs input/hertz_sphere_fem.nml and input/hertz_sphere_rkpm.nml on each and writes the
-# table output/hertz_sphere.md. Cylinder: input/hertz_cylinder.geo at hc = 0.046, 0.023 and
-# 0.0115 mm (b/4, b/8 and b/16 of the contact half-width b = 0.185 mm),
-# input/hertz_cylinder_{fem,rkpm}.nml, table output/hertz_cylinder.md. Meshes go to
-# output/meshes/, decks (with the mesh file swapped in) and outputs to output/hertz/; the
-# tables are printed too. Exits non-zero when a step fails.
+# and writes the table output/hertz_sphere.md. Cylinder: input/hertz_cylinder_{fem,rkpm}.nml
+# (input/hertz_cylinder.geo) at hc = 0.046, 0.023 and 0.0115 mm (b/4, b/8 and b/16 of the
+# contact half-width b = 0.185 mm), table output/hertz_cylinder.md. The decks, with hc (the
+# first of their geo_values) and the output file swapped in, and the outputs go to
+# output/hertz/; the tables are printed too. No mesh file is written. Exits non-zero when a
+# step fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 which=${1:-all}
@@ -23,24 +24,33 @@ case "$which" in
   *) echo "usage: bash tools/hertz.sh [sphere|cylinder]" >&2; exit 2 ;;
 esac
 bash tools/setup.sh --gmsh
-[ -x build/bin/mfcd ] || bash tools/build.sh Release
+# a build from before gmsh was installed has it not: build again (AUTO finds it now)
+if ! { [ -x build/bin/mfcd ] && ./build/bin/mfcd --version | grep -q '^gmsh 4'; }; then
+  bash tools/build.sh Release
+fi
+if ! ./build/bin/mfcd --version | grep -q '^gmsh 4'; then
+  echo "hertz: build/bin/mfcd is built without gmsh (see the configure message above)" >&2
+  exit 1
+fi
 py=.venv/bin/python
-mkdir -p output/meshes output/hertz
+mkdir -p output/hertz
 
-# run NAME SIZE_SET CONTACT_SET HC...: mesh input/NAME.geo at each contact element size,
-# run both decks on it and write output/NAME.md
+# run NAME SIZE HC...: run both decks of input/NAME.geo at each contact element size hc (mm),
+# the first of their geo_values, and write output/NAME.md
 run() {
-  local name=$1 size=$2 zone=$3 hc mesh deck d
-  shift 3
+  local name=$1 size=$2 hc deck d
+  shift 2
   local files=()
   for hc in "$@"; do
-    mesh=output/meshes/${name}_hc${hc}.h5
-    $py tools/mesh_body.py "input/$name.geo" "$mesh" --set hc=${hc}e-3 --set "$zone"
     for d in fem rkpm; do
       deck=output/hertz/${name}_${d}_hc${hc}.nml
-      sed -e "s#output/meshes/${name}_c.h5#$mesh#" \
+      sed -e "s#^\(  geo_values = \)[^,]*,#\1${hc}e-3,#" \
           -e "s#output/${name}_${d}.h5#output/hertz/${name}_${d}_hc${hc}.h5#" \
           "input/${name}_${d}.nml" > "$deck"
+      grep -q "^  geo_values = ${hc}e-3," "$deck" || {
+        echo "hertz: input/${name}_${d}.nml: no '  geo_values = hc, ...' line to set" >&2
+        exit 1
+      }
       echo "== mfcd $deck"
       ./build/bin/mfcd "$deck" | grep -E '^(summary: energy|mfcd:)'
       files+=("output/hertz/${name}_${d}_hc${hc}.h5")
@@ -51,8 +61,8 @@ run() {
 }
 
 if [ "$which" != cylinder ]; then
-  run hertz_sphere "contact radius a = 0.40 mm" a=0.4e-3 0.1 0.05 0.025
+  run hertz_sphere "contact radius a = 0.40 mm" 0.1 0.05 0.025
 fi
 if [ "$which" != sphere ]; then
-  run hertz_cylinder "contact half-width b = 0.185 mm" b=0.185e-3 0.046 0.023 0.0115
+  run hertz_cylinder "contact half-width b = 0.185 mm" 0.046 0.023 0.0115
 fi

@@ -21,6 +21,11 @@ meshes its surfaces with first-order triangles, and this script writes what mfcd
 
 Only the nodes of the triangles are kept (gmsh's construction points are dropped). Exits 2
 with a message on a bad geometry or an empty mesh.
+
+mfcd builds the same body in memory from the .geo itself (`&body shape = 'geo'`, when built
+with gmsh: src/mesh_cells_m.f90 ports the functions below, bit for bit; the test
+`regression_geo_equivalence` compares the two). This script remains the way to look at a
+mesh, or to hand one to other tools.
 """
 import argparse
 import os
@@ -33,7 +38,10 @@ import numpy as np
 def mesh_geo(geo, numbers, quiet=True):
     """(x (np, 2), triangles (ne, 3) 0-based, counter-clockwise) of the .geo's 2D mesh."""
     import gmsh
-    gmsh.initialize()
+    # without the user's gmsh configuration files (~/.gmshrc, gmsh-options), as mfcd's
+    # &body shape = 'geo' does (src/gmsh_mesh_m.f90): the same .geo and numbers give the
+    # same mesh whoever runs it
+    gmsh.initialize(readConfigFiles=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0 if quiet else 1)
         for name, value in numbers.items():

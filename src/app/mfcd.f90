@@ -19,6 +19,7 @@ program mfcd
   use explicit_driver_m, only: run_dynamic
   use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
   use thread_policy_m, only: thread_policy_apply, thread_policy_text
+  use gmsh_mesh_m, only: gmsh_built_in, gmsh_version
   use omp_lib, only: omp_get_max_threads
   implicit none
   type(deck_t) :: deck
@@ -58,6 +59,13 @@ program mfcd
       stop
     case ('-V', '--version')
       write(output_unit, '(a)') code_name//' '//code_version//' (git '//git_commit//')'
+      if (gmsh_built_in) then
+        write(output_unit, '(a)') 'gmsh '//gmsh_version()//": &body shape = 'geo' "// &
+          "meshes .geo scripts in memory"
+      else
+        write(output_unit, '(a)') "gmsh: not built in (&body shape = 'geo' is refused; "// &
+          "bash tools/setup.sh --gmsh, then rebuild)"
+      end if
       stop
     case ('--check')
       check_only = .true.
@@ -177,7 +185,7 @@ contains
     write(u, '(a)') '              (written with &output checkpoint_every; the deck must be'
     write(u, '(a)') '              the one that wrote it, unchanged)'
     write(u, '(a)') '  --help      this text'
-    write(u, '(a)') '  --version   code version and git commit'
+    write(u, '(a)') '  --version   code version and git commit, and whether gmsh is built in'
     write(u, '(a)') 'Threads: OMP_NUM_THREADS; waiting threads spin GOMP_SPINCOUNT=1000 times'
     write(u, '(a)') 'unless OMP_WAIT_POLICY or GOMP_SPINCOUNT is set (doc/benchmarks.md).'
     write(u, '(a)') 'Exit codes: 0 ok, 2 bad input (nothing'

@@ -10,8 +10,10 @@ A deck's header says what is wrong and what to expect:
 
     ! <first line: what is wrong with the deck>
     ! expect: <a word the message must contain, usually the variable>   (one or more lines)
-    ! needs: <file> [<file> ...]     (particle files beside the deck, copied along)
+    ! needs: <file> [<file> ...]     (particle files and gmsh scripts beside the deck, copied along)
     ! requires: meminfo              (skipped where /proc/meminfo has no MemAvailable)
+    ! requires: gmsh                 (skipped where mfcd is built without gmsh: `mfcd --version`)
+    ! requires: no-gmsh              (skipped where mfcd is built with gmsh)
 
 Standard library only. Usage: test_bad_decks.py /path/to/mfcd [deck-name-substring ...]
 """
@@ -74,8 +76,15 @@ def has_meminfo():
         return False
 
 
+def has_gmsh(mfcd):
+    """Whether this mfcd meshes .geo scripts: its --version names gmsh's version."""
+    p = subprocess.run([mfcd, "--version"], capture_output=True, text=True)
+    return any(line.startswith("gmsh 4") for line in p.stdout.splitlines())
+
+
 def main():
     mfcd = os.path.abspath(sys.argv[1])
+    gmsh = has_gmsh(mfcd)
     only = sys.argv[2:]
     decks = sorted(d for d in os.listdir(CORPUS) if d.endswith(".nml"))
     if only:
@@ -86,6 +95,12 @@ def main():
         meta = header(os.path.join(CORPUS, deck))
         if "meminfo" in meta["requires"] and not has_meminfo():
             print(f"[ SKIP ] {deck}: /proc/meminfo has no MemAvailable")
+            continue
+        if "gmsh" in meta["requires"] and not gmsh:
+            print(f"[ SKIP ] {deck}: this mfcd is built without gmsh")
+            continue
+        if "no-gmsh" in meta["requires"] and gmsh:
+            print(f"[ SKIP ] {deck}: this mfcd is built with gmsh")
             continue
         nrun += 1
         problems = []

@@ -9,6 +9,8 @@
 #   CONFIG          build type (Release, Debug)
 #   GENERATOR, MAKE_PROGRAM, Fortran_COMPILER   the same as mfcd's build
 #   VERSION         mfcd's version, as `mfcd --version` must print it
+#   GMSH_ROOT       gmsh's prefix when mfcd is built with gmsh (empty otherwise): the consumer
+#                   links libgmsh through mfcd's config, which finds it there (MFCD_GMSH_ROOT)
 cmake_minimum_required(VERSION 3.20)
 
 function(run what)
@@ -40,9 +42,13 @@ foreach(f IN LISTS cmake_files)
   endforeach()
 endforeach()
 
+set(gmsh_hint "")
+if(GMSH_ROOT)
+  set(gmsh_hint "-DMFCD_GMSH_ROOT=${GMSH_ROOT}")
+endif()
 run("configuring the consumer" ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/build
   -G ${GENERATOR} -DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM} -DCMAKE_Fortran_COMPILER=${Fortran_COMPILER}
-  -DCMAKE_BUILD_TYPE=${CONFIG} -DCMAKE_PREFIX_PATH=${prefix})
+  -DCMAKE_BUILD_TYPE=${CONFIG} -DCMAKE_PREFIX_PATH=${prefix} ${gmsh_hint})
 run("building the consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/build --config ${CONFIG})
 run("running the consumer" ${WORK_DIR}/build/mfcd_consumer)
 message("${run_out}")

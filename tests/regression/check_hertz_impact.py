@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 """Hertz impact on a rigid wall from a gmsh mesh (issue 11, items 1 and 3), coarsest
 resolution, run by finite elements and by RKPM with SCNI over the mesh's median-dual cells
-on the same nodes, against the closed forms of post/hertz_impact.py. Two cases, told apart
-by the .geo's name:
+on the same nodes, against the closed forms of post/hertz_impact.py. The decks are run as
+they are: mfcd meshes the .geo they name in memory (&body shape = 'geo'). Two cases, told
+apart by the .geo's name:
 
 Sphere (input/hertz_sphere.geo, axisymmetric; `regression_hertz_impact`): contact elements
 of a/4 (a = 0.40 mm, the Hertz contact radius), input/hertz_sphere_fem.nml and
 input/hertz_sphere_rkpm.nml. Checks:
 
-- the mesh file: the nodal volumes and the dual cells each sum to the mesh's area (round-off);
+- the mesh: the FEM body's nodal volumes sum to its triangles' area (round-off), and the RKPM
+  body has the same nodes and volumes, bit for bit (one .geo, one mesh);
 - each run completes, its energy balance closes to 1e-3 of its scale (measured 7e-6 FEM,
   1.5e-4 RKPM) and the sphere rebounds at the impact speed to 0.1% (elastic);
 - approach, peak force, contact radius and contact time against the closed forms
@@ -35,8 +37,9 @@ and energy checks, and (doc/verification.md, measured at b/4, b/8, b/16 and at 1
   would miss it by 5.3%; a check requires that gap to stay above TOL;
 - FEM and RKPM agree to 1.5% on each measure (measured 0.5% at most).
 
-Exit 77 (skipped) when the gmsh Python module is missing: `bash tools/setup.sh --gmsh`
-installs it (tools/test.sh does).
+Exit 77 (skipped) when mfcd is built without gmsh (its --version says so): `bash
+tools/setup.sh --gmsh` installs gmsh into .venv and the next build finds it (tools/test.sh
+does both).
 
 Usage: check_hertz_impact.py /path/to/mfcd input/hertz_sphere.geo input/hertz_sphere_fem.nml
        input/hertz_sphere_rkpm.nml
@@ -48,22 +51,22 @@ import subprocess
 import sys
 import tempfile
 
-import h5py  # reads the mesh's particle file (tools/mesh_body.py): mfcd's input, not output
+import shutil
+
 import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "post"))
 from hertz_impact import line_contact, measure  # noqa: E402
+from mfcd_h5 import MfcdFile  # noqa: E402
 
-# per case: the mesh parameters, the tolerances against the closed forms (docstring), FEM
-# against RKPM, and the rebound speed over the impact speed
+# per case: the tolerances against the closed forms (docstring), FEM against RKPM, and the
+# rebound speed over the impact speed (the mesh's numbers are the decks')
 CASES = {
     "hertz_sphere": {
-        "mesh": ["--set", "hc=0.1e-3", "--set", "a=0.4e-3"],
         "tol": {"delta": 0.06, "force": 0.06, "radius": 0.06, "time": 0.06},
         "agree": 0.02, "rebound": (0.999, 1.001), "radius_label": "contact radius"},
     "hertz_cylinder": {
-        "mesh": ["--set", "hc=0.046e-3", "--set", "b=0.185e-3"],
         "tol": {"delta": 0.025, "force": 0.04, "radius": 0.06, "time": 0.04},
         "agree": 0.015, "rebound": (0.975, 1.001), "radius_label": "contact half-width"},
 }
@@ -77,6 +80,19 @@ def check(name, cond, detail=""):
           + ("" if cond else ": " + str(detail)[-1500:]), flush=True)
 
 
+def has_gmsh(mfcd):
+    """Whether this mfcd meshes .geo scripts: its --version names gmsh's version."""
+    p = subprocess.run([mfcd, "--version"], capture_output=True, text=True)
+    return any(line.startswith("gmsh 4") for line in p.stdout.splitlines())
+
+
+def body_of(path, name):
+    """x, volume and (FEM) triangles of body name in an mfcd output file."""
+    with MfcdFile(path) as f:
+        b = f.body(name)
+        return b.x, b.volume, b.triangles
+
+
 def main():
     global prefix
     mfcd, geo, fem, rkpm = (os.path.abspath(p) for p in sys.argv[1:5])
@@ -87,33 +103,14 @@ def main():
     cfg = CASES[case]
     if case != "hertz_sphere":
         prefix = case + "."
-    try:
-        import gmsh  # noqa: F401
-    except ImportError:
-        print("%s: gmsh missing (bash tools/setup.sh --gmsh): skipped" % prefix[:-1])
+    if not has_gmsh(mfcd):
+        print("%s: mfcd is built without gmsh (bash tools/setup.sh --gmsh, then rebuild): "
+              "skipped" % prefix[:-1])
         sys.exit(77)
     with tempfile.TemporaryDirectory() as tmp:
-        mesh = os.path.join(tmp, "output", "meshes", case + "_c.h5")
-        p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "mesh_body.py"), geo,
-                            mesh] + cfg["mesh"], capture_output=True, text=True)
-        check("mesh_body.py meshes the %s" % case.split("_")[1], p.returncode == 0,
-              p.stdout + p.stderr)
-        if p.returncode:
-            sys.exit(1)
-        with h5py.File(mesh, "r") as f:
-            x, tri = f["particles/x"][()], f["mesh/triangles"][()] - 1
-            vol, ptr, xy = f["particles/volume"][()], f["cells/ptr"][()], f["cells/xy"][()]
-        p0, p1, p2 = x[tri[:, 0]], x[tri[:, 1]], x[tri[:, 2]]
-        area = 0.5 * np.sum((p1[:, 0] - p0[:, 0]) * (p2[:, 1] - p0[:, 1])
-                            - (p2[:, 0] - p0[:, 0]) * (p1[:, 1] - p0[:, 1]))
-
-        def poly(p):
-            return 0.5 * np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1])
-        cells = sum(poly(xy[ptr[i] - 1:ptr[i + 1] - 1]) for i in range(len(vol)))
-        # round-off of sums of ~1000 terms of order area/1000
-        check("nodal volumes and dual cells sum to the mesh's area (%.3e m^2)" % area,
-              abs(vol.sum() / area - 1) < 1e-12 and abs(cells / area - 1) < 1e-12,
-              (vol.sum(), cells, area))
+        # the decks name input/<case>.geo, relative to where mfcd runs
+        os.makedirs(os.path.join(tmp, "input"))
+        shutil.copy(geo, os.path.join(tmp, "input", case + ".geo"))
         runs = {}
         for name, deck in (("fem", fem), ("rkpm", rkpm)):
             p = subprocess.run([mfcd, deck], cwd=tmp, capture_output=True, text=True,
@@ -122,6 +119,20 @@ def main():
             if p.returncode:
                 continue
             out = os.path.join(tmp, "output", "%s_%s.h5" % (case, name))
+            if name == "fem":
+                x, vol, tri = body_of(out, case.split("_")[1])
+                p0, p1, p2 = x[tri[:, 0]], x[tri[:, 1]], x[tri[:, 2]]
+                area = 0.5 * np.sum((p1[:, 0] - p0[:, 0]) * (p2[:, 1] - p0[:, 1])
+                                    - (p2[:, 0] - p0[:, 0]) * (p1[:, 1] - p0[:, 1]))
+                # round-off of sums of ~1000 terms of order area/1000
+                check("fem: %d nodes, %d triangles; the nodal volumes sum to their area "
+                      "(%.3e m^2)" % (len(vol), len(tri), area),
+                      abs(vol.sum() / area - 1) < 1e-12, (vol.sum(), area))
+                mesh = (x, vol)
+            elif "fem" in runs:
+                x, vol, _ = body_of(out, case.split("_")[1])
+                check("rkpm: the particles are the FEM nodes, volumes the same (bit for bit)",
+                      np.array_equal(x, mesh[0]) and np.array_equal(vol, mesh[1]))
             r = measure(out, 5e-3)
             runs[name] = r
             check("%s: energy balance closes (%.1e)" % (name, r["energy"]),

@@ -1,0 +1,364 @@
+!> A triangle mesh as the arrays of a body: the nodes, counter-clockwise triangles, the
+!! boundary loops, each node's median-dual cell and its volume. This is the port of
+!! tools/mesh_body.py (mesh_geo after gmsh, boundary_loops, dual_cells, write_body), so that a
+!! .geo meshed in memory (&body shape = 'geo') gives the body that the script's particle file
+!! gives with shape = 'file', bit for bit: the same nodes in the same order, the same
+!! polygons with the same vertices in the same order, and every sum taken in numpy's order.
+module mesh_cells_m
+  use kinds_m, only: wp, i64
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa
+  implicit none
+  private
+  public :: mesh_from_tags, mesh_body_arrays, triangle_area
+
+contains
+
+  !> Nodes and counter-clockwise triangles from a mesher's raw arrays (gmsh's getNodes and
+  !! getElements): node tags tags(n) with coordinates xyz(3*n), and the node tags of the
+  !! 3-node triangles, tri_tags(3*ne). Only the nodes of triangles are kept (a geometry's
+  !! construction points are dropped), in the mesher's node order; x(2, np) are their x and y
+  !! and tri(3, ne) the triangles in 1-based rows of x, each clockwise one with its second
+  !! and third nodes swapped.
+  subroutine mesh_from_tags(tags, xyz, tri_tags, x, tri, err)
+    integer(i64), intent(in) :: tags(:), tri_tags(:)
+    real(wp), intent(in) :: xyz(:)
+    real(wp), allocatable, intent(out) :: x(:, :)
+    integer, allocatable, intent(out) :: tri(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: pos(:), renum(:)
+    logical, allocatable :: used(:)
+    integer(i64) :: maxtag
+    integer :: n, ne, k, e, np, j, t
+    n = size(tags)
+    ne = size(tri_tags)/3
+    if (ne == 0 .or. n == 0) then
+      call set_error(err, 'the mesh has no triangles (is there a Plane Surface?)')
+      return
+    end if
+    if (size(xyz) /= 3*n .or. size(tri_tags) /= 3*ne) then
+      call set_error(err, 'the mesher returned '//itoa(size(xyz))//' coordinates for '// &
+        itoa(n)//' nodes and '//itoa(size(tri_tags))//' triangle node tags')
+      return
+    end if
+    maxtag = maxval(tags)
+    if (minval(tags) < 1 .or. maxtag > huge(1)) then
+      call set_error(err, 'the mesher returned a node tag outside 1 .. '//itoa(huge(1)))
+      return
+    end if
+    ! the position of each tag among the nodes (the script's `index`)
+    allocate(pos(maxtag))
+    pos = 0
+    do k = 1, n
+      pos(tags(k)) = k
+    end do
+    allocate(used(n))
+    used = .false.
+    do k = 1, 3*ne
+      if (tri_tags(k) < 1 .or. tri_tags(k) > maxtag) then
+        t = 0
+      else
+        t = pos(tri_tags(k))
+      end if
+      if (t == 0) then
+        call set_error(err, 'triangle '//itoa((k - 1)/3 + 1)//' names node tag '// &
+          itoa(int(tri_tags(k)))//', which is not among the mesh nodes')
+        return
+      end if
+      used(t) = .true.
+    end do
+    ! np.unique(tri): the used positions in ascending order, renumbered 1 .. np
+    allocate(renum(n))
+    renum = 0
+    np = 0
+    do k = 1, n
+      if (.not. used(k)) cycle
+      np = np + 1
+      renum(k) = np
+    end do
+    allocate(x(2, np), tri(3, ne))
+    do k = 1, n
+      if (renum(k) > 0) x(:, renum(k)) = xyz(3*k - 2:3*k - 1)
+    end do
+    do e = 1, ne
+      do j = 1, 3
+        tri(j, e) = renum(pos(tri_tags(3*(e - 1) + j)))
+      end do
+      ! counter-clockwise
+      if (triangle_area(x, tri(:, e)) < 0.0_wp) tri(2:3, e) = tri([3, 2], e)
+    end do
+  end subroutine mesh_from_tags
+
+  !> Signed area of triangle t of x, as the script's signed_areas computes it.
+  pure real(wp) function triangle_area(x, t) result(a)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: t(3)
+    a = 0.5_wp*((x(1, t(2)) - x(1, t(1)))*(x(2, t(3)) - x(2, t(1))) &
+      - (x(1, t(3)) - x(1, t(1)))*(x(2, t(2)) - x(2, t(1))))
+  end function triangle_area
+
+  !> What the script writes for nodes x(2, np) and counter-clockwise triangles tri(3, ne):
+  !! - vol(np): a third of every triangle's area at each node (the median-dual cell's area),
+  !!   summed as numpy's add.at does: first nodes, then second nodes, then third nodes;
+  !! - loop(np), order(np): the boundary loops, each the chain of directed triangle edges no
+  !!   other triangle has reversed (material on the left), started at its smallest node,
+  !!   loops in the order of those nodes; loop 0 for interior nodes;
+  !! - ptr(np + 1), xy(2, nv): node i's median-dual cell, xy(:, ptr(i) : ptr(i+1)-1),
+  !!   counter-clockwise: around the node, for each triangle (i, a, b) in turn the midpoint
+  !!   of i-a and the centroid (then, at the end of a boundary node's fan, the midpoint of
+  !!   i-b); a boundary node's cell starts at the node itself.
+  !! A boundary that is not a set of closed loops, or a node whose triangles do not form one
+  !! fan (a pinched mesh), is an error.
+  subroutine mesh_body_arrays(x, tri, vol, loop, order, ptr, xy, err)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tri(:, :)
+    real(wp), allocatable, intent(out) :: vol(:), xy(:, :)
+    integer, allocatable, intent(out) :: loop(:), order(:), ptr(:)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: area(:)
+    integer :: np, ne, k, e
+    np = size(x, 2)
+    ne = size(tri, 2)
+    allocate(area(ne), vol(np))
+    do e = 1, ne
+      area(e) = triangle_area(x, tri(:, e))
+    end do
+    vol = 0.0_wp
+    do k = 1, 3
+      do e = 1, ne
+        vol(tri(k, e)) = vol(tri(k, e)) + area(e)/3.0_wp
+      end do
+    end do
+    call boundary_loops(np, tri, loop, order, err)
+    if (allocated(err)) return
+    call dual_cells(x, tri, ptr, xy, err)
+  end subroutine mesh_body_arrays
+
+  !> The script's boundary_loops: its dict of directed edges (first occurrence kept), the
+  !! map nxt(a) = b of those whose reverse is not an edge (for two with the same a, the
+  !! later wins), and the loops chained from the smallest node left.
+  subroutine boundary_loops(np, tri, loop, order, err)
+    integer, intent(in) :: np, tri(:, :)
+    integer, allocatable, intent(out) :: loop(:), order(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(i64), allocatable :: key(:)
+    integer, allocatable :: srt(:), ea(:), eb(:), nxt(:)
+    logical, allocatable :: first(:)
+    integer :: ne, m, k, e, j, lo, start, node, nloop, pos
+    ne = size(tri, 2)
+    m = 3*ne
+    allocate(ea(m), eb(m), key(m), srt(m), first(m), nxt(np), loop(np), order(np))
+    do e = 1, ne
+      do k = 1, 3
+        j = 3*(e - 1) + k
+        ea(j) = tri(k, e)
+        eb(j) = tri(modulo(k, 3) + 1, e)
+        key(j) = int(ea(j), i64)*(np + 1) + eb(j)
+      end do
+    end do
+    ! sort the edge keys (stable, by key then by position) to find duplicates and reverses
+    call sort_keys(key, srt)
+    first = .true.
+    do j = 2, m
+      if (key(srt(j)) == key(srt(j - 1))) first(srt(j)) = .false.
+    end do
+    nxt = 0
+    do j = 1, m
+      if (.not. first(j)) cycle
+      if (has_key(int(eb(j), i64)*(np + 1) + ea(j))) cycle
+      nxt(ea(j)) = eb(j)
+    end do
+    loop = 0
+    order = 0
+    nloop = 0
+    do start = 1, np
+      if (nxt(start) == 0) cycle
+      nloop = nloop + 1
+      pos = 0
+      loop(start) = nloop
+      order(start) = pos
+      node = nxt(start)
+      nxt(start) = 0
+      do while (node /= start)
+        pos = pos + 1
+        loop(node) = nloop
+        order(node) = pos
+        if (nxt(node) == 0) then
+          call set_error(err, 'the boundary is not a set of closed loops (a node where '// &
+            'two boundary chains meet?)')
+          return
+        end if
+        lo = nxt(node)
+        nxt(node) = 0
+        node = lo
+      end do
+    end do
+  contains
+    logical function has_key(kk)
+      integer(i64), intent(in) :: kk
+      integer :: a, b, c
+      a = 1
+      b = m
+      has_key = .false.
+      do while (a <= b)
+        c = (a + b)/2
+        if (key(srt(c)) == kk) then
+          has_key = .true.
+          return
+        else if (key(srt(c)) < kk) then
+          a = c + 1
+        else
+          b = c - 1
+        end if
+      end do
+    end function has_key
+  end subroutine boundary_loops
+
+  !> srt: the positions of key in ascending order of key, equal keys by position (stable).
+  subroutine sort_keys(key, srt)
+    integer(i64), intent(in) :: key(:)
+    integer, intent(out) :: srt(:)
+    integer :: n, i
+    n = size(key)
+    ! a merge sort of the integer keys (sorting_m sorts reals, which could not tell keys
+    ! beyond 2**53 apart)
+    srt = [(i, i = 1, n)]
+    if (n < 2) return
+    call merge_sort(1, n)
+  contains
+    recursive subroutine merge_sort(lo, hi)
+      integer, intent(in) :: lo, hi
+      integer :: mid, p, q, r
+      integer, allocatable :: tmp(:)
+      if (hi - lo < 1) return
+      mid = (lo + hi)/2
+      call merge_sort(lo, mid)
+      call merge_sort(mid + 1, hi)
+      allocate(tmp(hi - lo + 1))
+      p = lo
+      q = mid + 1
+      r = 0
+      do while (p <= mid .and. q <= hi)
+        r = r + 1
+        if (key(srt(q)) < key(srt(p))) then
+          tmp(r) = srt(q)
+          q = q + 1
+        else
+          tmp(r) = srt(p)
+          p = p + 1
+        end if
+      end do
+      do while (p <= mid)
+        r = r + 1
+        tmp(r) = srt(p)
+        p = p + 1
+      end do
+      do while (q <= hi)
+        r = r + 1
+        tmp(r) = srt(q)
+        q = q + 1
+      end do
+      srt(lo:hi) = tmp
+    end subroutine merge_sort
+  end subroutine sort_keys
+
+  !> The script's dual_cells (the docstring of mesh_body_arrays), with its dict semantics:
+  !! for a repeated neighbour a in a node's fan the later triangle wins, the fan's start is
+  !! the first a (in the order first seen) that is no triangle's b.
+  subroutine dual_cells(x, tri, ptr, xy, err)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tri(:, :)
+    integer, allocatable, intent(out) :: ptr(:)
+    real(wp), allocatable, intent(out) :: xy(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: fptr(:), fa(:), fb(:), fe(:), fill(:)
+    real(wp), allocatable :: cen(:, :)
+    integer :: np, ne, e, k, i, f, f0, nf, nv, a, seen, g
+    logical :: boundary, found
+    np = size(x, 2)
+    ne = size(tri, 2)
+    ! centroids, summed in numpy's order (x[t].mean(axis=0))
+    allocate(cen(2, ne))
+    do e = 1, ne
+      cen(:, e) = ((x(:, tri(1, e)) + x(:, tri(2, e))) + x(:, tri(3, e)))/3.0_wp
+    end do
+    ! each node's fan: its triangles in triangle order, as (a, b, triangle)
+    allocate(fptr(np + 1), fill(np))
+    fptr = 0
+    do e = 1, ne
+      do k = 1, 3
+        fptr(tri(k, e) + 1) = fptr(tri(k, e) + 1) + 1
+      end do
+    end do
+    fptr(1) = 1
+    do i = 1, np
+      fptr(i + 1) = fptr(i + 1) + fptr(i)
+    end do
+    allocate(fa(3*ne), fb(3*ne), fe(3*ne))
+    fill = fptr(1:np)
+    do e = 1, ne
+      do k = 1, 3
+        i = tri(k, e)
+        fa(fill(i)) = tri(modulo(k, 3) + 1, e)
+        fb(fill(i)) = tri(modulo(k + 1, 3) + 1, e)
+        fe(fill(i)) = e
+        fill(i) = fill(i) + 1
+      end do
+    end do
+    ! the cells: a boundary node's has 2 nf + 2 vertices, an interior node's 2 nf
+    nv = 0
+    do i = 1, np
+      nf = fptr(i + 1) - fptr(i)
+      nv = nv + 2*nf + 2
+    end do
+    allocate(ptr(np + 1), xy(2, nv))
+    ptr(1) = 1
+    nv = 0
+    do i = 1, np
+      f0 = fptr(i)
+      nf = fptr(i + 1) - f0
+      ! starts: the a (first occurrences, in order) that are no b
+      boundary = .false.
+      a = fa(f0)
+      do f = f0, f0 + nf - 1
+        if (any(fa(f0:f - 1) == fa(f))) cycle
+        if (any(fb(f0:f0 + nf - 1) == fa(f))) cycle
+        boundary = .true.
+        a = fa(f)
+        exit
+      end do
+      if (boundary) call put(x(:, i))
+      seen = 0
+      do while (seen < nf)
+        ! by_a[a]: the last triangle of the fan with this a
+        found = .false.
+        do g = f0 + nf - 1, f0, -1
+          if (fa(g) == a) then
+            found = .true.
+            exit
+          end if
+        end do
+        if (.not. found) exit
+        call put(0.5_wp*(x(:, i) + x(:, a)))
+        call put(cen(:, fe(g)))
+        seen = seen + 1
+        a = fb(g)
+        if (.not. boundary .and. a == fa(f0)) exit
+      end do
+      if (boundary) call put(0.5_wp*(x(:, i) + x(:, a)))
+      if (seen /= nf) then
+        call set_error(err, 'node '//itoa(i)//': its triangles do not form one fan (a '// &
+          'pinched mesh)')
+        return
+      end if
+      ptr(i + 1) = nv + 1
+    end do
+    xy = xy(:, 1:nv)
+  contains
+    subroutine put(p)
+      real(wp), intent(in) :: p(2)
+      nv = nv + 1
+      xy(:, nv) = p
+    end subroutine put
+  end subroutine dual_cells
+end module mesh_cells_m
