@@ -6,13 +6,17 @@
 #   bash tools/setup.sh           what the build, the main job and the tests need
 #   bash tools/setup.sh --gmsh    also gmsh (PyPI) in .venv and the X11/OpenGL libraries its
 #                                 wheel links against: for meshing .geo bodies (tools/mesh_body.py)
+#   bash tools/setup.sh --mpi     also Debian's OpenMPI (libopenmpi-dev, openmpi-bin): for the
+#                                 distributed-memory build, -DMFCD_MPI=ON (doc/parallel.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 gmsh=0
+mpi=0
 for arg in "$@"; do
   case "$arg" in
     --gmsh) gmsh=1 ;;
-    *) echo "setup: unknown option '$arg' (use --gmsh or nothing)" >&2; exit 2 ;;
+    --mpi) mpi=1 ;;
+    *) echo "setup: unknown option '$arg' (use --gmsh, --mpi or nothing)" >&2; exit 2 ;;
   esac
 done
 
@@ -33,6 +37,11 @@ if [ "$gmsh" = 1 ]; then
            libxft2 libfontconfig1 libxinerama1 libx11-6; do
     have_pkg "$p" || pkgs+=("$p")
   done
+fi
+
+if [ "$mpi" = 1 ]; then
+  have_pkg libopenmpi-dev || pkgs+=(libopenmpi-dev)
+  have_pkg openmpi-bin || pkgs+=(openmpi-bin)
 fi
 
 if [ ${#pkgs[@]} -gt 0 ]; then
