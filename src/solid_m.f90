@@ -31,6 +31,7 @@ module solid_m
     solid_quiet_blocks
   public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node
   public :: health_ok, health_j, health_stress, health_epsbar, health_deps, health_names
+  public :: solid_set_owned, solid_points_force, solid_nodes_force
   public :: solid_sub_levels, solid_sub_select, solid_sub_begin, &
     solid_rate_predict, solid_rates_force, solid_rates_update, solid_sub_end
 
@@ -118,6 +119,14 @@ module solid_m
     integer, allocatable :: nptr(:), nlist(:), qptr(:), qlist(:), iptr(:), ilist(:)
     integer, allocatable :: lev_node(:), lev_point(:), mark(:)   !< work space
     real(wp), allocatable :: d_end(:, :)         !< d at the end of each node's current step
+    ! distributed memory (issue 12; decomposition_m, halo_m, doc/parallel.md): this solid is
+    ! a rank's part on its local tables. It evaluates its own points and updates its own
+    ! nodes (and sums their energies); the ghosts' values come from their owners by halo
+    ! exchange between solid_points_force and solid_nodes_force (P of the ghost points) and
+    ! after solid_update (d, v, a of the ghost nodes). Predictions run on every local node:
+    ! a ghost node's, from its owner's v and a, is its owner's to the bit.
+    logical :: dist = .false.
+    integer, allocatable :: own_q(:), own_n(:)   !< owned points, owned nodes (local numbers)
   end type solid_t
 
 contains
@@ -418,6 +427,12 @@ contains
       call solid_rates_force(s, 0, 2**s%sub_levels, bad_q, bad_j)
       return
     end if
+    if (s%dist) then
+      ! (no halo in between: for one part, or a caller that exchanges nothing)
+      call solid_points_force(s, dt, bad_q, bad_j)
+      call solid_nodes_force(s)
+      return
+    end if
     t0 = omp_get_wtime()
     if (.not. s%all_awake) call quiet_update(s)
     !$omp parallel do default(none) shared(s) schedule(static)
@@ -492,6 +507,60 @@ contains
     !$omp end parallel do
     s%wall = s%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
   end subroutine solid_internal_force
+
+  !> Distributed memory: this solid owns the points own_point and the nodes own_node of its
+  !! local tables (decomposition_m's local_part_t); from now on it evaluates and updates only
+  !! those (see solid_t).
+  subroutine solid_set_owned(s, own_point, own_node)
+    type(solid_t), intent(inout) :: s
+    logical, intent(in) :: own_point(:), own_node(:)
+    integer :: k
+    s%dist = .true.
+    s%own_q = pack([(k, k = 1, s%nq)], own_point)
+    s%own_n = pack([(k, k = 1, s%np)], own_node)
+  end subroutine solid_set_owned
+
+  !> Distributed memory, the first half of eq. (62): F, the material and P at the owned
+  !! points over the step dt, with their work, health and kappa (the largest over the owned
+  !! points: the caller takes the largest over the ranks). The ghost points' P come next.
+  subroutine solid_points_force(s, dt, bad_q, bad_j)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer, intent(out) :: bad_q
+    real(wp), intent(out) :: bad_j
+    integer :: kq
+    real(wp) :: kmax
+    call update_points(s, dt, s%own_q, size(s%own_q), bad_q, kmax, kq)
+    if (kq > 0) then
+      s%kappa = kmax
+      s%kappa_q = kq
+    end if
+    bad_j = 1.0_wp
+    s%bad_code = health_ok
+    if (bad_q > 0) then
+      bad_j = jacobian(s%f(:, bad_q))
+      s%bad_code = point_health(s, bad_q, dt)
+    end if
+  end subroutine solid_points_force
+
+  !> Distributed memory, the second half of eq. (62), once the ghost points' P are in: the
+  !! internal force and a_{n+1} at the owned nodes (gathered over the transpose, in global
+  !! point order: the serial sums).
+  subroutine solid_nodes_force(s)
+    type(solid_t), intent(inout) :: s
+    integer :: k, i
+    real(wp) :: t0
+    t0 = omp_get_wtime()
+    call internal_force_list(s%t, s%p, s%fint, s%own_n, size(s%own_n))
+    !$omp parallel do default(none) shared(s) private(i) schedule(static)
+    do k = 1, size(s%own_n)
+      i = s%own_n(k)
+      s%a_old(:, i) = s%a(:, i)
+      s%a(:, i) = (s%fext(:, i) - s%fint(:, i))/s%t%mass(i)
+    end do
+    !$omp end parallel do
+    s%wall(3) = s%wall(3) + (omp_get_wtime() - t0)
+  end subroutine solid_nodes_force
 
   !> After the material update of a step dt at the points list(1:n) (all points when list
   !! is absent): their internal and plastic work over the step (dw, dwp), the last point
@@ -829,8 +898,8 @@ contains
     real(wp) :: ke, ker
     ke = 0.0_wp
     do r = smin, s%sub_levels
-      call advance_nodes(s, s%sub_dt/2.0_wp**r, s%nptr(r) - 1, s%nptr(r + 1) - s%nptr(r), &
-        ker)
+      call advance_nodes(s, s%sub_dt/2.0_wp**r, s%nptr(r + 1) - s%nptr(r), ker, &
+        s%nlist(s%nptr(r):))
       ke = ke + ker
     end do
     if (smin == 0) s%ke = ke
@@ -854,29 +923,36 @@ contains
       ! the end of a subcycled step: every node over its own step
       call solid_rates_update(s, 0)
     else
-      call advance_nodes(s, dt, -1, s%np, ke)
+      if (s%dist) then
+        call advance_nodes(s, dt, size(s%own_n), ke, s%own_n)
+      else
+        call advance_nodes(s, dt, s%np, ke)
+      end if
       s%ke = ke
     end if
     s%ipoint_time = s%ipoint_time + dt
   end subroutine solid_update
 
-  !> solid_update for a step dt over the nodes nlist(k0 + 1 : k0 + n), or every node when
-  !! k0 < 0; ke: their kinetic energy.
-  subroutine advance_nodes(s, dt, k0, n, ke)
+  !> solid_update for a step dt over the nodes list(1:n), or the nodes 1..n when list is
+  !! absent; ke: their kinetic energy.
+  subroutine advance_nodes(s, dt, n, ke, list)
     type(solid_t), intent(inout) :: s
     real(wp), intent(in) :: dt
-    integer, intent(in) :: k0, n
+    integer, intent(in) :: n
     real(wp), intent(out) :: ke
+    integer, intent(in), optional :: list(:)
     integer :: i, k
     real(wp) :: wbc, wc, du(2)
+    logical :: listed
+    listed = present(list)
     wbc = 0.0_wp
     wc = 0.0_wp
     ke = 0.0_wp
-    !$omp parallel do default(none) shared(s, dt, k0, n) private(du, i) &
+    !$omp parallel do default(none) shared(s, dt, n, list, listed) private(du, i) &
     !$omp reduction(+: wbc, wc, ke) schedule(static)
     do k = 1, n
       i = k
-      if (k0 >= 0) i = s%nlist(k0 + k)
+      if (listed) i = list(k)
       where (s%pres(:, i)) s%a(:, i) = 0.0_wp
       s%v(:, i) = s%v(:, i) + 0.5_wp*dt*(s%a_old(:, i) + s%a(:, i))   ! (63)
       where (s%pres(:, i)) s%v(:, i) = s%vpres(:, i)
