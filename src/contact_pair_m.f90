@@ -40,6 +40,7 @@ module contact_pair_m
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
   public :: contact_stats_t, contact_det_fields, contact_step
   public :: detector_det_m, detector_nts, detector_name, contact_self_det
+  public :: contact_pair_localize
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
@@ -598,6 +599,57 @@ contains
     end do
   end subroutine contact_step
 
+  !> Distributed memory (issue 12, doc/parallel.md): pair p, set up on the whole slave
+  !! solid, narrowed to a rank's part of it: the slave side's particles become the part's
+  !! local nodes nglob (global numbers, ascending) of solids(p%side(1)%isolid), a part
+  !! solid (solid_set_owned); its passes then look at the part's own nodes only
+  !! (side_select). Rigid masters only: every rank holds the whole rigid body. The tracked
+  !! edge particle stays with the rank that owns it (0 on the others).
+  subroutine contact_pair_localize(p, nglob, solids, err)
+    type(contact_pair_t), intent(inout) :: p
+    integer, intent(in) :: nglob(:)
+    type(solid_t), intent(in) :: solids(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, e
+    if (p%both_ways .or. p%self .or. p%side(2)%isolid /= 0) then
+      call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
+        trim(p%side(2)%name)//"': a rank's part of a solid takes rigid masters only")
+      return
+    end if
+    associate (s => p%side(1), sol => solids(p%side(1)%isolid))
+      s%np = size(nglob)
+      s%x_old = s%x_old(:, nglob)
+      s%x_pred = s%x_pred(:, nglob)
+      s%fphys = s%fphys(:, nglob)
+      s%active = s%active(nglob)
+      s%seg = s%seg(nglob)
+      s%xi = s%xi(nglob)
+      s%gap = s%gap(nglob)
+      s%slip = s%slip(nglob)
+      s%nrm = s%nrm(:, nglob)
+      s%tng = s%tng(:, nglob)
+      s%share = s%share(nglob)
+      s%near = s%near(nglob)
+      s%rho = s%rho(:, nglob)
+      s%x_ref = s%x_ref(:, nglob)
+      s%vol = s%vol(nglob)
+      s%imass = 1.0_wp/sol%t%mass
+      where (sol%pres(1, :) .and. sol%pres(2, :)) s%imass = 0.0_wp
+      if (allocated(s%due)) then
+        s%due = s%due(nglob)
+        s%d_scr = sol%d
+      end if
+      if (allocated(s%list)) deallocate(s%list)
+      e = 0
+      if (p%edge > 0) then
+        do k = 1, size(nglob)
+          if (nglob(k) == p%edge .and. any(sol%own_n == k)) e = k
+        end do
+      end if
+      p%edge = e
+    end associate
+  end subroutine contact_pair_localize
+
   !> The particles of side s that this step's passes look at: all of them, or with
   !! subcycling the solid's nodes of the rate being stepped (the only ones that move).
   subroutine side_select(s, solids)
@@ -608,7 +660,16 @@ contains
     s%nlist = s%np
     if (s%isolid == 0) return
     associate (sol => solids(s%isolid))
-      if (sol%sub_rate < 0) return
+      if (sol%sub_rate < 0) then
+        ! a rank's part of a solid (distributed memory): its own nodes
+        if (sol%dist) then
+          if (.not. allocated(s%list)) allocate(s%list(s%np))
+          s%listed = .true.
+          s%nlist = size(sol%own_n)
+          s%list(1:s%nlist) = sol%own_n
+        end if
+        return
+      end if
       r = sol%sub_rate
       if (.not. allocated(s%list)) allocate(s%list(s%np))
       s%listed = .true.
