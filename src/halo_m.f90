@@ -10,6 +10,8 @@
 module halo_m
   use mpi_f08
   use kinds_m, only: wp
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa
   use decomposition_m, only: local_part_t
   implicit none
   private
@@ -22,12 +24,13 @@ module halo_m
     integer, allocatable :: nb(:)                  !< neighbour ranks (0-based)
     integer, allocatable :: sptr(:), slist(:)      !< owned entries each neighbour gets
     integer, allocatable :: rptr(:), rlist(:)      !< ghost entries each neighbour sends
-    real(wp), allocatable :: sbuf(:), rbuf(:)      !< packed values, up to max_values each
+    real(wp), allocatable :: sbuf(:), rbuf(:)      !< packed values (grown to the widest use)
     type(MPI_Request), allocatable :: req(:)
   end type halo_side_t
 
-  !> Most values per entry one exchange carries (d, v, a together: 6).
-  integer, parameter, public :: max_values = 8
+  !> Values per entry the buffers first hold (d, v, a together: 6); a wider exchange grows
+  !! them once.
+  integer, parameter :: first_values = 8
 
   type :: halo_plan_t
     type(MPI_Comm) :: comm
@@ -38,22 +41,25 @@ module halo_m
 contains
 
   !> The plan of rank lp%rank - 1 (parts are numbered from 1, MPI ranks from 0).
-  subroutine halo_plan_build(comm, lp, node_part, point_part, plan)
+  subroutine halo_plan_build(comm, lp, node_part, point_part, plan, err)
     type(MPI_Comm), intent(in) :: comm
     type(local_part_t), intent(in) :: lp
     integer, intent(in) :: node_part(:), point_part(:)
     type(halo_plan_t), intent(out) :: plan
+    type(error_t), allocatable, intent(inout) :: err
     plan%comm = comm
-    call side_build(comm, lp%nglob, node_part(lp%nglob), plan%nodes)
-    call side_build(comm, lp%qglob, point_part(lp%qglob), plan%points)
+    call side_build(comm, lp%nglob, node_part(lp%nglob), plan%nodes, err)
+    if (.not. allocated(err)) call side_build(comm, lp%qglob, point_part(lp%qglob), &
+      plan%points, err)
   end subroutine halo_plan_build
 
   !> glob: the local entries' global numbers (ascending), owner: their owning parts
   !! (1-based). Entries owned elsewhere are asked from their owners.
-  subroutine side_build(comm, glob, owner, h)
+  subroutine side_build(comm, glob, owner, h, err)
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: glob(:), owner(:)
     type(halo_side_t), intent(out) :: h
+    type(error_t), allocatable, intent(inout) :: err
     integer :: nranks, me, k, r, n
     integer, allocatable :: nask(:), ngive(:), sdisp(:), rdisp(:), ask(:), give(:), fill(:)
     integer, allocatable :: loc_of(:)
@@ -102,8 +108,13 @@ contains
       h%rlist(h%rptr(n):h%rptr(n) + nask(r) - 1) = loc_of(ask(sdisp(r) + 1:sdisp(r) + nask(r)))
       h%rptr(n + 1) = h%rptr(n) + nask(r)
     end do
-    if (any(h%slist == 0)) error stop 'halo_m: a rank was asked for an entry it does not hold'
-    allocate(h%sbuf(max_values*size(h%slist)), h%rbuf(max_values*size(h%rlist)), &
+    ! (the parts of every rank come from the same decomposition: a miss is a bug upstream)
+    if (any(h%slist == 0)) then
+      call set_error(err, 'halo plan of rank '//itoa(me)//': asked for an entry it does '// &
+        'not hold (the ranks disagree on the decomposition)')
+      return
+    end if
+    allocate(h%sbuf(first_values*size(h%slist)), h%rbuf(first_values*size(h%rlist)), &
       h%req(2*h%nnb))
   end subroutine side_build
 
@@ -128,9 +139,16 @@ contains
     integer(8), intent(inout) :: bytes
     integer :: n, m, k, ns, nr, c
     m = size(v, 1)
-    if (m > max_values) error stop 'halo_m: more values per entry than max_values'
     ns = h%sptr(h%nnb + 1) - 1
     nr = h%rptr(h%nnb + 1) - 1
+    if (m*ns > size(h%sbuf)) then
+      deallocate(h%sbuf)
+      allocate(h%sbuf(m*ns))
+    end if
+    if (m*nr > size(h%rbuf)) then
+      deallocate(h%rbuf)
+      allocate(h%rbuf(m*nr))
+    end if
     do k = 1, ns
       h%sbuf(m*(k - 1) + 1:m*k) = v(:, h%slist(k))
     end do
