@@ -56,7 +56,7 @@ contains
     type(contact_stats_t) :: cstep
     type(history_t) :: hist0
     real(wp), allocatable :: snap_times0(:)
-    integer :: k, log_every, hist_every, bad_q, nsnap0, ckpt_every
+    integer :: k, k_bad, log_every, hist_every, bad_q, nsnap0, ckpt_every
     real(wp) :: tw, t_loop0, bad_j
     r%wall0 = su%wall0
     r%reason = ''
@@ -114,14 +114,15 @@ contains
       call contact_step(pairs, solids, r%dt, cstep, err)                        ! (93)-(98)
       r%t_contact = r%t_contact + (omp_get_wtime() - tw)
       if (allocated(err)) exit
-      call subcycle_rates(pairs, solids, r%dt, cstep, r%sub, r%t_contact, k, bad_q, &
+      ! (subcycling: the rates' own steps inside this one; k_bad > 0 if one of them broke)
+      call subcycle_rates(pairs, solids, r%dt, cstep, r%sub, r%t_contact, k_bad, bad_q, &
         bad_j, err)
       if (allocated(err)) exit
       call record_contact(r, cstep, r%t + r%dt)
       r%n = r%n + 1
       r%t = r%t + r%dt
-      if (k > 0) then
-        call check_solid(solids(k), r%n, bad_q, bad_j, r%failed, r%reason)
+      if (k_bad > 0) then
+        call check_solid(solids(k_bad), r%n, bad_q, bad_j, r%failed, r%reason)
       else
         call internal_forces_and_update(solids, r)                             ! (62), (63)
       end if
