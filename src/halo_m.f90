@@ -53,7 +53,7 @@ contains
       plan%points, err)
   end subroutine halo_plan_build
 
-  !> glob: the local entries' global numbers (ascending), owner: their owning parts
+  !> The local entries with global numbers glob (ascending) and owning parts owner
   !! (1-based). Entries owned elsewhere are asked from their owners.
   subroutine side_build(comm, glob, owner, h, err)
     type(MPI_Comm), intent(in) :: comm
