@@ -13,8 +13,9 @@ bash tools/build.sh Release
 (cd build && ctest --output-on-failure -j "$jobs")
 bash tools/build.sh Debug
 (cd build-debug && ctest --output-on-failure -j "$jobs")
-# -DMFCD_MPI=ON (off in the builds above): the halo exchange over 1-4 ranks, oversubscribed
+# -DMFCD_MPI=ON (off in the builds above): the halo exchange, and whole runs of mfcd_mpi
+# against the serial mfcd, on 1-4 ranks, oversubscribed
 cmake -S . -B build-mpi -G Ninja -DCMAKE_BUILD_TYPE=Debug -DMFCD_MPI=ON -DMFCD_GMSH=OFF \
   -DMFCD_PYTHON="$PWD/.venv/bin/python" >/dev/null
-ninja -C build-mpi halo_check
+ninja -C build-mpi halo_check mfcd mfcd_mpi
 (cd build-mpi && ctest --output-on-failure -R '^mpi_')

@@ -1,0 +1,81 @@
+!> mfcd on MPI ranks (issue 12; doc/parallel.md): `mpirun -np N mfcd_mpi DECK.nml` runs the
+!! deck's dynamic problem with each rank stepping its part of every solid, and writes the
+!! one HDF5 file (and XDMF) a serial `mfcd DECK.nml` writes, from rank 0. Every rank reads
+!! the deck and builds the set-up (so bad input is found by all, before anything is
+!! written); only rank 0 logs. What the MPI driver does not take yet is refused as bad input
+!! (mpi_run_m: element meshes against rigid masters, no det(M) fields, no subcycling, no
+!! checkpoints). Exit codes as mfcd's: 0 ok, 2 bad input (nothing written), 1 run failed.
+program mfcd_mpi
+  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use mpi_f08
+  use errors_m, only: error_t, exit_bad_input
+  use strings_m, only: itoa
+  use version_m, only: code_name, code_version, git_commit
+  use deck_m, only: deck_t, read_deck
+  use body_m, only: body_t
+  use body_setup_m, only: build_bodies
+  use run_output_m, only: timestamp
+  use output_path_m, only: check_output_path, output_result_text
+  use log_m, only: log_print, log_flush
+  use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
+  use mpi_run_m, only: run_dynamic_mpi, mpi_scene_check
+  implicit none
+  type(deck_t) :: deck
+  type(body_t), allocatable :: bodies(:)
+  type(dynamic_setup_t) :: su
+  type(error_t), allocatable :: err
+  character(len=4096) :: arg
+  integer :: me, nranks, code
+  call MPI_Init()
+  call MPI_Comm_rank(MPI_COMM_WORLD, me)
+  call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+  ! only rank 0 logs: the others' standard output goes nowhere
+  if (me /= 0) open(unit=output_unit, file='/dev/null', action='write')
+  if (command_argument_count() /= 1) then
+    if (me == 0) write(error_unit, '(a)') 'usage: mpirun -np N mfcd_mpi DECK.nml'
+    call finish(exit_bad_input)
+  end if
+  call get_command_argument(1, arg)
+  call log_print(code_name//' '//code_version//' (git '//git_commit//') '//timestamp()// &
+    ' deck '//trim(arg)//', MPI ranks: '//itoa(nranks))
+  call read_deck(trim(arg), deck, err)
+  if (.not. allocated(err)) call mpi_scene_check(deck, err)
+  if (.not. allocated(err)) call build_bodies(deck, bodies, err)
+  if (.not. allocated(err)) call setup_dynamic(deck, bodies, su, err)
+  if (.not. allocated(err) .and. me == 0) call check_output_path(deck, err)
+  call agree_or_fail(exit_bad_input)
+  call run_dynamic_mpi(MPI_COMM_WORLD, deck, bodies, su, err)
+  call agree_or_fail(1)
+  call log_print('mfcd_mpi: completed: wrote '//output_result_text(deck))
+  call finish(0)
+
+contains
+
+  !> Any rank's error ends every rank with the code of its kind (bad input 2, else 1).
+  subroutine agree_or_fail(kind)
+    integer, intent(in) :: kind
+    integer :: mine, n
+    mine = merge(1, 0, allocated(err))
+    call MPI_Allreduce(mine, n, 1, MPI_INTEGER, MPI_SUM, MPI_COMM_WORLD)
+    if (n == 0) return
+    if (allocated(err)) then
+      call log_flush()
+      write(error_unit, '(a)') 'mfcd_mpi: error (rank '//itoa(me)//'): '//err%message
+      flush(error_unit)
+      code = kind
+      if (err%code == exit_bad_input) code = exit_bad_input
+    else
+      code = kind
+    end if
+    call finish(code)
+  end subroutine agree_or_fail
+
+  subroutine finish(c)
+    integer, intent(in) :: c
+    integer :: cc
+    call MPI_Allreduce(c, cc, 1, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD)
+    call MPI_Finalize()
+    if (cc /= 0) stop cc, quiet=.true.
+    stop
+  end subroutine finish
+end program mfcd_mpi

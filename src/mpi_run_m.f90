@@ -1,0 +1,521 @@
+!> A dynamic run on MPI ranks (issue 12; doc/parallel.md): the explicit driver of eqs.
+!! (62)-(64) on each rank's part of every solid, with the halo exchanges between the passes,
+!! global sums and maxima, and the output gathered to rank 0, which writes the one HDF5 file
+!! (and XDMF) a serial run writes.
+!!
+!! Every rank builds the whole set-up (bodies, solids, contact pairs: as a serial run), then
+!! keeps its part of each solid (decomposition_m: recursive coordinate bisection of the
+!! reference configuration) and narrows each contact pair to it. A step: predict every local
+!! node (eq. 64); contact on the owned slave nodes (93)-(98); the ghost nodes' corrected d
+!! and a from their owners; P at the owned points, the ghost points' P from theirs, the
+!! force and a at the owned nodes (62); v at the owned nodes (63); the ghost nodes' v and a.
+!! Nodal values are the serial ones to the bit for any number of ranks (doc/parallel.md);
+!! energies and the contact force are sums of per-rank sums (round-off); kappa, and with it
+!! the step, is a maximum (exact).
+!!
+!! This first driver takes element meshes (discretization = 'fem') against rigid masters,
+!! without det(M) fields, subcycling or checkpoints; the deck is refused otherwise.
+module mpi_run_m
+  use mpi_f08
+  use omp_lib, only: omp_get_wtime
+  use kinds_m, only: wp, i64
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa
+  use deck_m, only: deck_t
+  use body_m, only: body_t
+  use solid_m, only: solid_t, solid_init, solid_predict, solid_update, solid_set_owned, &
+    solid_points_force, solid_nodes_force
+  use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
+  use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
+  use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t, &
+    contact_pair_localize
+  use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
+    set_health_limits
+  use stable_step_m, only: step_control_next, step_control_update
+  use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
+  use dynamic_output_m, only: history_push, history_flush
+  use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
+    report_summary
+  use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
+    run_files_close, run_files_names
+  implicit none
+  private
+  public :: run_dynamic_mpi, mpi_scene_check
+
+  integer, parameter :: energy_warmup = 20
+
+  !> A rank's part of one solid.
+  type :: part_t
+    type(local_part_t) :: lp
+    type(halo_plan_t) :: plan
+    real(wp), allocatable :: w(:, :)   !< (4, local nodes) work space for the halos
+  end type part_t
+
+contains
+
+  !> What this driver cannot run yet, as bad input (before anything is written).
+  subroutine mpi_scene_check(deck, err)
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    character(len=*), parameter :: what = "deck '"
+    if (deck%run%mode /= 'dynamic') then
+      call set_error(err, what//deck%path//"', group &run, variable mode: the MPI driver "// &
+        "runs mode = 'dynamic' only; run mfcd for the others")
+      return
+    end if
+    if (deck%solver%subcycle) then
+      call set_error(err, what//deck%path//"', group &solver, variable subcycle: not yet "// &
+        "with MPI; set subcycle = .false. or run mfcd")
+      return
+    end if
+    if (deck%output%det_fields) then
+      call set_error(err, what//deck%path//"', group &output, variable det_fields: not yet "// &
+        "with MPI; set det_fields = .false. or run mfcd")
+      return
+    end if
+    if (deck%output%checkpoint_every > 0) then
+      call set_error(err, what//deck%path//"', group &output, variable checkpoint_every: "// &
+        "not yet with MPI; give 0 or run mfcd")
+      return
+    end if
+    do k = 1, deck%nbodies
+      if (deck%bodies(k)%role == 'rigid') cycle
+      if (deck%bodies(k)%discretization /= 'fem') then
+        call set_error(err, what//deck%path//"', group &body, variable discretization: body '"// &
+          trim(deck%bodies(k)%name)//"' is RKPM; the MPI driver takes 'fem' bodies so far "// &
+          "(doc/parallel.md); run mfcd")
+        return
+      end if
+    end do
+    do k = 1, deck%ncontacts
+      associate (c => deck%contacts(k))
+        if (c%imaster == c%islave .or. deck%bodies(c%imaster)%role /= 'rigid') then
+          call set_error(err, what//deck%path//"', group &contact, variable master: '"// &
+            trim(c%master)//"' deforms; the MPI driver takes rigid masters so far; run mfcd")
+          return
+        end if
+      end associate
+    end do
+  end subroutine mpi_scene_check
+
+  !> The run of deck on the ranks of comm (su: the set-up, the same on every rank).
+  subroutine run_dynamic_mpi(comm, deck, bodies, su, err)
+    type(MPI_Comm), intent(in) :: comm
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(dynamic_setup_t), intent(inout) :: su
+    type(error_t), allocatable, intent(inout) :: err
+    type(solid_t), allocatable :: gs(:), ps(:)
+    type(part_t), allocatable :: parts(:)
+    type(contact_pair_t), allocatable :: pairs(:)
+    integer, allocatable :: isolid(:)
+    type(run_files_t) :: out
+    type(run_record_t) :: r
+    type(energies_t) :: en
+    type(contact_stats_t) :: cstep
+    integer :: me, nranks, k, log_every, hist_every, bad_q, nsnap_before
+    real(wp) :: t_loop0, bad_j, tw
+    logical :: root
+    call MPI_Comm_rank(comm, me)
+    call MPI_Comm_size(comm, nranks)
+    root = me == 0
+    r%wall0 = su%wall0
+    r%reason = ''
+    call move_alloc(su%solids, gs)
+    call move_alloc(su%isolid, isolid)
+    call move_alloc(su%pairs, pairs)
+    call setup_time_step(deck, gs, r%step)
+    call set_health_limits(gs)
+    r%t_end = deck%solver%t_end
+    r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
+    r%nsteps_est = ceiling(r%t_end/r%dt - 1.0e-9_wp)
+    ! each solid's part, its halo plan and its part solid
+    allocate(ps(size(gs)), parts(size(gs)))
+    do k = 1, size(gs)
+      call make_part(k)
+      if (any_error(comm, err)) return
+    end do
+    do k = 1, size(pairs)
+      call contact_pair_localize(pairs(k), parts(pairs(k)%side(1)%isolid)%lp%nglob, ps, err)
+      if (any_error(comm, err)) return
+    end do
+    log_every = deck%solver%log_every
+    if (log_every == 0) log_every = max(1, r%nsteps_est/50)
+    hist_every = deck%solver%history_every
+    if (hist_every == 0) hist_every = max(1, min(log_every, max(10, r%nsteps_est/1000)))
+    if (root) call run_files_open(deck, bodies, out, err)
+    if (any_error(comm, err)) return
+    ! the state at t = 0: forces at u = 0
+    do k = 1, size(ps)
+      call solid_points_force(ps(k), r%dt, bad_q, bad_j)
+      call halo_points(parts(k)%plan, ps(k)%p)
+      call solid_nodes_force(ps(k))
+      where (ps(k)%pres)
+        ps(k)%v = ps(k)%vpres
+        ps(k)%a = 0.0_wp
+      end where
+      call halo_va(k)
+    end do
+    call global_energies()
+    call gather_all()
+    if (root) then
+      call snapshots_due(out, deck, r, pairs, gs, err)
+      call history_push(out%hist, history_row(r, en, gs(1)))
+      call log_header()
+      call log_line(r, en)
+    end if
+    call reset_impulses_if_written(0)
+    if (any_error(comm, err)) return
+    t_loop0 = omp_get_wtime()
+    do while (r%t < r%t_end - 0.5_wp*r%dt .and. r%n < deck%solver%max_steps)
+      if (r%n > 0) r%dt = step_control_next(r%step, r%t, next_stop(deck, r%t))
+      do k = 1, size(ps)
+        call solid_predict(ps(k), r%dt)                                         ! (64)
+      end do
+      tw = omp_get_wtime()
+      call contact_step(pairs, ps, r%dt, cstep, err)                            ! (93)-(98)
+      if (any_error(comm, err)) exit
+      call global_contact_stats(cstep)
+      do k = 1, size(ps)
+        call halo_da(k)
+      end do
+      r%t_contact = r%t_contact + (omp_get_wtime() - tw)
+      call record_contact(r, cstep, r%t + r%dt)
+      r%n = r%n + 1
+      r%t = r%t + r%dt
+      do k = 1, size(ps)
+        call solid_points_force(ps(k), r%dt, bad_q, bad_j)                      ! (62)
+        call halo_points(parts(k)%plan, ps(k)%p)
+        call solid_nodes_force(ps(k))
+        call solid_update(ps(k), r%dt)                                          ! (63)
+        call halo_va(k)
+        call check_solid(ps(k), r%n, bad_q, bad_j, r%failed, r%reason)
+        r%node_steps = r%node_steps + gs(k)%np
+        r%point_steps = r%point_steps + gs(k)%nq
+      end do
+      call agree_failure()
+      call global_kappa()
+      call step_control_update(r%step, ps)
+      call check_step(r%step, ps, r%n, r%failed, r%reason)
+      call global_energies()
+      call check_energy(en, r%n, energy_warmup, deck%solver%energy_tol, ps, r%energy_over, &
+        r%failed, r%reason)
+      if (mod(r%n, hist_every) == 0 .or. r%failed .or. snapshot_near()) call gather_all()
+      if (root) then
+        if (mod(r%n, hist_every) == 0 .or. r%failed) &
+          call history_push(out%hist, history_row(r, en, gs(1)))
+        if (mod(r%n, log_every) == 0 .or. r%failed) call log_line(r, en)
+      end if
+      if (r%failed) exit
+      tw = omp_get_wtime()
+      nsnap_before = 0
+      if (root) then
+        nsnap_before = out%nsnap_done
+        call snapshots_due(out, deck, r, pairs, gs, err)
+      end if
+      call reset_impulses_if_written(nsnap_before)
+      r%t_output = r%t_output + (omp_get_wtime() - tw)
+      if (any_error(comm, err)) exit
+    end do
+    r%t_loop = r%t_loop + (omp_get_wtime() - t_loop0)
+    call gather_all()
+    call global_counters()
+    call halo_report()
+    if (root) then
+      if (r%failed) then
+        call failure_snapshot(out, r, gs, err)
+      else if (mod(r%n, hist_every) /= 0) then
+        call history_push(out%hist, history_row(r, en, gs(1)))
+      end if
+      if (.not. allocated(err)) call history_flush(out%f, out%hist, err)
+      if (.not. allocated(err)) call report_summary(out%f, r, en, pairs, gs, &
+        run_files_names(out, r%failed), err)
+      call run_files_close(out, r, gs, err)
+    end if
+    if (any_error(comm, err)) return
+    if (r%failed .and. .not. allocated(err)) call set_error(err, 'run failed: '//r%reason)
+
+  contains
+
+    subroutine make_part(k)
+      integer, intent(in) :: k
+      type(rcb_tree_t) :: tree
+      integer, allocatable :: node_part(:), point_part(:)
+      integer :: i, q, kb, j
+      associate (g => gs(k))
+        call rcb_build(g%x0, nranks, tree)
+        allocate(node_part(g%np), point_part(g%nq))
+        do i = 1, g%np
+          node_part(i) = rcb_part(tree, g%x0(:, i))
+        end do
+        do q = 1, g%nq
+          point_part(q) = rcb_part(tree, g%t%xq(:, q))
+        end do
+        call local_part_build(g%t, node_part, point_part, me + 1, parts(k)%lp)
+        call halo_plan_build(comm, parts(k)%lp, node_part, point_part, parts(k)%plan, err)
+        if (allocated(err)) return
+        kb = findloc(isolid, k, dim=1)
+        associate (lp => parts(k)%lp, n => parts(k)%lp%nglob)
+          call solid_init(ps(k), g%name, lp%t, g%x0(:, n), &
+            deck%materials(deck%bodies(kb)%imat)%params, 0.0_wp, [0.0_wp, 0.0_wp], &
+            g%pres(:, n), g%vpres(:, n), err)
+          if (allocated(err)) return
+          call solid_set_owned(ps(k), lp%own_point, lp%own_node)
+          ps(k)%v = g%v(:, n)
+          ps(k)%ke0 = 0.0_wp
+          do j = 1, size(ps(k)%own_n)
+            i = ps(k)%own_n(j)
+            ps(k)%ke0 = ps(k)%ke0 + 0.5_wp*ps(k)%t%mass(i)*sum(ps(k)%v(:, i)**2)
+          end do
+          ps(k)%ke = ps(k)%ke0
+          ps(k)%spacing = g%spacing
+          ps(k)%dt_cal = g%dt_cal
+          ps(k)%v_limit = g%v_limit
+          ps(k)%epsbar_limit = g%epsbar_limit
+          ps(k)%deps_limit = g%deps_limit
+          ps(k)%j_bounds = g%j_bounds
+          allocate(parts(k)%w(4, ps(k)%np))
+        end associate
+      end associate
+    end subroutine make_part
+
+    !> The ghost nodes' d and a (after contact corrected them) from their owners.
+    subroutine halo_da(k)
+      integer, intent(in) :: k
+      parts(k)%w(1:2, :) = ps(k)%d
+      parts(k)%w(3:4, :) = ps(k)%a
+      call halo_nodes(parts(k)%plan, parts(k)%w)
+      ps(k)%d = parts(k)%w(1:2, :)
+      ps(k)%a = parts(k)%w(3:4, :)
+    end subroutine halo_da
+
+    !> The ghost nodes' v and a (after the update) from their owners.
+    subroutine halo_va(k)
+      integer, intent(in) :: k
+      parts(k)%w(1:2, :) = ps(k)%v
+      parts(k)%w(3:4, :) = ps(k)%a
+      call halo_nodes(parts(k)%plan, parts(k)%w)
+      ps(k)%v = parts(k)%w(1:2, :)
+      ps(k)%a = parts(k)%w(3:4, :)
+    end subroutine halo_va
+
+    !> Energy accounts summed over the ranks (each part sums its own entries).
+    subroutine global_energies()
+      real(wp) :: loc(6), tot(6)
+      call energy_totals(ps, en)
+      loc = [en%ke, en%ke0, en%w_int, en%w_plastic, en%w_ext, en%w_contact]
+      call MPI_Allreduce(loc, tot, 6, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+      en%ke = tot(1)
+      en%ke0 = tot(2)
+      en%w_int = tot(3)
+      en%w_plastic = tot(4)
+      en%w_ext = tot(5)
+      en%w_contact = tot(6)
+      en%residual = en%ke + en%w_int - en%ke0 - en%w_ext - en%w_contact
+      en%scale = max(en%ke0, en%ke, abs(en%w_int), abs(en%w_ext), abs(en%w_contact), &
+        tiny(1.0_wp))
+    end subroutine global_energies
+
+    !> The largest kappa of every solid over the ranks: the same step everywhere.
+    subroutine global_kappa()
+      integer :: kk
+      real(wp) :: v
+      do kk = 1, size(ps)
+        call MPI_Allreduce(ps(kk)%kappa, v, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
+        ps(kk)%kappa = v
+      end do
+    end subroutine global_kappa
+
+    !> The step's contact statistics over the ranks (counts and force summed, the rest the
+    !! largest; the tracked edge in contact on its owner).
+    subroutine global_contact_stats(c)
+      type(contact_stats_t), intent(inout) :: c
+      integer :: ni(4), nt(4)
+      real(wp) :: rs(1), rt(1), rm(3), rmt(3)
+      ni = [c%n_contact, c%n_flagged, c%n_cmp_det, merge(1, 0, c%edge_in_contact)]
+      call MPI_Allreduce(ni, nt, 4, MPI_INTEGER, MPI_SUM, comm)
+      rs = c%force_normal
+      call MPI_Allreduce(rs, rt, 1, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+      rm = [c%radius, c%pen_before, c%pen_after]
+      call MPI_Allreduce(rm, rmt, 3, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
+      c%n_contact = nt(1)
+      c%n_flagged = nt(2)
+      c%n_cmp_det = nt(3)
+      c%edge_in_contact = nt(4) > 0
+      c%force_normal = rt(1)
+      c%radius = rmt(1)
+      c%pen_before = rmt(2)
+      c%pen_after = rmt(3)
+    end subroutine global_contact_stats
+
+    !> The pairs' counters summed over the ranks (most in one step: the largest).
+    subroutine global_counters()
+      integer :: kk
+      integer(i64) :: a(5), b(5), m(1), mt(1)
+      do kk = 1, size(pairs)
+        associate (c => pairs(kk)%count)
+          a = [c%screened, c%evaluated, c%detected, c%contacts, c%skipped]
+          call MPI_Allreduce(a, b, 5, MPI_INTEGER8, MPI_SUM, comm)
+          c%screened = b(1)
+          c%evaluated = b(2)
+          c%detected = b(3)
+          c%contacts = b(4)
+          c%skipped = b(5)
+          m = c%detected_max
+          call MPI_Allreduce(m, mt, 1, MPI_INTEGER8, MPI_MAX, comm)
+          c%detected_max = mt(1)
+        end associate
+      end do
+    end subroutine global_counters
+
+    !> The bytes the halo exchanges moved, over all ranks, per step (log line of rank 0).
+    subroutine halo_report()
+      integer(i64) :: loc(2), tot(2)
+      integer :: kk, ng(2), ngt(2)
+      character(len=200) :: line
+      loc = 0
+      ng = 0
+      do kk = 1, size(ps)
+        loc = loc + [parts(kk)%plan%bytes_nodes, parts(kk)%plan%bytes_points]
+        ng = ng + [ps(kk)%np - size(ps(kk)%own_n), ps(kk)%nq - size(ps(kk)%own_q)]
+      end do
+      call MPI_Allreduce(loc, tot, 2, MPI_INTEGER8, MPI_SUM, comm)
+      call MPI_Allreduce(ng, ngt, 2, MPI_INTEGER, MPI_SUM, comm)
+      if (.not. root) return
+      write(line, '(a,i0,a,i0,a,i0,a,es10.3,a,es10.3,a)') 'summary: MPI: ', nranks, &
+        ' rank(s), ', ngt(1), ' ghost nodes and ', ngt(2), ' ghost points; the halos moved ', &
+        real(tot(1), wp)/max(r%n, 1), ' B (nodes) and ', real(tot(2), wp)/max(r%n, 1), &
+        ' B (points) per step'
+      write(*, '(a)') trim(line)
+    end subroutine halo_report
+
+    !> A failure on any rank fails every rank, with the lowest failing rank's reason.
+    subroutine agree_failure()
+      integer :: mine, first, n
+      character(len=:), allocatable :: buf
+      mine = merge(me, nranks, r%failed)
+      call MPI_Allreduce(mine, first, 1, MPI_INTEGER, MPI_MIN, comm)
+      if (first == nranks) return
+      n = 0
+      if (me == first) n = len(r%reason)
+      call MPI_Bcast(n, 1, MPI_INTEGER, first, comm)
+      allocate(character(len=n) :: buf)
+      if (me == first) buf = r%reason
+      call MPI_Bcast(buf, n, MPI_CHARACTER, first, comm)
+      r%failed = .true.
+      r%reason = buf//' (rank '//itoa(first)//')'
+    end subroutine agree_failure
+
+    !> Is a snapshot time within this step's reach (then rank 0 needs the state)?
+    logical function snapshot_near()
+      integer :: j
+      snapshot_near = .false.
+      do j = 1, deck%solver%nsnap
+        if (abs(deck%solver%snapshot_times(j) - r%t) <= 0.5_wp*r%dt*(1.0_wp + 1.0e-9_wp)) &
+          snapshot_near = .true.
+      end do
+    end function snapshot_near
+
+    !> Rank 0 wrote a snapshot (it has more than nbefore): every rank restarts its contact
+    !! impulse sums, as the snapshot restarted the gathered ones.
+    subroutine reset_impulses_if_written(nbefore)
+      integer, intent(in) :: nbefore
+      integer :: flag, kk
+      flag = 0
+      if (root) flag = merge(1, 0, out%nsnap_done > nbefore)
+      call MPI_Bcast(flag, 1, MPI_INTEGER, 0, comm)
+      if (flag == 0) return
+      do kk = 1, size(ps)
+        ps(kk)%ipoint = 0.0_wp
+        ps(kk)%ipoint_time = 0.0_wp
+      end do
+    end subroutine reset_impulses_if_written
+
+    !> Every solid's owned values into rank 0's whole solids (for output and measures).
+    subroutine gather_all()
+      integer :: kk
+      do kk = 1, size(ps)
+        call gather_solid(ps(kk), parts(kk)%lp, gs(kk))
+      end do
+    end subroutine gather_all
+
+    subroutine gather_solid(p, lp, g)
+      type(solid_t), intent(in) :: p
+      type(local_part_t), intent(in) :: lp
+      type(solid_t), intent(inout) :: g
+      real(wp), allocatable :: sn(:, :), sq(:, :), rn(:, :), rq(:, :)
+      integer, allocatable :: idn(:), idq(:), rin(:), riq(:), cn(:), cq(:), dn(:), dq(:)
+      integer :: j, no, nqo, i
+      no = size(p%own_n)
+      nqo = size(p%own_q)
+      allocate(sn(6, no), sq(10, nqo), idn(no), idq(nqo), cn(nranks), cq(nranks), &
+        dn(nranks), dq(nranks))
+      do j = 1, no
+        i = p%own_n(j)
+        idn(j) = lp%nglob(i)
+        sn(:, j) = [p%d(:, i), p%v(:, i), p%ipoint(:, i)]
+      end do
+      do j = 1, nqo
+        i = p%own_q(j)
+        idq(j) = lp%qglob(i)
+        sq(:, j) = [p%f(:, i), p%st%tau(:, i), p%st%epsbar(i)]
+      end do
+      call MPI_Gather(no, 1, MPI_INTEGER, cn, 1, MPI_INTEGER, 0, comm)
+      call MPI_Gather(nqo, 1, MPI_INTEGER, cq, 1, MPI_INTEGER, 0, comm)
+      if (root) then
+        dn(1) = 0
+        dq(1) = 0
+        do j = 2, nranks
+          dn(j) = dn(j - 1) + cn(j - 1)
+          dq(j) = dq(j - 1) + cq(j - 1)
+        end do
+        allocate(rin(sum(cn)), riq(sum(cq)), rn(6, sum(cn)), rq(10, sum(cq)))
+      else
+        allocate(rin(1), riq(1), rn(6, 1), rq(10, 1))
+      end if
+      call MPI_Gatherv(idn, no, MPI_INTEGER, rin, cn, dn, MPI_INTEGER, 0, comm)
+      call MPI_Gatherv(idq, nqo, MPI_INTEGER, riq, cq, dq, MPI_INTEGER, 0, comm)
+      call MPI_Gatherv(sn, 6*no, MPI_DOUBLE_PRECISION, rn, 6*cn, 6*dn, &
+        MPI_DOUBLE_PRECISION, 0, comm)
+      call MPI_Gatherv(sq, 10*nqo, MPI_DOUBLE_PRECISION, rq, 10*cq, 10*dq, &
+        MPI_DOUBLE_PRECISION, 0, comm)
+      if (.not. root) return
+      do j = 1, size(rin)
+        g%d(:, rin(j)) = rn(1:2, j)
+        g%v(:, rin(j)) = rn(3:4, j)
+        g%ipoint(:, rin(j)) = rn(5:6, j)
+      end do
+      do j = 1, size(riq)
+        g%f(:, riq(j)) = rq(1:5, j)
+        g%st%tau(:, riq(j)) = rq(6:9, j)
+        g%st%epsbar(riq(j)) = rq(10, j)
+      end do
+      g%ipoint_time = p%ipoint_time
+    end subroutine gather_solid
+  end subroutine run_dynamic_mpi
+
+  !> An error on any rank is an error on every rank (the others get a pointer to it).
+  logical function any_error(comm, err) result(yes)
+    type(MPI_Comm), intent(in) :: comm
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: mine, n
+    mine = merge(1, 0, allocated(err))
+    call MPI_Allreduce(mine, n, 1, MPI_INTEGER, MPI_SUM, comm)
+    yes = n > 0
+    if (yes .and. .not. allocated(err)) call set_error(err, 'another rank failed (its '// &
+      'message is on its standard error)')
+  end function any_error
+
+  !> The next time the run must land on after t: the next snapshot time, else t_end.
+  pure real(wp) function next_stop(deck, t) result(ts)
+    type(deck_t), intent(in) :: deck
+    real(wp), intent(in) :: t
+    integer :: k
+    ts = deck%solver%t_end
+    do k = 1, deck%solver%nsnap
+      if (deck%solver%snapshot_times(k) > t*(1.0_wp + 1.0e-12_wp) .and. &
+        deck%solver%snapshot_times(k) < ts) ts = deck%solver%snapshot_times(k)
+    end do
+  end function next_stop
+end module mpi_run_m

@@ -1,0 +1,139 @@
+#!/usr/bin/env python3
+"""A dynamic run on MPI ranks against the serial run (issue 12; doc/parallel.md).
+
+For each deck given: `mfcd DECK` (serial) once, then `mpirun --oversubscribe -np N mfcd_mpi
+DECK` for N = 1..4, each writing its own file (the deck's output name swapped, and
+skip_quiet = .false., which the MPI driver does not do: its skipping is exact to round-off,
+not to the bit). Then:
+  - every /snapshots dataset (positions, displacements, velocities, stresses, plastic
+    strain, J, contact forces, the element fields) equals the serial one to the bit: nodal
+    values are the serial ones for any number of ranks (each rank sums the same entries in
+    the same order, doc/parallel.md);
+  - /history: the columns read from the state (time, dt, length, foot radius, width,
+    contact counts, penetration...) equal to the bit; the energy columns and the contact
+    force, sums of per-rank sums, within 1e-12 relative to the energy or force scale of the
+    run (round-off: a few ulps per rank), the energy residual within 1e-12 of the scale;
+  - /summary: the same status and step count, the same body measures to the bit.
+A decomposition that dropped a ghost, an exchange in the wrong order or a missed contact at a
+rank boundary breaks the bitwise checks at once.
+
+Usage: check_mpi_run.py [--t-end T] MFCD MFCD_MPI MPIEXEC DECK [DECK ...]
+(--t-end: every deck run to T seconds, snapshots at 0 and T.)
+"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+import h5py  # the bit-for-bit walk over every dataset of two files
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "post"))
+from mfcd_h5 import MfcdFile  # noqa: E402
+
+ARGS = sys.argv[1:]
+T_END = None
+if "--t-end" in ARGS:
+    i = ARGS.index("--t-end")
+    T_END = float(ARGS[i + 1])
+    del ARGS[i:i + 2]
+MFCD, MFCD_MPI, MPIEXEC = (os.path.abspath(a) for a in ARGS[0:3])
+DECKS = [os.path.abspath(d) for d in ARGS[3:]]
+ROUND_OFF = ("ke", "w_int", "w_plastic", "w_ext", "w_contact", "residual", "f_contact",
+             "impulse")
+results = []
+
+
+def check(name, cond, detail=""):
+    results.append(bool(cond))
+    print(("[  OK  ] " if cond else "[ FAIL ] ") + "mpi_run." + name
+          + ("" if cond else ": " + str(detail)[-1500:]), flush=True)
+
+
+def deck_copy(src, work, out):
+    text = open(src).read()
+    text, n = re.subn(r"file\s*=\s*'[^']*\.h5'", f"file = '{out}'", text)
+    assert n == 1, src
+    # the MPI driver evaluates every point every step; skip_quiet is exact only to round-off
+    # (F = I + O(1e-16) against I), so the serial reference does not skip either
+    text = text.replace("&solver", "&solver\n  skip_quiet = .false.", 1)
+    # the MPI driver draws no det(M) fields yet
+    text = re.sub(r"det_fields\s*=\s*\.true\.", "det_fields = .false.", text)
+    if T_END is not None:
+        # a shorter run (the Taylor bar's first microseconds: impact, contact, plasticity)
+        text = re.sub(r"t_end\s*=\s*[0-9.eE+-]+", f"t_end = {T_END!r}", text)
+        text = re.sub(r"snapshot_times\s*=\s*[^\n]*", f"snapshot_times = 0.0, {T_END!r}",
+                      text)
+    path = os.path.join(work, out.replace(".h5", ".nml"))
+    open(path, "w").write(text)
+    return path
+
+
+def compare(tag, ref, new):
+    bad = []
+    with h5py.File(ref, "r") as a, h5py.File(new, "r") as b:
+        paths = []
+        a["snapshots"].visititems(
+            lambda n, o: paths.append(n) if isinstance(o, h5py.Dataset) else None)
+        for n in paths:
+            p = "snapshots/" + n
+            if p not in b or not np.array_equal(a[p][()], b[p][()]):
+                bad.append(p)
+    check(f"{tag}: {len(paths)} snapshot datasets equal to the serial run's, bit for bit",
+          paths and not bad, bad[:8])
+    with MfcdFile(ref) as fa, MfcdFile(new) as fb:
+        ha, hb = fa.history(), fb.history()
+        sa, sb = fa.summary, fb.summary
+        ba, bb = fa.summary_bodies(), fb.summary_bodies()
+    scale = float(sa["energy_scale"])
+    exact, close = [], []
+    for c in ha:
+        if c not in hb or ha[c].shape != hb[c].shape:
+            exact.append(c)
+        elif any(c.startswith(k) for k in ROUND_OFF):
+            ref_scale = scale if not c.startswith(("f_contact", "impulse")) else \
+                max(np.max(np.abs(ha[c])), 1e-300)
+            if not np.all(np.abs(ha[c] - hb[c]) <= 1e-12 * ref_scale):
+                close.append((c, float(np.max(np.abs(ha[c] - hb[c]))) / ref_scale))
+        elif not np.array_equal(ha[c], hb[c]):
+            exact.append(c)
+    check(f"{tag}: /history columns from the state equal, bit for bit ({len(ha)} columns, "
+          f"{len(ha['time'])} rows)", not exact, exact)
+    check(f"{tag}: /history energies and contact force within 1e-12 of their scale",
+          not close, close)
+    check(f"{tag}: /summary status {sb['status']}, {sb['steps']} steps, as the serial run",
+          sa["status"] == sb["status"] and sa["steps"] == sb["steps"], (sa["status"],
+                                                                      sb["status"]))
+    diff = [(body, k) for body in ba for k in ba[body]
+            if np.ndim(ba[body][k]) == 0 and isinstance(ba[body][k], float)
+            and not ba[body][k] == bb.get(body, {}).get(k)]
+    check(f"{tag}: /summary body measures equal, bit for bit", not diff, diff)
+
+
+def main():
+    work = tempfile.mkdtemp(prefix="mfcd_mpi_")
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    for src in DECKS:
+        name = os.path.basename(src).replace(".nml", "")
+        ref = deck_copy(src, work, f"{name}_serial.h5")
+        p = subprocess.run([MFCD, ref], cwd=work, env=env, capture_output=True, text=True)
+        check(f"{name}: serial run exits 0", p.returncode == 0, p.stdout[-1500:] + p.stderr)
+        if p.returncode:
+            continue
+        for n in (1, 2, 3, 4):
+            deck = deck_copy(src, work, f"{name}_np{n}.h5")
+            p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI, deck],
+                               cwd=work, env=env, capture_output=True, text=True)
+            check(f"{name}, {n} rank(s): exits 0", p.returncode == 0,
+                  p.stdout[-1500:] + p.stderr[-1500:])
+            if p.returncode == 0:
+                compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial.h5"),
+                        os.path.join(work, f"{name}_np{n}.h5"))
+    print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
+    sys.exit(0 if results and all(results) else 1)
+
+
+if __name__ == "__main__":
+    main()
