@@ -30,7 +30,7 @@ module explicit_driver_m
   use run_checkpoint_m, only: checkpoint_read
   implicit none
   private
-  public :: run_dynamic
+  public :: run_dynamic, next_stop
 
   !> Steps before the energy guard is armed (see check_energy).
   integer, parameter :: energy_warmup = 20

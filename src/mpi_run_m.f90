@@ -33,6 +33,7 @@ module mpi_run_m
     set_health_limits
   use stable_step_m, only: step_control_next, step_control_update
   use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
+  use explicit_driver_m, only: next_stop
   use dynamic_output_m, only: history_push, history_flush
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
     report_summary
@@ -506,16 +507,4 @@ contains
     if (yes .and. .not. allocated(err)) call set_error(err, 'another rank failed (its '// &
       'message is on its standard error)')
   end function any_error
-
-  !> The next time the run must land on after t: the next snapshot time, else t_end.
-  pure real(wp) function next_stop(deck, t) result(ts)
-    type(deck_t), intent(in) :: deck
-    real(wp), intent(in) :: t
-    integer :: k
-    ts = deck%solver%t_end
-    do k = 1, deck%solver%nsnap
-      if (deck%solver%snapshot_times(k) > t*(1.0_wp + 1.0e-12_wp) .and. &
-        deck%solver%snapshot_times(k) < ts) ts = deck%solver%snapshot_times(k)
-    end do
-  end function next_stop
 end module mpi_run_m
