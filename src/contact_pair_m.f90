@@ -137,7 +137,25 @@ module contact_pair_m
     logical :: listed = .false.
     integer :: nlist = 0
     integer, allocatable :: list(:)
+    !> distributed memory (mpi_run_m), a rank's part of an RKPM slave: the exchanges of a
+    !! pass, given id: what = exchange_forces, the ghost particles' point forces f (2, np)
+    !! before eq. (98) spreads them; what = exchange_state, the ghost nodes' corrected d and
+    !! a of the solid before the remaining penetration is measured. Collective: with it set,
+    !! every pass makes both calls, contacts or not.
+    procedure(side_exchange_i), pointer, nopass :: exchange => null()
+    integer :: exchange_id = 0
   end type side_t
+
+  integer, parameter, public :: exchange_forces = 1, exchange_state = 2
+
+  abstract interface
+    subroutine side_exchange_i(id, what, sol, f)
+      import :: wp, solid_t
+      integer, intent(in) :: id, what
+      type(solid_t), intent(inout) :: sol
+      real(wp), intent(inout) :: f(:, :)
+    end subroutine side_exchange_i
+  end interface
 
   type :: contact_pair_t
     type(side_t) :: side(2)              !< side 1 the slave, side 2 the master
@@ -847,7 +865,7 @@ contains
       p%step%radius = max(p%step%radius, rad)
       p%step%pen_before = max(p%step%pen_before, pen)
     end if
-    if (ncon == 0) return
+    if (ncon == 0 .and. .not. associated(a%exchange)) return
     ! reactions on b at the ends of the segments hit (serial: few particles)
     if (b%isolid > 0) then
       b%fphys = 0.0_wp
@@ -862,8 +880,12 @@ contains
       ! (self-contact: one solid, corrected once below)
       if (b%isolid /= a%isolid) call solid_correct(solids(b%isolid), dt)
     end if
+    if (associated(a%exchange)) call a%exchange(a%exchange_id, exchange_forces, &
+      solids(a%isolid), a%fphys)
     call solid_add_point_forces(solids(a%isolid), a%fphys)
     call solid_correct(solids(a%isolid), dt)
+    if (associated(a%exchange)) call a%exchange(a%exchange_id, exchange_state, &
+      solids(a%isolid), a%fphys)
     ! penetration left after the correction (eq. 98 spreads the forces): the
     ! corrected positions of the particles that had a force (and of b's surface when it
     ! moves; its cloud is moved again before it is next used)

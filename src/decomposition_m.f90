@@ -7,10 +7,11 @@
 !! for both). Its local tables hold
 !!   - its points, and the ghost points: the other ranks' points that touch one of its nodes
 !!     (their stresses P come from their owners: halo exchange of P);
-!!   - the nodes of its points, its own nodes, and the nodes of the position table rows of
-!!     its own nodes (eq. 65: a particle's physical position needs its neighbours'
-!!     coefficients); those it does not own are its ghost nodes (their coefficients come from
-!!     their owners: halo exchange of d, v, a).
+!!   - the nodes of its points, its own nodes, the nodes of the position table rows of its
+!!     own nodes (eq. 65: a particle's physical position needs its neighbours'
+!!     coefficients), and the particles whose rows hold one of its nodes (eq. 98 spreads
+!!     their contact forces onto it); those it does not own are its ghost nodes (their
+!!     values come from their owners: halo exchange of d, v, a, and contact point forces).
 !! Both are numbered in the global order. So a rank's F at its points sums the same entries
 !! in the same order as the serial run, and the force gather at one of its nodes (eq. 72,
 !! over the transpose) visits the same points in the same order: the forces at owned nodes
@@ -155,8 +156,13 @@ contains
     with_pos = allocated(t%pptr) .and. .not. t%interpolating
     if (with_pos) then
       do j = 1, t%np
-        if (node_part(j) /= r) cycle
-        ln(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) = .true.
+        if (node_part(j) == r) then
+          ln(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) = .true.
+        else if (any(node_part(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) == r)) then
+          ! a particle whose position involves an owned node: its contact force is spread
+          ! onto that node by eq. (98)
+          ln(j) = .true.
+        end if
       end do
     end if
     lp%qglob = pack([(q, q = 1, t%nq)], lq)

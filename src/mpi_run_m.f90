@@ -13,8 +13,10 @@
 !! energies and the contact force are sums of per-rank sums (round-off); kappa, and with it
 !! the step, is a maximum (exact).
 !!
-!! This first driver takes element meshes (discretization = 'fem') against rigid masters,
-!! without det(M) fields, subcycling or checkpoints; the deck is refused otherwise.
+!! This first driver takes element meshes and RKPM bodies against rigid masters, without
+!! det(M) fields, subcycling or checkpoints; the deck is refused otherwise. An RKPM slave's
+!! contact forces are spread over RK neighbours (eq. 98): the ghost particles' forces are
+!! exchanged before the spreading and the corrected ghost nodes after (contact_exchange).
 module mpi_run_m
   use mpi_f08
   use omp_lib, only: omp_get_wtime
@@ -28,7 +30,7 @@ module mpi_run_m
   use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t, &
-    contact_pair_localize
+    contact_pair_localize, exchange_forces, exchange_state
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
     set_health_limits
   use stable_step_m, only: step_control_next, step_control_update
@@ -51,6 +53,9 @@ module mpi_run_m
     type(halo_plan_t) :: plan
     real(wp), allocatable :: w(:, :)   !< (4, local nodes) work space for the halos
   end type part_t
+
+  !> The parts of the run (module data: contact's exchanges reach their plans by index).
+  type(part_t), allocatable, save :: parts(:)
 
 contains
 
@@ -80,15 +85,6 @@ contains
         "not yet with MPI; give 0 or run mfcd")
       return
     end if
-    do k = 1, deck%nbodies
-      if (deck%bodies(k)%role == 'rigid') cycle
-      if (deck%bodies(k)%discretization /= 'fem') then
-        call set_error(err, what//deck%path//"', group &body, variable discretization: body '"// &
-          trim(deck%bodies(k)%name)//"' is RKPM; the MPI driver takes 'fem' bodies so far "// &
-          "(doc/parallel.md); run mfcd")
-        return
-      end if
-    end do
     do k = 1, deck%ncontacts
       associate (c => deck%contacts(k))
         if (c%imaster == c%islave .or. deck%bodies(c%imaster)%role /= 'rigid') then
@@ -108,7 +104,6 @@ contains
     type(dynamic_setup_t), intent(inout) :: su
     type(error_t), allocatable, intent(inout) :: err
     type(solid_t), allocatable :: gs(:), ps(:)
-    type(part_t), allocatable :: parts(:)
     type(contact_pair_t), allocatable :: pairs(:)
     integer, allocatable :: isolid(:)
     type(run_files_t) :: out
@@ -140,6 +135,12 @@ contains
     do k = 1, size(pairs)
       call contact_pair_localize(pairs(k), parts(pairs(k)%side(1)%isolid)%lp%nglob, ps, err)
       if (any_error(comm, err)) return
+      ! an RKPM slave's contact forces are spread over RK neighbours (eq. 98): the ghost
+      ! particles' forces before, the corrected ghost nodes after
+      if (.not. ps(pairs(k)%side(1)%isolid)%t%interpolating) then
+        pairs(k)%side(1)%exchange => contact_exchange
+        pairs(k)%side(1)%exchange_id = pairs(k)%side(1)%isolid
+      end if
     end do
     log_every = deck%solver%log_every
     if (log_every == 0) log_every = max(1, r%nsteps_est/50)
@@ -150,7 +151,7 @@ contains
     ! the state at t = 0: forces at u = 0
     do k = 1, size(ps)
       call solid_points_force(ps(k), r%dt, bad_q, bad_j)
-      call halo_points(parts(k)%plan, ps(k)%p)
+      call halo_pstab(k)
       call solid_nodes_force(ps(k))
       where (ps(k)%pres)
         ps(k)%v = ps(k)%vpres
@@ -187,7 +188,7 @@ contains
       r%t = r%t + r%dt
       do k = 1, size(ps)
         call solid_points_force(ps(k), r%dt, bad_q, bad_j)                      ! (62)
-        call halo_points(parts(k)%plan, ps(k)%p)
+        call halo_pstab(k)
         call solid_nodes_force(ps(k))
         call solid_update(ps(k), r%dt)                                          ! (63)
         call halo_va(k)
@@ -263,6 +264,9 @@ contains
             g%pres(:, n), g%vpres(:, n), err)
           if (allocated(err)) return
           call solid_set_owned(ps(k), lp%own_point, lp%own_node)
+          ! RKPM's SCNI stabilization as the whole solid's (elements have none)
+          ps(k)%stab_normal = g%stab_normal
+          ps(k)%stab_shear = g%stab_shear
           ps(k)%v = g%v(:, n)
           ps(k)%ke0 = 0.0_wp
           do j = 1, size(ps(k)%own_n)
@@ -280,6 +284,13 @@ contains
         end associate
       end associate
     end subroutine make_part
+
+    !> The ghost points' P, and SCNI stabilization stresses, from their owners.
+    subroutine halo_pstab(k)
+      integer, intent(in) :: k
+      call halo_points(parts(k)%plan, ps(k)%p)
+      if (ps(k)%stab_normal > 0.0_wp) call halo_points(parts(k)%plan, ps(k)%stab)
+    end subroutine halo_pstab
 
     !> The ghost nodes' d and a (after contact corrected them) from their owners.
     subroutine halo_da(k)
@@ -495,6 +506,24 @@ contains
       g%ipoint_time = p%ipoint_time
     end subroutine gather_solid
   end subroutine run_dynamic_mpi
+
+  !> Contact's exchanges for a part of an RKPM slave (contact_pair_m side_t%exchange): the
+  !! ghost particles' point forces f, or the solid's ghost nodes' corrected d and a.
+  subroutine contact_exchange(id, what, sol, f)
+    integer, intent(in) :: id, what
+    type(solid_t), intent(inout) :: sol
+    real(wp), intent(inout) :: f(:, :)
+    select case (what)
+    case (exchange_forces)
+      call halo_nodes(parts(id)%plan, f)
+    case (exchange_state)
+      parts(id)%w(1:2, :) = sol%d
+      parts(id)%w(3:4, :) = sol%a
+      call halo_nodes(parts(id)%plan, parts(id)%w)
+      sol%d = parts(id)%w(1:2, :)
+      sol%a = parts(id)%w(3:4, :)
+    end select
+  end subroutine contact_exchange
 
   !> An error on any rank is an error on every rank (the others get a pointer to it).
   logical function any_error(comm, err) result(yes)

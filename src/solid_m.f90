@@ -543,7 +543,8 @@ contains
     end if
   end subroutine solid_points_force
 
-  !> Distributed memory, the second half of eq. (62), once the ghost points' P are in: the
+  !> Distributed memory, the second half of eq. (62), once the ghost points' P (and SCNI
+  !! stabilization stresses) are in: the
   !! internal force and a_{n+1} at the owned nodes (gathered over the transpose, in global
   !! point order: the serial sums).
   subroutine solid_nodes_force(s)
@@ -551,7 +552,11 @@ contains
     integer :: k, i
     real(wp) :: t0
     t0 = omp_get_wtime()
-    call internal_force_list(s%t, s%p, s%fint, s%own_n, size(s%own_n))
+    if (s%stab_normal > 0.0_wp) then
+      call internal_force_list(s%t, s%p, s%fint, s%own_n, size(s%own_n), s%stab)
+    else
+      call internal_force_list(s%t, s%p, s%fint, s%own_n, size(s%own_n))
+    end if
     !$omp parallel do default(none) shared(s) private(i) schedule(static)
     do k = 1, size(s%own_n)
       i = s%own_n(k)
@@ -632,7 +637,13 @@ contains
       s%p_old(:, q) = s%p(:, q)
     end do
     !$omp end parallel do
-    call deformation_gradient_list(s%t, s%d, s%f, list, n)
+    if (s%stab_normal > 0.0_wp) then
+      ! (a rank's part of a stabilized RKPM solid: its points' share of the energy)
+      call deformation_gradient_list(s%t, s%d, s%f, list, n, [s%stab_normal, s%stab_shear], &
+        s%stab, s%e_stab)
+    else
+      call deformation_gradient_list(s%t, s%d, s%f, list, n)
+    end if
     call rate_of_deformation_list(dt, s%f_old, s%f, s%dr, s%w12, list, n)
     t1 = omp_get_wtime()
     ! in chunks of the list, each run of consecutive points in one call (the slow points of

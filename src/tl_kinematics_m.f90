@@ -31,41 +31,21 @@ contains
     !> only the points marked here (the others keep their F and s: quiet points in uniform
     !! translation, F = I)
     logical, intent(in), optional :: active(:)
-    integer :: q, e, i
-    real(wp) :: a11, a12, a21, a22, a33, dh(4), en
+    integer :: q
+    real(wp) :: en, eq
     logical :: with_stab, masked
     with_stab = present(stab)
     masked = present(active)
     en = 0.0_wp
     !$omp parallel do default(none) shared(t, d, f, stab, s, with_stab, masked, active) &
-    !$omp private(e, i, a11, a12, a21, a22, a33, dh) reduction(+: en) schedule(static)
+    !$omp private(eq) reduction(+: en) schedule(static)
     do q = 1, t%nq
       if (masked) then
         if (.not. active(q)) cycle
       end if
-      a11 = 0.0_wp
-      a12 = 0.0_wp
-      a21 = 0.0_wp
-      a22 = 0.0_wp
-      a33 = 0.0_wp
-      dh = 0.0_wp
       if (with_stab) then
-        do e = t%ptr(q), t%ptr(q + 1) - 1
-          i = t%nbr(e)
-          a11 = a11 + d(1, i)*t%g(1, e)
-          a12 = a12 + d(1, i)*t%g(2, e)
-          a21 = a21 + d(2, i)*t%g(3, e)
-          a22 = a22 + d(2, i)*t%g(4, e)
-          a33 = a33 + d(1, i)*t%h(e)
-          dh(1) = dh(1) + d(1, i)*t%gs(1, e)
-          dh(2) = dh(2) + d(2, i)*t%gs(2, e)
-          dh(3) = dh(3) + d(1, i)*t%gs(3, e)
-          dh(4) = dh(4) + d(2, i)*t%gs(4, e)
-        end do
-        s(:, q) = [t%ws(1, q)*stab(1)*dh(1), t%ws(1, q)*stab(2)*dh(2), &
-          t%ws(2, q)*stab(2)*dh(3), t%ws(2, q)*stab(1)*dh(4)]
-        en = en + 0.5_wp*sum(s(:, q)*dh)
-        f(:, q) = [1.0_wp + a11, a12, a21, 1.0_wp + a22, 1.0_wp + a33]
+        call point_deformation_gradient_stab(t, d, q, stab, f(:, q), s(:, q), eq)
+        en = en + eq
       else
         call point_deformation_gradient(t, d, q, f(:, q))
       end if
@@ -74,19 +54,68 @@ contains
     if (present(energy)) energy = en
   end subroutine deformation_gradient
 
-  !> F at the integration points list(1:n) only (no stabilization: element meshes).
-  subroutine deformation_gradient_list(t, d, f, list, n)
+  !> F at the integration points list(1:n) only; with stab given, also their SCNI
+  !! stabilization stresses s and their energy (as deformation_gradient).
+  subroutine deformation_gradient_list(t, d, f, list, n, stab, s, energy)
     type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: d(:, :)
     real(wp), intent(inout) :: f(:, :)
     integer, intent(in) :: list(:), n
+    real(wp), intent(in), optional :: stab(2)
+    real(wp), intent(inout), optional :: s(:, :)
+    real(wp), intent(out), optional :: energy
     integer :: k
-    !$omp parallel do default(none) shared(t, d, f, list, n) schedule(static)
+    real(wp) :: en, eq
+    logical :: with_stab
+    with_stab = present(stab)
+    en = 0.0_wp
+    !$omp parallel do default(none) shared(t, d, f, list, n, stab, s, with_stab) &
+    !$omp private(eq) reduction(+: en) schedule(static)
     do k = 1, n
-      call point_deformation_gradient(t, d, list(k), f(:, list(k)))
+      if (with_stab) then
+        call point_deformation_gradient_stab(t, d, list(k), stab, f(:, list(k)), &
+          s(:, list(k)), eq)
+        en = en + eq
+      else
+        call point_deformation_gradient(t, d, list(k), f(:, list(k)))
+      end if
     end do
     !$omp end parallel do
+    if (present(energy)) energy = en
   end subroutine deformation_gradient_list
+
+  !> F (5), the stabilization stresses s (4) and their energy at point q (one pass over its
+  !! row: see deformation_gradient).
+  pure subroutine point_deformation_gradient_stab(t, d, q, stab, f, s, energy)
+    type(solid_tables_t), intent(in) :: t
+    real(wp), intent(in) :: d(:, :), stab(2)
+    integer, intent(in) :: q
+    real(wp), intent(out) :: f(5), s(4), energy
+    integer :: e, i
+    real(wp) :: a11, a12, a21, a22, a33, dh(4)
+    a11 = 0.0_wp
+    a12 = 0.0_wp
+    a21 = 0.0_wp
+    a22 = 0.0_wp
+    a33 = 0.0_wp
+    dh = 0.0_wp
+    do e = t%ptr(q), t%ptr(q + 1) - 1
+      i = t%nbr(e)
+      a11 = a11 + d(1, i)*t%g(1, e)
+      a12 = a12 + d(1, i)*t%g(2, e)
+      a21 = a21 + d(2, i)*t%g(3, e)
+      a22 = a22 + d(2, i)*t%g(4, e)
+      a33 = a33 + d(1, i)*t%h(e)
+      dh(1) = dh(1) + d(1, i)*t%gs(1, e)
+      dh(2) = dh(2) + d(2, i)*t%gs(2, e)
+      dh(3) = dh(3) + d(1, i)*t%gs(3, e)
+      dh(4) = dh(4) + d(2, i)*t%gs(4, e)
+    end do
+    s = [t%ws(1, q)*stab(1)*dh(1), t%ws(1, q)*stab(2)*dh(2), t%ws(2, q)*stab(2)*dh(3), &
+      t%ws(2, q)*stab(1)*dh(4)]
+    energy = 0.5_wp*sum(s*dh)
+    f = [1.0_wp + a11, a12, a21, 1.0_wp + a22, 1.0_wp + a33]
+  end subroutine point_deformation_gradient_stab
 
   !> F (5) at integration point q from the coefficients d.
   pure subroutine point_deformation_gradient(t, d, q, f)
@@ -259,17 +288,19 @@ contains
     !$omp end parallel do
   end subroutine internal_force
 
-  !> internal_force at the nodes list(1:n) only (no stabilization: element meshes); the
-  !! other nodes keep their values.
-  subroutine internal_force_list(t, p, fint, list, n)
+  !> internal_force at the nodes list(1:n) only; the other nodes keep their values.
+  subroutine internal_force_list(t, p, fint, list, n, s)
     type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: p(:, :)
     real(wp), intent(inout) :: fint(:, :)
     integer, intent(in) :: list(:), n
+    real(wp), intent(in), optional :: s(:, :)   !< stabilization stresses, as internal_force
     integer :: i, k, q, j
     real(wp) :: f1, f2, w
-    !$omp parallel do default(none) shared(t, p, fint, list, n) private(i, k, q, f1, f2, w) &
-    !$omp schedule(static)
+    logical :: with_stab
+    with_stab = present(s)
+    !$omp parallel do default(none) shared(t, p, fint, list, n, s, with_stab) &
+    !$omp private(i, k, q, f1, f2, w) schedule(static)
     do j = 1, n
       i = list(j)
       f1 = 0.0_wp
@@ -279,6 +310,10 @@ contains
         w = t%wgt(q)
         f1 = f1 + w*(p(1, q)*t%tg(1, k) + p(2, q)*t%tg(2, k) + p(5, q)*t%th(k))
         f2 = f2 + w*(p(3, q)*t%tg(3, k) + p(4, q)*t%tg(4, k))
+        if (with_stab) then
+          f1 = f1 + s(1, q)*t%tgs(1, k) + s(3, q)*t%tgs(3, k)
+          f2 = f2 + s(2, q)*t%tgs(2, k) + s(4, q)*t%tgs(4, k)
+        end if
       end do
       fint(1, i) = f1
       fint(2, i) = f2
