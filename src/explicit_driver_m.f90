@@ -30,7 +30,7 @@ module explicit_driver_m
   use run_checkpoint_m, only: checkpoint_read
   implicit none
   private
-  public :: run_dynamic, next_stop
+  public :: run_dynamic, next_stop, output_intervals
 
   !> Steps before the energy guard is armed (see check_energy).
   integer, parameter :: energy_warmup = 20
@@ -74,12 +74,7 @@ contains
       if (allocated(err)) return
     end if
     ckpt_every = deck%output%checkpoint_every
-    log_every = deck%solver%log_every
-    if (log_every == 0) log_every = max(1, r%nsteps_est/50)
-    ! a history row costs about one pass over the nodes (physical positions for the
-    ! measures): by default one row every 10 steps, at most about 1000 rows
-    hist_every = deck%solver%history_every
-    if (hist_every == 0) hist_every = max(1, min(log_every, max(10, r%nsteps_est/1000)))
+    call output_intervals(deck, r%nsteps_est, log_every, hist_every)
     call run_files_open(deck, bodies, out, err, restart)
     if (allocated(err)) return
     if (present(restart)) then
@@ -157,6 +152,19 @@ contains
       run_files_names(out, r%failed), err)
     call run_files_close(out, r, solids, err)
   end subroutine run_dynamic
+
+  !> Steps between log lines and between history rows: the deck's, or by default about 50
+  !! log lines a run and a history row every 10 steps (a row costs about one pass over the
+  !! nodes, for the measures), at most about 1000 rows and never fewer than log lines.
+  pure subroutine output_intervals(deck, nsteps_est, log_every, hist_every)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: nsteps_est
+    integer, intent(out) :: log_every, hist_every
+    log_every = deck%solver%log_every
+    if (log_every == 0) log_every = max(1, nsteps_est/50)
+    hist_every = deck%solver%history_every
+    if (hist_every == 0) hist_every = max(1, min(log_every, max(10, nsteps_est/1000)))
+  end subroutine output_intervals
 
   !> The next time the run must land on after t: the next snapshot time, else t_end.
   pure real(wp) function next_stop(deck, t) result(ts)

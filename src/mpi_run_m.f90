@@ -35,7 +35,7 @@ module mpi_run_m
     set_health_limits
   use stable_step_m, only: step_control_next, step_control_update
   use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
-  use explicit_driver_m, only: next_stop
+  use explicit_driver_m, only: next_stop, output_intervals
   use dynamic_output_m, only: history_push, history_flush
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
     report_summary
@@ -142,10 +142,7 @@ contains
         pairs(k)%side(1)%exchange_id = pairs(k)%side(1)%isolid
       end if
     end do
-    log_every = deck%solver%log_every
-    if (log_every == 0) log_every = max(1, r%nsteps_est/50)
-    hist_every = deck%solver%history_every
-    if (hist_every == 0) hist_every = max(1, min(log_every, max(10, r%nsteps_est/1000)))
+    call output_intervals(deck, r%nsteps_est, log_every, hist_every)
     if (root) call run_files_open(deck, bodies, out, err)
     if (any_error(comm, err)) return
     ! the state at t = 0: forces at u = 0

@@ -255,35 +255,20 @@ contains
     real(wp), intent(in), optional :: s(:, :)
     !> only the nodes marked here gather; the others get 0 (no active point touches them)
     logical, intent(in), optional :: awake(:)
-    integer :: i, k, q
-    real(wp) :: f1, f2, w
+    integer :: i
     logical :: with_stab, masked
     with_stab = present(s)
     masked = present(awake)
     !$omp parallel do default(none) shared(t, p, fint, s, with_stab, masked, awake) &
-    !$omp private(k, q, f1, f2, w) schedule(static)
+    !$omp schedule(static)
     do i = 1, t%np
-      f1 = 0.0_wp
-      f2 = 0.0_wp
       if (masked) then
         if (.not. awake(i)) then
           fint(:, i) = 0.0_wp
           cycle
         end if
       end if
-      ! tg, th, tgs: g, h, gs of entry tent(k), stored in this loop's order
-      do k = t%tptr(i), t%tptr(i + 1) - 1
-        q = t%tq(k)
-        w = t%wgt(q)
-        f1 = f1 + w*(p(1, q)*t%tg(1, k) + p(2, q)*t%tg(2, k) + p(5, q)*t%th(k))
-        f2 = f2 + w*(p(3, q)*t%tg(3, k) + p(4, q)*t%tg(4, k))
-        if (with_stab) then
-          f1 = f1 + s(1, q)*t%tgs(1, k) + s(3, q)*t%tgs(3, k)
-          f2 = f2 + s(2, q)*t%tgs(2, k) + s(4, q)*t%tgs(4, k)
-        end if
-      end do
-      fint(1, i) = f1
-      fint(2, i) = f2
+      call node_force(t, p, i, with_stab, fint(:, i), s)
     end do
     !$omp end parallel do
   end subroutine internal_force
@@ -295,31 +280,44 @@ contains
     real(wp), intent(inout) :: fint(:, :)
     integer, intent(in) :: list(:), n
     real(wp), intent(in), optional :: s(:, :)   !< stabilization stresses, as internal_force
-    integer :: i, k, q, j
-    real(wp) :: f1, f2, w
+    integer :: i, j
     logical :: with_stab
     with_stab = present(s)
     !$omp parallel do default(none) shared(t, p, fint, list, n, s, with_stab) &
-    !$omp private(i, k, q, f1, f2, w) schedule(static)
+    !$omp private(i) schedule(static)
     do j = 1, n
       i = list(j)
-      f1 = 0.0_wp
-      f2 = 0.0_wp
-      do k = t%tptr(i), t%tptr(i + 1) - 1
-        q = t%tq(k)
-        w = t%wgt(q)
-        f1 = f1 + w*(p(1, q)*t%tg(1, k) + p(2, q)*t%tg(2, k) + p(5, q)*t%th(k))
-        f2 = f2 + w*(p(3, q)*t%tg(3, k) + p(4, q)*t%tg(4, k))
-        if (with_stab) then
-          f1 = f1 + s(1, q)*t%tgs(1, k) + s(3, q)*t%tgs(3, k)
-          f2 = f2 + s(2, q)*t%tgs(2, k) + s(4, q)*t%tgs(4, k)
-        end if
-      end do
-      fint(1, i) = f1
-      fint(2, i) = f2
+      call node_force(t, p, i, with_stab, fint(:, i), s)
     end do
     !$omp end parallel do
   end subroutine internal_force_list
+
+  !> The internal force (2) at node i, eq. (72), over its points in the transpose's order
+  !! (tg, th, tgs: g, h, gs of entry tent(k), stored in this loop's order), with the
+  !! stabilization stresses s when with_stab.
+  pure subroutine node_force(t, p, i, with_stab, fi, s)
+    type(solid_tables_t), intent(in) :: t
+    real(wp), intent(in) :: p(:, :)
+    integer, intent(in) :: i
+    logical, intent(in) :: with_stab
+    real(wp), intent(out) :: fi(2)
+    real(wp), intent(in), optional :: s(:, :)
+    integer :: k, q
+    real(wp) :: f1, f2, w
+    f1 = 0.0_wp
+    f2 = 0.0_wp
+    do k = t%tptr(i), t%tptr(i + 1) - 1
+      q = t%tq(k)
+      w = t%wgt(q)
+      f1 = f1 + w*(p(1, q)*t%tg(1, k) + p(2, q)*t%tg(2, k) + p(5, q)*t%th(k))
+      f2 = f2 + w*(p(3, q)*t%tg(3, k) + p(4, q)*t%tg(4, k))
+      if (with_stab) then
+        f1 = f1 + s(1, q)*t%tgs(1, k) + s(3, q)*t%tgs(3, k)
+        f2 = f2 + s(2, q)*t%tgs(2, k) + s(4, q)*t%tgs(4, k)
+      end if
+    end do
+    fi = [f1, f2]
+  end subroutine node_force
 
   !> SCNI sub-cell stabilization (after Puso, Chen, Zywicz, Elmer, IJNME 74 (2008)): the
   !! half-cell smoothed gradients differ from the cell's by dH (zero for linear fields, so
