@@ -26,6 +26,7 @@ module contact_m
   private
   public :: master_surface_t, surface_build, surface_gap, contact_point_force, surface_update
   public :: contact_counters_t, closest_segment_update, surface_projection, surface_tie_tol
+  public :: surface_subset
 
   !> The master's surface: segments a -> b (counter-clockwise around the master) and bins
   !! over their midpoints.
@@ -103,11 +104,31 @@ contains
     call surface_update(s, x, err)
   end subroutine surface_build
 
+  !> The segments of surface full whose two ends are both kept (keep: over full's
+  !! particles), in full's order and with full's particle numbers (distributed memory: the
+  !! part of a contact master a rank holds). Their geometry comes with surface_update.
+  subroutine surface_subset(full, keep, s)
+    type(master_surface_t), intent(in) :: full
+    logical, intent(in) :: keep(:)
+    type(master_surface_t), intent(out) :: s
+    logical :: both(full%nseg)
+    both = keep(full%i0) .and. keep(full%i1)
+    s%nseg = count(both)
+    s%i0 = pack(full%i0, both)
+    s%i1 = pack(full%i1, both)
+    allocate(s%a(2, s%nseg), s%b(2, s%nseg), s%n(2, s%nseg), s%t(2, s%nseg), &
+      s%mid(2, s%nseg))
+  end subroutine surface_subset
+
   !> Segment geometry and bins from the current positions x of the master's particles.
-  subroutine surface_update(s, x, err)
+  !! With grid_lo, grid_hi and reach: the segments are part of a larger surface whose
+  !! midpoints' extremes and reach these are; its bins' cells and reach are taken, so that
+  !! a search finds the same segments in the same order (distributed memory).
+  subroutine surface_update(s, x, err, grid_lo, grid_hi, reach)
     type(master_surface_t), intent(inout) :: s
     real(wp), intent(in) :: x(:, :)
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: grid_lo(2), grid_hi(2), reach(2)
     integer :: j
     real(wp) :: e(2), l
     s%reach = 0.0_wp
@@ -121,7 +142,8 @@ contains
       s%mid(:, j) = 0.5_wp*(s%a(:, j) + s%b(:, j))
       s%reach = max(s%reach, 0.5_wp*abs(e))
     end do
-    call bins_build(s%bins, s%mid, max(2.0_wp*s%reach, tiny(1.0_wp)), err)
+    if (present(reach)) s%reach = reach
+    call bins_build(s%bins, s%mid, max(2.0_wp*s%reach, tiny(1.0_wp)), err, grid_lo, grid_hi)
   end subroutine surface_update
 
   !> The master segment closest to p among those reaching within r (per direction) of p,

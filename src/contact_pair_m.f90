@@ -30,17 +30,21 @@ module contact_pair_m
     cloud_det_excluding, cloud_clearance
   use detection_m, only: body_plateau, detection_threshold, body_cloud
   use contact_m, only: master_surface_t, surface_build, surface_update, surface_gap, &
-    contact_point_force, contact_counters_t
+    contact_point_force, contact_counters_t, surface_subset
   use contact_nts_m, only: nts_buckets_t, nts_build, nts_update, nts_gap
   use omp_lib, only: omp_get_wtime
   use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
     solid_correct, at_step_start, at_prediction
+  use rank_comm_m, only: rank_comm_t
   implicit none
   private
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
   public :: contact_stats_t, contact_det_fields, contact_step
   public :: detector_det_m, detector_nts, detector_name, contact_self_det
-  public :: contact_pair_localize
+  public :: contact_pair_localize, contact_pair_distribute, contact_dist_report
+  ! (public for the submodule contact_dist_sm only: gfortran 12 leaves out a private module
+  ! procedure that only a submodule calls)
+  public :: detect_det_m, pass_forces
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
@@ -157,6 +161,49 @@ module contact_pair_m
     end subroutine side_exchange_i
   end interface
 
+  !> Distributed memory, one side of a pair whose master deforms, on one rank
+  !! (contact_pair_distribute; doc/parallel.md, "Contact without a second decomposition"):
+  !! the side's arrays stay indexed by its particles (all of them); the rank computes the
+  !! positions of the ones it owns, and as a master it holds a cloud and a surface of its own
+  !! particles and of the ghosts: the particles of other ranks within the ghost width of its
+  !! slave particles (and the partners of its own surface particles), refreshed when the
+  !! motion since the last refresh has used up the margin.
+  type :: dist_side_t
+    integer, allocatable :: owner(:)     !< rank of each particle (np), from 0
+    integer, allocatable :: own(:)       !< the particles this rank owns, ascending
+    integer, allocatable :: gl(:)        !< each particle's node in the rank's part solid, or 0
+    type(master_surface_t) :: full       !< the whole surface (its segments' ends)
+    real(wp) :: rmax(2) = 0.0_wp         !< the whole side's largest support (m)
+    !> static partners: for each own particle (own order, CSR pptr), the ranks owning the
+    !! first end of a surface segment whose second end it is (they need its position)
+    integer, allocatable :: pptr(:), prank(:)
+    !> the ghost plan as a master: own particles sids(sptr(k) : sptr(k+1)-1) go to rank
+    !! to(k); ghosts rids(rptr(k) : rptr(k+1)-1) come from rank from(k); loc: the
+    !! particles of the rank's cloud and surface (own and ghosts, ascending)
+    integer, allocatable :: to(:), sptr(:), sids(:), from(:), rptr(:), rids(:), loc(:)
+    !> own positions of this side (xr_m) and of the other (xr_s) at the last refresh (m)
+    real(wp), allocatable :: xr_m(:, :), xr_s(:, :)
+    real(wp) :: width = -1.0_wp          !< ghost width of the last refresh (m); < 0: none
+    integer :: nrefresh = 0              !< refreshes so far
+    integer(i64) :: nghost_sum = 0       !< ghosts summed over the passes (for the mean)
+    integer(i64) :: npass = 0
+    real(wp), allocatable :: xl(:, :)    !< positions of loc (work, m)
+    real(wp), allocatable :: f(:, :)     !< point forces on the part solid's nodes (work, N)
+    real(wp), allocatable :: sbuf(:), rbuf(:)   !< message buffers (work)
+    integer, allocatable :: mptr(:), nptr(:)    !< message pointers (work)
+  end type dist_side_t
+
+  !> Distributed memory, a pair whose master deforms on one rank: the ranks, the sides'
+  !! plans, and the margin of the ghost width (a fraction of the width contact needs).
+  type :: pair_dist_t
+    class(rank_comm_t), pointer :: comm => null()
+    type(dist_side_t) :: side(2)
+    real(wp) :: margin = 0.5_wp
+    !> testing only (mfcd_mpi --ghost-refresh=never): keep the first ghost sets, so that
+    !! a contact the margin does not cover is missed (the test that proves it matters)
+    logical :: refresh = .true.
+  end type pair_dist_t
+
   type :: contact_pair_t
     type(side_t) :: side(2)              !< side 1 the slave, side 2 the master
     real(wp) :: eps_cr = 0.0_wp, eps_rel = 0.0_wp, mu = 0.0_wp
@@ -170,7 +217,44 @@ module contact_pair_m
     logical :: self = .false.
     type(contact_counters_t) :: count
     type(contact_stats_t) :: step
+    !> distributed memory with a deforming master (contact_pair_distribute)
+    type(pair_dist_t), allocatable :: dist
   end type contact_pair_t
+
+  interface
+    !> Distributed memory (issue 12, doc/parallel.md): pair p, set up on the whole bodies,
+    !! made a rank's part of a pair whose master deforms. owner(s): the rank (from 0) of
+    !! each particle of side s; nglob(s): the global numbers of the nodes of the rank's
+    !! part solid of side s; comm: the ranks (kept by pointer). margin: the ghost width's
+    !! margin, a fraction of the width contact needs (> 0: refreshes become rarer, the
+    !! ghost sets larger); refresh .false.: testing only (never refresh).
+    module subroutine contact_pair_distribute(p, solids, comm, owner1, owner2, nglob1, &
+      nglob2, margin, refresh, err)
+      type(contact_pair_t), intent(inout) :: p
+      type(solid_t), intent(in) :: solids(:)
+      class(rank_comm_t), pointer, intent(in) :: comm
+      integer, intent(in) :: owner1(:), owner2(:), nglob1(:), nglob2(:)
+      real(wp), intent(in) :: margin
+      logical, intent(in) :: refresh
+      type(error_t), allocatable, intent(inout) :: err
+    end subroutine contact_pair_distribute
+
+    !> The contact corrections of distributed pair p for the step dt (contact_correct).
+    module subroutine dist_correct(p, solids, dt, err)
+      type(contact_pair_t), intent(inout) :: p
+      type(solid_t), intent(inout) :: solids(:)
+      real(wp), intent(in) :: dt
+      type(error_t), allocatable, intent(inout) :: err
+    end subroutine dist_correct
+
+    !> This rank's refreshes, mean ghost count and bytes of distributed pair p (for the
+    !! log), per side as a master.
+    module subroutine contact_dist_report(p, nrefresh, ghosts)
+      type(contact_pair_t), intent(in) :: p
+      integer, intent(out) :: nrefresh(2)
+      real(wp), intent(out) :: ghosts(2)
+    end subroutine contact_dist_report
+  end interface
 
 contains
 
@@ -411,6 +495,10 @@ contains
     real(wp), intent(in) :: dt
     type(error_t), allocatable, intent(inout) :: err
     integer :: sd
+    if (allocated(p%dist)) then
+      call dist_correct(p, solids, dt, err)
+      return
+    end if
     p%step = contact_stats_t()
     call side_select(p%side(1), solids)
     call side_select(p%side(2), solids)
@@ -773,9 +861,8 @@ contains
     logical, intent(in), optional :: lower_only
     integer :: j, jj, i0, i1
     integer(i64) :: neval, ndet, ncon
-    real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
-    real(wp) :: dxb(2)
-    logical :: found, stick
+    real(wp) :: g, nrm(2), tng(2)
+    logical :: found
     real(wp) :: t0
     ! detection: which of a's particles penetrate b, with gap, normal, segment, projection
     t0 = omp_get_wtime()
@@ -792,6 +879,65 @@ contains
     p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
     if (p%self) call self_old_positions(a, b, solids(a%isolid))
     if (p%compare) call compare_detectors(p, a, b)
+    call pass_forces(p, a, b, dt, count_stats, neval, ndet, ncon)
+    if (ncon == 0 .and. .not. associated(a%exchange)) return
+    ! reactions on b at the ends of the segments hit (serial: few particles)
+    if (b%isolid > 0) then
+      b%fphys = 0.0_wp
+      do jj = 1, a%nlist
+        j = side_particle(a, jj)
+        if (.not. a%active(j)) cycle
+        i0 = b%surface%i0(a%seg(j))
+        i1 = b%surface%i1(a%seg(j))
+        b%fphys(:, i0) = b%fphys(:, i0) - (1.0_wp - a%xi(j))*a%fphys(:, j)
+        b%fphys(:, i1) = b%fphys(:, i1) - a%xi(j)*a%fphys(:, j)
+      end do
+      call solid_add_point_forces(solids(b%isolid), b%fphys)
+      ! (self-contact: one solid, corrected once below)
+      if (b%isolid /= a%isolid) call solid_correct(solids(b%isolid), dt)
+    end if
+    if (associated(a%exchange)) call a%exchange(a%exchange_id, exchange_forces, &
+      solids(a%isolid), a%fphys)
+    call solid_add_point_forces(solids(a%isolid), a%fphys)
+    call solid_correct(solids(a%isolid), dt)
+    if (associated(a%exchange)) call a%exchange(a%exchange_id, exchange_state, &
+      solids(a%isolid), a%fphys)
+    ! penetration left after the correction (eq. 98 spreads the forces): the
+    ! corrected positions of the particles that had a force (and of b's surface when it
+    ! moves; its cloud is moved again before it is next used)
+    if (b%isolid > 0) call side_positions(b, solids, .true., .false., need_nts(p), err)
+    if (allocated(err)) return
+    do jj = 1, a%nlist
+      j = side_particle(a, jj)
+      if (.not. a%active(j)) cycle
+      a%x_pred(:, j) = solid_point_position(solids(a%isolid), j)
+      if (p%self) then
+        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, &
+          xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))
+      else if (p%detector == detector_nts) then
+        call nts_gap(b%buckets, b%surface, a%x_pred(:, j), b%buckets%capture, found, g, &
+          nrm, tng)
+      else
+        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+      end if
+      if (found) p%step%pen_after = max(p%step%pen_after, -g)
+    end do
+  end subroutine contact_pass
+
+  !> The forces of eqs. (93)-(96) at side a's particles that the detection marked active
+  !! against side b (ncon of them), into a%fphys, with the pass's counters (neval
+  !! evaluated, ndet flagged) and statistics (count_stats: the step's first pass).
+  subroutine pass_forces(p, a, b, dt, count_stats, neval, ndet, ncon)
+    type(contact_pair_t), intent(inout) :: p
+    type(side_t), intent(inout) :: a, b
+    real(wp), intent(in) :: dt
+    logical, intent(in) :: count_stats
+    integer(i64), intent(in) :: neval, ndet
+    integer(i64), intent(out) :: ncon
+    integer :: j, jj, i0, i1
+    real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
+    real(wp) :: dxb(2)
+    logical :: stick
     ! forces (eqs. 93-96) at the penetrating particles, whichever detector found them
     ncon = 0
     pen = 0.0_wp
@@ -865,48 +1011,7 @@ contains
       p%step%radius = max(p%step%radius, rad)
       p%step%pen_before = max(p%step%pen_before, pen)
     end if
-    if (ncon == 0 .and. .not. associated(a%exchange)) return
-    ! reactions on b at the ends of the segments hit (serial: few particles)
-    if (b%isolid > 0) then
-      b%fphys = 0.0_wp
-      do j = 1, a%np
-        if (.not. a%active(j)) cycle
-        i0 = b%surface%i0(a%seg(j))
-        i1 = b%surface%i1(a%seg(j))
-        b%fphys(:, i0) = b%fphys(:, i0) - (1.0_wp - a%xi(j))*a%fphys(:, j)
-        b%fphys(:, i1) = b%fphys(:, i1) - a%xi(j)*a%fphys(:, j)
-      end do
-      call solid_add_point_forces(solids(b%isolid), b%fphys)
-      ! (self-contact: one solid, corrected once below)
-      if (b%isolid /= a%isolid) call solid_correct(solids(b%isolid), dt)
-    end if
-    if (associated(a%exchange)) call a%exchange(a%exchange_id, exchange_forces, &
-      solids(a%isolid), a%fphys)
-    call solid_add_point_forces(solids(a%isolid), a%fphys)
-    call solid_correct(solids(a%isolid), dt)
-    if (associated(a%exchange)) call a%exchange(a%exchange_id, exchange_state, &
-      solids(a%isolid), a%fphys)
-    ! penetration left after the correction (eq. 98 spreads the forces): the
-    ! corrected positions of the particles that had a force (and of b's surface when it
-    ! moves; its cloud is moved again before it is next used)
-    if (b%isolid > 0) call side_positions(b, solids, .true., .false., need_nts(p), err)
-    if (allocated(err)) return
-    do jj = 1, a%nlist
-      j = side_particle(a, jj)
-      if (.not. a%active(j)) cycle
-      a%x_pred(:, j) = solid_point_position(solids(a%isolid), j)
-      if (p%self) then
-        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, &
-          xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))
-      else if (p%detector == detector_nts) then
-        call nts_gap(b%buckets, b%surface, a%x_pred(:, j), b%buckets%capture, found, g, &
-          nrm, tng)
-      else
-        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
-      end if
-      if (found) p%step%pen_after = max(p%step%pen_after, -g)
-    end do
-  end subroutine contact_pass
+  end subroutine pass_forces
 
   !> The paper's detector (eqs. 25-28): a's particles in b's grown box with det(M_b) above
   !! the threshold at their predicted positions are flagged (ndet of neval evaluated); the

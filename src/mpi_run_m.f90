@@ -13,10 +13,12 @@
 !! energies and the contact force are sums of per-rank sums (round-off); kappa, and with it
 !! the step, is a maximum (exact).
 !!
-!! This first driver takes element meshes and RKPM bodies against rigid masters, without
-!! det(M) fields, subcycling or checkpoints; the deck is refused otherwise. An RKPM slave's
-!! contact forces are spread over RK neighbours (eq. 98): the ghost particles' forces are
-!! exchanged before the spreading and the corrected ghost nodes after (contact_exchange).
+!! The driver takes element meshes and RKPM bodies against rigid masters (each rank holds
+!! the master whole) and deforming masters (each rank its own and ghost master particles:
+!! contact_dist_sm), without self-contact, det(M) fields, subcycling or checkpoints; the
+!! deck is refused otherwise. An RKPM side's contact forces are spread over RK neighbours
+!! (eq. 98): the ghost particles' forces are exchanged before the spreading and the
+!! corrected ghost nodes after (contact_exchange).
 module mpi_run_m
   use mpi_f08
   use omp_lib, only: omp_get_wtime
@@ -29,8 +31,11 @@ module mpi_run_m
     solid_points_force, solid_nodes_force
   use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
+  use rank_comm_m, only: rank_comm_t
+  use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t, &
-    contact_pair_localize, exchange_forces, exchange_state
+    contact_pair_localize, contact_pair_distribute, contact_dist_report, exchange_forces, &
+    exchange_state
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
     set_health_limits
   use stable_step_m, only: step_control_next, step_control_update
@@ -52,10 +57,15 @@ module mpi_run_m
     type(local_part_t) :: lp
     type(halo_plan_t) :: plan
     real(wp), allocatable :: w(:, :)   !< (4, local nodes) work space for the halos
+    integer, allocatable :: owner(:)   !< the rank (from 0) of each node of the whole solid
   end type part_t
 
   !> The parts of the run (module data: contact's exchanges reach their plans by index).
   type(part_t), allocatable, save :: parts(:)
+
+  !> The default margin of the ghost width of contact with a deforming master, a fraction of
+  !! the width contact needs: larger, fewer refreshes and more ghosts (doc/parallel.md)
+  real(wp), parameter, public :: ghost_margin_default = 0.5_wp
 
 contains
 
@@ -87,9 +97,22 @@ contains
     end if
     do k = 1, deck%ncontacts
       associate (c => deck%contacts(k))
-        if (c%imaster == c%islave .or. deck%bodies(c%imaster)%role /= 'rigid') then
-          call set_error(err, what//deck%path//"', group &contact, variable master: '"// &
-            trim(c%master)//"' deforms; the MPI driver takes rigid masters so far; run mfcd")
+        if (c%imaster == c%islave) then
+          call set_error(err, what//deck%path//"', group &contact, variable master: "// &
+            "self-contact of '"//trim(c%master)//"' is not yet with MPI; run mfcd")
+          return
+        end if
+        if (deck%bodies(c%imaster)%role == 'rigid') cycle
+        ! a deforming master: its ghost particles (contact_dist_sm)
+        if (c%detector /= 'det_m' .or. c%compare_detectors) then
+          call set_error(err, what//deck%path//"', group &contact, variable detector: "// &
+            "against the deforming master '"//trim(c%master)//"' the MPI driver takes "// &
+            "detector = 'det_m' (and compare_detectors = .false.); run mfcd for the others")
+          return
+        end if
+        if (c%shared_mass) then
+          call set_error(err, what//deck%path//"', group &contact, variable shared_mass: "// &
+            "not yet with MPI; give .false. or run mfcd")
           return
         end if
       end associate
@@ -97,12 +120,18 @@ contains
   end subroutine mpi_scene_check
 
   !> The run of deck on the ranks of comm (su: the set-up, the same on every rank).
-  subroutine run_dynamic_mpi(comm, deck, bodies, su, err)
+  !! ghost_margin: the margin of the ghost width of contact with a deforming master, a
+  !! fraction of the width contact needs; ghost_refresh .false.: testing only, the first
+  !! ghost sets are kept (contacts they miss are missed).
+  subroutine run_dynamic_mpi(comm, deck, bodies, su, ghost_margin, ghost_refresh, err)
     type(MPI_Comm), intent(in) :: comm
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(dynamic_setup_t), intent(inout) :: su
+    real(wp), intent(in) :: ghost_margin
+    logical, intent(in) :: ghost_refresh
     type(error_t), allocatable, intent(inout) :: err
+    type(mpi_ranks_t), target :: ranks
     type(solid_t), allocatable :: gs(:), ps(:)
     type(contact_pair_t), allocatable :: pairs(:)
     integer, allocatable :: isolid(:)
@@ -110,9 +139,11 @@ contains
     type(run_record_t) :: r
     type(energies_t) :: en
     type(contact_stats_t) :: cstep
-    integer :: me, nranks, k, log_every, hist_every, bad_q, nsnap_before
+    integer :: me, nranks, k, j, log_every, hist_every, bad_q, nsnap_before
     real(wp) :: t_loop0, bad_j, tw
     logical :: root
+    class(rank_comm_t), pointer :: comm_ptr
+    integer(i64), allocatable :: flag_max(:)
     call MPI_Comm_rank(comm, me)
     call MPI_Comm_size(comm, nranks)
     root = me == 0
@@ -132,15 +163,33 @@ contains
       call make_part(k)
       if (any_error(comm, err)) return
     end do
+    allocate(flag_max(size(pairs)))
+    flag_max = 0
+    call mpi_ranks_init(ranks, comm)
+    comm_ptr => ranks
     do k = 1, size(pairs)
-      call contact_pair_localize(pairs(k), parts(pairs(k)%side(1)%isolid)%lp%nglob, ps, err)
+      associate (s1 => pairs(k)%side(1)%isolid, s2 => pairs(k)%side(2)%isolid)
+        if (s2 == 0) then
+          call contact_pair_localize(pairs(k), parts(s1)%lp%nglob, ps, err)
+        else
+          ! a deforming master: each rank its own slave particles against its own and
+          ! ghost master particles, and the other way round (contact_dist_sm)
+          call contact_pair_distribute(pairs(k), ps, comm_ptr, parts(s1)%owner, &
+            parts(s2)%owner, parts(s1)%lp%nglob, parts(s2)%lp%nglob, ghost_margin, &
+            ghost_refresh, err)
+        end if
+      end associate
       if (any_error(comm, err)) return
-      ! an RKPM slave's contact forces are spread over RK neighbours (eq. 98): the ghost
+      ! an RKPM side's contact forces are spread over RK neighbours (eq. 98): the ghost
       ! particles' forces before, the corrected ghost nodes after
-      if (.not. ps(pairs(k)%side(1)%isolid)%t%interpolating) then
-        pairs(k)%side(1)%exchange => contact_exchange
-        pairs(k)%side(1)%exchange_id = pairs(k)%side(1)%isolid
-      end if
+      do j = 1, 2
+        associate (s => pairs(k)%side(j))
+          if (s%isolid == 0) cycle
+          if (ps(s%isolid)%t%interpolating) cycle
+          s%exchange => contact_exchange
+          s%exchange_id = s%isolid
+        end associate
+      end do
     end do
     call output_intervals(deck, r%nsteps_est, log_every, hist_every)
     if (root) call run_files_open(deck, bodies, out, err)
@@ -176,6 +225,7 @@ contains
       call contact_step(pairs, ps, r%dt, cstep, err)                            ! (93)-(98)
       if (any_error(comm, err)) exit
       call global_contact_stats(cstep)
+      call global_flagged()
       do k = 1, size(ps)
         call halo_da(k)
       end do
@@ -252,6 +302,7 @@ contains
           point_part(q) = rcb_part(tree, g%t%xq(:, q))
         end do
         call local_part_build(g%t, node_part, point_part, me + 1, parts(k)%lp)
+        parts(k)%owner = node_part - 1
         call halo_plan_build(comm, parts(k)%lp, node_part, point_part, parts(k)%plan, err)
         if (allocated(err)) return
         kb = findloc(isolid, k, dim=1)
@@ -358,10 +409,19 @@ contains
       c%pen_after = rmt(3)
     end subroutine global_contact_stats
 
+    !> The most particles each pair flagged in one step, over all ranks.
+    subroutine global_flagged()
+      integer :: nf(size(pairs)), nft(size(pairs)), kk
+      if (size(pairs) == 0) return
+      nf = [(pairs(kk)%step%n_flagged, kk = 1, size(pairs))]
+      call MPI_Allreduce(nf, nft, size(pairs), MPI_INTEGER, MPI_SUM, comm)
+      flag_max = max(flag_max, int(nft, i64))
+    end subroutine global_flagged
+
     !> The pairs' counters summed over the ranks (most in one step: the largest).
     subroutine global_counters()
       integer :: kk
-      integer(i64) :: a(5), b(5), m(1), mt(1)
+      integer(i64) :: a(5), b(5)
       do kk = 1, size(pairs)
         associate (c => pairs(kk)%count)
           a = [c%screened, c%evaluated, c%detected, c%contacts, c%skipped]
@@ -371,9 +431,8 @@ contains
           c%detected = b(3)
           c%contacts = b(4)
           c%skipped = b(5)
-          m = c%detected_max
-          call MPI_Allreduce(m, mt, 1, MPI_INTEGER8, MPI_MAX, comm)
-          c%detected_max = mt(1)
+          ! (the most flagged in one step over all ranks: global_flagged)
+          c%detected_max = flag_max(kk)
         end associate
       end do
     end subroutine global_counters
@@ -391,13 +450,39 @@ contains
       end do
       call MPI_Allreduce(loc, tot, 2, MPI_INTEGER8, MPI_SUM, comm)
       call MPI_Allreduce(ng, ngt, 2, MPI_INTEGER, MPI_SUM, comm)
-      if (.not. root) return
-      write(line, '(a,i0,a,i0,a,i0,a,es10.3,a,es10.3,a)') 'summary: MPI: ', nranks, &
-        ' rank(s), ', ngt(1), ' ghost nodes and ', ngt(2), ' ghost points; the halos moved ', &
-        real(tot(1), wp)/max(r%n, 1), ' B (nodes) and ', real(tot(2), wp)/max(r%n, 1), &
-        ' B (points) per step'
-      write(*, '(a)') trim(line)
+      if (root) then
+        write(line, '(a,i0,a,i0,a,i0,a,es10.3,a,es10.3,a)') 'summary: MPI: ', nranks, &
+          ' rank(s), ', ngt(1), ' ghost nodes and ', ngt(2), ' ghost points; the halos '// &
+          'moved ', real(tot(1), wp)/max(r%n, 1), ' B (nodes) and ', &
+          real(tot(2), wp)/max(r%n, 1), ' B (points) per step'
+        write(*, '(a)') trim(line)
+      end if
+      call contact_ghosts_report()
     end subroutine halo_report
+
+    !> Contact with deforming masters: the refreshes of the ghost sets, the ghost master
+    !! particles (mean over the passes, summed over the ranks) and the bytes contact's
+    !! messages moved per step, over all ranks.
+    subroutine contact_ghosts_report()
+      integer :: kk, nref(2)
+      real(wp) :: gh(2), ght(2)
+      integer(i64) :: b(1), bt(1)
+      character(len=240) :: line
+      b = ranks%bytes
+      call MPI_Allreduce(b, bt, 1, MPI_INTEGER8, MPI_SUM, comm)
+      do kk = 1, size(pairs)
+        if (.not. allocated(pairs(kk)%dist)) cycle
+        call contact_dist_report(pairs(kk), nref, gh)
+        call MPI_Allreduce(gh, ght, 2, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+        if (.not. root) cycle
+        write(line, '(a,i0,a,i0,a,i0,a,f0.1,a,f0.1,a,es10.3,a)') 'summary: MPI: contact ', &
+          kk, ': ghost sets refreshed ', nref(1), ' and ', nref(2), &
+          ' times (slave, master as masters), ', ght(1), ' and ', ght(2), &
+          ' ghost particles on average; contact moved ', real(bt(1), wp)/max(r%n, 1), &
+          ' B per step'
+        write(*, '(a)') trim(line)
+      end do
+    end subroutine contact_ghosts_report
 
     !> A failure on any rank fails every rank, with the lowest failing rank's reason.
     subroutine agree_failure()

@@ -9,6 +9,7 @@ module neighbour_bins_m
   implicit none
   private
   public :: bins_t, bins_build, bins_cell_block, bins_candidates, bins_brute_force
+  public :: bins_cell_size
 
   !> Cells cap: keeps memory bounded for very elongated or sparse clouds.
   integer, parameter :: max_cells = 16*1024*1024
@@ -21,6 +22,10 @@ module neighbour_bins_m
     real(wp) :: cell(3) = 1.0_wp     !< cell size per direction (m)
     real(wp) :: inv_cell(3) = 1.0_wp
     integer :: nc(3) = 1             !< cells per direction
+    !> a block of a larger grid (bins_build's grid_lo, grid_hi; distributed memory): the
+    !! block's first cell in the grid, and the grid's cells per direction (nc, 0 otherwise)
+    integer :: off(3) = 0
+    integer :: ncg(3) = 1
     integer, allocatable :: start(:) !< CSR pointer, ncells + 1 used (may be longer)
     integer, allocatable :: idx(:)   !< particle ids sorted by cell
     integer, allocatable :: cid(:), fill(:)   !< work space of the build, kept for rebuilds
@@ -31,12 +36,19 @@ contains
   !> Build bins over x(ndim, np) with cells at least min_cell(ndim) wide (m). b may hold
   !! earlier bins: their arrays are reused when large enough, so re-binning a moving cloud
   !! every step allocates only when its grid outgrows every earlier one.
-  subroutine bins_build(b, x, min_cell, err)
+  !!
+  !! With grid_lo and grid_hi (a box holding x; distributed memory), the cells are those the
+  !! bins over every point in that box would have (its corner, the same cell size), and only
+  !! the block of them that holds x is kept: a point falls in the same cell, and a query
+  !! visits the points it holds in the same order, as in the bins over the whole cloud whose
+  !! extremes grid_lo and grid_hi are (each rank's part of a contact master).
+  subroutine bins_build(b, x, min_cell, err, grid_lo, grid_hi)
     type(bins_t), intent(inout) :: b
     real(wp), intent(in) :: x(:, :)
     real(wp), intent(in) :: min_cell(:)
     type(error_t), allocatable, intent(inout) :: err
-    integer :: ndim, np, i, c, ncell
+    real(wp), intent(in), optional :: grid_lo(:), grid_hi(:)
+    integer :: ndim, np, i, c, ncell, d, last
     real(wp) :: ext(3)
     ndim = size(x, 1)
     np = size(x, 2)
@@ -47,6 +59,8 @@ contains
     b%cell = 1.0_wp
     b%inv_cell = 1.0_wp
     b%nc = 1
+    b%off = 0
+    b%ncg = 1
     if (any(min_cell(1:ndim) <= 0.0_wp)) then
       call set_error(err, 'neighbour bins: cell size must be positive')
       return
@@ -57,18 +71,27 @@ contains
       b%start(1:2) = 1
       return
     end if
-    b%lo(1:ndim) = minval(x, dim=2)
-    b%hi(1:ndim) = maxval(x, dim=2)
+    if (present(grid_lo) .and. present(grid_hi)) then
+      b%lo(1:ndim) = grid_lo(1:ndim)
+      b%hi(1:ndim) = grid_hi(1:ndim)
+    else
+      b%lo(1:ndim) = minval(x, dim=2)
+      b%hi(1:ndim) = maxval(x, dim=2)
+    end if
     ext = 0.0_wp
     ext(1:ndim) = b%hi(1:ndim) - b%lo(1:ndim)
-    b%cell(1:ndim) = min_cell(1:ndim)
-    do
-      b%nc = 1
-      b%nc(1:ndim) = int(ext(1:ndim)/b%cell(1:ndim)) + 1
-      if (real(b%nc(1), wp)*b%nc(2)*b%nc(3) <= max_cells) exit
-      b%cell(1:ndim) = 2.0_wp*b%cell(1:ndim)
-    end do
+    b%cell(1:ndim) = bins_cell_size(ext(1:ndim), min_cell(1:ndim))
+    b%nc(1:ndim) = int(ext(1:ndim)/b%cell(1:ndim)) + 1
     b%inv_cell(1:ndim) = 1.0_wp/b%cell(1:ndim)
+    b%ncg = b%nc
+    if (present(grid_lo) .and. present(grid_hi)) then
+      ! the block of the grid's cells that holds x
+      do d = 1, ndim
+        b%off(d) = grid_cell(b, d, minval(x(d, :)))
+        last = grid_cell(b, d, maxval(x(d, :)))
+        b%nc(d) = last - b%off(d) + 1
+      end do
+    end if
     ncell = product(b%nc)
     call ensure(b%cid, np)
     call ensure(b%fill, ncell)
@@ -93,6 +116,24 @@ contains
     end associate
   end subroutine bins_build
 
+  !> The cell size of bins over a box of extent ext (ndim) with cells at least min_cell
+  !! wide: min_cell, doubled until the cells number at most max_cells (m).
+  pure function bins_cell_size(ext, min_cell) result(cell)
+    real(wp), intent(in) :: ext(:), min_cell(:)
+    real(wp) :: cell(size(ext))
+    real(wp) :: ncells
+    integer :: d
+    cell = min_cell
+    do
+      ncells = 1.0_wp
+      do d = 1, size(ext)
+        ncells = ncells*real(int(ext(d)/cell(d)) + 1, wp)
+      end do
+      if (ncells <= max_cells) exit
+      cell = 2.0_wp*cell
+    end do
+  end function bins_cell_size
+
   !> a allocated with at least n entries (reallocated, contents lost, only when shorter);
   !! start and idx may be longer than the bins use.
   subroutine ensure(a, n)
@@ -105,14 +146,22 @@ contains
     allocate(a(max(n, 1)))
   end subroutine ensure
 
-  !> Flat cell id (1-based) of a point known to lie in the grid.
+  !> Zero-based cell of the whole grid that coordinate z in direction d falls in.
+  pure integer function grid_cell(b, d, z) result(i)
+    type(bins_t), intent(in) :: b
+    integer, intent(in) :: d
+    real(wp), intent(in) :: z
+    i = min(b%ncg(d) - 1, max(0, int((z - b%lo(d))*b%inv_cell(d))))
+  end function grid_cell
+
+  !> Flat cell id (1-based) of a point known to lie in the grid (in the block kept).
   pure integer function cell_of(b, p) result(c)
     type(bins_t), intent(in) :: b
     real(wp), intent(in) :: p(:)
     integer :: ijk(3), d
     ijk = 0
     do d = 1, b%ndim
-      ijk(d) = min(b%nc(d) - 1, max(0, int((p(d) - b%lo(d))*b%inv_cell(d))))
+      ijk(d) = min(b%nc(d) - 1, max(0, grid_cell(b, d, p(d)) - b%off(d)))
     end do
     c = 1 + ijk(1) + b%nc(1)*(ijk(2) + b%nc(2)*ijk(3))
   end function cell_of
@@ -132,12 +181,17 @@ contains
     do d = 1, b%ndim
       a = (p(d) - r(d) - b%lo(d))*b%inv_cell(d)
       z = (p(d) + r(d) - b%lo(d))*b%inv_cell(d)
-      if (z < 0.0_wp .or. a >= real(b%nc(d), wp)) then
+      if (z < 0.0_wp .or. a >= real(b%ncg(d), wp)) then
         empty = .true.
         return
       end if
-      clo(d) = max(0, int(a))
-      chi(d) = min(b%nc(d) - 1, int(z))
+      ! (the whole grid's cells, then the block kept: off = 0, nc = ncg unless a block)
+      clo(d) = max(0, int(a), b%off(d)) - b%off(d)
+      chi(d) = min(b%ncg(d) - 1, int(z), b%off(d) + b%nc(d) - 1) - b%off(d)
+      if (clo(d) > chi(d)) then
+        empty = .true.
+        return
+      end if
     end do
   end subroutine bins_cell_block
 

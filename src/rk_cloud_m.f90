@@ -86,11 +86,14 @@ contains
   !> The same particles at new positions x (caller order): re-binned and re-packed in place,
   !! in the order cloud_init would give them (a deformable contact master moves every step;
   !! a rigid one is never moved). Allocates only at the first move, or when the grid grows
-  !! beyond every earlier one.
-  subroutine cloud_move(c, x, err)
+  !! beyond every earlier one. With grid_lo, grid_hi: the particles are part of a larger
+  !! cloud whose extremes these are (and whose rmax c has): the bins are that cloud's cells
+  !! (bins_build), so det(M) sums the same terms in the same order (distributed memory).
+  subroutine cloud_move(c, x, err, grid_lo, grid_hi)
     type(rk_cloud_t), intent(inout) :: c
     real(wp), intent(in) :: x(:, :)
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: grid_lo(:), grid_hi(:)
     integer :: q, i, o, nd
     nd = c%ndim
     if (.not. allocated(c%wslot)) allocate(c%wslot(c%np), c%wrho(nd, c%np), c%wvol(c%np))
@@ -100,7 +103,7 @@ contains
       c%wslot(c%perm(q)) = q
     end do
     call bins_build(c%bins, x, max(c%rmax(1:nd), tiny(1.0_wp))/merge(3.0_wp, 1.0_wp, &
-      nd == 2), err)
+      nd == 2), err, grid_lo, grid_hi)
     if (allocated(err)) return
     do q = 1, c%np
       i = c%bins%idx(q)

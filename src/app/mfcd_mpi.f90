@@ -3,10 +3,14 @@
 !! one HDF5 file (and XDMF) a serial `mfcd DECK.nml` writes, from rank 0. Every rank reads
 !! the deck and builds the set-up (so bad input is found by all, before anything is
 !! written); only rank 0 logs. What the MPI driver does not take yet is refused as bad input
-!! (mpi_run_m: element meshes against rigid masters, no det(M) fields, no subcycling, no
-!! checkpoints). Exit codes as mfcd's: 0 ok, 2 bad input (nothing written), 1 run failed.
+!! (mpi_run_m: no self-contact, det(M) fields, subcycling or checkpoints). Options:
+!! --ghost-margin=F, the margin of the ghost width of contact with a deforming master (a
+!! fraction of the width contact needs, default 0.5); --ghost-refresh=never, for the test
+!! that proves the refreshes matter. Exit codes as mfcd's: 0 ok, 2 bad input (nothing
+!! written), 1 run failed.
 program mfcd_mpi
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use kinds_m, only: wp
   use mpi_f08
   use errors_m, only: error_t, exit_bad_input
   use strings_m, only: itoa
@@ -18,24 +22,49 @@ program mfcd_mpi
   use output_path_m, only: check_output_path, output_result_text
   use log_m, only: log_print, log_flush
   use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
-  use mpi_run_m, only: run_dynamic_mpi, mpi_scene_check
+  use mpi_run_m, only: run_dynamic_mpi, mpi_scene_check, ghost_margin_default
   implicit none
   type(deck_t) :: deck
   type(body_t), allocatable :: bodies(:)
   type(dynamic_setup_t) :: su
   type(error_t), allocatable :: err
-  character(len=4096) :: arg
-  integer :: me, nranks, code
+  character(len=4096) :: arg, deck_path
+  integer :: me, nranks, code, k, ios, ndeck
+  real(wp) :: ghost_margin
+  logical :: ghost_refresh
   call MPI_Init()
   call MPI_Comm_rank(MPI_COMM_WORLD, me)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   ! only rank 0 logs: the others' standard output goes nowhere
   if (me /= 0) open(unit=output_unit, file='/dev/null', action='write')
-  if (command_argument_count() /= 1) then
-    if (me == 0) write(error_unit, '(a)') 'usage: mpirun -np N mfcd_mpi DECK.nml'
+  ! options: --ghost-margin=F (contact with deforming masters: the ghost width's margin, a
+  ! fraction of the width contact needs; default 0.5), --ghost-refresh=never (testing only:
+  ! the first ghost sets are kept, and contacts they do not cover are missed)
+  ghost_margin = ghost_margin_default
+  ghost_refresh = .true.
+  ndeck = 0
+  ios = 0
+  do k = 1, command_argument_count()
+    call get_command_argument(k, arg)
+    if (index(arg, '--ghost-margin=') == 1) then
+      read(arg(16:), *, iostat=ios) ghost_margin
+      if (ios /= 0 .or. .not. (ghost_margin >= 0.0_wp)) ios = 1
+    else if (trim(arg) == '--ghost-refresh=never') then
+      ghost_refresh = .false.
+    else if (arg(1:1) == '-') then
+      ios = 1
+    else
+      ndeck = ndeck + 1
+      deck_path = arg
+    end if
+  end do
+  if (ndeck /= 1 .or. ios /= 0) then
+    if (me == 0) write(error_unit, '(a)') 'usage: mpirun -np N mfcd_mpi [--ghost-margin=F] '// &
+      'DECK.nml   (F >= 0, default 0.5: the ghost width of contact with a deforming '// &
+      'master is (1 + F) times the width contact needs)'
     call finish(exit_bad_input)
   end if
-  call get_command_argument(1, arg)
+  arg = deck_path
   call log_print(code_name//' '//code_version//' (git '//git_commit//') '//timestamp()// &
     ' deck '//trim(arg)//', MPI ranks: '//itoa(nranks))
   call read_deck(trim(arg), deck, err)
@@ -44,7 +73,7 @@ program mfcd_mpi
   if (.not. allocated(err)) call setup_dynamic(deck, bodies, su, err)
   if (.not. allocated(err) .and. me == 0) call check_output_path(deck, err)
   call agree_or_fail(exit_bad_input)
-  call run_dynamic_mpi(MPI_COMM_WORLD, deck, bodies, su, err)
+  call run_dynamic_mpi(MPI_COMM_WORLD, deck, bodies, su, ghost_margin, ghost_refresh, err)
   call agree_or_fail(1)
   call log_print('mfcd_mpi: completed: wrote '//output_result_text(deck))
   call finish(0)

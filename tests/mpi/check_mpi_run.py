@@ -17,7 +17,13 @@ not to the bit). Then:
 A decomposition that dropped a ghost, an exchange in the wrong order or a missed contact at a
 rank boundary breaks the bitwise checks at once.
 
-Usage: check_mpi_run.py [--t-end T] MFCD MFCD_MPI MPIEXEC DECK [DECK ...]
+With --no-refresh-differs N (decks whose master deforms): also run on N ranks with
+`mfcd_mpi --ghost-refresh=never`, which keeps the ghost master particles found at the start;
+the decks start with the bodies farther apart than the ghost width, so the contacts at the
+rank boundaries are missed or changed and that run must NOT equal the serial one (the check
+that proves the refreshes, and this test, see a missed contact).
+
+Usage: check_mpi_run.py [--t-end T] [--no-refresh-differs N] MFCD MFCD_MPI MPIEXEC DECK...
 (--t-end: every deck run to T seconds, snapshots at 0 and T.)
 """
 import os
@@ -37,6 +43,11 @@ T_END = None
 if "--t-end" in ARGS:
     i = ARGS.index("--t-end")
     T_END = float(ARGS[i + 1])
+    del ARGS[i:i + 2]
+NO_REFRESH = None
+if "--no-refresh-differs" in ARGS:
+    i = ARGS.index("--no-refresh-differs")
+    NO_REFRESH = int(ARGS[i + 1])
     del ARGS[i:i + 2]
 MFCD, MFCD_MPI, MPIEXEC = (os.path.abspath(a) for a in ARGS[0:3])
 DECKS = [os.path.abspath(d) for d in ARGS[3:]]
@@ -70,7 +81,13 @@ def deck_copy(src, work, out):
     return path
 
 
-def compare(tag, ref, new):
+def compare(tag, ref, new, record=True):
+    """The checks of a run against the serial one; record False: only whether all hold."""
+    outcome = []
+
+    def check(name, cond, detail=""):  # noqa: F811 (collects, then records or not)
+        outcome.append((name, bool(cond), detail))
+
     bad = []
     with h5py.File(ref, "r") as a, h5py.File(new, "r") as b:
         paths = []
@@ -109,6 +126,10 @@ def compare(tag, ref, new):
             if np.ndim(ba[body][k]) == 0 and isinstance(ba[body][k], float)
             and not ba[body][k] == bb.get(body, {}).get(k)]
     check(f"{tag}: /summary body measures equal, bit for bit", not diff, diff)
+    if record:
+        for name, cond, detail in outcome:
+            globals()["check"](name, cond, detail)
+    return all(c for _, c, _ in outcome)
 
 
 def main():
@@ -131,6 +152,18 @@ def main():
             if p.returncode == 0:
                 compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial.h5"),
                         os.path.join(work, f"{name}_np{n}.h5"))
+        if NO_REFRESH:
+            n = NO_REFRESH
+            deck = deck_copy(src, work, f"{name}_np{n}_norefresh.h5")
+            p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI,
+                                "--ghost-refresh=never", deck], cwd=work, env=env,
+                               capture_output=True, text=True)
+            same = p.returncode == 0 and compare(
+                "", os.path.join(work, f"{name}_serial.h5"),
+                os.path.join(work, f"{name}_np{n}_norefresh.h5"), record=False)
+            check(f"{name}, {n} ranks without the ghost refreshes: differs from the serial "
+                  "run (the missed contacts are seen)", not same,
+                  "equal: the test cannot see a missed contact")
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if results and all(results) else 1)
 

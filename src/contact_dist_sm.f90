@@ -1,0 +1,523 @@
+!> Contact of a pair whose master deforms, on one rank of a distributed run (issue 12;
+!! doc/parallel.md, "Contact without a second decomposition").
+!!
+!! Each rank detects the penetration of the slave particles it owns, with det(M) of the
+!! master (eqs. 1-8, 25-28) assembled from its own master particles and its ghost master
+!! particles: those of other ranks within the ghost width w of the box of its slave
+!! particles. w is the reach contact needs, R = the largest of the master's supports and of
+!! the slave's supports plus twice the segments' reach and a cell of the segment bins (the
+!! gap of eq. 89 looks there for the closest segment), plus a margin. A master particle left
+!! out at the refresh was farther than w from every slave particle of the rank in some
+!! direction; after the slave particles moved by at most D_s and the master particles by at
+!! most D_m (the largest displacements since the refresh, over the ranks) it is still
+!! farther than w - D_s - D_m, so it cannot take part while D_s + D_m + R < w. When that
+!! fails the rank refreshes: each rank sends its own master particles that lie in the other
+!! ranks' grown slave boxes (an allgather of 8 numbers per rank for the boxes; the particles
+!! go point to point to the ranks whose boxes overlap, no global search, no all-to-all).
+!!
+!! Bitwise the serial run: the cloud and the surface segments are binned on the cells the
+!! serial run's bins over the whole master have (their corner and extent from a reduction),
+!! so det(M) sums the same particles in the same order and the closest segment is searched
+!! among the same candidates in the same order; the reactions on a master particle are sent
+!! to its owner and summed there in the order of the slave particles, as the serial pass
+!! sums them. The rest is the serial pass (contact_pair_m), over the rank's own particles.
+submodule (contact_pair_m) contact_dist_sm
+  use neighbour_bins_m, only: bins_cell_size
+  use sorting_m, only: sort_index
+  implicit none
+
+contains
+
+  module procedure contact_pair_distribute
+    integer :: sd
+    character(len=:), allocatable :: what
+    what = "contact of '"//trim(p%side(1)%name)//"' on '"//trim(p%side(2)%name)//"': "
+    if (p%self) then
+      call set_error(err, what//"self-contact is not yet distributed; run mfcd")
+    else if (.not. p%both_ways) then
+      call set_error(err, what//"the master is rigid: a rank's part takes it whole "// &
+        "(contact_pair_localize)")
+    else if (p%detector /= detector_det_m .or. p%compare) then
+      call set_error(err, what//"detector: a deforming master is distributed with "// &
+        "detector = 'det_m' only (and compare_detectors = .false.)")
+    else if (p%shared_mass) then
+      call set_error(err, what//"shared_mass is not yet distributed; give .false.")
+    end if
+    if (allocated(err)) return
+    allocate(p%dist)
+    p%dist%comm => comm
+    p%dist%margin = margin
+    p%dist%refresh = refresh
+    call init_side(p%side(1), p%dist%side(1), owner1, nglob1, solids(p%side(1)%isolid)%np)
+    if (allocated(err)) return
+    call init_side(p%side(2), p%dist%side(2), owner2, nglob2, solids(p%side(2)%isolid)%np)
+    if (allocated(err)) return
+    ! the first plans: the static partners only (the first pass refreshes them)
+    do sd = 1, 2
+      call make_plan(p, sd, 3 - sd, -1.0_wp, err)
+      if (allocated(err)) return
+    end do
+
+  contains
+
+    subroutine init_side(s, ds, owner, nglob, npart)
+      type(side_t), intent(inout) :: s
+      type(dist_side_t), intent(inout) :: ds
+      integer, intent(in) :: owner(:), nglob(:), npart
+      integer :: i, k, kk, q, n
+      integer, allocatable :: kown(:), cnt(:)
+      ds%owner = owner
+      ds%own = pack([(i, i = 1, s%np)], owner == comm%me)
+      allocate(ds%gl(s%np))
+      ds%gl = 0
+      ds%gl(nglob) = [(k, k = 1, size(nglob))]
+      if (any(ds%gl(ds%own) == 0)) then
+        call set_error(err, what//"a particle of '"//trim(s%name)//"' owned by rank "// &
+          itoa(comm%me)//" is not a node of its part")
+        return
+      end if
+      ds%full = s%surface
+      ds%rmax = s%cloud%rmax(1:2)
+      s%listed = .true.
+      s%list = ds%own
+      s%nlist = size(ds%own)
+      allocate(ds%f(2, npart), ds%mptr(comm%nranks + 1), ds%nptr(comm%nranks + 1))
+      allocate(ds%sbuf(0), ds%rbuf(0))
+      ! static partners: the ranks owning the first end of a segment whose second end is
+      ! an own particle (they sum the segment's midpoint and reach)
+      allocate(kown(s%np), cnt(size(ds%own) + 1))
+      kown = 0
+      kown(ds%own) = [(k, k = 1, size(ds%own))]
+      cnt = 0
+      do kk = 1, ds%full%nseg
+        k = kown(ds%full%i1(kk))
+        if (k > 0 .and. owner(ds%full%i0(kk)) /= comm%me) cnt(k + 1) = cnt(k + 1) + 1
+      end do
+      allocate(ds%pptr(size(ds%own) + 1))
+      ds%pptr(1) = 1
+      do k = 1, size(ds%own)
+        ds%pptr(k + 1) = ds%pptr(k) + cnt(k + 1)
+      end do
+      allocate(ds%prank(ds%pptr(size(ds%own) + 1) - 1))
+      cnt = 0
+      do kk = 1, ds%full%nseg
+        k = kown(ds%full%i1(kk))
+        q = owner(ds%full%i0(kk))
+        if (k == 0 .or. q == comm%me) cycle
+        n = ds%pptr(k) + cnt(k + 1)
+        ds%prank(n) = q
+        cnt(k + 1) = cnt(k + 1) + 1
+      end do
+    end subroutine init_side
+  end procedure contact_pair_distribute
+
+  module procedure contact_dist_report
+    integer :: sd
+    do sd = 1, 2
+      associate (ds => p%dist%side(sd))
+        nrefresh(sd) = ds%nrefresh
+        ghosts(sd) = real(ds%nghost_sum, wp)/real(max(ds%npass, 1_i64), wp)
+      end associate
+    end do
+  end procedure contact_dist_report
+
+  module procedure dist_correct
+    p%step = contact_stats_t()
+    ! eq. (28): the slave's particles against the master, then the master's against the
+    ! slave at the corrected positions
+    call dist_pass(p, 1, 2, solids, dt, .true., err)
+    if (allocated(err)) return
+    call dist_pass(p, 2, 1, solids, dt, .false., err)
+    if (allocated(err)) return
+    p%count%detected_max = max(p%count%detected_max, int(p%step%n_flagged, i64))
+  end procedure dist_correct
+
+  !> One pass of the own particles of side ia against side ib, the master (contact_pass).
+  !! Collective.
+  subroutine dist_pass(p, ia, ib, solids, dt, count_stats, err)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ia, ib
+    type(solid_t), intent(inout) :: solids(:)
+    real(wp), intent(in) :: dt
+    logical, intent(in) :: count_stats
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: jj, j
+    integer(i64) :: neval, ndet, ncon
+    real(wp) :: t0, v(1), g, nrm(2), tng(2)
+    logical :: found
+    call dist_master(p, ib, ia, solids, .true., err)
+    if (allocated(err)) return
+    associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
+      db => p%dist%side(ib))
+      t0 = omp_get_wtime()
+      call detect_det_m(a, b, neval, ndet)
+      p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
+      call pass_forces(p, a, b, dt, count_stats, neval, ndet, ncon)
+      ! no contact on any rank: nothing to correct (as the serial pass)
+      v = real(ncon, wp)
+      call p%dist%comm%max_real(v)
+      if (v(1) == 0.0_wp) return
+      ! the reactions on the master particles, summed by their owners (eq. 98 or 99 on
+      ! the master's nodes), then the slave's own forces
+      call route_reactions(p, ia, ib)
+      call spread_correct(b, db, solids(b%isolid), dt)
+      da%f = 0.0_wp
+      do jj = 1, a%nlist
+        j = a%list(jj)
+        if (a%active(j)) da%f(:, da%gl(j)) = a%fphys(:, j)
+      end do
+      call spread_correct(a, da, solids(a%isolid), dt)
+      ! penetration left after the correction, against the master's corrected surface
+      call dist_master(p, ib, ia, solids, .false., err)
+      if (allocated(err)) return
+      do jj = 1, a%nlist
+        j = a%list(jj)
+        if (.not. a%active(j)) cycle
+        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+        if (found) p%step%pen_after = max(p%step%pen_after, -g)
+      end do
+    end associate
+  end subroutine dist_pass
+
+  !> Point forces ds%f on the nodes of side s's part solid (own entries; the ghosts' from
+  !! their owners when eq. 98 spreads them) added to the solid, a_n and the prediction
+  !! corrected, the corrected ghost nodes from their owners.
+  subroutine spread_correct(s, ds, sol, dt)
+    type(side_t), intent(inout) :: s
+    type(dist_side_t), intent(inout) :: ds
+    type(solid_t), intent(inout) :: sol
+    real(wp), intent(in) :: dt
+    if (associated(s%exchange)) call s%exchange(s%exchange_id, exchange_forces, sol, ds%f)
+    call solid_add_point_forces(sol, ds%f)
+    call solid_correct(sol, dt)
+    if (associated(s%exchange)) call s%exchange(s%exchange_id, exchange_state, sol, ds%f)
+  end subroutine spread_correct
+
+  !> Side ib made ready to be the master of side ia's own particles: the own positions of
+  !! both sides (at the step start and now), the ghosts' from their owners, the extremes
+  !! of the whole master (one reduction), a refresh of the ghosts when the margin is used
+  !! up, and the rank's cloud (with_det) and surface binned on the whole master's cells.
+  subroutine dist_master(p, ib, ia, solids, with_det, err)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ib, ia
+    type(solid_t), intent(in) :: solids(:)
+    logical, intent(in) :: with_det
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: v(12), glo(2), ghi(2), mlo(2), mhi(2), reach(2), cell(2), need
+    integer :: k, kk, i0, i1
+    associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
+      db => p%dist%side(ib))
+      call own_positions(a, da, solids(a%isolid))
+      call own_positions(b, db, solids(b%isolid))
+      call exchange_positions(p, ib)
+      ! the whole master's extremes, its segments' midpoints and reach (each segment by the
+      ! owner of its first end), and the largest displacements since the refresh
+      v = -huge(1.0_wp)
+      do k = 1, size(db%own)
+        v(1:2) = max(v(1:2), -b%x_pred(:, db%own(k)))
+        v(3:4) = max(v(3:4), b%x_pred(:, db%own(k)))
+      end do
+      do kk = 1, db%full%nseg
+        i0 = db%full%i0(kk)
+        if (db%owner(i0) /= p%dist%comm%me) cycle
+        i1 = db%full%i1(kk)
+        v(5:6) = max(v(5:6), -0.5_wp*(b%x_pred(:, i0) + b%x_pred(:, i1)))
+        v(7:8) = max(v(7:8), 0.5_wp*(b%x_pred(:, i0) + b%x_pred(:, i1)))
+        v(9:10) = max(v(9:10), 0.5_wp*abs(b%x_pred(:, i1) - b%x_pred(:, i0)))
+      end do
+      v(11:12) = 0.0_wp
+      if (db%width >= 0.0_wp) then
+        do k = 1, size(db%own)
+          v(11) = max(v(11), norm2(b%x_pred(:, db%own(k)) - db%xr_m(:, k)))
+        end do
+        do k = 1, size(da%own)
+          v(12) = max(v(12), norm2(a%x_pred(:, da%own(k)) - db%xr_s(:, k)))
+        end do
+      end if
+      call p%dist%comm%max_real(v)
+      glo = -v(1:2)
+      ghi = v(3:4)
+      mlo = -v(5:6)
+      mhi = v(7:8)
+      reach = max(v(9:10), 0.0_wp)
+      ! the reach contact needs: det(M) takes the master particles within their support;
+      ! the gap (eq. 89) the segments with a midpoint in a cell within the slave particle's
+      ! support and the reach (surface_gap), so ends within twice the reach and a cell
+      cell = bins_cell_size(mhi - mlo, max(2.0_wp*reach, tiny(1.0_wp)))
+      need = maxval(max(db%rmax, da%rmax + 2.0_wp*reach + cell))
+      if (db%width < 0.0_wp .or. (p%dist%refresh .and. .not. (v(11) + v(12) + need < &
+        db%width))) then
+        call make_plan(p, ib, ia, need*(1.0_wp + p%dist%margin), err)
+        if (allocated(err)) return
+        call exchange_positions(p, ib)
+      end if
+      if (with_det) then
+        do k = 1, size(db%loc)
+          db%xl(:, k) = b%x_pred(:, db%loc(k))
+        end do
+        call cloud_move(b%cloud, db%xl, err, glo, ghi)
+        if (allocated(err)) return
+      end if
+      call surface_update(b%surface, b%x_pred, err, mlo, mhi, reach)
+      if (allocated(err)) return
+      b%lo = glo - b%cloud%rmax(1:2)
+      b%hi = ghi + b%cloud%rmax(1:2)
+      db%nghost_sum = db%nghost_sum + size(db%rids)
+      db%npass = db%npass + 1
+    end associate
+  end subroutine dist_master
+
+  !> Physical positions of side s's own particles at the step start and now.
+  subroutine own_positions(s, ds, sol)
+    type(side_t), intent(inout) :: s
+    type(dist_side_t), intent(in) :: ds
+    type(solid_t), intent(in) :: sol
+    integer :: k, i
+    !$omp parallel do default(none) shared(s, ds, sol) private(i) schedule(static)
+    do k = 1, size(ds%own)
+      i = ds%own(k)
+      s%x_old(:, i) = solid_point_position(sol, ds%gl(i), at_step_start)
+      s%x_pred(:, i) = solid_point_position(sol, ds%gl(i))
+    end do
+    !$omp end parallel do
+  end subroutine own_positions
+
+  !> The ghosts' positions of side ib (at the step start and now) from their owners.
+  subroutine exchange_positions(p, ib)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ib
+    integer :: k, m
+    associate (b => p%side(ib), db => p%dist%side(ib))
+      call ensure(db%sbuf, 4*size(db%sids))
+      do k = 1, size(db%sids)
+        db%sbuf(4*k - 3:4*k) = [b%x_old(:, db%sids(k)), b%x_pred(:, db%sids(k))]
+      end do
+      db%mptr(1:size(db%to) + 1) = 4*db%sptr - 3
+      call p%dist%comm%sparse_exchange(db%to, db%mptr(1:size(db%to) + 1), db%sbuf, db%from, &
+        db%nptr(1:size(db%from) + 1), db%rbuf)
+      do m = 1, size(db%rids)
+        b%x_old(:, db%rids(m)) = db%rbuf(4*m - 3:4*m - 2)
+        b%x_pred(:, db%rids(m)) = db%rbuf(4*m - 1:4*m)
+      end do
+    end associate
+  end subroutine exchange_positions
+
+  !> The reactions of side ia's own active particles on the ends of the master segments
+  !! they hit (eq. 98's point forces on side ib), each sent to the owner of its master
+  !! particle, and summed there into db%f in the order of the slave particles, as the
+  !! serial pass sums them.
+  subroutine route_reactions(p, ia, ib)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ia, ib
+    integer :: jj, j, e, i, q, k, n, nloc
+    integer :: slot(0:p%dist%comm%nranks - 1), cnt(size(p%dist%side(ib)%from))
+    real(wp) :: c(2)
+    associate (a => p%side(ia), b => p%side(ib), db => p%dist%side(ib), &
+      me => p%dist%comm%me)
+      ! the messages go back along the ghost plan: to the ranks the ghosts came from
+      slot = 0
+      do k = 1, size(db%from)
+        slot(db%from(k)) = k
+      end do
+      cnt = 0
+      nloc = 0
+      do jj = 1, a%nlist
+        j = a%list(jj)
+        if (.not. a%active(j)) cycle
+        do e = 0, 1
+          q = db%owner(seg_end(j, e))
+          if (q == me) then
+            nloc = nloc + 1
+          else
+            cnt(slot(q)) = cnt(slot(q)) + 1
+          end if
+        end do
+      end do
+      db%mptr(1) = 1
+      do k = 1, size(db%from)
+        db%mptr(k + 1) = db%mptr(k) + 4*cnt(k)
+      end do
+      call ensure(db%sbuf, db%mptr(size(db%from) + 1) - 1 + 4*nloc)
+      ! own master particles' records after the messages, in the same buffer
+      n = db%mptr(size(db%from) + 1)
+      cnt = 0
+      do jj = 1, a%nlist
+        j = a%list(jj)
+        if (.not. a%active(j)) cycle
+        do e = 0, 1
+          i = seg_end(j, e)
+          if (e == 0) then
+            c = (1.0_wp - a%xi(j))*a%fphys(:, j)
+          else
+            c = a%xi(j)*a%fphys(:, j)
+          end if
+          q = db%owner(i)
+          if (q == me) then
+            db%sbuf(n:n + 3) = [real(i, wp), real(j, wp), c]
+            n = n + 4
+          else
+            k = slot(q)
+            db%sbuf(db%mptr(k) + 4*cnt(k):db%mptr(k) + 4*cnt(k) + 3) = [real(i, wp), &
+              real(j, wp), c]
+            cnt(k) = cnt(k) + 1
+          end if
+        end do
+      end do
+      call p%dist%comm%sparse_exchange(db%from, db%mptr(1:size(db%from) + 1), db%sbuf, &
+        db%to, db%nptr(1:size(db%to) + 1), db%rbuf)
+      db%f = 0.0_wp
+      call sum_records(db, db%sbuf(db%mptr(size(db%from) + 1):n - 1), &
+        db%rbuf(1:db%nptr(size(db%to) + 1) - 1))
+    end associate
+
+  contains
+
+    !> End e (0: first, 1: second) of the master segment slave particle j hit.
+    integer function seg_end(j, e) result(i)
+      integer, intent(in) :: j, e
+      if (e == 0) then
+        i = p%side(ib)%surface%i0(p%side(ia)%seg(j))
+      else
+        i = p%side(ib)%surface%i1(p%side(ia)%seg(j))
+      end if
+    end function seg_end
+  end subroutine route_reactions
+
+  !> The records (master particle, slave particle, force) of rl and rr subtracted into
+  !! ds%f in the order of the slave particles (per master particle the serial order).
+  subroutine sum_records(ds, rl, rr)
+    type(dist_side_t), intent(inout) :: ds
+    real(wp), intent(in) :: rl(:), rr(:)
+    real(wp) :: key(size(rl)/4 + size(rr)/4), rec(4, size(rl)/4 + size(rr)/4)
+    integer :: idx(size(key)), k, m, nl
+    nl = size(rl)/4
+    rec(:, 1:nl) = reshape(rl, [4, nl])
+    rec(:, nl + 1:) = reshape(rr, [4, size(rr)/4])
+    key = rec(2, :)
+    call sort_index(key, idx)
+    do k = 1, size(idx)
+      m = ds%gl(nint(rec(1, idx(k))))
+      ds%f(:, m) = ds%f(:, m) - rec(3:4, idx(k))
+    end do
+  end subroutine sum_records
+
+  !> A new ghost plan of side ib as the master of side ia's own particles, for the ghost
+  !! width w (< 0: the static partners only), with the rank's cloud and surface of its own
+  !! and ghost particles. Collective.
+  subroutine make_plan(p, ib, ia, w, err)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ib, ia
+    real(wp), intent(in) :: w
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: mine(8), boxes(8, 0:p%dist%comm%nranks - 1), grown(4)
+    integer :: q, k, i, n, nto, nfrom, me, nr
+    logical :: dyn, take
+    logical, allocatable :: mask(:)
+    integer, allocatable :: to(:), sptr(:), sids(:), from(:)
+    associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
+      db => p%dist%side(ib), comm => p%dist%comm)
+      me = comm%me
+      nr = comm%nranks
+      ! the boxes of every rank's own slave and own master particles
+      boxes = 0.0_wp
+      if (w >= 0.0_wp) then
+        mine(1:2) = huge(1.0_wp)
+        mine(3:4) = -huge(1.0_wp)
+        do k = 1, size(da%own)
+          mine(1:2) = min(mine(1:2), a%x_pred(:, da%own(k)))
+          mine(3:4) = max(mine(3:4), a%x_pred(:, da%own(k)))
+        end do
+        mine(5:6) = huge(1.0_wp)
+        mine(7:8) = -huge(1.0_wp)
+        do k = 1, size(db%own)
+          mine(5:6) = min(mine(5:6), b%x_pred(:, db%own(k)))
+          mine(7:8) = max(mine(7:8), b%x_pred(:, db%own(k)))
+        end do
+        call comm%allgather_real(mine, boxes)
+      end if
+      ! what this rank sends: to rank q, its own master particles in q's slave box grown
+      ! by w, and the partners q needs
+      allocate(to(nr), sptr(nr + 1), sids(size(db%own)*min(nr, 8)))
+      nto = 0
+      sptr(1) = 1
+      n = 0
+      do q = 0, nr - 1
+        if (q == me) cycle
+        grown = [boxes(1:2, q) - w, boxes(3:4, q) + w]
+        dyn = w >= 0.0_wp .and. overlap(boxes(5:8, me), grown)
+        if (.not. (dyn .or. any(db%prank == q))) cycle
+        nto = nto + 1
+        to(nto) = q
+        do k = 1, size(db%own)
+          i = db%own(k)
+          take = any(db%prank(db%pptr(k):db%pptr(k + 1) - 1) == q)
+          if (dyn .and. .not. take) take = all(b%x_pred(:, i) >= grown(1:2)) .and. &
+            all(b%x_pred(:, i) <= grown(3:4))
+          if (.not. take) cycle
+          if (n == size(sids)) sids = [sids, sids]
+          n = n + 1
+          sids(n) = i
+        end do
+        sptr(nto + 1) = n + 1
+      end do
+      ! what it receives: from each rank whose master box overlaps its grown slave box,
+      ! or that owns a partner of its own surface particles (the same tests as the sender's)
+      allocate(from(nr))
+      nfrom = 0
+      grown = [boxes(1:2, me) - w, boxes(3:4, me) + w]
+      do q = 0, nr - 1
+        if (q == me) cycle
+        dyn = w >= 0.0_wp .and. overlap(boxes(5:8, q), grown)
+        if (.not. (dyn .or. any(db%owner(db%full%i1) == q .and. &
+          db%owner(db%full%i0) == me))) cycle
+        nfrom = nfrom + 1
+        from(nfrom) = q
+      end do
+      db%to = to(1:nto)
+      db%sptr = sptr(1:nto + 1)
+      db%sids = sids(1:n)
+      db%from = from(1:nfrom)
+      if (allocated(db%rptr)) deallocate(db%rptr)
+      allocate(db%rptr(nfrom + 1))
+      call comm%sparse_exchange(db%to, db%sptr, real(db%sids, wp), db%from, db%rptr, &
+        db%rbuf)
+      db%rids = nint(db%rbuf(1:db%rptr(nfrom + 1) - 1))
+      ! the rank's cloud and surface: its own particles and the ghosts
+      allocate(mask(b%np))
+      mask = .false.
+      mask(db%own) = .true.
+      mask(db%rids) = .true.
+      db%loc = pack([(i, i = 1, b%np)], mask)
+      call cloud_init(b%cloud, b%x_ref(:, db%loc), b%rho(:, db%loc), b%vol(db%loc), b%kid, &
+        b%wshape, b%bid, b%h, err)
+      if (allocated(err)) return
+      b%cloud%rmax(1:2) = db%rmax
+      call surface_subset(db%full, mask, b%surface)
+      if (allocated(db%xl)) deallocate(db%xl)
+      allocate(db%xl(2, size(db%loc)))
+      if (w < 0.0_wp) return
+      db%width = w
+      db%nrefresh = db%nrefresh + 1
+      db%xr_m = b%x_pred(:, db%own)
+      db%xr_s = a%x_pred(:, da%own)
+    end associate
+  end subroutine make_plan
+
+  !> Do boxes [lo, hi] (4: lo(2), hi(2)) overlap? (An empty box, lo > hi, overlaps none.)
+  pure logical function overlap(x, y)
+    real(wp), intent(in) :: x(4), y(4)
+    overlap = all(x(1:2) <= x(3:4)) .and. all(y(1:2) <= y(3:4)) .and. &
+      all(x(1:2) <= y(3:4)) .and. all(y(1:2) <= x(3:4))
+  end function overlap
+
+  !> a allocated with at least n entries (contents lost when reallocated).
+  subroutine ensure(a, n)
+    real(wp), allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: n
+    if (allocated(a)) then
+      if (size(a) >= n) return
+      deallocate(a)
+    end if
+    allocate(a(max(n, 1)))
+  end subroutine ensure
+end submodule contact_dist_sm
