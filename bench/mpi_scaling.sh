@@ -37,7 +37,7 @@ time_loop() {
   "${@:1:$#-1}" "$copy" > "$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
   grep -m1 'summary: time loop' "$work/log" | awk '{print $4}'
 }
-mpi() { mpirun --bind-to none -np "$1" "$build/bin/mfcd_mpi"; }
+mpi() { local n=$1; shift; mpirun --bind-to none -np "$n" "$build/bin/mfcd_mpi" "$@"; }
 
 declare -A t
 cases=(fem contact)
@@ -61,7 +61,7 @@ best() { tr ' ' '\n' <<< "$1" | grep -v '^$' | sort -g | head -1; }
   echo
   echo "- date: $(date -Iseconds)"
   echo "- commit: $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src bench || echo ' (src/ or bench/ modified)')"
-  echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc)"
+  echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc --all)"
   echo "- compiler: $(gfortran --version | head -1); $(mpirun --version | head -1)"
   echo "- command: bash bench/mpi_scaling.sh $rounds (one thread per rank; time loop, s; each round's time, then the best)"
   echo

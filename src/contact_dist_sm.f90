@@ -122,7 +122,13 @@ contains
   end procedure contact_dist_report
 
   module procedure dist_correct
+    integer :: sd
     p%step = contact_stats_t()
+    ! the own particles' positions at the step start (they do not change in the step)
+    do sd = 1, 2
+      call own_positions(p%side(sd), p%dist%side(sd), solids(p%side(sd)%isolid), &
+        at_step_start)
+    end do
     ! eq. (28): the slave's particles against the master, then the master's against the
     ! slave at the corrected positions
     call dist_pass(p, 1, 2, solids, dt, .true., err)
@@ -194,7 +200,8 @@ contains
   end subroutine spread_correct
 
   !> Side ib made ready to be the master of side ia's own particles: the own positions of
-  !! both sides (at the step start and now), the ghosts' from their owners, the extremes
+  !! both sides now (those at the step start: dist_correct), the ghosts' (at the step start
+  !! and now) from their owners, the extremes
   !! of the whole master (one reduction), a refresh of the ghosts when the margin is used
   !! up, and the rank's cloud (with_det) and surface binned on the whole master's cells.
   subroutine dist_master(p, ib, ia, solids, with_det, err)
@@ -203,37 +210,49 @@ contains
     type(solid_t), intent(in) :: solids(:)
     logical, intent(in) :: with_det
     type(error_t), allocatable, intent(inout) :: err
-    real(wp) :: v(12), glo(2), ghi(2), mlo(2), mhi(2), reach(2), cell(2), need
-    integer :: k, kk, i0, i1
+    real(wp) :: v(12), glo(2), ghi(2), mlo(2), mhi(2), reach(2), cell(2), need, mid(2)
+    integer :: k, kk, i0, i1, d
     associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
       db => p%dist%side(ib))
-      call own_positions(a, da, solids(a%isolid))
-      call own_positions(b, db, solids(b%isolid))
+      ! (after a correction only the slave particles with a force are looked at again, as
+      ! in the serial pass: only theirs are needed, and only their displacements count)
+      call own_positions(a, da, solids(a%isolid), at_prediction, active_only=.not. with_det)
+      call own_positions(b, db, solids(b%isolid), at_prediction)
       call exchange_positions(p, ib)
       ! the whole master's extremes, its segments' midpoints and reach (each segment by the
       ! owner of its first end), and the largest displacements since the refresh
       v = -huge(1.0_wp)
-      do k = 1, size(db%own)
-        v(1:2) = max(v(1:2), -b%x_pred(:, db%own(k)))
-        v(3:4) = max(v(3:4), b%x_pred(:, db%own(k)))
+      do d = 1, 2
+        do k = 1, size(db%own)
+          v(d) = max(v(d), -b%x_pred(d, db%own(k)))
+          v(2 + d) = max(v(2 + d), b%x_pred(d, db%own(k)))
+        end do
       end do
       do kk = 1, db%full%nseg
         i0 = db%full%i0(kk)
         if (db%owner(i0) /= p%dist%comm%me) cycle
         i1 = db%full%i1(kk)
-        v(5:6) = max(v(5:6), -0.5_wp*(b%x_pred(:, i0) + b%x_pred(:, i1)))
-        v(7:8) = max(v(7:8), 0.5_wp*(b%x_pred(:, i0) + b%x_pred(:, i1)))
+        mid = 0.5_wp*(b%x_pred(:, i0) + b%x_pred(:, i1))
+        v(5:6) = max(v(5:6), -mid)
+        v(7:8) = max(v(7:8), mid)
         v(9:10) = max(v(9:10), 0.5_wp*abs(b%x_pred(:, i1) - b%x_pred(:, i0)))
       end do
+      ! (squared, then the root of the largest)
       v(11:12) = 0.0_wp
       if (db%width >= 0.0_wp) then
         do k = 1, size(db%own)
-          v(11) = max(v(11), norm2(b%x_pred(:, db%own(k)) - db%xr_m(:, k)))
+          v(11) = max(v(11), (b%x_pred(1, db%own(k)) - db%xr_m(1, k))**2 + &
+            (b%x_pred(2, db%own(k)) - db%xr_m(2, k))**2)
         end do
         do k = 1, size(da%own)
-          v(12) = max(v(12), norm2(a%x_pred(:, da%own(k)) - db%xr_s(:, k)))
+          if (.not. with_det) then
+            if (.not. a%active(da%own(k))) cycle
+          end if
+          v(12) = max(v(12), (a%x_pred(1, da%own(k)) - db%xr_s(1, k))**2 + &
+            (a%x_pred(2, da%own(k)) - db%xr_s(2, k))**2)
         end do
       end if
+      v(11:12) = sqrt(v(11:12))
       call p%dist%comm%max_real(v)
       glo = -v(1:2)
       ghi = v(3:4)
@@ -267,19 +286,44 @@ contains
     end associate
   end subroutine dist_master
 
-  !> Physical positions of side s's own particles at the step start and now.
-  subroutine own_positions(s, ds, sol)
+  !> Physical positions of side s's own particles (active_only: those with a contact force)
+  !! at the step start (which = at_step_start, into x_old) or now (at_prediction, x_pred).
+  subroutine own_positions(s, ds, sol, which, active_only)
     type(side_t), intent(inout) :: s
     type(dist_side_t), intent(in) :: ds
     type(solid_t), intent(in) :: sol
+    integer, intent(in) :: which
+    logical, intent(in), optional :: active_only
     integer :: k, i
-    !$omp parallel do default(none) shared(s, ds, sol) private(i) schedule(static)
-    do k = 1, size(ds%own)
-      i = ds%own(k)
-      s%x_old(:, i) = solid_point_position(sol, ds%gl(i), at_step_start)
-      s%x_pred(:, i) = solid_point_position(sol, ds%gl(i))
-    end do
-    !$omp end parallel do
+    logical :: some
+    some = .false.
+    if (present(active_only)) some = active_only
+    if (which == at_step_start) then
+      !$omp parallel do default(none) shared(s, ds, sol) private(i) schedule(static)
+      do k = 1, size(ds%own)
+        i = ds%own(k)
+        s%x_old(:, i) = solid_point_position(sol, ds%gl(i), at_step_start)
+      end do
+      !$omp end parallel do
+    else if (sol%t%interpolating .and. .not. some) then
+      ! (element nodes: X + d, as solid_point_position, without a call per node)
+      !$omp parallel do default(none) shared(s, ds, sol) private(i) schedule(static)
+      do k = 1, size(ds%own)
+        i = ds%own(k)
+        s%x_pred(:, i) = sol%x0(:, ds%gl(i)) + sol%d(:, ds%gl(i))
+      end do
+      !$omp end parallel do
+    else
+      !$omp parallel do default(none) shared(s, ds, sol, some) private(i) schedule(static)
+      do k = 1, size(ds%own)
+        i = ds%own(k)
+        if (some) then
+          if (.not. s%active(i)) cycle
+        end if
+        s%x_pred(:, i) = solid_point_position(sol, ds%gl(i))
+      end do
+      !$omp end parallel do
+    end if
   end subroutine own_positions
 
   !> The ghosts' positions of side ib (at the step start and now) from their owners.
