@@ -63,7 +63,7 @@ best() { tr ' ' '\n' <<< "$1" | grep -v '^$' | sort -g | head -1; }
   echo "- commit: $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src bench || echo ' (src/ or bench/ modified)')"
   echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc --all)"
   echo "- compiler: $(gfortran --version | head -1); $(mpirun --version | head -1)"
-  echo "- command: bash bench/mpi_scaling.sh $rounds (one thread per rank; time loop, s; each round's time, then the best)"
+  echo "- command: bash bench/mpi_scaling.sh $rounds (one thread per rank; the time loop of each round, s; the ratios from the fastest of each)"
   echo
   echo "| case | serial mfcd | 1 rank | 2 ranks | strong speed-up (1 rank / 2 ranks) | 2 ranks, twice the size | weak efficiency (1 rank / 2 ranks, twice the size) |"
   echo "|---|---|---|---|---|---|---|"
