@@ -465,18 +465,7 @@ contains
       ! the boxes of every rank's own slave and own master particles
       boxes = 0.0_wp
       if (w >= 0.0_wp) then
-        mine(1:2) = huge(1.0_wp)
-        mine(3:4) = -huge(1.0_wp)
-        do k = 1, size(da%own)
-          mine(1:2) = min(mine(1:2), a%x_pred(:, da%own(k)))
-          mine(3:4) = max(mine(3:4), a%x_pred(:, da%own(k)))
-        end do
-        mine(5:6) = huge(1.0_wp)
-        mine(7:8) = -huge(1.0_wp)
-        do k = 1, size(db%own)
-          mine(5:6) = min(mine(5:6), b%x_pred(:, db%own(k)))
-          mine(7:8) = max(mine(7:8), b%x_pred(:, db%own(k)))
-        end do
+        mine = [box_of(a%x_pred, da%own), box_of(b%x_pred, db%own)]
         call comm%allgather_real(mine, boxes)
       end if
       ! what this rank sends: to rank q, its own master particles in q's slave box grown
@@ -546,6 +535,20 @@ contains
       db%xr_s = a%x_pred(:, da%own)
     end associate
   end subroutine make_plan
+
+  !> The box [lo(2), hi(2)] of the particles ids of x (empty, lo > hi, when there are none).
+  pure function box_of(x, ids) result(box)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: ids(:)
+    real(wp) :: box(4)
+    integer :: k
+    box(1:2) = huge(1.0_wp)
+    box(3:4) = -huge(1.0_wp)
+    do k = 1, size(ids)
+      box(1:2) = min(box(1:2), x(:, ids(k)))
+      box(3:4) = max(box(3:4), x(:, ids(k)))
+    end do
+  end function box_of
 
   !> Do boxes [lo, hi] (4: lo(2), hi(2)) overlap? (An empty box, lo > hi, overlaps none.)
   pure logical function overlap(x, y)
