@@ -15,10 +15,11 @@
 !!
 !! The driver takes element meshes and RKPM bodies against rigid masters (each rank holds
 !! the master whole) and deforming masters (each rank its own and ghost master particles:
-!! contact_dist_sm), without self-contact, det(M) fields, subcycling or checkpoints; the
-!! deck is refused otherwise. An RKPM side's contact forces are spread over RK neighbours
-!! (eq. 98): the ghost particles' forces are exchanged before the spreading and the
-!! corrected ghost nodes after (contact_exchange).
+!! contact_dist_sm), without self-contact, det(M) fields or subcycling; the deck is refused
+!! otherwise. An RKPM side's contact forces are spread over RK neighbours (eq. 98): the
+!! ghost particles' forces are exchanged before the spreading and the corrected ghost nodes
+!! after (contact_exchange). Checkpoints are the serial ones, written by rank 0 from the
+!! gathered state and read whole by every rank, so a run continues on any number of ranks.
 module mpi_run_m
   use mpi_f08
   use omp_lib, only: omp_get_wtime
@@ -36,16 +37,18 @@ module mpi_run_m
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t, &
     contact_pair_localize, contact_pair_distribute, contact_dist_report, exchange_forces, &
     exchange_state
+  use contact_m, only: contact_counters_t
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
     set_health_limits
   use stable_step_m, only: step_control_next, step_control_update
   use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
   use explicit_driver_m, only: next_stop, output_intervals
-  use dynamic_output_m, only: history_push, history_flush
+  use dynamic_output_m, only: history_t, history_push, history_flush
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
     report_summary
   use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
-    run_files_close, run_files_names
+    run_files_close, run_files_names, run_files_resume, run_files_checkpoint
+  use run_checkpoint_m, only: checkpoint_read
   implicit none
   private
   public :: run_dynamic_mpi, mpi_scene_check
@@ -90,11 +93,6 @@ contains
         "with MPI; set det_fields = .false. or run mfcd")
       return
     end if
-    if (deck%output%checkpoint_every > 0) then
-      call set_error(err, what//deck%path//"', group &output, variable checkpoint_every: "// &
-        "not yet with MPI; give 0 or run mfcd")
-      return
-    end if
     do k = 1, deck%ncontacts
       associate (c => deck%contacts(k))
         if (c%imaster == c%islave) then
@@ -123,7 +121,8 @@ contains
   !! ghost_margin: the margin of the ghost width of contact with a deforming master, a
   !! fraction of the width contact needs; ghost_refresh .false.: testing only, the first
   !! ghost sets are kept (contacts they miss are missed).
-  subroutine run_dynamic_mpi(comm, deck, bodies, su, ghost_margin, ghost_refresh, err)
+  subroutine run_dynamic_mpi(comm, deck, bodies, su, ghost_margin, ghost_refresh, err, &
+    restart)
     type(MPI_Comm), intent(in) :: comm
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
@@ -131,6 +130,12 @@ contains
     real(wp), intent(in) :: ghost_margin
     logical, intent(in) :: ghost_refresh
     type(error_t), allocatable, intent(inout) :: err
+    !> a checkpoint of this deck's run to continue from (checked by checkpoint_check), written
+    !! by mfcd or mfcd_mpi on any number of ranks
+    character(len=*), intent(in), optional :: restart
+    type(history_t) :: hist0
+    real(wp), allocatable :: snap_times0(:)
+    integer :: nsnap0, ckpt_every
     type(mpi_ranks_t), target :: ranks
     type(solid_t), allocatable :: gs(:), ps(:)
     type(contact_pair_t), allocatable :: pairs(:)
@@ -157,14 +162,26 @@ contains
     r%t_end = deck%solver%t_end
     r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
     r%nsteps_est = ceiling(r%t_end/r%dt - 1.0e-9_wp)
+    if (present(restart)) then
+      ! every rank reads the whole state; rank 0 keeps the pairs' counters (sums)
+      call checkpoint_read(restart, deck, bodies, r, gs, pairs, hist0, nsnap0, &
+        snap_times0, err)
+      if (any_error(comm, err)) return
+    end if
+    allocate(flag_max(size(pairs)))
+    flag_max = [(pairs(k)%count%detected_max, k = 1, size(pairs))]
+    if (.not. root) then
+      do k = 1, size(pairs)
+        pairs(k)%count = contact_counters_t()
+      end do
+    end if
     ! each solid's part, its halo plan and its part solid
     allocate(ps(size(gs)), parts(size(gs)))
     do k = 1, size(gs)
       call make_part(k)
       if (any_error(comm, err)) return
+      if (present(restart)) call restart_part(k)
     end do
-    allocate(flag_max(size(pairs)))
-    flag_max = 0
     call mpi_ranks_init(ranks, comm)
     comm_ptr => ranks
     do k = 1, size(pairs)
@@ -192,29 +209,24 @@ contains
       end do
     end do
     call output_intervals(deck, r%nsteps_est, log_every, hist_every)
-    if (root) call run_files_open(deck, bodies, out, err)
-    if (any_error(comm, err)) return
-    ! the state at t = 0: forces at u = 0
-    do k = 1, size(ps)
-      call solid_points_force(ps(k), r%dt, bad_q, bad_j)
-      call halo_pstab(k)
-      call solid_nodes_force(ps(k))
-      where (ps(k)%pres)
-        ps(k)%v = ps(k)%vpres
-        ps(k)%a = 0.0_wp
-      end where
-      call halo_va(k)
-    end do
-    call global_energies()
-    call gather_all()
-    if (root) then
-      call snapshots_due(out, deck, r, pairs, gs, err)
-      call history_push(out%hist, history_row(r, en, gs(1)))
-      call log_header()
-      call log_line(r, en)
+    ckpt_every = deck%output%checkpoint_every
+    if (present(restart)) then
+      ! the state after step r%n, as the checkpoint holds it
+      if (root) call run_files_open(deck, bodies, out, err, restart)
+      if (root .and. .not. allocated(err)) call run_files_resume(out, restart, r, hist0, &
+        nsnap0, snap_times0, err)
+      if (any_error(comm, err)) return
+      call global_energies()
+      if (root) then
+        call log_header()
+        call log_line(r, en)
+      end if
+    else
+      if (root) call run_files_open(deck, bodies, out, err)
+      if (any_error(comm, err)) return
+      call run_start()
+      if (any_error(comm, err)) return
     end if
-    call reset_impulses_if_written(0)
-    if (any_error(comm, err)) return
     t_loop0 = omp_get_wtime()
     do while (r%t < r%t_end - 0.5_wp*r%dt .and. r%n < deck%solver%max_steps)
       if (r%n > 0) r%dt = step_control_next(r%step, r%t, next_stop(deck, r%t))
@@ -264,6 +276,10 @@ contains
         call snapshots_due(out, deck, r, pairs, gs, err)
       end if
       call reset_impulses_if_written(nsnap_before)
+      if (any_error(comm, err)) exit
+      if (ckpt_every > 0) then
+        if (mod(r%n, ckpt_every) == 0) call write_checkpoint()
+      end if
       r%t_output = r%t_output + (omp_get_wtime() - tw)
       if (any_error(comm, err)) exit
     end do
@@ -526,6 +542,111 @@ contains
       end do
     end subroutine reset_impulses_if_written
 
+    !> The state at t = 0 (forces at u = 0), its snapshot, history row and log line.
+    subroutine run_start()
+      integer :: kk
+      do kk = 1, size(ps)
+        call solid_points_force(ps(kk), r%dt, bad_q, bad_j)
+        call halo_pstab(kk)
+        call solid_nodes_force(ps(kk))
+        where (ps(kk)%pres)
+          ps(kk)%v = ps(kk)%vpres
+          ps(kk)%a = 0.0_wp
+        end where
+        call halo_va(kk)
+      end do
+      call global_energies()
+      call gather_all()
+      if (root) then
+        call snapshots_due(out, deck, r, pairs, gs, err)
+        call history_push(out%hist, history_row(r, en, gs(1)))
+        call log_header()
+        call log_line(r, en)
+      end if
+      call reset_impulses_if_written(0)
+    end subroutine run_start
+
+    !> A checkpoint of the state after step r%n (&output checkpoint_every), written by rank
+    !! 0 from the whole solids gathered, the solids' energies and the pairs' counters summed
+    !! over the ranks: the serial layout, which any number of ranks can restart from (the
+    !! ghost sets of contact and skip_far's schedule start afresh, which is exact).
+    subroutine write_checkpoint()
+      integer :: kk
+      real(wp) :: e(8), et(8)
+      type(contact_counters_t), allocatable :: keep(:)
+      logical :: skip(size(pairs))
+      do kk = 1, size(ps)
+        call gather_solid(ps(kk), parts(kk)%lp, gs(kk), full=.true.)
+        associate (p => ps(kk))
+          e = [p%ke0, p%ke, p%w_int, p%w_plastic, p%w_bc, p%w_ext, p%w_contact, p%e_stab]
+        end associate
+        call MPI_Reduce(e, et, 8, MPI_DOUBLE_PRECISION, MPI_SUM, 0, comm)
+        if (.not. root) cycle
+        associate (g => gs(kk))
+          g%ke0 = et(1)
+          g%ke = et(2)
+          g%w_int = et(3)
+          g%w_plastic = et(4)
+          g%w_bc = et(5)
+          g%w_ext = et(6)
+          g%w_contact = et(7)
+          g%e_stab = et(8)
+          g%kappa = ps(kk)%kappa
+        end associate
+      end do
+      keep = [(pairs(kk)%count, kk = 1, size(pairs))]
+      call global_counters()
+      if (root) then
+        ! (skip_far's schedule is each rank's own: not written)
+        skip = [(pairs(kk)%side(1)%skip_far, kk = 1, size(pairs))]
+        do kk = 1, size(pairs)
+          pairs(kk)%side(1)%skip_far = .false.
+        end do
+        call run_files_checkpoint(out, deck, bodies, r, gs, pairs, r%t_loop + &
+          (omp_get_wtime() - t_loop0), err)
+        do kk = 1, size(pairs)
+          pairs(kk)%side(1)%skip_far = skip(kk)
+        end do
+      end if
+      do kk = 1, size(pairs)
+        pairs(kk)%count = keep(kk)
+      end do
+    end subroutine write_checkpoint
+
+    !> Part solid k's state from the whole solid g read from a checkpoint (every local
+    !! node and point, ghosts too: the exchanges need not run before the first step); the
+    !! energies, sums over the ranks, on rank 0.
+    subroutine restart_part(k)
+      integer, intent(in) :: k
+      associate (p => ps(k), g => gs(k), n => parts(k)%lp%nglob, q => parts(k)%lp%qglob)
+        p%d = g%d(:, n)
+        p%v = g%v(:, n)
+        p%a = g%a(:, n)
+        p%freac_old = g%freac_old(:, n)
+        p%freac = p%freac_old
+        p%ipoint = g%ipoint(:, n)
+        p%ipoint_time = g%ipoint_time
+        p%f = g%f(:, q)
+        p%f_old = p%f
+        p%p = g%p(:, q)
+        p%p_old = p%p
+        p%st%tau = g%st%tau(:, q)
+        p%st%alpha = g%st%alpha(:, q)
+        p%st%epsbar = g%st%epsbar(q)
+        p%st%epsdot = g%st%epsdot(q)
+        p%kappa = g%kappa
+        p%dt_cal = g%dt_cal
+        p%ke0 = merge(g%ke0, 0.0_wp, root)
+        p%ke = merge(g%ke, 0.0_wp, root)
+        p%w_int = merge(g%w_int, 0.0_wp, root)
+        p%w_plastic = merge(g%w_plastic, 0.0_wp, root)
+        p%w_bc = merge(g%w_bc, 0.0_wp, root)
+        p%w_ext = merge(g%w_ext, 0.0_wp, root)
+        p%w_contact = merge(g%w_contact, 0.0_wp, root)
+        p%e_stab = merge(g%e_stab, 0.0_wp, root)
+      end associate
+    end subroutine restart_part
+
     !> Every solid's owned values into rank 0's whole solids (for output and measures).
     subroutine gather_all()
       integer :: kk
@@ -534,26 +655,37 @@ contains
       end do
     end subroutine gather_all
 
-    subroutine gather_solid(p, lp, g)
+    !> The owned values of part solid p into rank 0's whole solid g: what output and the
+    !! measures need, and with full what a checkpoint holds besides (a, the reactions, P,
+    !! the back stress, the plastic strain rate).
+    subroutine gather_solid(p, lp, g, full)
       type(solid_t), intent(in) :: p
       type(local_part_t), intent(in) :: lp
       type(solid_t), intent(inout) :: g
+      logical, intent(in), optional :: full
       real(wp), allocatable :: sn(:, :), sq(:, :), rn(:, :), rq(:, :)
       integer, allocatable :: idn(:), idq(:), rin(:), riq(:), cn(:), cq(:), dn(:), dq(:)
-      integer :: j, no, nqo, i
+      integer :: j, no, nqo, i, mn, mq
+      logical :: all_state
+      all_state = .false.
+      if (present(full)) all_state = full
+      mn = merge(10, 6, all_state)
+      mq = merge(20, 10, all_state)
       no = size(p%own_n)
       nqo = size(p%own_q)
-      allocate(sn(6, no), sq(10, nqo), idn(no), idq(nqo), cn(nranks), cq(nranks), &
+      allocate(sn(mn, no), sq(mq, nqo), idn(no), idq(nqo), cn(nranks), cq(nranks), &
         dn(nranks), dq(nranks))
       do j = 1, no
         i = p%own_n(j)
         idn(j) = lp%nglob(i)
-        sn(:, j) = [p%d(:, i), p%v(:, i), p%ipoint(:, i)]
+        sn(1:6, j) = [p%d(:, i), p%v(:, i), p%ipoint(:, i)]
+        if (all_state) sn(7:10, j) = [p%a(:, i), p%freac_old(:, i)]
       end do
       do j = 1, nqo
         i = p%own_q(j)
         idq(j) = lp%qglob(i)
-        sq(:, j) = [p%f(:, i), p%st%tau(:, i), p%st%epsbar(i)]
+        sq(1:10, j) = [p%f(:, i), p%st%tau(:, i), p%st%epsbar(i)]
+        if (all_state) sq(11:20, j) = [p%p(:, i), p%st%alpha(:, i), p%st%epsdot(i)]
       end do
       call MPI_Gather(no, 1, MPI_INTEGER, cn, 1, MPI_INTEGER, 0, comm)
       call MPI_Gather(nqo, 1, MPI_INTEGER, cq, 1, MPI_INTEGER, 0, comm)
@@ -564,26 +696,33 @@ contains
           dn(j) = dn(j - 1) + cn(j - 1)
           dq(j) = dq(j - 1) + cq(j - 1)
         end do
-        allocate(rin(sum(cn)), riq(sum(cq)), rn(6, sum(cn)), rq(10, sum(cq)))
+        allocate(rin(sum(cn)), riq(sum(cq)), rn(mn, sum(cn)), rq(mq, sum(cq)))
       else
-        allocate(rin(1), riq(1), rn(6, 1), rq(10, 1))
+        allocate(rin(1), riq(1), rn(mn, 1), rq(mq, 1))
       end if
       call MPI_Gatherv(idn, no, MPI_INTEGER, rin, cn, dn, MPI_INTEGER, 0, comm)
       call MPI_Gatherv(idq, nqo, MPI_INTEGER, riq, cq, dq, MPI_INTEGER, 0, comm)
-      call MPI_Gatherv(sn, 6*no, MPI_DOUBLE_PRECISION, rn, 6*cn, 6*dn, &
+      call MPI_Gatherv(sn, mn*no, MPI_DOUBLE_PRECISION, rn, mn*cn, mn*dn, &
         MPI_DOUBLE_PRECISION, 0, comm)
-      call MPI_Gatherv(sq, 10*nqo, MPI_DOUBLE_PRECISION, rq, 10*cq, 10*dq, &
+      call MPI_Gatherv(sq, mq*nqo, MPI_DOUBLE_PRECISION, rq, mq*cq, mq*dq, &
         MPI_DOUBLE_PRECISION, 0, comm)
       if (.not. root) return
       do j = 1, size(rin)
         g%d(:, rin(j)) = rn(1:2, j)
         g%v(:, rin(j)) = rn(3:4, j)
         g%ipoint(:, rin(j)) = rn(5:6, j)
+        if (.not. all_state) cycle
+        g%a(:, rin(j)) = rn(7:8, j)
+        g%freac_old(:, rin(j)) = rn(9:10, j)
       end do
       do j = 1, size(riq)
         g%f(:, riq(j)) = rq(1:5, j)
         g%st%tau(:, riq(j)) = rq(6:9, j)
         g%st%epsbar(riq(j)) = rq(10, j)
+        if (.not. all_state) cycle
+        g%p(:, riq(j)) = rq(11:15, j)
+        g%st%alpha(:, riq(j)) = rq(16:19, j)
+        g%st%epsdot(riq(j)) = rq(20, j)
       end do
       g%ipoint_time = p%ipoint_time
     end subroutine gather_solid

@@ -3,7 +3,9 @@
 !! one HDF5 file (and XDMF) a serial `mfcd DECK.nml` writes, from rank 0. Every rank reads
 !! the deck and builds the set-up (so bad input is found by all, before anything is
 !! written); only rank 0 logs. What the MPI driver does not take yet is refused as bad input
-!! (mpi_run_m: no self-contact, det(M) fields, subcycling or checkpoints). Options:
+!! (mpi_run_m: no self-contact, det(M) fields or subcycling). Options: --restart
+!! CHECKPOINT.h5, continue from a checkpoint of the deck's run (&output checkpoint_every, by
+!! mfcd or mfcd_mpi on any number of ranks);
 !! --ghost-margin=F, the margin of the ghost width of contact with a deforming master (a
 !! fraction of the width contact needs, default 0.5); --ghost-refresh=never, for the test
 !! that proves the refreshes matter. Exit codes as mfcd's: 0 ok, 2 bad input (nothing
@@ -23,12 +25,16 @@ program mfcd_mpi
   use log_m, only: log_print, log_flush
   use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
   use mpi_run_m, only: run_dynamic_mpi, mpi_scene_check, ghost_margin_default
+  use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t
   implicit none
   type(deck_t) :: deck
   type(body_t), allocatable :: bodies(:)
   type(dynamic_setup_t) :: su
   type(error_t), allocatable :: err
   character(len=4096) :: arg, deck_path
+  character(len=:), allocatable :: restart_path
+  type(checkpoint_info_t) :: ckpt
+  logical :: restart_next
   integer :: me, nranks, code, k, ios, ndeck
   real(wp) :: ghost_margin
   logical :: ghost_refresh
@@ -42,11 +48,21 @@ program mfcd_mpi
   ! the first ghost sets are kept, and contacts they do not cover are missed)
   ghost_margin = ghost_margin_default
   ghost_refresh = .true.
+  restart_path = ''
+  restart_next = .false.
   ndeck = 0
   ios = 0
   do k = 1, command_argument_count()
     call get_command_argument(k, arg)
-    if (index(arg, '--ghost-margin=') == 1) then
+    if (restart_next) then
+      restart_path = trim(arg)
+      restart_next = .false.
+    else if (trim(arg) == '--restart') then
+      restart_next = .true.
+    else if (index(arg, '--restart=') == 1) then
+      restart_path = trim(arg(11:))
+      if (len(restart_path) == 0) ios = 1
+    else if (index(arg, '--ghost-margin=') == 1) then
       read(arg(16:), *, iostat=ios) ghost_margin
       if (ios /= 0 .or. .not. (ghost_margin >= 0.0_wp)) ios = 1
     else if (trim(arg) == '--ghost-refresh=never') then
@@ -58,10 +74,11 @@ program mfcd_mpi
       deck_path = arg
     end if
   end do
-  if (ndeck /= 1 .or. ios /= 0) then
-    if (me == 0) write(error_unit, '(a)') 'usage: mpirun -np N mfcd_mpi [--ghost-margin=F] '// &
-      'DECK.nml   (F >= 0, default 0.5: the ghost width of contact with a deforming '// &
-      'master is (1 + F) times the width contact needs)'
+  if (ndeck /= 1 .or. ios /= 0 .or. restart_next) then
+    if (me == 0) write(error_unit, '(a)') 'usage: mpirun -np N mfcd_mpi [--restart '// &
+      'CHECKPOINT.h5] [--ghost-margin=F] DECK.nml   (a checkpoint of the deck''s run by '// &
+      'mfcd or mfcd_mpi on any number of ranks; F >= 0, default 0.5: the ghost width of '// &
+      'contact with a deforming master is (1 + F) times the width contact needs)'
     call finish(exit_bad_input)
   end if
   arg = deck_path
@@ -71,9 +88,19 @@ program mfcd_mpi
   if (.not. allocated(err)) call mpi_scene_check(deck, err)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
   if (.not. allocated(err)) call setup_dynamic(deck, bodies, su, err)
-  if (.not. allocated(err) .and. me == 0) call check_output_path(deck, err)
+  if (.not. allocated(err) .and. len(restart_path) > 0) then
+    call checkpoint_check(restart_path, deck, bodies, ckpt, err)
+    if (.not. allocated(err)) call log_print("restart: checkpoint '"//restart_path// &
+      "' of this deck, step "//itoa(ckpt%step)//", is valid")
+  end if
+  if (.not. allocated(err) .and. me == 0) call check_output_path(deck, err, restart_path)
   call agree_or_fail(exit_bad_input)
-  call run_dynamic_mpi(MPI_COMM_WORLD, deck, bodies, su, ghost_margin, ghost_refresh, err)
+  if (len(restart_path) > 0) then
+    call run_dynamic_mpi(MPI_COMM_WORLD, deck, bodies, su, ghost_margin, ghost_refresh, err, &
+      restart_path)
+  else
+    call run_dynamic_mpi(MPI_COMM_WORLD, deck, bodies, su, ghost_margin, ghost_refresh, err)
+  end if
   call agree_or_fail(1)
   call log_print('mfcd_mpi: completed: wrote '//output_result_text(deck))
   call finish(0)

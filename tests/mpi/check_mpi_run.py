@@ -23,7 +23,16 @@ the decks start with the bodies farther apart than the ghost width, so the conta
 rank boundaries are missed or changed and that run must NOT equal the serial one (the check
 that proves the refreshes, and this test, see a missed contact).
 
-Usage: check_mpi_run.py [--t-end T] [--no-refresh-differs N] MFCD MFCD_MPI MPIEXEC DECK...
+With --restart N1:N2:EVERY: also run on N1 ranks with &output checkpoint_every = EVERY,
+then continue from its last checkpoint on N2 ranks (`mfcd_mpi --restart`): the snapshots the
+continuation wrote, its history from t = 0, body measures and contact counts must equal the
+serial run's as above (a checkpoint holds the whole state, so the rank count may change).
+
+With --refused DECK (repeatable): a deck the MPI driver does not take yet (self-contact...)
+must exit 2 on 2 ranks, saying so, before anything is written.
+
+Usage: check_mpi_run.py [--t-end T] [--no-refresh-differs N] [--restart N1:N2:EVERY]
+                        [--refused DECK]... MFCD MFCD_MPI MPIEXEC DECK...
 (--t-end: every deck run to T seconds, snapshots at 0 and T.)
 """
 import os
@@ -49,6 +58,16 @@ if "--no-refresh-differs" in ARGS:
     i = ARGS.index("--no-refresh-differs")
     NO_REFRESH = int(ARGS[i + 1])
     del ARGS[i:i + 2]
+RESTART = None
+if "--restart" in ARGS:
+    i = ARGS.index("--restart")
+    RESTART = [int(v) for v in ARGS[i + 1].split(":")]
+    del ARGS[i:i + 2]
+REFUSED = []
+while "--refused" in ARGS:
+    i = ARGS.index("--refused")
+    REFUSED.append(os.path.abspath(ARGS[i + 1]))
+    del ARGS[i:i + 2]
 MFCD, MFCD_MPI, MPIEXEC = (os.path.abspath(a) for a in ARGS[0:3])
 DECKS = [os.path.abspath(d) for d in ARGS[3:]]
 ROUND_OFF = ("ke", "w_int", "w_plastic", "w_ext", "w_contact", "residual", "f_contact",
@@ -62,8 +81,10 @@ def check(name, cond, detail=""):
           + ("" if cond else ": " + str(detail)[-1500:]), flush=True)
 
 
-def deck_copy(src, work, out):
+def deck_copy(src, work, out, checkpoint_every=0):
     text = open(src).read()
+    if checkpoint_every:
+        text = text.replace("&output", f"&output\n  checkpoint_every = {checkpoint_every}", 1)
     text, n = re.subn(r"file\s*=\s*'[^']*\.h5'", f"file = '{out}'", text)
     assert n == 1, src
     # the MPI driver evaluates every point every step; skip_quiet is exact only to round-off
@@ -81,7 +102,7 @@ def deck_copy(src, work, out):
     return path
 
 
-def compare(tag, ref, new, record=True):
+def compare(tag, ref, new, record=True, continued=False):
     """The checks of a run against the serial one; record False: only whether all hold."""
     outcome = []
 
@@ -93,6 +114,9 @@ def compare(tag, ref, new, record=True):
         paths = []
         a["snapshots"].visititems(
             lambda n, o: paths.append(n) if isinstance(o, h5py.Dataset) else None)
+        if continued:
+            # a continuation writes the snapshots after its checkpoint only
+            paths = [n for n in paths if n.split("/")[0] in b["snapshots"]]
         for n in paths:
             p = "snapshots/" + n
             if p not in b or not np.array_equal(a[p][()], b[p][()]):
@@ -160,6 +184,30 @@ def main():
             if p.returncode == 0:
                 compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial.h5"),
                         os.path.join(work, f"{name}_np{n}.h5"))
+        if RESTART:
+            n1, n2, every = RESTART
+            deck = deck_copy(src, work, f"{name}_ckpt.h5", every)
+            p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n1), MFCD_MPI, deck],
+                               cwd=work, env=env, capture_output=True, text=True)
+            ckpt = os.path.join(work, f"{name}_ckpt.checkpoint.h5")
+            step = re.findall(r"checkpoint at step (\d+)", p.stdout)
+            check(f"{name}, {n1} ranks with checkpoint_every = {every}: exits 0 and leaves "
+                  "a checkpoint", p.returncode == 0 and os.path.exists(ckpt) and step,
+                  p.stdout[-1500:] + p.stderr[-1500:])
+            if p.returncode == 0 and os.path.exists(ckpt):
+                kept = os.path.join(work, f"{name}_at_{step[-1]}.h5")
+                os.replace(ckpt, kept)
+                os.remove(os.path.join(work, f"{name}_ckpt.h5"))
+                p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n2), MFCD_MPI,
+                                    "--restart", kept, deck], cwd=work, env=env,
+                                   capture_output=True, text=True)
+                check(f"{name}, continued on {n2} ranks from the checkpoint of step "
+                      f"{step[-1]}: exits 0", p.returncode == 0,
+                      p.stdout[-1500:] + p.stderr[-1500:])
+                if p.returncode == 0:
+                    compare(f"{name}, {n1} ranks, continued on {n2} from step {step[-1]}",
+                            os.path.join(work, f"{name}_serial.h5"),
+                            os.path.join(work, f"{name}_ckpt.h5"), continued=True)
         if NO_REFRESH:
             n = NO_REFRESH
             deck = deck_copy(src, work, f"{name}_np{n}_norefresh.h5")
@@ -172,6 +220,16 @@ def main():
             check(f"{name}, {n} ranks without the ghost refreshes: differs from the serial "
                   "run (the missed contacts are seen)", not same,
                   "equal: the test cannot see a missed contact")
+    for src in REFUSED:
+        name = os.path.basename(src).replace(".nml", "")
+        deck = deck_copy(src, work, f"{name}_refused.h5")
+        before = set(os.listdir(work))
+        p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", "2", MFCD_MPI, deck], cwd=work,
+                           env=env, capture_output=True, text=True)
+        made = set(os.listdir(work)) - before
+        check(f"{name}: refused on 2 ranks, exit 2, naming what is not yet with MPI, "
+              "nothing written", p.returncode == 2 and "not yet with MPI" in p.stderr
+              and not made, (p.returncode, p.stderr[-800:], made))
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if results and all(results) else 1)
 
