@@ -1,5 +1,5 @@
-!> Contact of a pair whose master deforms, on one rank of a distributed run (issue 12;
-!! doc/parallel.md, "Contact without a second decomposition").
+!> Contact of a pair whose master deforms (or of a body with itself), on one rank of a
+!! distributed run (issue 12; doc/parallel.md, "Contact without a second decomposition").
 !!
 !! Each rank detects the penetration of the slave particles it owns, with det(M) of the
 !! master (eqs. 1-8, 25-28) assembled from its own master particles and its ghost master
@@ -21,6 +21,8 @@
 !! among the same candidates in the same order; the reactions on a master particle are sent
 !! to its owner and summed there in the order of the slave particles, as the serial pass
 !! sums them. The rest is the serial pass (contact_pair_m), over the rank's own particles.
+!! Self-contact: both sides are views of one body, the candidates the rank's own surface
+!! particles, det(M) without the reference neighbours, the two passes of self_correct.
 submodule (contact_pair_m) contact_dist_sm
   use neighbour_bins_m, only: bins_cell_size
   use sorting_m, only: sort_index
@@ -30,11 +32,10 @@ contains
 
   module procedure contact_pair_distribute
     integer :: sd
+    ! (self-contact: both sides are the same solid, owner1 = owner2)
     character(len=:), allocatable :: what
     what = "contact of '"//trim(p%side(1)%name)//"' on '"//trim(p%side(2)%name)//"': "
-    if (p%self) then
-      call set_error(err, what//"self-contact is not yet distributed; run mfcd")
-    else if (.not. p%both_ways) then
+    if (.not. p%both_ways) then
       call set_error(err, what//"the master is rigid: a rank's part takes it whole "// &
         "(contact_pair_localize)")
     else if (p%detector /= detector_det_m .or. p%compare) then
@@ -52,6 +53,17 @@ contains
     if (allocated(err)) return
     call init_side(p%side(2), p%dist%side(2), owner2, nglob2, solids(p%side(2)%isolid)%np)
     if (allocated(err)) return
+    if (p%self) then
+      ! self-contact: each rank's own surface particles are its candidates; every one is
+      ! evaluated every step (skip_far's schedule would need the travel over all ranks)
+      do sd = 1, 2
+        associate (s => p%side(sd))
+          s%cand = pack(s%cand, owner1(s%cand) == comm%me)
+          s%skip_far = .false.
+          s%near = .true.
+        end associate
+      end do
+    end if
     ! the first plans: the static partners only (the first pass refreshes them)
     do sd = 1, 2
       call make_plan(p, sd, 3 - sd, -1.0_wp, err)
@@ -123,6 +135,7 @@ contains
 
   module procedure dist_correct
     integer :: sd
+    real(wp) :: v(1)
     p%step = contact_stats_t()
     ! the own particles' positions at the step start (they do not change in the step)
     do sd = 1, 2
@@ -130,9 +143,16 @@ contains
         at_step_start)
     end do
     ! eq. (28): the slave's particles against the master, then the master's against the
-    ! slave at the corrected positions
+    ! slave at the corrected positions (self-contact, self_correct: the first pass takes a
+    ! particle numbered below both ends of the segment it hit, the second the rest)
     call dist_pass(p, 1, 2, solids, dt, .true., err)
     if (allocated(err)) return
+    if (p%self) then
+      ! self_correct: nothing flagged on any rank, the second pass would flag nothing
+      v = real(p%step%n_flagged, wp)
+      call p%dist%comm%max_real(v)
+      if (v(1) == 0.0_wp) return
+    end if
     call dist_pass(p, 2, 1, solids, dt, .false., err)
     if (allocated(err)) return
     p%count%detected_max = max(p%count%detected_max, int(p%step%n_flagged, i64))
@@ -156,8 +176,16 @@ contains
     associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
       db => p%dist%side(ib))
       t0 = omp_get_wtime()
-      call detect_det_m(a, b, neval, ndet)
+      if (p%self) then
+        ! (the first pass is self_correct's lower_only pass; the candidates counted once)
+        call detect_self(a, b, count_stats, neval, ndet)
+        if (count_stats) p%count%screened = p%count%screened + size(a%cand)
+      else
+        call detect_det_m(a, b, neval, ndet)
+      end if
       p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
+      ! (the positions at the step start, self_old_positions' in the serial pass, are there:
+      ! the own particles' from dist_correct, the ghosts' from their owners)
       call pass_forces(p, a, b, dt, count_stats, neval, ndet, ncon)
       ! no contact on any rank: nothing to correct (as the serial pass)
       v = real(ncon, wp)
@@ -166,7 +194,14 @@ contains
       ! the reactions on the master particles, summed by their owners (eq. 98 or 99 on
       ! the master's nodes), then the slave's own forces
       call route_reactions(p, ia, ib)
-      call spread_correct(b, db, solids(b%isolid), dt)
+      if (p%self) then
+        ! one solid: the reactions added, corrected once with the forces below
+        if (associated(b%exchange)) call b%exchange(b%exchange_id, exchange_forces, &
+          solids(b%isolid), db%f)
+        call solid_add_point_forces(solids(b%isolid), db%f)
+      else
+        call spread_correct(b, db, solids(b%isolid), dt)
+      end if
       da%f = 0.0_wp
       do jj = 1, a%nlist
         j = a%list(jj)
@@ -179,7 +214,12 @@ contains
       do jj = 1, a%nlist
         j = a%list(jj)
         if (.not. a%active(j)) cycle
-        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+        if (p%self) then
+          call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, &
+            xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))
+        else
+          call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+        end if
         if (found) p%step%pen_after = max(p%step%pen_after, -g)
       end do
     end associate
@@ -525,6 +565,8 @@ contains
         b%wshape, b%bid, b%h, err)
       if (allocated(err)) return
       b%cloud%rmax(1:2) = db%rmax
+      ! self-contact: det(M) without a point's reference neighbours (cloud_det_excluding)
+      if (p%self) call cloud_set_reference(b%cloud, b%x_ref(:, db%loc))
       call surface_subset(db%full, mask, b%surface)
       if (allocated(db%xl)) deallocate(db%xl)
       allocate(db%xl(2, size(db%loc)))

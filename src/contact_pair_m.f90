@@ -44,7 +44,7 @@ module contact_pair_m
   public :: contact_pair_localize, contact_pair_distribute, contact_dist_report
   ! (public for the submodule contact_dist_sm only: gfortran 12 leaves out a private module
   ! procedure that only a submodule calls)
-  public :: detect_det_m, pass_forces
+  public :: detect_det_m, pass_forces, detect_self
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
@@ -223,11 +223,12 @@ module contact_pair_m
 
   interface
     !> Distributed memory (issue 12, doc/parallel.md): pair p, set up on the whole bodies,
-    !! made a rank's part of a pair whose master deforms. owner(s): the rank (from 0) of
-    !! each particle of side s; nglob(s): the global numbers of the nodes of the rank's
-    !! part solid of side s; comm: the ranks (kept by pointer). margin: the ghost width's
-    !! margin, a fraction of the width contact needs (> 0: refreshes become rarer, the
-    !! ghost sets larger); refresh .false.: testing only (never refresh).
+    !! made a rank's part of a pair whose master deforms (or of a self-contact). owner(s):
+    !! the rank (from 0) of each particle of side s; nglob(s): the global numbers of the
+    !! nodes of the rank's part solid of side s; comm: the ranks (kept by pointer).
+    !! margin: the ghost width's margin, a fraction of the width contact needs (> 0:
+    !! refreshes become rarer, the ghost sets larger); refresh .false.: testing only (never
+    !! refresh).
     module subroutine contact_pair_distribute(p, solids, comm, owner1, owner2, nglob1, &
       nglob2, margin, refresh, err)
       type(contact_pair_t), intent(inout) :: p

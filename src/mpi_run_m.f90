@@ -15,8 +15,9 @@
 !!
 !! The driver takes element meshes and RKPM bodies against rigid masters (each rank holds
 !! the master whole) and deforming masters (each rank its own and ghost master particles:
-!! contact_dist_sm), without self-contact, det(M) fields or subcycling; the deck is refused
-!! otherwise. An RKPM side's contact forces are spread over RK neighbours (eq. 98): the
+!! contact_dist_sm; self-contact too), without subcycling; the deck is refused otherwise.
+!! Rank 0 draws the snapshots' det(M) fields from the gathered state with its copy of the
+!! pairs as set up. An RKPM side's contact forces are spread over RK neighbours (eq. 98): the
 !! ghost particles' forces are exchanged before the spreading and the corrected ghost nodes
 !! after (contact_exchange). Checkpoints are the serial ones, written by rank 0 from the
 !! gathered state and read whole by every rank, so a run continues on any number of ranks.
@@ -88,20 +89,10 @@ contains
         "with MPI; set subcycle = .false. or run mfcd")
       return
     end if
-    if (deck%output%det_fields) then
-      call set_error(err, what//deck%path//"', group &output, variable det_fields: not yet "// &
-        "with MPI; set det_fields = .false. or run mfcd")
-      return
-    end if
     do k = 1, deck%ncontacts
       associate (c => deck%contacts(k))
-        if (c%imaster == c%islave) then
-          call set_error(err, what//deck%path//"', group &contact, variable master: "// &
-            "self-contact of '"//trim(c%master)//"' is not yet with MPI; run mfcd")
-          return
-        end if
         if (deck%bodies(c%imaster)%role == 'rigid') cycle
-        ! a deforming master: its ghost particles (contact_dist_sm)
+        ! a deforming master (or self-contact): its ghost particles (contact_dist_sm)
         if (c%detector /= 'det_m' .or. c%compare_detectors) then
           call set_error(err, what//deck%path//"', group &contact, variable detector: "// &
             "against the deforming master '"//trim(c%master)//"' the MPI driver takes "// &
@@ -149,6 +140,7 @@ contains
     logical :: root
     class(rank_comm_t), pointer :: comm_ptr
     integer(i64), allocatable :: flag_max(:)
+    type(contact_pair_t), allocatable :: pairs_whole(:)
     call MPI_Comm_rank(comm, me)
     call MPI_Comm_size(comm, nranks)
     root = me == 0
@@ -182,6 +174,9 @@ contains
       if (any_error(comm, err)) return
       if (present(restart)) call restart_part(k)
     end do
+    ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
+    ! the snapshots (drawn from the gathered state: contact_det_fields, contact_self_det)
+    if (root) allocate(pairs_whole, source=pairs)
     call mpi_ranks_init(ranks, comm)
     comm_ptr => ranks
     do k = 1, size(pairs)
@@ -273,7 +268,7 @@ contains
       nsnap_before = 0
       if (root) then
         nsnap_before = out%nsnap_done
-        call snapshots_due(out, deck, r, pairs, gs, err)
+        call snapshots_due(out, deck, r, pairs_whole, gs, err)
       end if
       call reset_impulses_if_written(nsnap_before)
       if (any_error(comm, err)) exit
@@ -558,7 +553,7 @@ contains
       call global_energies()
       call gather_all()
       if (root) then
-        call snapshots_due(out, deck, r, pairs, gs, err)
+        call snapshots_due(out, deck, r, pairs_whole, gs, err)
         call history_push(out%hist, history_row(r, en, gs(1)))
         call log_header()
         call log_line(r, en)
@@ -594,7 +589,10 @@ contains
           g%kappa = ps(kk)%kappa
         end associate
       end do
-      keep = [(pairs(kk)%count, kk = 1, size(pairs))]
+      allocate(keep(size(pairs)))
+      do kk = 1, size(pairs)
+        keep(kk) = pairs(kk)%count
+      end do
       call global_counters()
       if (root) then
         ! (skip_far's schedule is each rank's own: not written)

@@ -3,7 +3,7 @@
 !! one HDF5 file (and XDMF) a serial `mfcd DECK.nml` writes, from rank 0. Every rank reads
 !! the deck and builds the set-up (so bad input is found by all, before anything is
 !! written); only rank 0 logs. What the MPI driver does not take yet is refused as bad input
-!! (mpi_run_m: no self-contact, det(M) fields or subcycling). Options: --restart
+!! (mpi_run_m: no subcycling). Options: --restart
 !! CHECKPOINT.h5, continue from a checkpoint of the deck's run (&output checkpoint_every, by
 !! mfcd or mfcd_mpi on any number of ranks);
 !! --ghost-margin=F, the margin of the ghost width of contact with a deforming master (a

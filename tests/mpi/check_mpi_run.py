@@ -6,7 +6,8 @@ DECK` for N = 1..4, each writing its own file (the deck's output name swapped, a
 skip_quiet = .false., which the MPI driver does not do: its skipping is exact to round-off,
 not to the bit). Then:
   - every /snapshots dataset (positions, displacements, velocities, stresses, plastic
-    strain, J, contact forces, the element fields) equals the serial one to the bit: nodal
+    strain, J, contact forces, the element fields, the det(M) fields and det_self where the
+    deck draws them) equals the serial one to the bit: nodal
     values are the serial ones for any number of ranks (each rank sums the same entries in
     the same order, doc/parallel.md);
   - /history: the columns read from the state (time, dt, length, foot radius, width,
@@ -90,8 +91,6 @@ def deck_copy(src, work, out, checkpoint_every=0):
     # the MPI driver evaluates every point every step; skip_quiet is exact only to round-off
     # (F = I + O(1e-16) against I), so the serial reference does not skip either
     text = text.replace("&solver", "&solver\n  skip_quiet = .false.", 1)
-    # the MPI driver draws no det(M) fields yet
-    text = re.sub(r"det_fields\s*=\s*\.true\.", "det_fields = .false.", text)
     if T_END is not None:
         # a shorter run (the Taylor bar's first microseconds: impact, contact, plasticity)
         text = re.sub(r"t_end\s*=\s*[0-9.eE+-]+", f"t_end = {T_END!r}", text)
