@@ -5,10 +5,11 @@
 !! taken at the physical positions of the nodes.
 module body_measures_m
   use kinds_m, only: wp
-  use solid_m, only: solid_t, solid_positions, at_prediction
+  use solid_m, only: solid_t, solid_positions, solid_point_position, at_prediction
+  use rank_comm_m, only: rank_comm_t
   implicit none
   private
-  public :: measures_t, body_measures, measure_names, measure_units
+  public :: measures_t, body_measures, body_measures_part, measure_names, measure_units
 
   type :: measures_t
     real(wp) :: length = 0.0_wp       !< extent in x2 (m)
@@ -35,4 +36,36 @@ contains
     m%foot_radius = maxval(s%x(1, :), mask=s%x(2, :) <= zmin + s%spacing(2))
     m%max_epsbar = maxval(s%st%epsbar)
   end function body_measures
+
+  !> Distributed memory: the measures of the whole solid whose rank's part s is (its own
+  !! nodes and points, solid_set_owned), by two maxima over the ranks (collective). The
+  !! extremes are those of the whole solid's nodes, so the measures are body_measures' to
+  !! the bit, without gathering the solid.
+  function body_measures_part(s, comm) result(m)
+    type(solid_t), intent(in) :: s
+    class(rank_comm_t), intent(inout) :: comm
+    type(measures_t) :: m
+    real(wp) :: v(5), w(1), x(2), zmin
+    integer :: k
+    v = -huge(1.0_wp)
+    do k = 1, size(s%own_n)
+      x = solid_point_position(s, s%own_n(k))
+      v(1:4) = max(v(1:4), [-x(2), x(2), -x(1), x(1)])
+    end do
+    do k = 1, size(s%own_q)
+      v(5) = max(v(5), s%st%epsbar(s%own_q(k)))
+    end do
+    call comm%max_real(v)
+    zmin = -v(1)
+    w = -huge(1.0_wp)
+    do k = 1, size(s%own_n)
+      x = solid_point_position(s, s%own_n(k))
+      if (x(2) <= zmin + s%spacing(2)) w(1) = max(w(1), x(1))
+    end do
+    call comm%max_real(w)
+    m%length = v(2) - zmin
+    m%width = v(4) - (-v(3))
+    m%foot_radius = w(1)
+    m%max_epsbar = v(5)
+  end function body_measures_part
 end module body_measures_m

@@ -46,7 +46,8 @@ module mpi_run_m
   use explicit_driver_m, only: next_stop, output_intervals
   use dynamic_output_m, only: history_t, history_push, history_flush
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
-    report_summary
+    history_row_measured, report_summary
+  use body_measures_m, only: measures_t, body_measures_part
   use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
     run_files_close, run_files_names, run_files_resume, run_files_checkpoint
   use run_checkpoint_m, only: checkpoint_read
@@ -141,6 +142,7 @@ contains
     class(rank_comm_t), pointer :: comm_ptr
     integer(i64), allocatable :: flag_max(:)
     type(contact_pair_t), allocatable :: pairs_whole(:)
+    type(measures_t) :: hm
     call MPI_Comm_rank(comm, me)
     call MPI_Comm_size(comm, nranks)
     root = me == 0
@@ -257,10 +259,13 @@ contains
       call global_energies()
       call check_energy(en, r%n, energy_warmup, deck%solver%energy_tol, ps, r%energy_over, &
         r%failed, r%reason)
-      if (mod(r%n, hist_every) == 0 .or. r%failed .or. snapshot_near()) call gather_all()
+      ! rank 0 gathers the state for a snapshot or a failure only; a history row's measures
+      ! are maxima over the ranks
+      if (r%failed .or. snapshot_near()) call gather_all()
+      if (mod(r%n, hist_every) == 0 .or. r%failed) hm = body_measures_part(ps(1), ranks)
       if (root) then
         if (mod(r%n, hist_every) == 0 .or. r%failed) &
-          call history_push(out%hist, history_row(r, en, gs(1)))
+          call history_push(out%hist, history_row_measured(r, en, hm))
         if (mod(r%n, log_every) == 0 .or. r%failed) call log_line(r, en)
       end if
       if (r%failed) exit

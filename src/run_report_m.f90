@@ -21,6 +21,7 @@ module run_report_m
   implicit none
   private
   public :: run_record_t, record_contact, log_header, log_line, history_row, &
+    history_row_measured, &
     det_fields_out, report_summary, run_status, self_det_out
 
   !> The running record of a dynamic run.
@@ -89,13 +90,21 @@ contains
     type(energies_t), intent(in) :: en
     type(solid_t), intent(inout) :: s
     real(wp) :: row(size(history_names))
-    type(measures_t) :: m
-    m = body_measures(s)
+    row = history_row_measured(r, en, body_measures(s))
+  end function history_row
+
+  !> One history row (history_names) with the measures m of the first solid (taken by the
+  !! caller: body_measures_part on ranks).
+  function history_row_measured(r, en, m) result(row)
+    type(run_record_t), intent(in) :: r
+    type(energies_t), intent(in) :: en
+    type(measures_t), intent(in) :: m
+    real(wp) :: row(size(history_names))
     row = [real(r%n, wp), r%t, r%dt, r%step%dtc, en%ke, en%w_int, en%w_plastic, en%w_ext, &
       en%w_contact, &
       en%residual, real(r%contact%n_contact, wp), r%contact%force_normal, r%contact%radius, &
       r%contact%pen_after, m%length, m%foot_radius, r%impulse]
-  end function history_row
+  end function history_row_measured
 
   !> /snapshots/<lab>/<body>/det_self of every self-contact pair's body: det(M) at each
   !! particle from the particles that are not its reference neighbours (contact_self_det).
