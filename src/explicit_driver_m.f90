@@ -30,7 +30,7 @@ module explicit_driver_m
   use run_checkpoint_m, only: checkpoint_read
   implicit none
   private
-  public :: run_dynamic, next_stop, output_intervals
+  public :: run_dynamic, next_stop, output_intervals, run_take_setup
 
   !> Steps before the energy guard is armed (see check_energy).
   integer, parameter :: energy_warmup = 20
@@ -58,16 +58,7 @@ contains
     real(wp), allocatable :: snap_times0(:)
     integer :: k, k_bad, log_every, hist_every, bad_q, nsnap0, ckpt_every
     real(wp) :: tw, t_loop0, bad_j
-    r%wall0 = su%wall0
-    r%reason = ''
-    call move_alloc(su%solids, solids)
-    call move_alloc(su%isolid, isolid)
-    call move_alloc(su%pairs, pairs)
-    call setup_time_step(deck, solids, r%step)
-    call set_health_limits(solids)
-    r%t_end = deck%solver%t_end
-    r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
-    r%nsteps_est = ceiling(r%t_end/r%dt - 1.0e-9_wp)
+    call run_take_setup(deck, su, solids, isolid, pairs, r)
     if (present(restart)) then
       call checkpoint_read(restart, deck, bodies, r, solids, pairs, hist0, nsnap0, &
         snap_times0, err)
@@ -152,6 +143,28 @@ contains
       run_files_names(out, r%failed), err)
     call run_files_close(out, r, solids, err)
   end subroutine run_dynamic
+
+  !> The set-up's solids, body-to-solid map and pairs moved out of su, the step control and
+  !! health limits set, and the run record started: the first step, the step estimate (both
+  !! drivers, serial and MPI).
+  subroutine run_take_setup(deck, su, solids, isolid, pairs, r)
+    type(deck_t), intent(in) :: deck
+    type(dynamic_setup_t), intent(inout) :: su
+    type(solid_t), allocatable, intent(out) :: solids(:)
+    integer, allocatable, intent(out) :: isolid(:)
+    type(contact_pair_t), allocatable, intent(out) :: pairs(:)
+    type(run_record_t), intent(inout) :: r
+    r%wall0 = su%wall0
+    r%reason = ''
+    call move_alloc(su%solids, solids)
+    call move_alloc(su%isolid, isolid)
+    call move_alloc(su%pairs, pairs)
+    call setup_time_step(deck, solids, r%step)
+    call set_health_limits(solids)
+    r%t_end = deck%solver%t_end
+    r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
+    r%nsteps_est = ceiling(r%t_end/r%dt - 1.0e-9_wp)
+  end subroutine run_take_setup
 
   !> Steps between log lines and between history rows: the deck's, or by default about 50
   !! log lines a run and a history row every 10 steps (a row costs about one pass over the

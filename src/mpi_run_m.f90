@@ -39,11 +39,10 @@ module mpi_run_m
     contact_pair_localize, contact_pair_distribute, contact_dist_report, exchange_forces, &
     exchange_state
   use contact_m, only: contact_counters_t
-  use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
-    set_health_limits
+  use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step
   use stable_step_m, only: step_control_next, step_control_update
-  use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
-  use explicit_driver_m, only: next_stop, output_intervals
+  use dynamic_setup_m, only: dynamic_setup_t
+  use explicit_driver_m, only: next_stop, output_intervals, run_take_setup
   use dynamic_output_m, only: history_t, history_push, history_flush
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
     history_row_measured, report_summary
@@ -146,16 +145,7 @@ contains
     call MPI_Comm_rank(comm, me)
     call MPI_Comm_size(comm, nranks)
     root = me == 0
-    r%wall0 = su%wall0
-    r%reason = ''
-    call move_alloc(su%solids, gs)
-    call move_alloc(su%isolid, isolid)
-    call move_alloc(su%pairs, pairs)
-    call setup_time_step(deck, gs, r%step)
-    call set_health_limits(gs)
-    r%t_end = deck%solver%t_end
-    r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
-    r%nsteps_est = ceiling(r%t_end/r%dt - 1.0e-9_wp)
+    call run_take_setup(deck, su, gs, isolid, pairs, r)
     if (present(restart)) then
       ! every rank reads the whole state; rank 0 keeps the pairs' counters (sums)
       call checkpoint_read(restart, deck, bodies, r, gs, pairs, hist0, nsnap0, &
@@ -359,21 +349,13 @@ contains
     !> The ghost nodes' d and a (after contact corrected them) from their owners.
     subroutine halo_da(k)
       integer, intent(in) :: k
-      parts(k)%w(1:2, :) = ps(k)%d
-      parts(k)%w(3:4, :) = ps(k)%a
-      call halo_nodes(parts(k)%plan, parts(k)%w)
-      ps(k)%d = parts(k)%w(1:2, :)
-      ps(k)%a = parts(k)%w(3:4, :)
+      call halo_two(k, ps(k)%d, ps(k)%a)
     end subroutine halo_da
 
     !> The ghost nodes' v and a (after the update) from their owners.
     subroutine halo_va(k)
       integer, intent(in) :: k
-      parts(k)%w(1:2, :) = ps(k)%v
-      parts(k)%w(3:4, :) = ps(k)%a
-      call halo_nodes(parts(k)%plan, parts(k)%w)
-      ps(k)%v = parts(k)%w(1:2, :)
-      ps(k)%a = parts(k)%w(3:4, :)
+      call halo_two(k, ps(k)%v, ps(k)%a)
     end subroutine halo_va
 
     !> Energy accounts summed over the ranks (each part sums its own entries).
@@ -741,13 +723,21 @@ contains
     case (exchange_forces)
       call halo_nodes(parts(id)%plan, f)
     case (exchange_state)
-      parts(id)%w(1:2, :) = sol%d
-      parts(id)%w(3:4, :) = sol%a
-      call halo_nodes(parts(id)%plan, parts(id)%w)
-      sol%d = parts(id)%w(1:2, :)
-      sol%a = parts(id)%w(3:4, :)
+      call halo_two(id, sol%d, sol%a)
     end select
   end subroutine contact_exchange
+
+  !> The ghost nodes' values of two nodal arrays x, y (2, local nodes) of part k from their
+  !! owners, in one exchange.
+  subroutine halo_two(k, x, y)
+    integer, intent(in) :: k
+    real(wp), intent(inout) :: x(:, :), y(:, :)
+    parts(k)%w(1:2, :) = x
+    parts(k)%w(3:4, :) = y
+    call halo_nodes(parts(k)%plan, parts(k)%w)
+    x = parts(k)%w(1:2, :)
+    y = parts(k)%w(3:4, :)
+  end subroutine halo_two
 
   !> An error on any rank is an error on every rank (the others get a pointer to it).
   logical function any_error(comm, err) result(yes)
