@@ -25,7 +25,8 @@ module body_setup_m
   use rk_cloud_m, only: cloud_det
   use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_annulus
   use mesh_cells_m, only: mesh_from_tags, mesh_body_arrays
-  use gmsh_mesh_m, only: gmsh_mesh_geo
+  use gmsh_mesh_m, only: gmsh_mesh_model
+  use confine_m, only: confine_limits_t
   use log_m, only: log_print
   implicit none
   private
@@ -214,7 +215,7 @@ contains
       has_cells = .false.
       if (s%shape == 'geo') then
         what = "the mesh of '"//trim(s%file)//"'"
-        call mesh_geo(s, xs, vols, loop, order, tri, ptr, xy, e2)
+        call mesh_geo(s, where, xs, vols, loop, order, tri, ptr, xy, e2)
         has_tri = .not. allocated(e2)
         has_cells = has_tri
       else
@@ -241,7 +242,12 @@ contains
       end if
     end select
     if (allocated(e2)) then
-      call set_error(err, where//', variable '//body_make_vars(s%shape)//': '//e2%message)
+      if (index(e2%message, where) == 1) then
+        ! a message that names its own variable (geo_max_elements)
+        call set_error(err, e2%message)
+      else
+        call set_error(err, where//', variable '//body_make_vars(s%shape)//': '//e2%message)
+      end if
       return
     end if
     if (b%np < basis_size(s%bid)) then
@@ -537,39 +543,67 @@ contains
     end if
   end subroutine read_particles
 
-  !> A gmsh script meshed in memory (&body shape = 'geo'): gmsh's nodes and triangles
-  !! (gmsh_mesh_m), then the nodes, volumes, boundary loops, counter-clockwise triangles and
-  !! median-dual cells that tools/mesh_body.py would write for them (mesh_cells_m). The log
+  !> A gmsh script meshed in memory (&body shape = 'geo'): the script's model, read and
+  !! checked with the deck (s%geo, geo_script_m), built and meshed by gmsh in a confined
+  !! thread within the body's limits (gmsh_mesh_m), then the nodes, volumes, boundary
+  !! loops, counter-clockwise triangles and median-dual cells that tools/mesh_body.py would
+  !! write for them (mesh_cells_m). where names the deck and body for messages. The log
   !! says what gmsh made.
-  subroutine mesh_geo(s, x, vol, loop, order, tri, ptr, xy, err)
+  subroutine mesh_geo(s, where, x, vol, loop, order, tri, ptr, xy, err)
     type(body_spec_t), intent(in) :: s
+    character(len=*), intent(in) :: where
     real(wp), allocatable, intent(out) :: x(:, :), vol(:), xy(:, :)
     integer, allocatable, intent(out) :: loop(:), order(:), tri(:, :), ptr(:)
     type(error_t), allocatable, intent(inout) :: err
     integer(i64), allocatable :: tags(:), tri_tags(:)
     real(wp), allocatable :: xyz(:)
-    character(len=:), allocatable :: version, numbers
+    character(len=:), allocatable :: version, numbers, script
+    type(confine_limits_t) :: limits
     type(error_t), allocatable :: e2
     integer :: k
+    script = "the gmsh script '"//trim(s%file)//"'"
     numbers = ''
     do k = 1, s%ngeo
       if (k > 1) numbers = numbers//', '
       numbers = numbers//trim(s%geo_names(k))//' = '//rtoa(s%geo_values(k))
     end do
-    call gmsh_mesh_geo(trim(s%file), s%geo_names(1:s%ngeo), s%geo_values(1:s%ngeo), tags, &
-      xyz, tri_tags, version, e2)
+    ! memory: about 800 bytes a triangle while gmsh meshes (measured on 2D meshes of
+    ! 2e4 to 2e6 triangles), so 2 KiB a triangle allowed, and 256 MiB for gmsh itself
+    limits%seconds = s%geo_time_limit
+    limits%max_growth = 268435456_i64 + 2048_i64*int(s%geo_max_elements, i64)
+    limits%msg_time = where//', variable geo_time_limit = '//rtoa(s%geo_time_limit)// &
+      ': meshing '//script//' took longer than '//rtoa(s%geo_time_limit)//' s and was '// &
+      'stopped; give the script larger mesh sizes, or raise geo_time_limit if so long a '// &
+      'meshing is meant'
+    limits%msg_memory = where//', variable geo_max_elements = '// &
+      itoa(s%geo_max_elements)//': meshing '//script//' took more than '// &
+      itoa(int(limits%max_growth/1048576_i64))//' MiB of memory (256 MiB and 2 KiB a '// &
+      'triangle allowed) and was stopped; give the script larger mesh sizes, or raise '// &
+      'geo_max_elements if so large a mesh is meant'
+    limits%msg_crash = where//', variable file = '''//trim(s%file)//''': gmsh crashed '// &
+      'meshing '//script//' (a fatal signal in gmsh); check the geometry (curves that '// &
+      'cross, loops that do not close, a surface without area) or mesh it another way'
+    call gmsh_mesh_model(s%geo, limits, tags, xyz, tri_tags, version, e2)
+    if (.not. allocated(e2) .and. size(tri_tags)/3 > s%geo_max_elements) then
+      call set_error(err, where//', variable geo_max_elements = '// &
+        itoa(s%geo_max_elements)//': gmsh made '//itoa(size(tri_tags)/3)//' triangles of '// &
+        script//', more than geo_max_elements; give the script larger mesh sizes, or '// &
+        'raise geo_max_elements if so large a mesh is meant')
+      return
+    end if
     if (.not. allocated(e2)) call mesh_from_tags(tags, xyz, tri_tags, x, tri, e2)
     if (.not. allocated(e2)) call mesh_body_arrays(x, tri, vol, loop, order, ptr, xy, e2)
     if (allocated(e2)) then
       if (len(version) == 0) then
-        ! gmsh never started (a build without it): its message says what to do
-        call set_error(err, e2%message)
+        ! gmsh never started (a build without it, or no confinement): its message says
+        ! what to do
+        call set_error(err, script//": "//e2%message)
       else if (s%ngeo > 0) then
-        call set_error(err, "gmsh "//version//" cannot mesh '"//trim(s%file)//"' with "// &
+        call set_error(err, "gmsh "//version//" cannot mesh "//script//" with "// &
           numbers//" (geo_names, geo_values): "//e2%message//"; fix the script or the "// &
           "numbers")
       else
-        call set_error(err, "gmsh "//version//" cannot mesh '"//trim(s%file)//"': "// &
+        call set_error(err, "gmsh "//version//" cannot mesh "//script//": "// &
           e2%message//"; fix the script")
       end if
       return

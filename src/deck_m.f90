@@ -4,13 +4,15 @@
 !! Variables, units, defaults and ranges are documented in doc/deck.md.
 module deck_m
   use kinds_m, only: wp, i64
-  use strings_m, only: lower, itoa, join_names, rtoa_plain => rtoa
+  use strings_m, only: lower, itoa, join_names, rtoa_plain => rtoa, edit_distance
   use errors_m, only: error_t, set_error
   use kernels_m, only: kernel_id, kernel_names, window_shape_id, window_shape_names
   use basis_m, only: basis_id, basis_names, basis_order
   use material_m, only: material_params_t, check_material_params
   use geometry_m, only: polygon_crossing
   use generators_m, only: max_perturbation
+  use file_system_m, only: read_plain_file
+  use geo_script_m, only: geo_model_t, geo_parse, geo_min_triangles, geo_max_bytes
   use, intrinsic :: iso_fortran_env, only: iostat_end
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -24,19 +26,21 @@ module deck_m
   integer, parameter :: max_points = 32
   !> Most gmsh parser numbers of a shape = 'geo' body (geo_names, geo_values).
   integer, parameter :: max_geo_numbers = 16
-  !> gmsh script commands that mfcd does not run (shape = 'geo'): they run programs
-  !! (SystemCall, NonBlockingSystemCall, OnelabRun, SendToServer), write, delete or rename
-  !! files (Save, Print, CreateDir, DeleteFile, RenameFile; Printf with '>' is caught apart),
-  !! end the process (Exit) or run other scripts mfcd has not checked (Include, Merge).
-  character(len=*), parameter :: geo_commands_refused = 'SystemCall NonBlockingSystemCall '// &
-    'OnelabRun SendToServer Save Print CreateDir DeleteFile RenameFile Exit Include Merge '// &
-    'MergeWithBoundingBox'
+  !> The limits on meshing a shape = 'geo' script unless the deck gives its own
+  !! (geo_time_limit, s; geo_max_elements, triangles): far above the meshes mfcd runs (the
+  !! paper's Taylor bar has 43,200 triangles; gmsh makes about 20,000 triangles a second
+  !! on one core), so that a hostile or mistaken script ends with a message instead of a
+  !! hang.
+  real(wp), parameter :: default_geo_time_limit = 600.0_wp
+  integer, parameter :: default_geo_max_elements = 2000000
   integer, parameter :: max_bodies = 16
   !> Most particles of a generated 2D lattice (rectangle, polygon, annulus sector).
   integer(i64), parameter :: max_lattice = 50000000_i64
   !> Most query points of one &detection set (line or grid).
   integer(i64), parameter :: max_queries = 100000000_i64
   integer, parameter :: path_len = 512
+  !> Largest deck read (bytes): a deck is a page of namelists.
+  integer, parameter :: max_deck_bytes = 16777216
   !> Marks an array entry the deck did not set.
   real(wp), parameter :: unset = -huge(1.0_wp)
 
@@ -84,6 +88,12 @@ module deck_m
     character(len=64) :: geo_names(max_geo_numbers) = ''
     real(wp) :: geo_values(max_geo_numbers) = unset
     integer :: ngeo = 0
+    !> shape 'geo': the limits on meshing the script, wall-clock seconds and triangles
+    real(wp) :: geo_time_limit = unset
+    integer :: geo_max_elements = -1
+    !> shape 'geo': the script's model, read once when the deck is checked (geo_script_m);
+    !! what is meshed is exactly what was checked
+    type(geo_model_t) :: geo
     character(len=16) :: kernel = 'cubic_spline'
     character(len=8) :: window = 'tensor'
     character(len=20) :: basis = 'bilinear'
@@ -210,6 +220,7 @@ contains
     character(len=*), intent(in) :: path
     type(deck_t), intent(out) :: deck
     type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: problem
     integer :: u, ios
     character(len=512) :: msg
     logical :: exists
@@ -219,8 +230,14 @@ contains
       call set_error(err, "deck '"//path//"' not found: check the path (run mfcd --help)")
       return
     end if
-    call read_text(path, deck%text, err)
-    if (allocated(err)) return
+    ! read once as a plain file (a FIFO or device would give gfortran's second read, below,
+    ! other bytes than the ones checked here)
+    call read_plain_file(path, max_deck_bytes, deck%text, problem, follow_links=.true.)
+    if (len(problem) > 0) then
+      call set_error(err, "deck '"//path//"' "//problem//": give the path of a plain "// &
+        "text deck of at most "//itoa(max_deck_bytes)//" bytes")
+      return
+    end if
     call check_groups(deck, err)
     if (allocated(err)) return
     open(newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
@@ -299,30 +316,6 @@ contains
     end do
   end subroutine check_across
 
-  !> The file at path, whole; what names it in a message ('deck' unless given).
-  subroutine read_text(path, text, err, what)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable, intent(out) :: text
-    type(error_t), allocatable, intent(inout) :: err
-    character(len=*), intent(in), optional :: what
-    character(len=:), allocatable :: label
-    integer :: u, ios, sz
-    character(len=512) :: msg
-    label = 'deck'
-    if (present(what)) label = what
-    open(newunit=u, file=path, access='stream', form='unformatted', status='old', &
-      action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call set_error(err, label//" '"//path//"' cannot be read: "//trim(msg))
-      return
-    end if
-    inquire(unit=u, size=sz)
-    allocate(character(len=max(sz, 0)) :: text)
-    ios = 0
-    if (sz > 0) read(u, iostat=ios, iomsg=msg) text
-    close(u)
-    if (ios /= 0) call set_error(err, label//" '"//path//"' cannot be read: "//trim(msg))
-  end subroutine read_text
 
   !> Scan the deck before gfortran reads it, so that every mistake is named by line, group
   !! and variable instead of by gfortran's "Cannot match namelist object name ...":
@@ -773,22 +766,6 @@ contains
     if (len(best) > 0) hint = "; did you mean '"//best//"'?"
   end function nearest_hint
 
-  pure integer function edit_distance(s, t) result(d)
-    character(len=*), intent(in) :: s, t
-    integer :: row(0:len(t)), prev, tmp, i, j
-    row = [(j, j = 0, len(t))]
-    do i = 1, len(s)
-      prev = row(0)
-      row(0) = i
-      do j = 1, len(t)
-        tmp = row(j)
-        row(j) = min(row(j) + 1, row(j - 1) + 1, prev + merge(0, 1, s(i:i) == t(j:j)))
-        prev = tmp
-      end do
-    end do
-    d = row(len(t))
-  end function edit_distance
-
   subroutine read_run(u, deck, err)
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
@@ -845,7 +822,8 @@ contains
     real(wp) :: stabilization, perturbation
     integer :: perturbation_seed
     character(len=64) :: geo_names(max_geo_numbers)
-    real(wp) :: geo_values(max_geo_numbers)
+    real(wp) :: geo_values(max_geo_numbers), geo_time_limit
+    integer :: geo_max_elements
     character(len=10) :: role
     character(len=64) :: material
     character(len=6) :: integration
@@ -857,7 +835,7 @@ contains
     namelist /body/ name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, &
       r_outer, theta_start, theta_end, file, kernel, window, basis, support_factor, role, &
       material, velocity, integration, stabilization, discretization, perturbation, &
-      perturbation_seed, geo_names, geo_values
+      perturbation_seed, geo_names, geo_values, geo_time_limit, geo_max_elements
     allocate(tmp(max_bodies))
     rewind(u)
     k = 0
@@ -890,6 +868,8 @@ contains
       perturbation_seed = dflt%perturbation_seed
       geo_names = dflt%geo_names
       geo_values = dflt%geo_values
+      geo_time_limit = dflt%geo_time_limit
+      geo_max_elements = dflt%geo_max_elements
       read(u, nml=body, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -932,6 +912,8 @@ contains
       s%perturbation_seed = perturbation_seed
       s%geo_names = geo_names
       s%geo_values = geo_values
+      s%geo_time_limit = geo_time_limit
+      s%geo_max_elements = geo_max_elements
       call check_body(deck, k, tmp(1:k - 1), s, err)
       if (allocated(err)) return
       tmp(k) = s
@@ -1187,34 +1169,71 @@ contains
       call bad(deck, grp, 'geo_values', rtoa(s%geo_values(1))//', ...', "gmsh parser "// &
         "numbers are read by shape = 'geo' only (this body: shape '"//trim(s%shape)// &
         "'); remove geo_values", err)
+    else if (s%geo_time_limit /= unset) then
+      call bad(deck, grp, 'geo_time_limit', rtoa(s%geo_time_limit), "the limits of "// &
+        "meshing a gmsh script are read by shape = 'geo' only (this body: shape '"// &
+        trim(s%shape)//"'); remove geo_time_limit", err)
+    else if (s%geo_max_elements /= -1) then
+      call bad(deck, grp, 'geo_max_elements', itoa(s%geo_max_elements), "the limits of "// &
+        "meshing a gmsh script are read by shape = 'geo' only (this body: shape '"// &
+        trim(s%shape)//"'); remove geo_max_elements", err)
     end if
   end subroutine check_body
 
-  !> A shape = 'geo' body: file names a readable gmsh script, and the parser numbers are
-  !! pairs geo_names(k) = geo_values(k) given in a row, each name a gmsh identifier that the
-  !! script uses, given once (the values are finite reals: check_groups saw to that).
+  !> A shape = 'geo' body: file names a plain gmsh script (.geo) of at most geo_max_bytes,
+  !! read once here; the parser numbers are pairs geo_names(k) = geo_values(k) given in a
+  !! row, each name a gmsh name given once (the values are finite reals: check_groups saw
+  !! to that); the script is in the subset mfcd reads and reads every number the deck
+  !! gives (geo_script_m), and its sizes do not already ask for more than geo_max_elements
+  !! triangles. Its model is kept in s%geo: set-up meshes exactly what was checked.
   subroutine check_geo(deck, grp, s, exists, err)
     type(deck_t), intent(in) :: deck
     character(len=*), intent(in) :: grp
     type(body_spec_t), intent(inout) :: s
     logical, intent(in) :: exists
     type(error_t), allocatable, intent(inout) :: err
-    character(len=:), allocatable :: text, used, defaults, name, refused
-    type(error_t), allocatable :: e2
-    integer :: nn, nv, k, j, line
-    if (len_trim(s%file) == 0) then
+    character(len=:), allocatable :: text, name, problem, msg, where, path, which, numbers
+    integer :: nn, nv, k, j
+    real(wp) :: nmin
+    path = trim(s%file)
+    if (len(path) == 0) then
       call bad(deck, grp, 'file', "''", "give the path of a gmsh geometry script (.geo), "// &
         "e.g. file = 'input/hertz_sphere.geo'", err)
       return
     else if (.not. exists) then
-      call bad(deck, grp, 'file', "'"//trim(s%file)//"'", "no such file: give the path of "// &
+      call bad(deck, grp, 'file', "'"//path//"'", "no such file: give the path of "// &
         "a gmsh geometry script (.geo), relative to where mfcd runs", err)
       return
     end if
-    call read_text(trim(s%file), text, e2, 'gmsh script')
-    if (allocated(e2)) then
-      call bad(deck, grp, 'file', "'"//trim(s%file)//"'", e2%message//"; give a readable "// &
-        ".geo file", err)
+    if (len(path) < 5) then
+      name = ''
+    else
+      name = path(len(path) - 3:)
+    end if
+    if (name /= '.geo') then
+      call bad(deck, grp, 'file', "'"//path//"'", "mfcd meshes gmsh scripts named *.geo "// &
+        "only (and never reads another file as one, so no other file's words reach a "// &
+        "message): give the script's path, ending in .geo", err)
+      return
+    end if
+    if (s%geo_time_limit == unset) s%geo_time_limit = default_geo_time_limit
+    if (s%geo_max_elements == -1) s%geo_max_elements = default_geo_max_elements
+    if (s%geo_time_limit <= 0.0_wp .or. s%geo_time_limit > 86400.0_wp) then
+      call bad(deck, grp, 'geo_time_limit', rtoa(s%geo_time_limit), "give the longest "// &
+        "time meshing the script may take, in seconds, above 0 and at most a day (86400)", err)
+      return
+    end if
+    if (s%geo_max_elements < 1) then
+      call bad(deck, grp, 'geo_max_elements', itoa(s%geo_max_elements), "give the most "// &
+        "triangles the mesh may have, at least 1 (the default is "// &
+        itoa(default_geo_max_elements)//")", err)
+      return
+    end if
+    call read_plain_file(path, geo_max_bytes, text, problem)
+    if (len(problem) > 0) then
+      call bad(deck, grp, 'file', "'"//path//"'", "the gmsh script "//problem//"; give "// &
+        "the path of a plain text .geo file itself (mfcd follows no link to a script) of "// &
+        "at most "//itoa(geo_max_bytes)//" bytes", err)
       return
     end if
     nn = 0
@@ -1243,15 +1262,6 @@ contains
         "'hc', 'a' with geo_values = 0.1e-3, 0.4e-3 sets hc = 0.1e-3 and a = 0.4e-3)", err)
       return
     end if
-    call geo_identifiers(text, used, defaults, refused, line)
-    if (len(refused) > 0) then
-      call bad(deck, grp, 'file', "'"//trim(s%file)//"'", "line "//itoa(line)//" of the "// &
-        "gmsh script gives "//refused//": mfcd meshes scripts that build geometry, and for "// &
-        "them runs no program, writes, deletes or renames no file, ends no process and "// &
-        "reads no script it has not checked (it refuses "// &
-        join_words(geo_commands_refused)//", Printf > file); remove it from the script", err)
-      return
-    end if
     do k = 1, nn
       name = trim(adjustl(s%geo_names(k)))
       if (.not. is_geo_name(name)) then
@@ -1268,14 +1278,40 @@ contains
           return
         end if
       end do
-      if (index(' '//used//' ', ' '//name//' ') == 0) then
-        if (len(defaults) == 0) defaults = '(none)'
-        call bad(deck, grp, 'geo_names', "'"//name//"'", "the gmsh script '"// &
-          trim(s%file)//"' never uses a number '"//name//"'"//nearest_word(used, name)// &
-          "; the numbers it lets a caller set (If (!Exists(name))): "//defaults, err)
-        return
-      end if
     end do
+    call geo_parse(text, s%geo_names(1:nn), s%geo_values(1:nn), s%geo, msg, where, which)
+    if (len(msg) > 0) then
+      if (where == 'geo_names') then
+        ! "..., line 3: sets 'h' before ..." or "... never uses a number 'h' ..."
+        if (index(msg, 'line ') == 1) then
+          msg = ', '//msg
+        else
+          msg = ' '//msg
+        end if
+        call bad(deck, grp, 'geo_names', "'"//which//"'", "the gmsh script '"//path// &
+          "'"//msg//"; fix geo_names or the script", err)
+      else if (nn > 0) then
+        numbers = ''
+        do k = 1, nn
+          if (k > 1) numbers = numbers//', '
+          numbers = numbers//trim(s%geo_names(k))//' = '//rtoa(s%geo_values(k))
+        end do
+        call bad(deck, grp, 'file', "'"//path//"'", msg//" (with "//numbers// &
+          " from geo_names, geo_values); fix the script or the numbers", err)
+      else
+        call bad(deck, grp, 'file', "'"//path//"'", msg//"; fix the script", err)
+      end if
+      return
+    end if
+    nmin = geo_min_triangles(s%geo)
+    if (nmin > real(s%geo_max_elements, wp)) then
+      call bad(deck, grp, 'geo_max_elements', itoa(s%geo_max_elements), "the sizes of "// &
+        "the gmsh script '"//path//"' ask for at least about "//rtoa(nmin)//" triangles "// &
+        "(an area over the square of an upper bound of the mesh size; gmsh makes about "// &
+        "2.3 times that): give the script larger mesh sizes, or raise geo_max_elements "// &
+        "if a mesh that large is meant", err)
+      return
+    end if
     s%ngeo = nn
   end subroutine check_geo
 
@@ -1290,192 +1326,6 @@ contains
       if (.not. is_name_char(w(i:i))) is_geo_name = .false.
     end do
   end function is_geo_name
-
-  !> The identifiers of a gmsh script (text), blank-separated in used, outside comments and
-  !! strings and not after a '.' (Field[1].SizeMin, Mesh.Algorithm: options, not numbers);
-  !! defaults lists, comma-separated, those the script tests with Exists(name), the numbers
-  !! it lets a caller set. bad is the first command of geo_commands_refused the script
-  !! gives (a word not followed by '.', which would make it an option's category, or
-  !! 'Printf > file'), at line bad_line; '' if none.
-  pure subroutine geo_identifiers(text, used, defaults, bad, bad_line)
-    character(len=*), intent(in) :: text
-    character(len=:), allocatable, intent(out) :: used, defaults, bad
-    integer, intent(out) :: bad_line
-    character(len=:), allocatable :: word, last
-    character :: prev
-    integer :: i, j, n, k, line, printf_state, depth
-    used = ''
-    defaults = ''
-    bad = ''
-    bad_line = 0
-    last = ''
-    prev = ' '
-    n = len(text)
-    line = 1
-    ! Printf: 1 seen, 2 inside its parentheses (depth), 3 closed: a '>' next redirects it
-    printf_state = 0
-    depth = 0
-    i = 1
-    do while (i <= n)
-      if (text(i:min(i + 1, n)) == '//') then
-        do while (i <= n)
-          if (text(i:i) == achar(10)) exit
-          i = i + 1
-        end do
-      else if (text(i:min(i + 1, n)) == '/*') then
-        j = index(text(i + 2:), '*/')
-        k = merge(n + 1, i + 2 + j + 1, j == 0)
-        line = line + count_newlines(text(i:k - 1))
-        i = k
-      else if (text(i:i) == '"') then
-        j = index(text(i + 1:), '"')
-        k = merge(n + 1, i + j + 1, j == 0)
-        line = line + count_newlines(text(i:k - 1))
-        i = k
-        prev = '"'
-        if (printf_state == 3) printf_state = 0
-      else if (is_name_start(text(i:i)) .or. text(i:i) == '_') then
-        j = i
-        do while (j <= n)
-          if (.not. is_name_char(text(j:j))) exit
-          j = j + 1
-        end do
-        word = text(i:j - 1)
-        if (printf_state == 3) printf_state = 0
-        if (prev /= '.') then
-          if (index(' '//used//' ', ' '//word//' ') == 0) used = used//' '//word
-          if (last == 'Exists(') then
-            if (index(', '//defaults//',', ', '//word//',') == 0) then
-              if (len(defaults) > 0) defaults = defaults//', '
-              defaults = defaults//word
-            end if
-          end if
-          if (len(bad) == 0 .and. index(' '//geo_commands_refused//' ', ' '//word//' ') &
-            > 0 .and. next_char(j) /= '.') then
-            bad = word
-            bad_line = line
-          end if
-          if (word == 'Printf' .and. printf_state == 0) printf_state = 1
-        end if
-        last = word
-        prev = 'a'
-        i = j
-      else if (scan(text(i:i), '0123456789') > 0) then
-        ! a number, with its exponent: 1.5e-3
-        j = i
-        do while (j <= n)
-          if (scan(text(j:j), '0123456789.') == 0) exit
-          j = j + 1
-        end do
-        if (j <= n) then
-          if (scan(text(j:j), 'eEdD') > 0) then
-            j = j + 1
-            if (j <= n) then
-              if (scan(text(j:j), '+-') > 0) j = j + 1
-            end if
-            do while (j <= n)
-              if (scan(text(j:j), '0123456789') == 0) exit
-              j = j + 1
-            end do
-          end if
-        end if
-        prev = '0'
-        last = ''
-        if (printf_state == 3) printf_state = 0
-        i = j
-      else
-        if (text(i:i) == achar(10)) line = line + 1
-        if (text(i:i) == '(' .and. last == 'Exists') then
-          last = 'Exists('
-        else if (text(i:i) /= ' ' .and. text(i:i) /= achar(9)) then
-          last = ''
-        end if
-        select case (printf_state)
-        case (1, 2)
-          if (text(i:i) == '(') then
-            depth = depth + 1
-            printf_state = 2
-          else if (text(i:i) == ')' .and. printf_state == 2) then
-            depth = depth - 1
-            if (depth == 0) printf_state = 3
-          end if
-        case (3)
-          if (text(i:i) == '>') then
-            if (len(bad) == 0) then
-              bad = 'Printf > file'
-              bad_line = line
-            end if
-            printf_state = 0
-          else if (scan(text(i:i), ' '//achar(9)//achar(10)//achar(13)) == 0) then
-            printf_state = 0
-          end if
-        end select
-        if (scan(text(i:i), ' '//achar(9)//achar(10)//achar(13)) == 0) prev = text(i:i)
-        i = i + 1
-      end if
-    end do
-    used = adjustl(used)
-  contains
-    pure integer function count_newlines(t) result(c)
-      character(len=*), intent(in) :: t
-      integer :: m
-      c = 0
-      do m = 1, len(t)
-        if (t(m:m) == achar(10)) c = c + 1
-      end do
-    end function count_newlines
-
-    !> The first character from position a on that is not blank ('' at the end).
-    pure function next_char(a) result(c)
-      integer, intent(in) :: a
-      character :: c
-      integer :: m
-      c = ' '
-      do m = a, n
-        if (scan(text(m:m), ' '//achar(9)//achar(10)//achar(13)) == 0) then
-          c = text(m:m)
-          return
-        end if
-      end do
-    end function next_char
-  end subroutine geo_identifiers
-
-  !> The blank-separated words w as a list: 'a, b, c'.
-  pure function join_words(w) result(t)
-    character(len=*), intent(in) :: w
-    character(len=:), allocatable :: t
-    integer :: k
-    t = ''
-    do k = 1, len_trim(w)
-      if (w(k:k) == ' ') then
-        t = t//','
-      end if
-      t = t//w(k:k)
-    end do
-  end function join_words
-
-  !> " (did you mean 'hc'?)" for the word of words (blank-separated) at the smallest edit
-  !! distance (<= 2), '' if none is that close.
-  pure function nearest_word(words, word) result(hint)
-    character(len=*), intent(in) :: words, word
-    character(len=:), allocatable :: hint, w
-    integer :: a, z, d, dbest
-    hint = ''
-    dbest = 3
-    a = 1
-    do while (a <= len(words))
-      z = index(words(a:)//' ', ' ')
-      w = words(a:a + z - 2)
-      if (len(w) > 0) then
-        d = edit_distance(lower(w), lower(word))
-        if (d < dbest) then
-          dbest = d
-          hint = " (did you mean '"//w//"'?)"
-        end if
-      end if
-      a = a + z
-    end do
-  end function nearest_word
 
   subroutine read_detection(u, deck, err)
     integer, intent(in) :: u
@@ -2122,7 +1972,7 @@ contains
       s = 'name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, r_outer, '// &
         'theta_start, theta_end, file, kernel, window, basis, support_factor, role, '// &
         'material, velocity, integration, stabilization, discretization, perturbation, '// &
-        'perturbation_seed, geo_names, geo_values'
+        'perturbation_seed, geo_names, geo_values, geo_time_limit, geo_max_elements'
     case ('detection')
       s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
     case ('output')
@@ -2218,10 +2068,11 @@ contains
     case ('body')
       strs = 'name, shape, file, kernel, window, basis, role, material, integration, '// &
         'discretization, geo_names('//itoa(max_geo_numbers)//')'
-      ints = 'n(3), perturbation_seed'
+      ints = 'n(3), perturbation_seed, geo_max_elements'
       reals = 'lo(3), hi(3), vertices('//itoa(2*max_vertices)//'), spacing(3), origin(2), '// &
         'center(2), r_inner, r_outer, theta_start, theta_end, support_factor(3), '// &
-        'velocity(3), stabilization, perturbation, geo_values('//itoa(max_geo_numbers)//')'
+        'velocity(3), stabilization, perturbation, geo_values('//itoa(max_geo_numbers)// &
+        '), geo_time_limit'
     case ('detection')
       strs = 'body'
       ints = 'line_n, grid_n(3)'

@@ -3,11 +3,13 @@
 !! rename(2) or link(2). A path from the deck is only ever an argument of these calls, so
 !! no character in it ($, `, ;, quotes) has any meaning but its own.
 module file_system_m
-  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_associated
+  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_associated, &
+    c_long_long
+  use confine_m, only: errno_text
   implicit none
   private
   public :: make_dirs, is_dir, writable_dir, path_exists, real_path, rename_file, &
-    link_file, remove_file, process_id
+    link_file, remove_file, process_id, read_plain_file
 
   integer(c_int), parameter :: f_ok = 0, w_ok = 2, x_ok = 1   !< access(2) modes (POSIX)
   !> Permissions of a new directory before the umask: rwx for all, as mkdir(1) gives.
@@ -54,6 +56,28 @@ module file_system_m
       import :: c_int
       integer(c_int) :: pid
     end function c_getpid
+    function c_open_regular(path, nofollow, max_bytes, size, kind, err_no) &
+      bind(c, name='mfcd_open_regular') result(fd)
+      import :: c_char, c_int, c_long_long
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: nofollow
+      integer(c_long_long), value :: max_bytes
+      integer(c_long_long), intent(out) :: size
+      integer(c_int), intent(out) :: kind, err_no
+      integer(c_int) :: fd
+    end function c_open_regular
+    function c_read_fd(fd, buf, n) bind(c, name='mfcd_read_fd') result(got)
+      import :: c_char, c_int, c_long_long
+      integer(c_int), value :: fd
+      character(kind=c_char), intent(out) :: buf(*)
+      integer(c_long_long), value :: n
+      integer(c_long_long) :: got
+    end function c_read_fd
+    function c_close(fd) bind(c, name='close') result(rc)
+      import :: c_int
+      integer(c_int), value :: fd
+      integer(c_int) :: rc
+    end function c_close
   end interface
 
 contains
@@ -134,6 +158,69 @@ contains
     character(len=*), intent(in) :: path
     ok = c_unlink(path//c_null_char) == 0
   end function remove_file
+
+  !> The bytes of the plain file at path, read once, when it has at most max_bytes of
+  !! them: opened without blocking and judged by the open descriptor, so a FIFO, a device,
+  !! a directory or a socket is refused without being read, and what the caller checks is
+  !! exactly what it uses (the size is 64-bit: a file of 2^31 bytes or more is too large,
+  !! not unread). A symbolic link as the path's last component is followed only when
+  !! follow_links is given and true (the deck the user names), never for a file a deck
+  !! names (so a link named like a script cannot make mfcd read another file). problem is
+  !! '' on success; otherwise it says what the path is or why it
+  !! cannot be read (e.g. 'is a FIFO (named pipe), not a plain file'), and text is ''.
+  subroutine read_plain_file(path, max_bytes, text, problem, follow_links)
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: max_bytes
+    character(len=:), allocatable, intent(out) :: text
+    character(len=:), allocatable, intent(out) :: problem
+    logical, intent(in), optional :: follow_links
+    character(len=*), parameter :: kinds(0:7) = [character(len=40) :: 'a plain file', &
+      'a directory', 'a FIFO (named pipe)', 'a character device', 'a block device', &
+      'a socket', 'not a plain file', 'a symbolic link']
+    integer(c_long_long) :: size, got
+    integer(c_int) :: fd, kind, err_no, rc, nofollow
+    text = ''
+    problem = ''
+    nofollow = 1
+    if (present(follow_links)) then
+      if (follow_links) nofollow = 0
+    end if
+    fd = c_open_regular(path//c_null_char, nofollow, int(max_bytes, c_long_long), size, &
+      kind, err_no)
+    if (fd < 0) then
+      if (err_no /= 0) then
+        problem = 'cannot be opened: '//errno_text(int(err_no))
+      else if (kind /= 0) then
+        problem = 'is '//trim(kinds(max(0, min(7, int(kind)))))//', not a plain file'
+      else
+        problem = 'holds '//ltoa(size)//' bytes, more than the '//ltoa(int(max_bytes, &
+          c_long_long))//' read'
+      end if
+      return
+    end if
+    ! one byte more than the size, to see a file that grew meanwhile
+    deallocate(text)
+    allocate(character(len=int(size) + 1) :: text)
+    got = c_read_fd(fd, text, size + 1)
+    rc = c_close(fd)
+    if (got < 0) then
+      problem = 'cannot be read: '//errno_text(int(-got))
+      text = ''
+    else if (got > size) then
+      problem = 'grew while it was read'
+      text = ''
+    else
+      text = text(1:int(got))
+    end if
+  contains
+    function ltoa(n) result(t)
+      integer(c_long_long), intent(in) :: n
+      character(len=:), allocatable :: t
+      character(len=24) :: buf
+      write(buf, '(i0)') n
+      t = trim(buf)
+    end function ltoa
+  end subroutine read_plain_file
 
   !> This process's id, for names no other run uses at the same time.
   integer function process_id()

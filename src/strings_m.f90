@@ -3,9 +3,27 @@ module strings_m
   use kinds_m, only: wp
   implicit none
   private
-  public :: lower, itoa, rtoa, join_names
+  public :: lower, itoa, rtoa, join_names, edit_distance
 
 contains
+
+  !> Levenshtein distance between s and t (insertions, deletions, substitutions), for the
+  !! nearest valid name in a message.
+  pure integer function edit_distance(s, t) result(d)
+    character(len=*), intent(in) :: s, t
+    integer :: row(0:len(t)), prev, tmp, i, j
+    row = [(j, j = 0, len(t))]
+    do i = 1, len(s)
+      prev = row(0)
+      row(0) = i
+      do j = 1, len(t)
+        tmp = row(j)
+        row(j) = min(row(j) + 1, row(j - 1) + 1, prev + merge(0, 1, s(i:i) == t(j:j)))
+        prev = tmp
+      end do
+    end do
+    d = row(len(t))
+  end function edit_distance
 
   !> 'a, b, c' from a list of names.
   pure function join_names(names) result(s)

@@ -3,8 +3,16 @@
 triangles as a finite-element mesh, and each node's median-dual cell as its nodal
 integration cell.
 
-    .venv/bin/python tools/mesh_body.py input/hertz_disk.geo output/meshes/disk.h5 \\
-        --set h=0.5e-3 [--set R=5e-3 ...]
+    .venv/bin/python tools/mesh_body.py --trusted input/hertz_sphere.geo \\
+        output/meshes/sphere.h5 --set hc=0.1e-3 [--set a=0.4e-3 ...]
+
+**Only for scripts you trust.** This script hands the .geo to gmsh's own interpreter, whose
+language can run programs, write, read and delete files and end the process (SystemCall,
+Printf > file, Save, Include, General.LogFileName, plugins, ...), and it runs gmsh without
+mfcd's confinement. It refuses to start without --trusted, the user's word that the script
+is theirs. A script from someone else is meshed by mfcd itself (`&body shape = 'geo'`): mfcd
+reads only a subset of the language and builds the model through gmsh's API, in a thread
+that can write no file (doc/deck.md, "What a gmsh script can do").
 
 gmsh (PyPI `gmsh`, installed by `bash tools/setup.sh --gmsh`) reads the .geo with the
 parser numbers given by --set (the script reads them as `If (!Exists(h)) h = ...; EndIf`),
@@ -173,7 +181,16 @@ def main(argv=None):
     ap.add_argument("out")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="a gmsh parser number, e.g. h=0.5e-3 (repeat for more)")
+    ap.add_argument("--trusted", action="store_true",
+                    help="the script is yours: gmsh's interpreter may run it (it can run "
+                         "programs and write files; untrusted scripts: &body shape = 'geo')")
     a = ap.parse_args(argv)
+    if not a.trusted:
+        print(f"mesh_body: error: {a.geo}: not run without --trusted: gmsh's interpreter "
+              "would run the whole .geo language, which can run programs and write, read "
+              "and delete files; give --trusted for a script of your own, or let mfcd mesh "
+              "it (&body shape = 'geo' reads a safe subset, doc/deck.md)", file=sys.stderr)
+        return 2
     numbers = {}
     for item in a.set:
         name, _, value = item.partition("=")

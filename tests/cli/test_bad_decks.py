@@ -17,12 +17,13 @@ A deck's header says what is wrong and what to expect:
 
 Standard library only. Usage: test_bad_decks.py /path/to/mfcd [deck-name-substring ...]
 """
-import hashlib
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
+
+from dir_state import snapshot
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CORPUS = os.path.join(HERE, "bad_decks")
@@ -50,22 +51,6 @@ def header(path):
     if not meta["expect"]:
         raise ValueError(f"{path}: no '! expect: <word>' line")
     return meta
-
-
-def snapshot(root):
-    """Every file and directory under root: relative name -> (kind, size, mtime, sha256)."""
-    state = {}
-    for base, dirs, files in os.walk(root):
-        for name in dirs + files:
-            full = os.path.join(base, name)
-            st = os.lstat(full)
-            digest = ""
-            if os.path.isfile(full) and not os.path.islink(full):
-                with open(full, "rb") as f:
-                    digest = hashlib.sha256(f.read()).hexdigest()
-            kind = "dir" if os.path.isdir(full) else "file"
-            state[os.path.relpath(full, root)] = (kind, st.st_size, st.st_mtime_ns, digest)
-    return state
 
 
 def has_meminfo():

@@ -77,6 +77,21 @@ def main():
     check("no deck exits 2", rc == 2 and "no deck" in err, err)
     rc, _, err = run([os.path.join(tmp, "missing.nml")], tmp)
     check("missing deck exits 2 naming it", rc == 2 and "missing.nml" in err, err)
+    # the deck is read once, as a plain file: a FIFO (here with no writer, which would
+    # block an open) or a directory is refused at once, by the run and by --check
+    os.mkfifo(os.path.join(tmp, "fifo.nml"))
+    os.mkdir(os.path.join(tmp, "dir.nml"))
+    for name, kind in (("fifo.nml", "is a FIFO (named pipe)"), ("dir.nml", "is a directory")):
+        for args in ([], ["--check"]):
+            rc, _, err = run(args + [os.path.join(tmp, name)], tmp)
+            check(f"deck {name} {' '.join(args)}: exit 2, '{kind}'",
+                  rc == 2 and kind in err and name in err, err)
+    # a link to a deck is the user's own path: followed
+    with open(os.path.join(tmp, "real.nml"), "w") as f:
+        f.write(deck())
+    os.symlink("real.nml", os.path.join(tmp, "link.nml"))
+    rc, _, err = run(["--check", os.path.join(tmp, "link.nml")], tmp)
+    check("deck given through a link: followed", rc == 0, err)
 
     bad_case(tmp, "misspelt", deck(body=GOOD_BODY.replace("  n = 11", "  nn = 11")),
              ["&body", "'nn'", "did you mean 'n'"])

@@ -1,0 +1,16 @@
+// hostile (files-read): ListFromFile puts a file's numbers into the model
+// expect: line 15
+// expect: lists and list elements
+// the script: the unit square, then the payload (@MARK@: a path that must not appear)
+Point(1) = {0, 0, 0, 0.25};
+Point(2) = {1, 0, 0, 0.25};
+Point(3) = {1, 1, 0, 0.25};
+Point(4) = {0, 1, 0, 0.25};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+x[] = ListFromFile["/etc/hostname"];
+Point(10) = {x[0], 0, 0};
