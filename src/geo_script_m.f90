@@ -460,35 +460,7 @@ contains
         i = i + j + 1
       else if (is_digit(ch) .or. (ch == '.' .and. is_digit(nx))) then
         ! gmsh's numbers: 12, 1.5, .5, 1., 1e-3, 1.5E+3
-        j = i
-        do while (j <= n)
-          if (.not. is_digit(p%text(j:j))) exit
-          j = j + 1
-        end do
-        if (j <= n) then
-          if (p%text(j:j) == '.') then
-            j = j + 1
-            do while (j <= n)
-              if (.not. is_digit(p%text(j:j))) exit
-              j = j + 1
-            end do
-          end if
-        end if
-        if (j < n) then
-          if (scan(p%text(j:j), 'eE') > 0) then
-            if (is_digit(p%text(j + 1:j + 1))) then
-              j = j + 1
-            else if (j + 1 < n .and. scan(p%text(j + 1:j + 1), '+-') > 0) then
-              if (is_digit(p%text(j + 2:j + 2))) j = j + 2
-            end if
-            if (is_digit(p%text(j:j))) then
-              do while (j <= n)
-                if (.not. is_digit(p%text(j:j))) exit
-                j = j + 1
-              end do
-            end if
-          end if
-        end if
+        j = number_end(p%text, i)
         read(p%text(i:j - 1), *, iostat=ios) v
         if (ios /= 0 .or. .not. ieee_is_finite(v) .or. j - i > 400) then
           call fail_at(p, line, 'the number '//p%text(i:min(j - 1, i + 39))//' is out of '// &
@@ -560,6 +532,40 @@ contains
       end do
     end function plain
   end subroutine tokenize
+
+  !> Where a number that starts at i of t ends (one past its last character): digits, an
+  !! optional '.' and digits, an optional exponent e or E, a sign and digits (gmsh's lexer:
+  !! 12, 1.5, .5, 1., 1e-3, 1.5E+3; an 'e' without digits after it is not part of it).
+  pure integer function number_end(t, i) result(j)
+    character(len=*), intent(in) :: t
+    integer, intent(in) :: i
+    integer :: n, k
+    n = len(t)
+    j = i
+    do while (j <= n)
+      if (.not. is_digit(t(j:j))) exit
+      j = j + 1
+    end do
+    if (j <= n) then
+      if (t(j:j) == '.') then
+        j = j + 1
+        do while (j <= n)
+          if (.not. is_digit(t(j:j))) exit
+          j = j + 1
+        end do
+      end if
+    end if
+    if (j >= n) return
+    if (scan(t(j:j), 'eE') == 0) return
+    k = j + 1
+    if (scan(t(k:k), '+-') > 0 .and. k < n) k = k + 1
+    if (.not. is_digit(t(k:k))) return
+    j = k
+    do while (j <= n)
+      if (.not. is_digit(t(j:j))) exit
+      j = j + 1
+    end do
+  end function number_end
 
   !> The line ends in s: LF, CR LF (one) and CR alone.
   pure integer function count_lf(s)
@@ -978,53 +984,7 @@ contains
     call expect(p, ';', 'after the '//what)
     if (len(p%msg) > 0 .or. .not. active) return
     n = size(vals)
-    select case (op)
-    case (op_point)
-      cls = ent_point
-      nmin = 3
-      nmax = 4
-      need_cls = 0
-    case (op_line)
-      cls = ent_curve
-      nmin = 2
-      nmax = 2
-      need_cls = ent_point
-    case (op_circle)
-      cls = ent_curve
-      nmin = 3
-      nmax = 3
-      need_cls = ent_point
-    case (op_ellipse)
-      cls = ent_curve
-      nmin = 3
-      nmax = 4
-      need_cls = ent_point
-    case (op_spline, op_bspline)
-      cls = ent_curve
-      nmin = 2
-      nmax = max_list
-      need_cls = ent_point
-    case (op_curve_loop)
-      cls = ent_loop
-      nmin = 1
-      nmax = max_list
-      need_cls = ent_curve
-    case (op_plane_surface, op_surface)
-      cls = ent_surface
-      nmin = 1
-      nmax = max_list
-      need_cls = ent_loop
-    case (op_surface_loop)
-      cls = ent_shell
-      nmin = 1
-      nmax = max_list
-      need_cls = ent_surface
-    case default
-      cls = ent_volume
-      nmin = 1
-      nmax = max_list
-      need_cls = ent_shell
-    end select
+    call entity_rules(op, cls, nmin, nmax, need_cls)
     if (n < nmin .or. n > nmax) then
       if (nmin == nmax) then
         call fail_at(p, line, what//' needs '//itoa(nmin)//' values, not '//itoa(n))
@@ -1068,6 +1028,47 @@ contains
     call p%ent(cls)%put(tag, p%m%nops)
     p%maxtag(cls) = max(p%maxtag(cls), tag)
   end subroutine entity
+
+  !> What a geometry call of kind op defines (its class), how many values it takes, and
+  !! the class of the entities it names (0 for a point's coordinates).
+  pure subroutine entity_rules(op, cls, nmin, nmax, need_cls)
+    integer, intent(in) :: op
+    integer, intent(out) :: cls, nmin, nmax, need_cls
+    cls = ent_curve
+    nmin = 1
+    nmax = max_list
+    need_cls = ent_point
+    select case (op)
+    case (op_point)
+      cls = ent_point
+      nmin = 3
+      nmax = 4
+      need_cls = 0
+    case (op_line)
+      nmin = 2
+      nmax = 2
+    case (op_circle)
+      nmin = 3
+      nmax = 3
+    case (op_ellipse)
+      nmin = 3
+      nmax = 4
+    case (op_spline, op_bspline)
+      nmin = 2
+    case (op_curve_loop)
+      cls = ent_loop
+      need_cls = ent_curve
+    case (op_plane_surface, op_surface)
+      cls = ent_surface
+      need_cls = ent_loop
+    case (op_surface_loop)
+      cls = ent_shell
+      need_cls = ent_surface
+    case default
+      cls = ent_volume
+      need_cls = ent_shell
+    end select
+  end subroutine entity_rules
 
   !> Physical Point|Curve|Line|Surface|Volume(tag | "name" [, tag]) = {list}; read and
   !! checked; mfcd takes every node and triangle, so a physical group changes nothing of
