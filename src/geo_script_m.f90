@@ -1542,8 +1542,8 @@ contains
     type(parser_t), intent(inout) :: p
     logical, intent(in) :: active
     real(wp), allocatable, intent(out) :: vals(:)
-    real(wp) :: a, b, s
-    integer :: n, cnt, j
+    real(wp) :: a, b, s, d
+    integer :: n
     allocate(vals(8))
     n = 0
     call expect(p, '{', 'before the list')
@@ -1575,9 +1575,12 @@ contains
             call fail(p, 'a list holds more than '//itoa(max_list)//' values')
             return
           end if
-          cnt = int((b - a)/s + 1.0e-9_wp) + 1
-          do j = 0, cnt - 1
-            call push(a + j*s)
+          ! as gmsh's loop: d = a, a + s, ... while d has not passed b
+          d = a
+          do while ((s > 0.0_wp .and. d <= b) .or. (s < 0.0_wp .and. d >= b))
+            call push(d)
+            if (len(p%msg) > 0) return
+            d = d + s
           end do
         end if
       else
