@@ -1,4 +1,4 @@
-/* mfcd: the confined thread, and files read once.
+/* mfcd: the confined thread (confine_m).
  *
  * mfcd_confined_run runs one task (a C-callable function of one pointer) in a thread of its
  * own, under a seccomp filter that holds for that thread alone and ends with it: the task
@@ -25,11 +25,6 @@
  * toolkit, PETSc and plugins linked in, and this is what keeps its side effects out of
  * the user's file system whatever it does (doc/deck.md, "What a gmsh script can do").
  *
- * mfcd_open_regular opens a file for reading without blocking (a FIFO with no writer
- * would block the open) and says what it is from the open descriptor, so the bytes read
- * are those of the file checked: a plain file of a bounded size, never a FIFO, device,
- * directory or socket.
- *
  * Linux only (x86-64 and AArch64 filters); elsewhere mfcd_confined_run reports ENOSYS and
  * mfcd refuses to start gmsh.
  */
@@ -44,7 +39,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
-#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -496,69 +490,6 @@ int mfcd_confined_run(void (*fn)(void *), void *arg, double seconds, long long m
   leave_task_state(&saved);
   if (state == task_unconfined) return job.error != 0 ? job.error : ENOSYS;
   return 0;
-}
-
-/* What a path is, as mfcd_open_regular reports it. */
-enum { kind_regular = 0, kind_directory = 1, kind_fifo = 2, kind_char_device = 3,
-       kind_block_device = 4, kind_socket = 5, kind_other = 6, kind_link = 7 };
-
-/* Open path for reading without blocking and, when nofollow is set, without following a
- * symbolic link as its last component (a link is reported as kind_link: a deck cannot point
- * mfcd at another file through a link named like a script), and say from the open descriptor what it is (*kind,
- * above) and its size in bytes (*size, 64-bit). Returns the descriptor when it is a plain
- * file of at most max_bytes bytes; otherwise -1, with *kind and *size set when the open
- * succeeded, and *err_no the open's errno when it did not (0 otherwise). */
-int mfcd_open_regular(const char *path, int nofollow, long long max_bytes, long long *size,
-                      int *kind, int *err_no)
-{
-  struct stat st;
-  int fd;
-  *size = -1;
-  *kind = kind_other;
-  *err_no = 0;
-  fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC | (nofollow ? O_NOFOLLOW : 0));
-  if (fd < 0) {
-    if (errno == ELOOP) {
-      *kind = kind_link;
-      return -1;
-    }
-    *err_no = errno;
-    return -1;
-  }
-  if (fstat(fd, &st) != 0) {
-    *err_no = errno;
-    close(fd);
-    return -1;
-  }
-  *size = (long long)st.st_size;
-  if (S_ISREG(st.st_mode)) *kind = kind_regular;
-  else if (S_ISDIR(st.st_mode)) *kind = kind_directory;
-  else if (S_ISFIFO(st.st_mode)) *kind = kind_fifo;
-  else if (S_ISCHR(st.st_mode)) *kind = kind_char_device;
-  else if (S_ISBLK(st.st_mode)) *kind = kind_block_device;
-  else if (S_ISSOCK(st.st_mode)) *kind = kind_socket;
-  if (*kind != kind_regular || *size > max_bytes) {
-    close(fd);
-    return -1;
-  }
-  return fd;
-}
-
-/* Read up to n bytes from fd into buf, until n or the end of the file: the count read, or
- * -errno. */
-long long mfcd_read_fd(int fd, char *buf, long long n)
-{
-  long long got = 0;
-  while (got < n) {
-    ssize_t r = read(fd, buf + got, (size_t)(n - got));
-    if (r < 0) {
-      if (errno == EINTR) continue;
-      return -(long long)errno;
-    }
-    if (r == 0) break;
-    got += r;
-  }
-  return got;
 }
 
 /* The text of errno e (strerror_r's GNU form), copied into buf of n bytes. */

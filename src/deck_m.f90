@@ -11,7 +11,7 @@ module deck_m
   use material_m, only: material_params_t, check_material_params
   use geometry_m, only: polygon_crossing
   use generators_m, only: max_perturbation
-  use file_system_m, only: read_plain_file
+  use file_system_m, only: read_plain_file, is_dir
   use geo_script_m, only: geo_model_t, geo_parse, geo_min_triangles, geo_max_bytes
   use, intrinsic :: iso_fortran_env, only: iostat_end
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -39,6 +39,12 @@ module deck_m
   !> Most query points of one &detection set (line or grid).
   integer(i64), parameter :: max_queries = 100000000_i64
   integer, parameter :: path_len = 512
+  !> The lengths of the deck's other strings (their namelist variables are declared with
+  !! them, and string_length gives them to the check that refuses a longer value: gfortran
+  !! would cut it silently).
+  integer, parameter :: title_len = 128, name_len = 64, word_len = 16, window_len = 8, &
+    basis_len = 20, role_len = 10, integration_len = 6, discretization_len = 4, &
+    model_len = 32
   !> Largest deck read (bytes): a deck is a page of namelists.
   integer, parameter :: max_deck_bytes = 16777216
   !> Marks an array entry the deck did not set.
@@ -64,15 +70,15 @@ module deck_m
     'segment', 'rectangle', 'polygon', 'annulus_sector', 'file', 'geo']
 
   type :: run_params_t
-    character(len=128) :: title = ''
-    character(len=16) :: mode = 'detect'
+    character(len=title_len) :: title = ''
+    character(len=word_len) :: mode = 'detect'
     integer :: ndim = 2
-    character(len=16) :: geometry = 'plane'
+    character(len=word_len) :: geometry = 'plane'
   end type run_params_t
 
   type :: body_spec_t
-    character(len=64) :: name = ''
-    character(len=16) :: shape = ''
+    character(len=name_len) :: name = ''
+    character(len=word_len) :: shape = ''
     real(wp) :: lo(3) = unset, hi(3) = unset
     integer :: n(3) = 0
     real(wp) :: vertices(2, max_vertices) = unset
@@ -85,7 +91,7 @@ module deck_m
     character(len=path_len) :: file = ''
     !> shape 'geo': the gmsh parser numbers set before the .geo script is read, as names
     !! (ngeo of them) and values
-    character(len=64) :: geo_names(max_geo_numbers) = ''
+    character(len=name_len) :: geo_names(max_geo_numbers) = ''
     real(wp) :: geo_values(max_geo_numbers) = unset
     integer :: ngeo = 0
     !> shape 'geo': the limits on meshing the script, wall-clock seconds and triangles
@@ -94,17 +100,17 @@ module deck_m
     !> shape 'geo': the script's model, read once when the deck is checked (geo_script_m);
     !! what is meshed is exactly what was checked
     type(geo_model_t) :: geo
-    character(len=16) :: kernel = 'cubic_spline'
-    character(len=8) :: window = 'tensor'
-    character(len=20) :: basis = 'bilinear'
+    character(len=word_len) :: kernel = 'cubic_spline'
+    character(len=window_len) :: window = 'tensor'
+    character(len=basis_len) :: basis = 'bilinear'
     real(wp) :: support_factor(3) = unset
-    character(len=10) :: role = 'deformable'
-    character(len=64) :: material = ''
+    character(len=role_len) :: role = 'deformable'
+    character(len=name_len) :: material = ''
     real(wp) :: velocity(3) = 0.0_wp       !< initial velocity (m/s)
-    character(len=6) :: integration = 'scni'
+    character(len=integration_len) :: integration = 'scni'
     real(wp) :: stabilization = 0.1_wp     !< SCNI sub-cell stabilization alpha (0: off)
     !> 'rkpm' (particles) or 'fem' (CST4 elements on the n(1) x n(2) lattice's boxes)
-    character(len=4) :: discretization = 'rkpm'
+    character(len=discretization_len) :: discretization = 'rkpm'
     !> random offset of the interior particles, a fraction of the spacing (0: the lattice)
     real(wp) :: perturbation = 0.0_wp
     integer :: perturbation_seed = 1       !< seed of the offsets (xorshift64)
@@ -114,7 +120,7 @@ module deck_m
 
   !> A named material (&material): its constitutive model and parameters.
   type :: material_spec_t
-    character(len=64) :: name = ''
+    character(len=name_len) :: name = ''
     type(material_params_t) :: params
   end type material_spec_t
 
@@ -140,23 +146,23 @@ module deck_m
 
   !> A kinematic condition (&bc) on the particles of a body inside a reference box.
   type :: bc_spec_t
-    character(len=64) :: body = ''
+    character(len=name_len) :: body = ''
     real(wp) :: region_lo(3) = -huge(1.0_wp), region_hi(3) = huge(1.0_wp)
     integer :: component = 0              !< 1 or 2
-    character(len=10) :: kind = 'fixed'   !< 'fixed' or 'velocity'
+    character(len=role_len) :: kind = 'fixed'   !< 'fixed' or 'velocity'
     real(wp) :: value = 0.0_wp            !< prescribed velocity (m/s)
     integer :: ibody = 0
   end type bc_spec_t
 
   !> A master/slave contact pair (&contact), Sections 2 and 5.
   type :: contact_spec_t
-    character(len=64) :: master = '', slave = ''
+    character(len=name_len) :: master = '', slave = ''
     real(wp) :: eps_cr = 5.0e-10_wp        !< det(M_master) threshold (paper: 5e-10)
     real(wp) :: eps_rel = 0.0_wp           !< or a fraction of the master's plateau
     real(wp) :: mu = 0.0_wp                !< Coulomb friction coefficient
     !> 'det_m' (the paper's det(M) screen, eqs. 25-28) or 'node_to_segment' (a bucket-sorted
     !! closest-segment search, Benson-Hallquist style: the paper's comparison)
-    character(len=16) :: detector = 'det_m'
+    character(len=word_len) :: detector = 'det_m'
     logical :: compare_detectors = .false. !< also evaluate the other detector, for counters
     !> skip slave particles that cannot have reached the master's box since they were last
     !! found outside it (a bound on their motion); exact: the same results
@@ -174,7 +180,7 @@ module deck_m
 
   type :: detection_spec_t
     logical :: present = .false.
-    character(len=64) :: body = ''
+    character(len=name_len) :: body = ''
     real(wp) :: eps_cr = 5.0e-10_wp
     real(wp) :: eps_rel = 0.0_wp
     real(wp) :: line_from(3) = unset, line_to(3) = unset
@@ -596,6 +602,13 @@ contains
     if (quoted) then
       if (typ /= 's' .and. typ /= ' ') call type_error('is a quoted string; '//var// &
         ' takes '//expect)
+      ! gfortran would cut a longer string to the variable's length without a word (a long
+      ! output path would then name another file)
+      if (typ == 's' .and. string_length(group, var) > 0) then
+        if (quoted_length(tok) > string_length(group, var)) call type_error('longer than '// &
+          itoa(string_length(group, var))//' characters, the most '//var//' holds; give '// &
+          'a shorter value (a path: a shorter or a relative one)')
+      end if
       return
     end if
     ! an optional repeat count r*
@@ -657,6 +670,22 @@ contains
         "doc/deck.md)")
     end subroutine type_error
   end subroutine check_value
+
+  !> The characters of the quoted string q (its quotes taken off, a doubled quote one).
+  pure integer function quoted_length(q) result(n)
+    character(len=*), intent(in) :: q
+    integer :: j
+    n = 0
+    if (len(q) < 2) return
+    j = 2
+    do while (j < len(q))
+      n = n + 1
+      if (q(j:j) == q(1:1) .and. j + 1 < len(q)) then
+        if (q(j + 1:j + 1) == q(1:1)) j = j + 1
+      end if
+      j = j + 1
+    end do
+  end function quoted_length
 
   !> The decimal exponent of the leading digit of the real literal v (12.5e3: 4, 0.03: -2,
   !! 0: -huge), from its text alone; v holds digits, '.', an exponent letter e or d and
@@ -770,8 +799,8 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=128) :: title
-    character(len=16) :: mode, geometry
+    character(len=title_len) :: title
+    character(len=word_len) :: mode, geometry
     integer :: ndim, ios
     character(len=512) :: msg
     namelist /run/ title, mode, ndim, geometry
@@ -812,22 +841,22 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=64) :: name
-    character(len=16) :: shape, kernel
-    character(len=8) :: window
-    character(len=20) :: basis
+    character(len=name_len) :: name
+    character(len=word_len) :: shape, kernel
+    character(len=window_len) :: window
+    character(len=basis_len) :: basis
     character(len=path_len) :: file
     real(wp) :: lo(3), hi(3), vertices(2, max_vertices), spacing(3), origin(2), center(2)
     real(wp) :: r_inner, r_outer, theta_start, theta_end, support_factor(3), velocity(3)
     real(wp) :: stabilization, perturbation
     integer :: perturbation_seed
-    character(len=64) :: geo_names(max_geo_numbers)
+    character(len=name_len) :: geo_names(max_geo_numbers)
     real(wp) :: geo_values(max_geo_numbers), geo_time_limit
     integer :: geo_max_elements
-    character(len=10) :: role
-    character(len=64) :: material
-    character(len=6) :: integration
-    character(len=4) :: discretization
+    character(len=role_len) :: role
+    character(len=name_len) :: material
+    character(len=integration_len) :: integration
+    character(len=discretization_len) :: discretization
     integer :: n(3), ios, k
     character(len=512) :: msg
     type(body_spec_t) :: s, dflt
@@ -1158,6 +1187,9 @@ contains
       else if (len_trim(s%file) == 0 .or. .not. exists) then
         call bad(deck, grp, 'file', "'"//trim(s%file)//"'", 'give the path of an existing '// &
           'particle file (HDF5 .h5 or plain columns; see doc/deck.md)', err)
+      else if (is_dir(trim(s%file))) then
+        call bad(deck, grp, 'file', "'"//trim(s%file)//"'", 'this is a directory; give '// &
+          'the path of a particle file in it (HDF5 .h5 or plain columns)', err)
       end if
     end select
     if (allocated(err) .or. s%shape == 'geo') return
@@ -1331,7 +1363,7 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=64) :: body
+    character(len=name_len) :: body
     real(wp) :: eps_cr, eps_rel, line_from(3), line_to(3), grid_lo(3), grid_hi(3)
     real(wp) :: points(3*max_points)
     integer :: line_n, grid_n(3), ios, nd, j, nset
@@ -1428,8 +1460,8 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=64) :: name
-    character(len=32) :: model
+    character(len=name_len) :: name
+    character(len=model_len) :: model
     real(wp) :: density, youngs_modulus, poisson_ratio, sigma0, hardening_n, rate_m, eps0, eps1
     real(wp) :: epsdot0, back_stress_b, theta, yield_stress, hardening_modulus
     integer :: ios, k, j
@@ -1584,8 +1616,8 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=64) :: body
-    character(len=10) :: kind
+    character(len=name_len) :: body
+    character(len=role_len) :: kind
     real(wp) :: region_lo(3), region_hi(3), value
     integer :: component, ios, k, j
     character(len=512) :: msg
@@ -1646,9 +1678,9 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=64) :: master, slave
+    character(len=name_len) :: master, slave
     real(wp) :: eps_cr, eps_rel, mu, edge_point(3), self_radius
-    character(len=16) :: detector
+    character(len=word_len) :: detector
     logical :: compare_detectors, skip_far, shared_mass
     integer :: ios, k, j
     character(len=512) :: msg
@@ -2025,6 +2057,37 @@ contains
     z = index(listing(a:), ')')
     read(listing(a + 1:a + z - 2), *) n
   end function var_size
+
+  !> The most characters the string variable var of group holds (its namelist variable's
+  !! length), 0 when var is not a string.
+  pure integer function string_length(group, var) result(n)
+    character(len=*), intent(in) :: group, var
+    select case (group//':'//var)
+    case ('run:title')
+      n = title_len
+    case ('run:mode', 'run:geometry', 'body:shape', 'body:kernel', 'contact:detector')
+      n = word_len
+    case ('body:name', 'body:material', 'body:geo_names', 'detection:body', 'bc:body', &
+      'material:name', 'contact:master', 'contact:slave')
+      n = name_len
+    case ('body:file', 'output:file')
+      n = path_len
+    case ('body:window')
+      n = window_len
+    case ('body:basis')
+      n = basis_len
+    case ('body:role', 'bc:kind')
+      n = role_len
+    case ('body:integration')
+      n = integration_len
+    case ('body:discretization')
+      n = discretization_len
+    case ('material:model')
+      n = model_len
+    case default
+      n = 0
+    end select
+  end function string_length
 
   !> Where entry word starts in the list names ('a, b(3), c'), 0 if it is not there.
   pure integer function entry_at(names, word) result(a)

@@ -9,7 +9,7 @@ module file_system_m
   implicit none
   private
   public :: make_dirs, is_dir, writable_dir, path_exists, real_path, rename_file, &
-    link_file, remove_file, process_id, read_plain_file
+    link_file, remove_file, process_id, read_plain_file, fs_refusal
 
   integer(c_int), parameter :: f_ok = 0, w_ok = 2, x_ok = 1   !< access(2) modes (POSIX)
   !> Permissions of a new directory before the umask: rwx for all, as mkdir(1) gives.
@@ -73,6 +73,11 @@ module file_system_m
       integer(c_long_long), value :: n
       integer(c_long_long) :: got
     end function c_read_fd
+    function c_fs_refuses(path) bind(c, name='mfcd_fs_refuses') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: rc
+    end function c_fs_refuses
     function c_close(fd) bind(c, name='close') result(rc)
       import :: c_int
       integer(c_int), value :: fd
@@ -221,6 +226,23 @@ contains
       t = trim(buf)
     end function ltoa
   end subroutine read_plain_file
+
+  !> Why no output can go to directory path ('' when it can): on a read-only file system,
+  !! or on a pseudo file system of the kernel such as /proc (src/file_system.c), which
+  !! write permission alone does not tell for root.
+  function fs_refusal(path) result(why)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: why
+    select case (c_fs_refuses(path//c_null_char))
+    case (1)
+      why = 'is on a read-only file system'
+    case (2)
+      why = "is on a pseudo file system of the kernel (such as /proc or /sys), where no "// &
+        "file can be made"
+    case default
+      why = ''
+    end select
+  end function fs_refusal
 
   !> This process's id, for names no other run uses at the same time.
   integer function process_id()

@@ -19,7 +19,7 @@ module output_path_m
   use deck_m, only: deck_t
   use hdf5_io_m, only: h5file_t, h5_create
   use file_system_m, only: make_dirs, is_dir, writable_dir, path_exists, real_path, &
-    rename_file, link_file, remove_file, process_id
+    rename_file, link_file, remove_file, process_id, fs_refusal
   use log_m, only: log_print
   implicit none
   private
@@ -116,6 +116,11 @@ contains
     end if
     if (.not. writable_dir(top)) then
       call set_error(err, where//"directory '"//top//"' is not writable; give a writable path")
+      return
+    end if
+    if (len(fs_refusal(top)) > 0) then
+      call set_error(err, where//"directory '"//top//"' "//fs_refusal(top)//"; give a "// &
+        "path on a writable file system")
       return
     end if
     nnames = merge(4, 2, p%with_xdmf)

@@ -111,8 +111,8 @@ program mfcd
   if (.not. allocated(err) .and. deck%run%mode == 'dynamic') &
     call setup_dynamic(deck, bodies, su, err)
   if (.not. allocated(err) .and. len(restart_path) > 0) call check_restart()
-  if (.not. allocated(err) .and. .not. check_only) call check_output_path(deck, err, &
-    restart_path)
+  ! the output destination too: --check makes every check the run makes before it writes
+  if (.not. allocated(err)) call check_output_path(deck, err, restart_path)
   if (allocated(err)) call fail(err)
   if (check_only) then
     write(output_unit, '(a)') 'mfcd: deck '''//deck_path//''' is valid'
@@ -180,7 +180,8 @@ contains
     write(u, '(a)') 'see doc/deck.md) and writes one HDF5 file (doc/output.md).'
     write(u, '(a)') '  --check     read and validate the deck, build the bodies and (mode'
     write(u, '(a)') '              dynamic) the set-up of the first step (and the checkpoint'
-    write(u, '(a)') '              with --restart); write nothing'
+    write(u, '(a)') '              with --restart), check the output destination; write'
+    write(u, '(a)') '              nothing'
     write(u, '(a)') '  --restart F continue the dynamic run of DECK.nml from its checkpoint F'
     write(u, '(a)') '              (written with &output checkpoint_every; the deck must be'
     write(u, '(a)') '              the one that wrote it, unchanged)'
