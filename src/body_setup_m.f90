@@ -49,6 +49,9 @@ module body_setup_m
   !> The particle volumes of a file may add up to at most this multiple of the area (volume)
   !! of the box around the particles grown by one spacing.
   real(wp), parameter :: volume_excess = 4.0_wp
+  !> A sector's span within this of 360 (degrees, as the deck gives it) is a full ring:
+  !! decks give whole or decimal degrees, and no meant sector is within 1e-9 degree of one.
+  real(wp), parameter :: full_turn_deg_tol = 1.0e-9_wp
 
 contains
 
@@ -268,7 +271,7 @@ contains
     else if (s%shape == 'annulus_sector') then
       dr = (s%r_outer - s%r_inner)/real(s%n(1) - 1, wp)
       dt = (s%theta_end - s%theta_start)*pi/180.0_wp
-      if (s%theta_end - s%theta_start >= 360.0_wp - 1.0e-9_wp) then
+      if (s%theta_end - s%theta_start >= 360.0_wp - full_turn_deg_tol) then
         dt = dt/real(s%n(2), wp)
       else
         dt = dt/real(s%n(2) - 1, wp)

@@ -65,6 +65,11 @@ module contact_m
     real(wp) :: t_pair = 0.0_wp
   end type contact_counters_t
 
+  !> Two segments nearer a point than this fraction of the largest segment extent differ by
+  !! round-off only: far above the 1e-16 relative error of a distance, far below any
+  !! spacing (surface_tie_tol).
+  real(wp), parameter :: tie_fraction = 1.0e-9_wp
+
 contains
 
   !> Segments of the master's polylines (CSR ptr, idx over the points x), leaving out those
@@ -207,7 +212,7 @@ contains
   !! below any spacing.
   pure real(wp) function surface_tie_tol(s) result(tol)
     type(master_surface_t), intent(in) :: s
-    tol = 1.0e-9_wp*maxval(s%reach)
+    tol = tie_fraction*maxval(s%reach)
   end function surface_tie_tol
 
   !> Gap, normal, tangent and projection of p on segment jbest (0: none found, found false).

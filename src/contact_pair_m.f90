@@ -52,6 +52,14 @@ module contact_pair_m
   !> Self-contact skipping: a step that re-bins the body screens also the surface
   !! particles due within this many more steps (bench/self_contact.py)
   integer, parameter :: self_lookahead = 32
+  !> In axisymmetry a surface point within this fraction of the body's spacing of the axis
+  !! r = 0 lies on it, and a segment with both ends there is no surface: far above the
+  !! round-off of a coordinate, far below any particle's distance from the axis.
+  real(wp), parameter :: axis_fraction = 1.0e-9_wp
+  !> skip_far's schedule shortens each distance by this relative amount, for the rounding of
+  !! the sums that gave it (a few ulps; 1e-9 leaves a margin of 10^6 of them), so a point is
+  !! never skipped past the step it could first arrive.
+  real(wp), parameter :: skip_rounding = 1.0e-9_wp
 
   !> A pair's parameters (deck group &contact).
   type :: contact_params_t
@@ -359,7 +367,7 @@ contains
     s%threshold = detection_threshold(eps_cr, eps_rel, s%plateau)
     s%surface_det = surface_det_median(b, s%cloud)
     call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
-      1.0e-9_wp*minval(b%spacing(1:2)), err)
+      axis_fraction*minval(b%spacing(1:2)), err)
     if (allocated(err)) return
     s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:2)
     s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:2)
@@ -843,7 +851,7 @@ contains
       s%x_old(:, j) = solid_point_position(sol, j, at_step_start)
       ! distance outside the box, less a relative 1e-9 for the rounding of the sums
       r = max(b%lo - s%x_pred(:, j), s%x_pred(:, j) - b%hi, 0.0_wp)
-      s%due(j) = s%travel + (1.0_wp - 1.0e-9_wp)*norm2(r)
+      s%due(j) = s%travel + (1.0_wp - skip_rounding)*norm2(r)
     end do
     !$omp end parallel do
     nskip = nskip + nfar
@@ -1083,7 +1091,7 @@ contains
       ! (searched up to rex; less a relative 1e-9 for the rounding of the sums)
       if (a%skip_far) then
         a%due(j) = a%travel
-        if (det == 0.0_wp) a%due(j) = a%travel + (1.0_wp - 1.0e-9_wp)*max(0.0_wp, &
+        if (det == 0.0_wp) a%due(j) = a%travel + (1.0_wp - skip_rounding)*max(0.0_wp, &
           cloud_clearance(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j), a%rex(j)))
       end if
       if (.not. (det > b%threshold)) cycle

@@ -20,6 +20,7 @@ module cst4_m
   use strings_m, only: itoa, rtoa
   use body_m, only: body_t
   use generators_m, only: make_rectangle, make_annulus, set_supports
+  use geometry_m, only: full_turn_tol
   use solid_tables_m, only: solid_tables_t, tables_transpose
   implicit none
   private
@@ -155,7 +156,7 @@ contains
     logical :: full
     call make_annulus(b, center, r0, r1, t0, t1, nr, nt, err)
     if (allocated(err)) return
-    full = t1 - t0 >= 2.0_wp*pi - 1.0e-12_wp
+    full = t1 - t0 >= 2.0_wp*pi - full_turn_tol
     nbt = merge(nt, nt - 1, full)
     nc = b%np
     ncen = (nr - 1)*nbt

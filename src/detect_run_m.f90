@@ -19,6 +19,10 @@ module detect_run_m
   private
   public :: run_detect
 
+  !> A timed interval below this (s) counts as this much, so a rate is never a division
+  !! by zero: a nanosecond, below what the wall clock resolves.
+  real(wp), parameter :: clock_tick = 1.0e-9_wp
+
 contains
 
   !> Evaluate, classify, log and write. bodies are built and checked already. The file is
@@ -117,7 +121,7 @@ contains
     call classify(det, threshold, inside)
     call buffer_stats(b, p, inside, dist, st)
     write(line, '(a,i0,a,f8.4,a,f8.2,a,i0,a)') 'detect: '//g//': ', n, &
-      ' points in ', t1, ' s (', real(n, wp)/max(t1, 1.0e-9_wp)/1.0e6_wp, &
+      ' points in ', t1, ' s (', real(n, wp)/max(t1, clock_tick)/1.0e6_wp, &
       ' M/s), ', count(inside == 1), ' inside'
     call log_print(trim(line))
     if (b%geom%kind /= 0) then

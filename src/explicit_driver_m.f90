@@ -34,6 +34,12 @@ module explicit_driver_m
 
   !> Steps before the energy guard is armed (see check_energy).
   integer, parameter :: energy_warmup = 20
+  !> The step estimate t_end/dt within this of a whole number is that number (the quotient
+  !! of two decimal inputs carries a few ulps of error).
+  real(wp), parameter :: count_slack = 1.0e-9_wp
+  !> A stop time within this relative amount of t has been reached: steps land on stops to
+  !! the rounding of a sum of steps (a few ulps of t).
+  real(wp), parameter, public :: stop_passed = 1.0e-12_wp
 
 contains
 
@@ -163,7 +169,7 @@ contains
     call set_health_limits(solids)
     r%t_end = deck%solver%t_end
     r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
-    r%nsteps_est = ceiling(r%t_end/r%dt - 1.0e-9_wp)
+    r%nsteps_est = ceiling(r%t_end/r%dt - count_slack)
   end subroutine run_take_setup
 
   !> Steps between log lines and between history rows: the deck's, or by default about 50
@@ -186,7 +192,7 @@ contains
     integer :: k
     ts = deck%solver%t_end
     do k = 1, deck%solver%nsnap
-      if (deck%solver%snapshot_times(k) > t*(1.0_wp + 1.0e-12_wp) .and. &
+      if (deck%solver%snapshot_times(k) > t*(1.0_wp + stop_passed) .and. &
         deck%solver%snapshot_times(k) < ts) ts = deck%solver%snapshot_times(k)
     end do
   end function next_stop

@@ -8,7 +8,7 @@ module generators_m
   use errors_m, only: error_t, set_error
   use body_m, only: body_t
   use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, &
-    signed_distance, polygon_area, clip_polygon_box, segment_distance
+    signed_distance, polygon_area, clip_polygon_box, segment_distance, full_turn_tol
   use sorting_m, only: sort_index
   implicit none
   private
@@ -323,7 +323,7 @@ contains
     logical :: full
     integer :: i, j, k, np, nb
     if (nr < 2 .or. nt < 2 .or. r1 <= r0 .or. r0 < 0.0_wp .or. t1 <= t0 &
-      .or. t1 - t0 > 2.0_wp*pi + 1.0e-12_wp) then
+      .or. t1 - t0 > 2.0_wp*pi + full_turn_tol) then
       call set_error(err, 'annulus sector needs n >= 2, 0 <= r_inner < r_outer and '// &
         '0 < theta_end - theta_start <= 360 degrees')
       return
@@ -333,7 +333,7 @@ contains
         'particles; give fewer')
       return
     end if
-    full = t1 - t0 >= 2.0_wp*pi - 1.0e-12_wp
+    full = t1 - t0 >= 2.0_wp*pi - full_turn_tol
     dr = (r1 - r0)/real(nr - 1, wp)
     if (full) then
       dt = (t1 - t0)/real(nt, wp)

@@ -7,9 +7,14 @@ module geometry_m
   private
   public :: geometry_t, geom_none, geom_segment, geom_polygon, geom_annulus
   public :: signed_distance, polygon_area, clip_polygon_box, segment_distance
-  public :: polygon_crossing
+  public :: polygon_crossing, full_turn_tol
 
   integer, parameter :: geom_none = 0, geom_segment = 1, geom_polygon = 2, geom_annulus = 3
+
+  !> An angular span within this of 2 pi (rad) is a full turn: the decks give whole
+  !! degrees, converted with one rounding (about 1e-16 relative), and no sector an
+  !! annulus generator makes is within 1e-12 rad of a full ring.
+  real(wp), parameter :: full_turn_tol = 1.0e-12_wp
 
   type :: geometry_t
     integer :: kind = geom_none
@@ -76,7 +81,7 @@ contains
     q = p - g%center
     r = norm2(q)
     t = atan2(q(2), q(1))
-    full = g%t1 - g%t0 >= 2.0_wp*pi - 1.0e-12_wp
+    full = g%t1 - g%t0 >= 2.0_wp*pi - full_turn_tol
     in_angle = full .or. angle_in(t, g%t0, g%t1)
     e0 = [cos(g%t0), sin(g%t0)]
     e1 = [cos(g%t1), sin(g%t1)]

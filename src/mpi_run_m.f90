@@ -40,7 +40,7 @@ module mpi_run_m
     exchange_state
   use contact_m, only: contact_counters_t
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step
-  use stable_step_m, only: step_control_next, step_control_update
+  use stable_step_m, only: step_control_next, step_control_update, landing_slack
   use dynamic_setup_m, only: dynamic_setup_t
   use explicit_driver_m, only: next_stop, output_intervals, run_take_setup
   use dynamic_output_m, only: history_t, history_push, history_flush
@@ -504,7 +504,7 @@ contains
       integer :: j
       snapshot_near = .false.
       do j = 1, deck%solver%nsnap
-        if (abs(deck%solver%snapshot_times(j) - r%t) <= 0.5_wp*r%dt*(1.0_wp + 1.0e-9_wp)) &
+        if (abs(deck%solver%snapshot_times(j) - r%t) <= 0.5_wp*r%dt*(1.0_wp + landing_slack)) &
           snapshot_near = .true.
       end do
     end function snapshot_near

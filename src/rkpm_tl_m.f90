@@ -12,8 +12,9 @@
 !!    clipped by the body, plus the clipped lattice cells merged into it along the outline
 !!    (make_polygon: cells whose point lies outside the body), so the cells tile the body
 !!    and their weights sum to its area (axisymmetry: volume); each piece is integrated
-!!    and the pieces added, so the lines they share cancel; smoothed gradients b_I = (1/A_L) \oint N_I n dGamma with two Gauss
-!!    points per cell edge. In axisymmetry the smoothing is weighted with r:
+!!    and the pieces added, so the lines they share cancel; smoothed gradients
+!!    b_I = (1/A_L) \oint N_I n dGamma with two Gauss points per cell edge. In axisymmetry
+!!    the smoothing is weighted with r:
 !!    V_L = \int_L r dA, b_Ia = (1/V_L)[\oint N_I n_a r dGamma - delta_a1 \int_L N_I dA],
 !!    h_I = (1/V_L) \int_L N_I dA (the hoop term u_r/r), W_L = 2 pi V_L. For linear fields
 !!    b and h are exact and the interior forces of a uniform state vanish: the patch test
@@ -46,6 +47,13 @@ module rkpm_tl_m
     'scni', 'gauss', 'direct']
   integer, parameter :: max_nb = 512    !< particles covering one evaluation point
   integer, parameter :: max_cv = max_cell_vertices   !< vertices of one cell
+  !> An axisymmetric body may reach this fraction of its spacing below r = 0 (round-off of
+  !! a coordinate on the axis; far below any particle's distance from it).
+  real(wp), parameter :: axis_fraction = 1.0e-9_wp
+  !> A sub-cell half holding less than this fraction of its cell's volume is empty (a
+  !! particle on the boundary) and gets no stabilization: far above the round-off of the
+  !! clipped areas, far below any genuine half (about a half).
+  real(wp), parameter :: empty_half = 1.0e-9_wp
 
 contains
 
@@ -92,7 +100,7 @@ contains
         "only; use integration = 'scni' or 'gauss' in axisymmetry")
       return
     end if
-    tol = 1.0e-9_wp*minval(b%spacing(1:2))
+    tol = axis_fraction*minval(b%spacing(1:2))
     if (axisym .and. minval(b%x(1, :)) < -tol) then
       call set_error(err, "body '"//trim(b%name)//"': axisymmetric bodies must lie in r >= 0 "// &
         "(x = r is the first coordinate)")
@@ -354,7 +362,7 @@ contains
       ! is (nearly) empty, as for particles on the boundary, gets no stabilization
       do dir = 1, 2
         vh(dir) = vol_l - hv(dir)
-        if (hv(dir) > 1.0e-9_wp*vol_l .and. vh(dir) > 1.0e-9_wp*vol_l) then
+        if (hv(dir) > empty_half*vol_l .and. vh(dir) > empty_half*vol_l) then
           sub(2*dir - 1:2*dir, 1:nl(i), i) = sub(2*dir - 1:2*dir, 1:nl(i), i)/hv(dir)
           sub(2*dir - 1, 1:nl(i), i) = sub(2*dir - 1, 1:nl(i), i) - gl(dir, 1:nl(i), i)
           sub(2*dir, 1:nl(i), i) = sub(2*dir, 1:nl(i), i) - gl(dir + 2, 1:nl(i), i)

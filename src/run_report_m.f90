@@ -48,6 +48,10 @@ module run_report_m
     logical :: edge_prev = .false.
   end type run_record_t
 
+  !> A timed interval below this (s) counts as this much, so a rate or share is never a
+  !! division by zero: a nanosecond, below what the wall clock resolves.
+  real(wp), parameter :: clock_tick = 1.0e-9_wp
+
 contains
 
   !> Keep what the step's contact did (c) in the record; t_new is the time at its end.
@@ -203,7 +207,7 @@ contains
     do k = 1, size(solids)
       share = share + solids(k)%wall
     end do
-    share = share/max(r%t_loop, 1.0e-9_wp)
+    share = share/max(r%t_loop, clock_tick)
   end function time_shares
 
   !> The summary: on standard output and as attributes of /summary in f.
@@ -225,7 +229,7 @@ contains
       if (solids(1)%t%axisym) eunit = 'J'
     end if
     wall = omp_get_wtime() - r%wall0
-    tl = max(r%t_loop, 1.0e-9_wp)
+    tl = max(r%t_loop, clock_tick)
     rate = real(r%node_steps, wp)/tl
     sh = time_shares(r, solids)
     ! /summary: one named attribute per value, and in each group an attribute 'units'

@@ -30,6 +30,10 @@ module stable_step_m
   !! some cell or element is collapsing (J -> 0 or a sliver), and stepping on would take
   !! a thousand times the planned number of steps to go nowhere.
   real(wp), parameter, public :: dt_collapse = 1.0e-3_wp
+  !> A step whose planned size reaches within this relative amount of the rest of the way to
+  !! the next stop lands on it: the rest is a difference of times of a few ulps' error, and
+  !! a step of 1 + 1e-9 times the planned one is no stability risk (cfl <= 1).
+  real(wp), parameter, public :: landing_slack = 1.0e-9_wp
 
   !> The time-step policy of a run and what it has done.
   type :: step_control_t
@@ -148,7 +152,7 @@ contains
     else
       dt = c%cfl*c%dtc
       rest = t_target - t
-      if (rest <= dt*(1.0_wp + 1.0e-9_wp)) then
+      if (rest <= dt*(1.0_wp + landing_slack)) then
         dt = rest
       else if (rest < 2.0_wp*dt) then
         dt = 0.5_wp*rest

@@ -27,7 +27,7 @@ module subcycle_m
   use solid_m, only: solid_t, solid_sub_levels, solid_sub_select, solid_sub_begin, &
     solid_rate_predict, solid_rates_force, solid_rates_update, solid_sub_end
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t
-  use stable_step_m, only: step_control_t, step_control_next
+  use stable_step_m, only: step_control_t, step_control_next, landing_slack
   implicit none
   private
   public :: subcycle_record_t, subcycle_next, subcycle_rates, subcycle_end, sub_levels_max
@@ -125,7 +125,7 @@ contains
       end if
       dt = 2.0_wp**lbest*c%cfl*c%dtc
       rest = t_target - t
-      if (rest <= dt*(1.0_wp + 1.0e-9_wp)) then
+      if (rest <= dt*(1.0_wp + landing_slack)) then
         dt = rest
       else if (rest < 2.0_wp*dt) then
         dt = 0.5_wp*rest
