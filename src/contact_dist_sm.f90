@@ -196,8 +196,7 @@ contains
       call route_reactions(p, ia, ib)
       if (p%self) then
         ! one solid: the reactions added, corrected once with the forces below
-        if (associated(b%exchange)) call b%exchange(b%exchange_id, exchange_forces, &
-          solids(b%isolid), db%f)
+        if (spreads(b, solids)) call solids(b%isolid)%halo%nodes(db%f)
         call solid_add_point_forces(solids(b%isolid), db%f)
       else
         call spread_correct(b, db, solids(b%isolid), dt)
@@ -233,10 +232,11 @@ contains
     type(dist_side_t), intent(inout) :: ds
     type(solid_t), intent(inout) :: sol
     real(wp), intent(in) :: dt
-    if (associated(s%exchange)) call s%exchange(s%exchange_id, exchange_forces, sol, ds%f)
+    if (associated(sol%halo) .and. .not. sol%t%interpolating) call sol%halo%nodes(ds%f)
     call solid_add_point_forces(sol, ds%f)
     call solid_correct(sol, dt)
-    if (associated(s%exchange)) call s%exchange(s%exchange_id, exchange_state, sol, ds%f)
+    if (associated(sol%halo) .and. .not. sol%t%interpolating) &
+      call solid_share_corrections(sol)
   end subroutine spread_correct
 
   !> Side ib made ready to be the master of side ia's own particles: the own positions of

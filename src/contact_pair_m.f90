@@ -34,7 +34,7 @@ module contact_pair_m
   use contact_nts_m, only: nts_buckets_t, nts_build, nts_update, nts_gap
   use omp_lib, only: omp_get_wtime
   use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
-    solid_correct, at_step_start, at_prediction
+    solid_correct, at_step_start, at_prediction, solid_share_corrections
   use rank_comm_m, only: rank_comm_t
   implicit none
   private
@@ -43,8 +43,8 @@ module contact_pair_m
   public :: detector_det_m, detector_nts, detector_name, contact_self_det
   public :: contact_pair_localize, contact_pair_distribute, contact_dist_report
   ! (public for the submodule contact_dist_sm only: gfortran 12 leaves out a private module
-  ! procedure that only a submodule calls)
-  public :: detect_det_m, pass_forces, detect_self
+  ! procedure the submodule calls, even one the module calls too)
+  public :: detect_det_m, pass_forces, detect_self, spreads
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
@@ -149,25 +149,7 @@ module contact_pair_m
     logical :: listed = .false.
     integer :: nlist = 0
     integer, allocatable :: list(:)
-    !> distributed memory (mpi_run_m), a rank's part of an RKPM slave: the exchanges of a
-    !! pass, given id: what = exchange_forces, the ghost particles' point forces f (2, np)
-    !! before eq. (98) spreads them; what = exchange_state, the ghost nodes' corrected d and
-    !! a of the solid before the remaining penetration is measured. Collective: with it set,
-    !! every pass makes both calls, contacts or not.
-    procedure(side_exchange_i), pointer, nopass :: exchange => null()
-    integer :: exchange_id = 0
   end type side_t
-
-  integer, parameter, public :: exchange_forces = 1, exchange_state = 2
-
-  abstract interface
-    subroutine side_exchange_i(id, what, sol, f)
-      import :: wp, solid_t
-      integer, intent(in) :: id, what
-      type(solid_t), intent(inout) :: sol
-      real(wp), intent(inout) :: f(:, :)
-    end subroutine side_exchange_i
-  end interface
 
   !> Distributed memory, one side of a pair whose master deforms, on one rank
   !! (contact_pair_distribute; doc/parallel.md, "Contact without a second decomposition"):
@@ -889,7 +871,7 @@ contains
     if (p%self) call self_old_positions(a, b, solids(a%isolid))
     if (p%compare) call compare_detectors(p, a, b)
     call pass_forces(p, a, b, dt, count_stats, neval, ndet, ncon)
-    if (ncon == 0 .and. .not. associated(a%exchange)) return
+    if (ncon == 0 .and. .not. spreads(a, solids)) return
     ! reactions on b at the ends of the segments hit (serial: few particles)
     if (b%isolid > 0) then
       b%fphys = 0.0_wp
@@ -905,12 +887,10 @@ contains
       ! (self-contact: one solid, corrected once below)
       if (b%isolid /= a%isolid) call solid_correct(solids(b%isolid), dt)
     end if
-    if (associated(a%exchange)) call a%exchange(a%exchange_id, exchange_forces, &
-      solids(a%isolid), a%fphys)
+    if (spreads(a, solids)) call solids(a%isolid)%halo%nodes(a%fphys)
     call solid_add_point_forces(solids(a%isolid), a%fphys)
     call solid_correct(solids(a%isolid), dt)
-    if (associated(a%exchange)) call a%exchange(a%exchange_id, exchange_state, &
-      solids(a%isolid), a%fphys)
+    if (spreads(a, solids)) call solid_share_corrections(solids(a%isolid))
     ! penetration left after the correction (eq. 98 spreads the forces): the
     ! corrected positions of the particles that had a force (and of b's surface when it
     ! moves; its cloud is moved again before it is next used)
@@ -1263,4 +1243,15 @@ contains
       if (present(xc)) call move_alloc(x, xc)
     end subroutine current_cloud
   end subroutine contact_det_fields
+  !> Whether side s is a rank's part of an RKPM solid, whose contact forces eq. (98) spreads
+  !! over RK neighbours: then a pass exchanges, contacts or not (collective), the ghost
+  !! particles' point forces before the spreading and the corrected ghost nodes after
+  !! (doc/parallel.md). A serial solid and an element part exchange nothing here.
+  logical function spreads(s, solids)
+    type(side_t), intent(in) :: s
+    type(solid_t), intent(in) :: solids(:)
+    spreads = .false.
+    if (s%isolid == 0) return
+    spreads = associated(solids(s%isolid)%halo) .and. .not. solids(s%isolid)%t%interpolating
+  end function spreads
 end module contact_pair_m

@@ -3,34 +3,41 @@
 !!   a_{n+1} = M^-1 (f_ext - f_int(u_{n+1}))                  (62)
 !!   v_{n+1} = v_n + dt/2 (a_n + a_{n+1})                     (63)
 !! with the row-sum lumped mass (70), for solids of any discretization (RKPM particles or
-!! CST4 elements). Each step: predict (64), contact (93)-(98), internal force (62), update
-!! (63), energy, guards, output. A run that goes unstable (non-finite values, J <= 0, energy
-!! residual above the deck's tolerance) stops with a diagnostic snapshot and exit code 1,
-!! keeping everything written so far. With &output checkpoint_every the state is saved every
-!! so many steps, and a run restarted from such a checkpoint (set up from the same deck)
+!! CST4 elements), serial or on MPI ranks: one loop, whatever run_domain_t it is given (a
+!! serial run is the one-rank case, whose parts are its solids and whose collectives change
+!! nothing; on ranks each solid is the rank's part, which exchanges its ghosts with its
+!! neighbours itself: solid_m's part_halo_t). Each step: the step size, predict (64),
+!! contact (93)-(98), internal force (62) and update (63), energies and guards, output. A
+!! run that goes unstable (non-finite values, J <= 0, energy residual above the deck's
+!! tolerance) stops with a diagnostic snapshot and exit code 1, keeping everything written
+!! so far. With &output checkpoint_every the state is saved every so many steps, and a run
+!! restarted from such a checkpoint (set up from the same deck, on any number of ranks)
 !! continues the loop where it was, taking the same steps (run_checkpoint_m).
 module explicit_driver_m
   use omp_lib, only: omp_get_wtime
   use kinds_m, only: wp
-  use errors_m, only: error_t
+  use errors_m, only: error_t, set_error
   use deck_m, only: deck_t
   use body_m, only: body_t
-  use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, solid_update
+  use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, &
+    solid_update, solid_share_corrections
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t
+  use body_measures_m, only: measures_t
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
     set_health_limits
-  use stable_step_m, only: step_control_next, step_control_update
+  use stable_step_m, only: step_control_next, step_control_update, landing_slack
   use subcycle_m, only: subcycle_next, subcycle_rates, subcycle_end
   use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
   use dynamic_output_m, only: history_t, history_push, history_flush
-  use run_report_m, only: run_record_t, record_contact, log_header, log_line, history_row, &
-    report_summary
+  use run_report_m, only: run_record_t, record_contact, log_header, log_line, &
+    history_row_measured, report_summary
   use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
-    run_files_close, run_files_names, run_files_resume, run_files_checkpoint
+    run_files_close, run_files_names, run_files_resume
   use run_checkpoint_m, only: checkpoint_read
+  use run_domain_m, only: run_domain_t
   implicit none
   private
-  public :: run_dynamic, next_stop, output_intervals, run_take_setup
+  public :: run_dynamic, next_stop, output_intervals
 
   !> Steps before the energy guard is armed (see check_energy).
   integer, parameter :: energy_warmup = 20
@@ -43,60 +50,73 @@ module explicit_driver_m
 
 contains
 
-  !> Run the deck's dynamic problem. bodies are built and checked already, su is their
-  !! set-up (setup_dynamic; its solids and pairs are moved in). restart: a checkpoint of this
-  !! deck's run to continue from (checked already by checkpoint_check; a checkpoint that
-  !! does not fit the solids is still bad input, found before any write).
-  subroutine run_dynamic(deck, bodies, su, err, restart)
+  !> Run the deck's dynamic problem on the ranks of dom (a serial_domain_t for one).
+  !! bodies are built and checked already, su is their set-up (setup_dynamic; its solids
+  !! and pairs are moved in). restart: a checkpoint of this deck's run to continue from
+  !! (checked already by checkpoint_check; a checkpoint that does not fit the solids is
+  !! still bad input, found before any write), written on any number of ranks.
+  subroutine run_dynamic(deck, bodies, su, dom, err, restart)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(dynamic_setup_t), intent(inout) :: su
+    class(run_domain_t), intent(inout), target :: dom
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in), optional :: restart
-    type(solid_t), allocatable :: solids(:)
-    type(contact_pair_t), allocatable :: pairs(:)
+    type(solid_t), allocatable, target :: solids(:)
+    type(contact_pair_t), allocatable, target :: pairs(:)
+    type(solid_t), pointer :: whole(:)
     integer, allocatable :: isolid(:)
     type(run_files_t) :: out
     type(run_record_t) :: r
     type(energies_t) :: en
     type(contact_stats_t) :: cstep
     type(history_t) :: hist0
+    type(measures_t) :: hm
     real(wp), allocatable :: snap_times0(:)
-    integer :: k, k_bad, log_every, hist_every, bad_q, nsnap0, ckpt_every
+    integer :: k, k_bad, log_every, hist_every, bad_q, nsnap0, ckpt_every, nbefore
     real(wp) :: tw, t_loop0, bad_j
     call run_take_setup(deck, su, solids, isolid, pairs, r)
     if (present(restart)) then
+      ! every rank reads the whole state; the split keeps each its part
       call checkpoint_read(restart, deck, bodies, r, solids, pairs, hist0, nsnap0, &
         snap_times0, err)
-      if (allocated(err)) return
+      if (dom%any_error(err)) return
     end if
+    call dom%split(deck, solids, isolid, pairs, present(restart), err)
+    if (dom%any_error(err)) return
     ckpt_every = deck%output%checkpoint_every
     call output_intervals(deck, r%nsteps_est, log_every, hist_every)
-    call run_files_open(deck, bodies, out, err, restart)
-    if (allocated(err)) return
+    if (dom%root) call run_files_open(deck, bodies, out, err, restart)
+    if (dom%any_error(err)) return
+    whole => dom%whole(solids, .false.)
     if (present(restart)) then
       ! the state after step r%n, as the checkpoint holds it
-      call run_files_resume(out, restart, r, hist0, nsnap0, snap_times0, err)
-      if (allocated(err)) return
-      call energy_totals(solids, en)
+      if (dom%root) call run_files_resume(out, restart, r, hist0, nsnap0, snap_times0, err)
+      if (dom%any_error(err)) return
+      call energies(dom, solids, en)
     else
       ! the state at t = 0: forces at u = 0
       do k = 1, size(solids)
         call solid_start(solids(k), r%dt, bad_q, bad_j)
       end do
-      call energy_totals(solids, en)
-      call snapshots_due(out, deck, r, pairs, solids, err)
-      if (allocated(err)) then
-        call run_files_close(out, r, solids, err)
+      call energies(dom, solids, en)
+      whole => dom%whole(solids, .false.)
+      if (dom%root) call snapshots_due(out, deck, r, dom%output_pairs(pairs), whole, err)
+      call dom%impulses_restarted(solids, dom%root .and. out%nsnap_done > 0)
+      if (dom%any_error(err)) then
+        if (dom%root) call run_files_close(out, r, whole, err)
         return
       end if
-      call history_push(out%hist, history_row(r, en, solids(1)))
+      hm = dom%measures(solids(1))
+      if (dom%root) call history_push(out%hist, history_row_measured(r, en, hm))
     end if
-    call log_header()
-    call log_line(r, en)
+    if (dom%root) then
+      call log_header()
+      call log_line(r, en)
+    end if
     t_loop0 = omp_get_wtime()
     do while (r%t < r%t_end - 0.5_wp*r%dt .and. r%n < deck%solver%max_steps)
-      ! the step, and with &solver subcycle its sub-steps (subcycle_m)
+      ! the step, and with &solver subcycle its sub-steps (subcycle_m; one rank only)
       if (r%n > 0) r%dt = subcycle_next(r%step, solids, r%t, next_stop(deck, r%t), &
         deck%solver%subcycle, r%sub)
       do k = 1, size(solids)
@@ -104,11 +124,16 @@ contains
       end do
       tw = omp_get_wtime()
       call contact_step(pairs, solids, r%dt, cstep, err)                        ! (93)-(98)
+      if (dom%any_error(err)) exit
+      call dom%contact_stats(cstep, pairs)
+      do k = 1, size(solids)
+        call solid_share_corrections(solids(k))
+      end do
       r%t_contact = r%t_contact + (omp_get_wtime() - tw)
-      if (allocated(err)) exit
       ! (subcycling: the rates' own steps inside this one; k_bad > 0 if one of them broke)
       call subcycle_rates(pairs, solids, r%dt, cstep, r%sub, r%t_contact, k_bad, bad_q, &
         bad_j, err)
+      ! (no collective here: subcycling runs on one rank only, mpi_scene_check)
       if (allocated(err)) exit
       call record_contact(r, cstep, r%t + r%dt)
       r%n = r%n + 1
@@ -116,43 +141,64 @@ contains
       if (k_bad > 0) then
         call check_solid(solids(k_bad), r%n, bad_q, bad_j, r%failed, r%reason)
       else
-        call internal_forces_and_update(solids, r)                             ! (62), (63)
+        call internal_forces_and_update(dom, solids, r)                        ! (62), (63)
       end if
+      call dom%agree_failure(r)
+      call kappa_max(dom, solids)
       call subcycle_end(solids)
       call step_control_update(r%step, solids)
       call check_step(r%step, solids, r%n, r%failed, r%reason)
-      call energy_totals(solids, en)
+      call energies(dom, solids, en)
       call check_energy(en, r%n, energy_warmup, deck%solver%energy_tol, solids, &
         r%energy_over, r%failed, r%reason)
-      if (mod(r%n, hist_every) == 0 .or. r%failed) &
-        call history_push(out%hist, history_row(r, en, solids(1)))
-      if (mod(r%n, log_every) == 0 .or. r%failed) call log_line(r, en)
+      ! the whole solids for a snapshot or a failure (on ranks, gathered to rank 0 then
+      ! only: a history row's measures are maxima over the ranks)
+      if (r%failed .or. snapshot_near(deck, r)) whole => dom%whole(solids, .false.)
+      if (mod(r%n, hist_every) == 0 .or. r%failed) then
+        hm = dom%measures(solids(1))
+        if (dom%root) call history_push(out%hist, history_row_measured(r, en, hm))
+      end if
+      if (dom%root .and. (mod(r%n, log_every) == 0 .or. r%failed)) call log_line(r, en)
       if (r%failed) exit
       tw = omp_get_wtime()
-      call snapshots_due(out, deck, r, pairs, solids, err)
-      if (ckpt_every > 0 .and. .not. allocated(err)) then
-        if (mod(r%n, ckpt_every) == 0) call run_files_checkpoint(out, deck, bodies, r, &
-          solids, pairs, r%t_loop + (omp_get_wtime() - t_loop0), err)
+      nbefore = 0
+      if (dom%root) then
+        nbefore = out%nsnap_done
+        call snapshots_due(out, deck, r, dom%output_pairs(pairs), whole, err)
+      end if
+      call dom%impulses_restarted(solids, dom%root .and. out%nsnap_done > nbefore)
+      if (dom%any_error(err)) exit
+      if (ckpt_every > 0) then
+        if (mod(r%n, ckpt_every) == 0) call dom%checkpoint(out, deck, bodies, r, solids, &
+          pairs, r%t_loop + (omp_get_wtime() - t_loop0), err)
       end if
       r%t_output = r%t_output + (omp_get_wtime() - tw)
-      if (allocated(err)) exit
+      if (dom%any_error(err)) exit
     end do
     ! a restarted run adds the loop time of the runs before it (from the checkpoint)
     r%t_loop = r%t_loop + (omp_get_wtime() - t_loop0)
-    if (r%failed) then
-      call failure_snapshot(out, r, solids, err)
-    else if (mod(r%n, hist_every) /= 0) then
-      call history_push(out%hist, history_row(r, en, solids(1)))
+    whole => dom%whole(solids, .false.)
+    call dom%counters(pairs, .false.)
+    call dom%finish(solids, pairs, r)
+    if (.not. r%failed .and. mod(r%n, hist_every) /= 0) hm = dom%measures(solids(1))
+    if (dom%root) then
+      if (r%failed) then
+        call failure_snapshot(out, r, whole, err)
+      else if (mod(r%n, hist_every) /= 0) then
+        call history_push(out%hist, history_row_measured(r, en, hm))
+      end if
+      if (.not. allocated(err)) call history_flush(out%f, out%hist, err)
+      if (.not. allocated(err)) call report_summary(out%f, r, en, pairs, whole, &
+        run_files_names(out, r%failed), err)
+      call run_files_close(out, r, whole, err)
     end if
-    if (.not. allocated(err)) call history_flush(out%f, out%hist, err)
-    if (.not. allocated(err)) call report_summary(out%f, r, en, pairs, solids, &
-      run_files_names(out, r%failed), err)
-    call run_files_close(out, r, solids, err)
+    if (dom%any_error(err)) return
+    if (r%failed .and. .not. allocated(err)) call set_error(err, 'run failed: '// &
+      r%reason, 1)
   end subroutine run_dynamic
 
   !> The set-up's solids, body-to-solid map and pairs moved out of su, the step control and
-  !! health limits set, and the run record started: the first step, the step estimate (both
-  !! drivers, serial and MPI).
+  !! health limits set, and the run record started: the first step, the step estimate.
   subroutine run_take_setup(deck, su, solids, isolid, pairs, r)
     type(deck_t), intent(in) :: deck
     type(dynamic_setup_t), intent(inout) :: su
@@ -198,8 +244,10 @@ contains
   end function next_stop
 
   !> Internal forces at the corrected prediction (62), the velocities (63), and the guards
-  !! on J, stresses and non-finite values, for every solid.
-  subroutine internal_forces_and_update(solids, r)
+  !! on J, stresses and non-finite values, for every solid (on ranks each part exchanges
+  !! its ghosts inside solid_internal_force and solid_update).
+  subroutine internal_forces_and_update(dom, solids, r)
+    class(run_domain_t), intent(in) :: dom
     type(solid_t), intent(inout) :: solids(:)
     type(run_record_t), intent(inout) :: r
     integer :: k, bad_q
@@ -208,8 +256,56 @@ contains
       call solid_internal_force(solids(k), r%dt, bad_q, bad_j)                 ! (62)
       call solid_update(solids(k), r%dt)                                        ! (63)
       call check_solid(solids(k), r%n, bad_q, bad_j, r%failed, r%reason)
-      r%node_steps = r%node_steps + solids(k)%np
-      r%point_steps = r%point_steps + solids(k)%nq
+      r%node_steps = r%node_steps + dom%whole_nodes(solids, k)
+      r%point_steps = r%point_steps + dom%whole_points(solids, k)
     end do
   end subroutine internal_forces_and_update
+
+  !> The energy accounts of the solids, summed over the ranks (each part sums its own
+  !! entries), with the residual and scale of the sums.
+  subroutine energies(dom, solids, en)
+    class(run_domain_t), intent(inout) :: dom
+    type(solid_t), intent(in) :: solids(:)
+    type(energies_t), intent(out) :: en
+    real(wp) :: v(6)
+    call energy_totals(solids, en)
+    if (dom%comm%nranks == 1) return
+    v = [en%ke, en%ke0, en%w_int, en%w_plastic, en%w_ext, en%w_contact]
+    call dom%comm%sum_real(v)
+    en%ke = v(1)
+    en%ke0 = v(2)
+    en%w_int = v(3)
+    en%w_plastic = v(4)
+    en%w_ext = v(5)
+    en%w_contact = v(6)
+    en%residual = en%ke + en%w_int - en%ke0 - en%w_ext - en%w_contact
+    en%scale = max(en%ke0, en%ke, abs(en%w_int), abs(en%w_ext), abs(en%w_contact), &
+      tiny(1.0_wp))
+  end subroutine energies
+
+  !> Every solid's largest kappa over the ranks: the same step everywhere.
+  subroutine kappa_max(dom, solids)
+    class(run_domain_t), intent(inout) :: dom
+    type(solid_t), intent(inout) :: solids(:)
+    real(wp) :: v(1)
+    integer :: k
+    if (dom%comm%nranks == 1) return
+    do k = 1, size(solids)
+      v = solids(k)%kappa
+      call dom%comm%max_real(v)
+      solids(k)%kappa = v(1)
+    end do
+  end subroutine kappa_max
+
+  !> Is a snapshot time within this step's reach (then the whole solids are needed)?
+  pure logical function snapshot_near(deck, r)
+    type(deck_t), intent(in) :: deck
+    type(run_record_t), intent(in) :: r
+    integer :: j
+    snapshot_near = .false.
+    do j = 1, deck%solver%nsnap
+      if (abs(deck%solver%snapshot_times(j) - r%t) <= 0.5_wp*r%dt*(1.0_wp + landing_slack)) &
+        snapshot_near = .true.
+    end do
+  end function snapshot_near
 end module explicit_driver_m

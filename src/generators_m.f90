@@ -183,7 +183,8 @@ contains
     do while (nleft > 0)
       onew = 0
       do k = 1, no
-        if (oown(k) == 0) onew(k) = neighbour_owner(oij(1, k), oij(2, k))
+        if (oown(k) == 0) onew(k) = neighbour_owner(v, dx, origin, i0, j0, own, oij(1, k), &
+          oij(2, k))
       end do
       if (all(onew == 0)) exit
       do k = 1, no
@@ -242,52 +243,59 @@ contains
     b%loop_ptr = [1, nb + 1]
     b%loop_idx = bl(order)
     b%loop_closed = [.true.]
-  contains
-    !> The owner of the neighbour of orphan cell (ii, jj) that shares the longest stretch of
-    !! lattice line with its piece, among the neighbours owned already; 0 if none. The
-    !! piece is counter-clockwise, so its edges on its right side run up, on its top side
-    !! left, and so on: the signed sums below cancel the zero-width bridges along the box
-    !! that clipping a concave polygon leaves, and count only where the material meets.
-    integer function neighbour_owner(ii, jj) result(best)
-      integer, intent(in) :: ii, jj
-      real(wp) :: pc(2), c(2), d(2), shared(4), etol(2), ww(2, 64)
-      integer :: nww, m, side, nb_i(4), nb_j(4), mbest
-      best = 0
-      pc = origin + [real(ii, wp)*dx(1), real(jj, wp)*dx(2)]
-      call clip_polygon_box(v, pc - 0.5_wp*dx, pc + 0.5_wp*dx, ww, nww)
-      etol = geom_tol*dx
-      shared = 0.0_wp
-      do m = 1, nww
-        c = ww(:, m)
-        d = ww(:, modulo(m, nww) + 1) - c
-        ! 1 left (x = lo), 2 right (x = hi), 3 below (y = lo), 4 above (y = hi)
-        if (abs(c(1) - (pc(1) - 0.5_wp*dx(1))) <= etol(1) .and. abs(d(1)) <= etol(1)) &
-          shared(1) = shared(1) - d(2)
-        if (abs(c(1) - (pc(1) + 0.5_wp*dx(1))) <= etol(1) .and. abs(d(1)) <= etol(1)) &
-          shared(2) = shared(2) + d(2)
-        if (abs(c(2) - (pc(2) - 0.5_wp*dx(2))) <= etol(2) .and. abs(d(2)) <= etol(2)) &
-          shared(3) = shared(3) + d(1)
-        if (abs(c(2) - (pc(2) + 0.5_wp*dx(2))) <= etol(2) .and. abs(d(2)) <= etol(2)) &
-          shared(4) = shared(4) - d(1)
-      end do
-      nb_i = [ii - 1, ii + 1, ii, ii]
-      nb_j = [jj, jj, jj - 1, jj + 1]
-      ! a stretch must be longer than the "on the line" tolerance to count
-      shared(1:2) = shared(1:2) - etol(2)
-      shared(3:4) = shared(3:4) - etol(1)
-      do side = 1, 4
-        if (shared(side) <= 0.0_wp) cycle
-        if (nb_i(side) < i0 .or. nb_i(side) > i1 .or. nb_j(side) < j0 .or. nb_j(side) > j1) &
-          cycle
-        if (own(nb_i(side), nb_j(side)) <= 0) cycle
-        if (best > 0) then
-          if (shared(side) <= shared(mbest)) cycle
-        end if
-        best = own(nb_i(side), nb_j(side))
-        mbest = side
-      end do
-    end function neighbour_owner
   end subroutine make_polygon
+
+  !> make_polygon: the owner of the neighbour of orphan cell (ii, jj) of the lattice own
+  !! (spacing dx from origin, the polygon v) that shares the longest stretch of lattice
+  !! line with its piece, among the neighbours owned already; 0 if none. The
+  !! piece is counter-clockwise, so its edges on its right side run up, on its top side
+  !! left, and so on: the signed sums below cancel the zero-width bridges along the box
+  !! that clipping a concave polygon leaves, and count only where the material meets.
+  integer function neighbour_owner(v, dx, origin, i0, j0, own, ii, jj) result(best)
+    real(wp), intent(in) :: v(:, :), dx(2), origin(2)
+    integer, intent(in) :: i0, j0
+    integer, intent(in) :: own(i0:, j0:)
+    integer, intent(in) :: ii, jj
+    integer :: i1, j1
+    real(wp) :: pc(2), c(2), d(2), shared(4), etol(2), ww(2, 64)
+    integer :: nww, m, side, nb_i(4), nb_j(4), mbest
+    best = 0
+    i1 = ubound(own, 1)
+    j1 = ubound(own, 2)
+    pc = origin + [real(ii, wp)*dx(1), real(jj, wp)*dx(2)]
+    call clip_polygon_box(v, pc - 0.5_wp*dx, pc + 0.5_wp*dx, ww, nww)
+    etol = geom_tol*dx
+    shared = 0.0_wp
+    do m = 1, nww
+      c = ww(:, m)
+      d = ww(:, modulo(m, nww) + 1) - c
+      ! 1 left (x = lo), 2 right (x = hi), 3 below (y = lo), 4 above (y = hi)
+      if (abs(c(1) - (pc(1) - 0.5_wp*dx(1))) <= etol(1) .and. abs(d(1)) <= etol(1)) &
+        shared(1) = shared(1) - d(2)
+      if (abs(c(1) - (pc(1) + 0.5_wp*dx(1))) <= etol(1) .and. abs(d(1)) <= etol(1)) &
+        shared(2) = shared(2) + d(2)
+      if (abs(c(2) - (pc(2) - 0.5_wp*dx(2))) <= etol(2) .and. abs(d(2)) <= etol(2)) &
+        shared(3) = shared(3) + d(1)
+      if (abs(c(2) - (pc(2) + 0.5_wp*dx(2))) <= etol(2) .and. abs(d(2)) <= etol(2)) &
+        shared(4) = shared(4) - d(1)
+    end do
+    nb_i = [ii - 1, ii + 1, ii, ii]
+    nb_j = [jj, jj, jj - 1, jj + 1]
+    ! a stretch must be longer than the "on the line" tolerance to count
+    shared(1:2) = shared(1:2) - etol(2)
+    shared(3:4) = shared(3:4) - etol(1)
+    do side = 1, 4
+      if (shared(side) <= 0.0_wp) cycle
+      if (nb_i(side) < i0 .or. nb_i(side) > i1 .or. nb_j(side) < j0 .or. nb_j(side) > j1) &
+        cycle
+      if (own(nb_i(side), nb_j(side)) <= 0) cycle
+      if (best > 0) then
+        if (shared(side) <= shared(mbest)) cycle
+      end if
+      best = own(nb_i(side), nb_j(side))
+      mbest = side
+    end do
+  end function neighbour_owner
 
   !> Position along the polygon boundary: edge index - 1 + fraction along the edge.
   pure real(wp) function edge_key(v, p) result(key)

@@ -1,5 +1,5 @@
-!> The ranks of an MPI communicator as contact sees them (rank_comm_m): reductions, the
-!! allgather of the ghost refresh, and point-to-point messages to chosen ranks only.
+!> The ranks of an MPI communicator (rank_comm_m): reductions, broadcasts, the allgather of
+!! contact's ghost refresh, and point-to-point messages to chosen ranks only.
 module mpi_comm_m
   use mpi_f08
   use kinds_m, only: wp, i64
@@ -14,6 +14,10 @@ module mpi_comm_m
     real(wp) :: empty(1) = 0.0_wp   !< the buffer of an empty message
   contains
     procedure :: max_real => ranks_max
+    procedure :: sum_real => ranks_sum
+    procedure :: sum_i8 => ranks_sum_i8
+    procedure :: min_int => ranks_min_int
+    procedure :: bcast_text => ranks_bcast_text
     procedure :: allgather_real => ranks_allgather
     procedure :: sparse_exchange => ranks_sparse
   end type mpi_ranks_t
@@ -37,6 +41,39 @@ contains
     real(wp), intent(inout) :: v(:)
     call MPI_Allreduce(MPI_IN_PLACE, v, size(v), MPI_DOUBLE_PRECISION, MPI_MAX, c%comm)
   end subroutine ranks_max
+
+  subroutine ranks_sum(c, v)
+    class(mpi_ranks_t), intent(inout) :: c
+    real(wp), intent(inout) :: v(:)
+    call MPI_Allreduce(MPI_IN_PLACE, v, size(v), MPI_DOUBLE_PRECISION, MPI_SUM, c%comm)
+  end subroutine ranks_sum
+
+  subroutine ranks_sum_i8(c, v)
+    class(mpi_ranks_t), intent(inout) :: c
+    integer(i64), intent(inout) :: v(:)
+    call MPI_Allreduce(MPI_IN_PLACE, v, size(v), MPI_INTEGER8, MPI_SUM, c%comm)
+  end subroutine ranks_sum_i8
+
+  subroutine ranks_min_int(c, v)
+    class(mpi_ranks_t), intent(inout) :: c
+    integer, intent(inout) :: v(:)
+    call MPI_Allreduce(MPI_IN_PLACE, v, size(v), MPI_INTEGER, MPI_MIN, c%comm)
+  end subroutine ranks_min_int
+
+  subroutine ranks_bcast_text(c, from, text)
+    class(mpi_ranks_t), intent(inout) :: c
+    integer, intent(in) :: from
+    character(len=:), allocatable, intent(inout) :: text
+    integer :: n
+    n = 0
+    if (c%me == from) n = len(text)
+    call MPI_Bcast(n, 1, MPI_INTEGER, from, c%comm)
+    if (c%me /= from) then
+      if (allocated(text)) deallocate(text)
+      allocate(character(len=n) :: text)
+    end if
+    call MPI_Bcast(text, n, MPI_CHARACTER, from, c%comm)
+  end subroutine ranks_bcast_text
 
   subroutine ranks_allgather(c, mine, all)
     class(mpi_ranks_t), intent(inout) :: c

@@ -1,7 +1,8 @@
-!> What contact needs of the ranks of a distributed run (issue 12, doc/parallel.md), without
-!! naming MPI: the layers below the MPI driver see only this interface, and the MPI build
-!! extends it (mpi_comm_m, library mfcd_parallel). single_rank_t is the one-rank case, for
-!! the serial build's tests of the distributed paths.
+!> The ranks of a run (doc/parallel.md) as the layers below the program see them, without
+!! naming MPI: reductions, broadcasts, the allgather of contact's ghost refresh and
+!! point-to-point messages to chosen ranks. The MPI build extends it (mpi_comm_m, library
+!! mfcd_parallel); single_rank_t is the one-rank case, a serial run's, whose collectives
+!! leave every value as it is.
 module rank_comm_m
   use kinds_m, only: wp, i64
   implicit none
@@ -16,6 +17,14 @@ module rank_comm_m
   contains
     !> v(:) becomes its largest value over the ranks, entry by entry.
     procedure(max_i), deferred :: max_real
+    !> v(:) becomes its sum over the ranks, entry by entry.
+    procedure(max_i), deferred :: sum_real
+    !> v(:) becomes its sum over the ranks, entry by entry.
+    procedure(sum_i8_i), deferred :: sum_i8
+    !> v(:) becomes its smallest value over the ranks, entry by entry.
+    procedure(min_int_i), deferred :: min_int
+    !> text becomes rank from's text (its length too).
+    procedure(bcast_text_i), deferred :: bcast_text
     !> all(:, r + 1) becomes rank r's mine(:) (the same length on every rank).
     procedure(allgather_i), deferred :: allgather_real
     !> Messages between chosen ranks: sbuf(sptr(k) : sptr(k+1) - 1) goes to rank to(k);
@@ -31,6 +40,22 @@ module rank_comm_m
       class(rank_comm_t), intent(inout) :: c
       real(wp), intent(inout) :: v(:)
     end subroutine max_i
+    subroutine sum_i8_i(c, v)
+      import :: rank_comm_t, i64
+      class(rank_comm_t), intent(inout) :: c
+      integer(i64), intent(inout) :: v(:)
+    end subroutine sum_i8_i
+    subroutine min_int_i(c, v)
+      import :: rank_comm_t
+      class(rank_comm_t), intent(inout) :: c
+      integer, intent(inout) :: v(:)
+    end subroutine min_int_i
+    subroutine bcast_text_i(c, from, text)
+      import :: rank_comm_t
+      class(rank_comm_t), intent(inout) :: c
+      integer, intent(in) :: from
+      character(len=:), allocatable, intent(inout) :: text
+    end subroutine bcast_text_i
     subroutine allgather_i(c, mine, all)
       import :: rank_comm_t, wp
       class(rank_comm_t), intent(inout) :: c
@@ -51,6 +76,10 @@ module rank_comm_m
   type, extends(rank_comm_t) :: single_rank_t
   contains
     procedure :: max_real => single_max
+    procedure :: sum_real => single_max
+    procedure :: sum_i8 => single_i8
+    procedure :: min_int => single_int
+    procedure :: bcast_text => single_text
     procedure :: allgather_real => single_allgather
     procedure :: sparse_exchange => single_sparse
   end type single_rank_t
@@ -60,9 +89,31 @@ contains
   subroutine single_max(c, v)
     class(single_rank_t), intent(inout) :: c
     real(wp), intent(inout) :: v(:)
-    ! one rank's values are the largest
+    ! one rank's values are the largest, and the sums
     if (size(v) < 0 .or. c%nranks /= 1) continue
   end subroutine single_max
+
+  subroutine single_i8(c, v)
+    class(single_rank_t), intent(inout) :: c
+    integer(i64), intent(inout) :: v(:)
+    ! one rank's values are the sums
+    if (size(v) < 0 .or. c%nranks /= 1) continue
+  end subroutine single_i8
+
+  subroutine single_int(c, v)
+    class(single_rank_t), intent(inout) :: c
+    integer, intent(inout) :: v(:)
+    ! one rank's values are the smallest
+    if (size(v) < 0 .or. c%nranks /= 1) continue
+  end subroutine single_int
+
+  subroutine single_text(c, from, text)
+    class(single_rank_t), intent(inout) :: c
+    integer, intent(in) :: from
+    character(len=:), allocatable, intent(inout) :: text
+    ! the one rank has the text already
+    if (from /= c%me .or. .not. allocated(text)) continue
+  end subroutine single_text
 
   subroutine single_allgather(c, mine, all)
     class(single_rank_t), intent(inout) :: c

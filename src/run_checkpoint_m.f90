@@ -31,7 +31,8 @@ module run_checkpoint_m
   use version_m, only: code_version, git_commit
   use deck_m, only: deck_t
   use body_m, only: body_t
-  use solid_m, only: solid_t, solid_quiet_blocks
+  use solid_m, only: solid_t, solid_quiet_blocks, state_fields, solid_field_rows, &
+    solid_get_field, solid_put_field, solid_state_derived, solid_energies, solid_set_energies
   use contact_pair_m, only: contact_pair_t
   use run_report_m, only: run_record_t
   use dynamic_output_m, only: history_t, history_names
@@ -198,36 +199,18 @@ contains
     type(solid_t), intent(in) :: s
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: g
+    integer :: k
     g = '/solids/'//trim(s%name)
     call h5_group(f, g, err)
     if (allocated(err)) return
     call h5_attr(f, g, 'np', s%np, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'nq', s%nq, err)
-    if (.not. allocated(err)) call h5_write(f, g//'/d', s%d, 'm', err, &
-      'nodal coefficients of the displacement (2, np)')
-    if (.not. allocated(err)) call h5_write(f, g//'/v', s%v, 'm/s', err, &
-      'nodal coefficients of the velocity (2, np)')
-    if (.not. allocated(err)) call h5_write(f, g//'/a', s%a, 'm/s^2', err, &
-      'nodal coefficients of the acceleration (2, np)')
-    if (.not. allocated(err)) call h5_write(f, g//'/freac', s%freac_old, 'N', err, &
-      'reactions of the kinematic conditions (2, np)')
-    if (.not. allocated(err)) call h5_write(f, g//'/contact_impulse', s%ipoint, 'N s', err, &
-      'contact impulse on the physical points since the last snapshot (2, np)')
+    do k = 1, size(state_fields)
+      if (allocated(err)) return
+      call write_field(f, g, s, k, err)
+    end do
     if (.not. allocated(err)) call h5_attr(f, g, 'contact_impulse_time', s%ipoint_time, err)
-    if (.not. allocated(err)) call h5_write(f, g//'/F', s%f, '1', err, &
-      'deformation gradient 11, 12, 21, 22, 33 (5, nq)')
-    if (.not. allocated(err)) call h5_write(f, g//'/P', s%p, 'Pa', err, &
-      'first Piola-Kirchhoff stress 11, 12, 21, 22, 33 (5, nq)')
-    if (.not. allocated(err)) call h5_write(f, g//'/tau', s%st%tau, 'Pa', err, &
-      'Kirchhoff stress 11, 22, 33, 12 (4, nq)')
-    if (.not. allocated(err)) call h5_write(f, g//'/alpha', s%st%alpha, 'Pa', err, &
-      'back stress 11, 22, 33, 12 (4, nq)')
-    if (.not. allocated(err)) call h5_write(f, g//'/epsbar', s%st%epsbar, '1', err, &
-      'effective plastic strain (nq)')
-    if (.not. allocated(err)) call h5_write(f, g//'/epsdot', s%st%epsdot, '1/s', err, &
-      'effective plastic strain rate of the last step (nq)')
-    if (.not. allocated(err)) call h5_attr(f, g, 'energies', [s%ke0, s%ke, s%w_int, &
-      s%w_plastic, s%w_bc, s%w_ext, s%w_contact, s%e_stab], err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'energies', solid_energies(s), err)
     if (.not. allocated(err)) call h5_attr(f, g, 'kappa_dt_cal', [s%kappa, s%dt_cal], err)
     if (.not. allocated(err)) call h5_attr(f, g, 'kappa_q', s%kappa_q, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'wall', s%wall, err)
@@ -242,6 +225,33 @@ contains
         s%qact), '1', err, 'integration point active: 1 (nq)')
     end if
   end subroutine write_solid
+
+  !> State field k (state_fields) of solid s as dataset g/<name>: (rows, np) on nodes,
+  !! (rows, nq) on integration points, one row as a 1-D dataset.
+  subroutine write_field(f, g, s, k, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: g
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: k
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: buf(:, :)
+    integer :: rows, n, i
+    character(len=:), allocatable :: dims
+    rows = solid_field_rows(s, k)
+    n = merge(s%np, s%nq, state_fields(k)%nodal)
+    dims = merge('np', 'nq', state_fields(k)%nodal)
+    allocate(buf(rows, n))
+    call solid_get_field(s, k, buf, [(i, i = 1, n)])
+    associate (fk => state_fields(k))
+      if (rows == 1) then
+        call h5_write(f, g//'/'//trim(fk%name), buf(1, :), trim(fk%unit), err, &
+          trim(fk%what)//' ('//dims//')')
+      else
+        call h5_write(f, g//'/'//trim(fk%name), buf, trim(fk%unit), err, &
+          trim(fk%what)//' ('//itoa(rows)//', '//dims//')')
+      end if
+    end associate
+  end subroutine write_field
 
   !> /bodies/<name>: particle count and sums of positions and volumes of every body, to
   !! recognise a body that changed under an unchanged deck (a particle file).
@@ -604,25 +614,19 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: g
     real(wp) :: en(8), kd(2)
+    integer :: k
     g = '/solids/'//trim(s%name)
     if (.not. h5_has(f, g)) then
       call set_error(err, "no state of body '"//trim(s%name)//"' (/solids/"// &
         trim(s%name)//")")
       return
     end if
-    call h5_read(f, g//'/d', s%d, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/v', s%v, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/a', s%a, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/freac', s%freac_old, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/contact_impulse', s%ipoint, err)
+    do k = 1, size(state_fields)
+      if (allocated(err)) return
+      call read_field(f, g, s, k, err)
+    end do
     if (.not. allocated(err)) call h5_read_attr(f, g, 'contact_impulse_time', &
       s%ipoint_time, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/F', s%f, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/P', s%p, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/tau', s%st%tau, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/alpha', s%st%alpha, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/epsbar', s%st%epsbar, err)
-    if (.not. allocated(err)) call h5_read(f, g//'/epsdot', s%st%epsdot, err)
     en = 0.0_wp
     kd = 0.0_wp
     if (.not. allocated(err)) call h5_read_attr(f, g, 'energies', en, err)
@@ -630,21 +634,36 @@ contains
     if (.not. allocated(err)) call h5_read_attr(f, g, 'kappa_q', s%kappa_q, err)
     if (.not. allocated(err)) call h5_read_attr(f, g, 'wall', s%wall, err)
     if (allocated(err)) return
-    s%ke0 = en(1)
-    s%ke = en(2)
-    s%w_int = en(3)
-    s%w_plastic = en(4)
-    s%w_bc = en(5)
-    s%w_ext = en(6)
-    s%w_contact = en(7)
-    s%e_stab = en(8)
+    call solid_set_energies(s, en)
     s%kappa = kd(1)
     s%dt_cal = kd(2)
-    s%freac = s%freac_old
-    s%f_old = s%f
-    s%p_old = s%p
+    call solid_state_derived(s)
     if (s%quiet_on .and. .not. allocated(err)) call read_quiet(f, g, s, err)
   end subroutine read_solid
+
+  !> State field k (state_fields) of solid s from dataset g/<name> (write_field's shape).
+  subroutine read_field(f, g, s, k, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: g
+    type(solid_t), intent(inout) :: s
+    integer, intent(in) :: k
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: buf(:, :), row(:)
+    integer :: rows, n, i
+    rows = solid_field_rows(s, k)
+    n = merge(s%np, s%nq, state_fields(k)%nodal)
+    allocate(buf(rows, n))
+    if (rows == 1) then
+      allocate(row(n))
+      call h5_read(f, g//'/'//trim(state_fields(k)%name), row, err)
+      if (allocated(err)) return
+      buf(1, :) = row
+    else
+      call h5_read(f, g//'/'//trim(state_fields(k)%name), buf, err)
+      if (allocated(err)) return
+    end if
+    call solid_put_field(s, k, buf, [(i, i = 1, n)])
+  end subroutine read_field
 
   !> The quiet-point state of solid s from group g (checkpoints written before it have
   !! none: every point is then active, which changes round-off only).

@@ -319,6 +319,53 @@ contains
       call put_r('quiet_point_steps_skipped', real(solids(k)%quiet_skipped, wp), '1')
       call close_group()
     end do
+    call summary_log(r, en, pairs, solids, files, wall, rate, sh, tl)
+  contains
+    subroutine open_group(path)
+      character(len=*), intent(in) :: path
+      g = path
+      units = ''
+      if (.not. allocated(err)) call h5_group(f, g, err)
+    end subroutine open_group
+    !> The group's 'units' attribute: "name=unit; ..." for every numeric value in it.
+    subroutine close_group()
+      if (.not. allocated(err)) call h5_attr(f, g, 'units', units, err)
+    end subroutine close_group
+    subroutine note_unit(name, unit)
+      character(len=*), intent(in) :: name, unit
+      if (len(units) > 0) units = units//'; '
+      units = units//name//'='//unit
+    end subroutine note_unit
+    subroutine put_r(name, val, unit)
+      character(len=*), intent(in) :: name, unit
+      real(wp), intent(in) :: val
+      if (.not. allocated(err)) call h5_attr(f, g, name, val, err)
+      call note_unit(name, unit)
+    end subroutine put_r
+    subroutine put_i(name, val, unit)
+      character(len=*), intent(in) :: name, unit
+      integer, intent(in) :: val
+      if (.not. allocated(err)) call h5_attr(f, g, name, val, err)
+      call note_unit(name, unit)
+    end subroutine put_i
+    subroutine put_s(name, val)
+      character(len=*), intent(in) :: name, val
+      if (.not. allocated(err)) call h5_attr(f, g, name, val, err)
+    end subroutine put_s
+  end subroutine report_summary
+
+  !> The summary's lines in the log: steps, rates, steps taken, energy, skipping, contact,
+  !! the bodies' measures, where the time loop's time went (wall, rate, sh, tl: as
+  !! report_summary measured them).
+  subroutine summary_log(r, en, pairs, solids, files, wall, rate, sh, tl)
+    type(run_record_t), intent(in) :: r
+    type(energies_t), intent(in) :: en
+    type(contact_pair_t), intent(in) :: pairs(:)
+    type(solid_t), intent(inout) :: solids(:)
+    character(len=*), intent(in) :: files
+    real(wp), intent(in) :: wall, rate, sh(3), tl
+    integer :: k
+    type(measures_t) :: m
     write(output_unit, '(a,i0,a,es12.5,a,f9.2,a,f7.2,a,es10.3,a,es10.3,a)') 'summary: ', &
       r%n, ' steps to t = ', r%t, ' s in ', wall, ' s wall (set-up ', wall - r%t_loop, &
       ' s), ', rate, ' particle-steps/s (nodes), ', real(r%point_steps + r%sub%fine_evals, &
@@ -386,39 +433,8 @@ contains
       100.0_wp*(1.0_wp - sum(sh) - (r%t_contact + r%t_output)/tl), '%'
     write(output_unit, '(a)') 'summary: wrote '//files
     flush(output_unit)
-  contains
-    subroutine open_group(path)
-      character(len=*), intent(in) :: path
-      g = path
-      units = ''
-      if (.not. allocated(err)) call h5_group(f, g, err)
-    end subroutine open_group
-    !> The group's 'units' attribute: "name=unit; ..." for every numeric value in it.
-    subroutine close_group()
-      if (.not. allocated(err)) call h5_attr(f, g, 'units', units, err)
-    end subroutine close_group
-    subroutine note_unit(name, unit)
-      character(len=*), intent(in) :: name, unit
-      if (len(units) > 0) units = units//'; '
-      units = units//name//'='//unit
-    end subroutine note_unit
-    subroutine put_r(name, val, unit)
-      character(len=*), intent(in) :: name, unit
-      real(wp), intent(in) :: val
-      if (.not. allocated(err)) call h5_attr(f, g, name, val, err)
-      call note_unit(name, unit)
-    end subroutine put_r
-    subroutine put_i(name, val, unit)
-      character(len=*), intent(in) :: name, unit
-      integer, intent(in) :: val
-      if (.not. allocated(err)) call h5_attr(f, g, name, val, err)
-      call note_unit(name, unit)
-    end subroutine put_i
-    subroutine put_s(name, val)
-      character(len=*), intent(in) :: name, val
-      if (.not. allocated(err)) call h5_attr(f, g, name, val, err)
-    end subroutine put_s
-  end subroutine report_summary
+  end subroutine summary_log
+
   !> What the skipped screenings of a pair could not have done.
   pure function skip_reason(self) result(why)
     logical, intent(in) :: self

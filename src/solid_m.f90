@@ -31,7 +31,10 @@ module solid_m
     solid_quiet_blocks
   public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node
   public :: health_ok, health_j, health_stress, health_epsbar, health_deps, health_names
-  public :: solid_set_owned, solid_points_force, solid_nodes_force
+  public :: solid_set_owned, solid_points_force, solid_nodes_force, part_halo_t, &
+    solid_share_corrections
+  public :: state_field_t, state_fields, solid_field_rows, solid_get_field, &
+    solid_put_field, solid_state_derived, solid_energies, solid_set_energies
   public :: solid_sub_levels, solid_sub_select, solid_sub_begin, &
     solid_rate_predict, solid_rates_force, solid_rates_update, solid_sub_end
 
@@ -48,6 +51,62 @@ module solid_m
 
   !> Material points are updated in blocks of this many (dynamic scheduling over blocks).
   integer, parameter :: material_block = 256
+
+  !> A field of a solid's step state: what the reference configuration does not fix and a
+  !! step changes. state_fields is the one list of them, through which checkpoints
+  !! (run_checkpoint_m), the parts of a run restarted on ranks and the gathers to rank 0
+  !! (mpi_domain_m) go, so none of them lists the fields again. name: the checkpoint's
+  !! dataset; nodal: on nodes (else integration points); snapshot: gathered for snapshots
+  !! and measures too (else for checkpoints only); what: the checkpoint's description.
+  type :: state_field_t
+    character(len=16) :: name
+    character(len=8) :: unit
+    logical :: nodal
+    logical :: snapshot
+    character(len=72) :: what
+  end type state_field_t
+
+  type(state_field_t), parameter :: state_fields(11) = [ &
+    state_field_t('d', 'm', .true., .true., 'nodal coefficients of the displacement'), &
+    state_field_t('v', 'm/s', .true., .true., 'nodal coefficients of the velocity'), &
+    state_field_t('a', 'm/s^2', .true., .false., 'nodal coefficients of the acceleration'), &
+    state_field_t('freac', 'N', .true., .false., 'reactions of the kinematic conditions'), &
+    state_field_t('contact_impulse', 'N s', .true., .true., 'contact impulse on the '// &
+      'physical points since the last snapshot'), &
+    state_field_t('F', '1', .false., .true., 'deformation gradient 11, 12, 21, 22, 33'), &
+    state_field_t('P', 'Pa', .false., .false., 'first Piola-Kirchhoff stress 11, 12, 21, '// &
+      '22, 33'), &
+    state_field_t('tau', 'Pa', .false., .true., 'Kirchhoff stress 11, 22, 33, 12'), &
+    state_field_t('alpha', 'Pa', .false., .false., 'back stress 11, 22, 33, 12'), &
+    state_field_t('epsbar', '1', .false., .true., 'effective plastic strain'), &
+    state_field_t('epsdot', '1/s', .false., .false., 'effective plastic strain rate of '// &
+      'the last step')]
+
+  !> A rank's part of a solid and its neighbour ranks (distributed memory, doc/parallel.md):
+  !! the ghost entries of local arrays from their owners. The MPI build implements it
+  !! (mpi_domain_m); a serial solid has none.
+  type, abstract :: part_halo_t
+  contains
+    !> x(:, local nodes): the ghost nodes' columns from their owners.
+    procedure(halo_array_i), deferred :: nodes
+    !> x and y (2, local nodes): the ghost nodes' columns from their owners, one exchange.
+    procedure(halo_pair_i), deferred :: nodes2
+    !> x(:, local points): the ghost points' columns from their owners.
+    procedure(halo_array_i), deferred :: points
+  end type part_halo_t
+
+  abstract interface
+    subroutine halo_array_i(h, x)
+      import :: part_halo_t, wp
+      class(part_halo_t), intent(inout) :: h
+      real(wp), intent(inout) :: x(:, :)
+    end subroutine halo_array_i
+    subroutine halo_pair_i(h, x, y)
+      import :: part_halo_t, wp
+      class(part_halo_t), intent(inout) :: h
+      real(wp), intent(inout) :: x(:, :), y(:, :)
+    end subroutine halo_pair_i
+  end interface
 
   type :: solid_t
     character(len=64) :: name = ''
@@ -127,6 +186,8 @@ module solid_m
     ! a ghost node's, from its owner's v and a, is its owner's to the bit.
     logical :: dist = .false.
     integer, allocatable :: own_q(:), own_n(:)   !< owned points, owned nodes (local numbers)
+    !> the part's exchanges with the neighbour ranks (none for a serial solid)
+    class(part_halo_t), pointer :: halo => null()
   end type solid_t
 
 contains
@@ -383,6 +444,7 @@ contains
       s%v = s%vpres
       s%a = 0.0_wp
     end where
+    if (associated(s%halo)) call s%halo%nodes2(s%v, s%a)
   end subroutine solid_start
 
   !> The prediction of eq. (64); contact may correct it (solid_correct) before the forces.
@@ -428,8 +490,13 @@ contains
       return
     end if
     if (s%dist) then
-      ! (no halo in between: for one part, or a caller that exchanges nothing)
+      ! a rank's part: its points, the ghost points' P and stabilization stresses from
+      ! their owners, its nodes
       call solid_points_force(s, dt, bad_q, bad_j)
+      if (associated(s%halo)) then
+        call s%halo%points(s%p)
+        if (s%stab_normal > 0.0_wp) call s%halo%points(s%stab)
+      end if
       call solid_nodes_force(s)
       return
     end if
@@ -942,7 +1009,140 @@ contains
       s%ke = ke
     end if
     s%ipoint_time = s%ipoint_time + dt
+    ! a rank's part: the ghost nodes' v and a from their owners
+    if (associated(s%halo)) call s%halo%nodes2(s%v, s%a)
   end subroutine solid_update
+
+  !> The rows of state field k (state_fields) of solid s: 2 for nodal vectors, the
+  !! component counts of F, P and the stresses, 1 for the scalars.
+  integer function solid_field_rows(s, k) result(n)
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: k
+    select case (k)
+    case (1)
+      n = size(s%d, 1)
+    case (2)
+      n = size(s%v, 1)
+    case (3)
+      n = size(s%a, 1)
+    case (4)
+      n = size(s%freac_old, 1)
+    case (5)
+      n = size(s%ipoint, 1)
+    case (6)
+      n = size(s%f, 1)
+    case (7)
+      n = size(s%p, 1)
+    case (8)
+      n = size(s%st%tau, 1)
+    case (9)
+      n = size(s%st%alpha, 1)
+    case default
+      n = 1
+    end select
+  end function solid_field_rows
+
+  !> buf(:, j) = state field k of solid s at entry idx(j) (of its nodes or points).
+  subroutine solid_get_field(s, k, buf, idx)
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: k
+    real(wp), intent(out) :: buf(:, :)
+    integer, intent(in) :: idx(:)
+    select case (k)
+    case (1)
+      buf = s%d(:, idx)
+    case (2)
+      buf = s%v(:, idx)
+    case (3)
+      buf = s%a(:, idx)
+    case (4)
+      buf = s%freac_old(:, idx)
+    case (5)
+      buf = s%ipoint(:, idx)
+    case (6)
+      buf = s%f(:, idx)
+    case (7)
+      buf = s%p(:, idx)
+    case (8)
+      buf = s%st%tau(:, idx)
+    case (9)
+      buf = s%st%alpha(:, idx)
+    case (10)
+      buf(1, :) = s%st%epsbar(idx)
+    case default
+      buf(1, :) = s%st%epsdot(idx)
+    end select
+  end subroutine solid_get_field
+
+  !> State field k of solid s at entry idx(j) = buf(:, j).
+  subroutine solid_put_field(s, k, buf, idx)
+    type(solid_t), intent(inout) :: s
+    integer, intent(in) :: k
+    real(wp), intent(in) :: buf(:, :)
+    integer, intent(in) :: idx(:)
+    select case (k)
+    case (1)
+      s%d(:, idx) = buf
+    case (2)
+      s%v(:, idx) = buf
+    case (3)
+      s%a(:, idx) = buf
+    case (4)
+      s%freac_old(:, idx) = buf
+    case (5)
+      s%ipoint(:, idx) = buf
+    case (6)
+      s%f(:, idx) = buf
+    case (7)
+      s%p(:, idx) = buf
+    case (8)
+      s%st%tau(:, idx) = buf
+    case (9)
+      s%st%alpha(:, idx) = buf
+    case (10)
+      s%st%epsbar(idx) = buf(1, :)
+    case default
+      s%st%epsdot(idx) = buf(1, :)
+    end select
+  end subroutine solid_put_field
+
+  !> What follows from the state fields once they are put back (a restart): the reactions
+  !! of the step start, F and P of the last evaluation.
+  subroutine solid_state_derived(s)
+    type(solid_t), intent(inout) :: s
+    s%freac = s%freac_old
+    s%f_old = s%f
+    s%p_old = s%p
+  end subroutine solid_state_derived
+
+  !> The energy accounts of solid s, in the order checkpoints hold them: ke0, ke, w_int,
+  !! w_plastic, w_bc, w_ext, w_contact, e_stab (J/m in plane strain, J in axisymmetry).
+  pure function solid_energies(s) result(e)
+    type(solid_t), intent(in) :: s
+    real(wp) :: e(8)
+    e = [s%ke0, s%ke, s%w_int, s%w_plastic, s%w_bc, s%w_ext, s%w_contact, s%e_stab]
+  end function solid_energies
+
+  !> The energy accounts of solid s from e (solid_energies' order).
+  subroutine solid_set_energies(s, e)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: e(8)
+    s%ke0 = e(1)
+    s%ke = e(2)
+    s%w_int = e(3)
+    s%w_plastic = e(4)
+    s%w_bc = e(5)
+    s%w_ext = e(6)
+    s%w_contact = e(7)
+    s%e_stab = e(8)
+  end subroutine solid_set_energies
+
+  !> After contact corrected d and a at a part's own nodes: the ghost nodes' from their
+  !! owners (a serial solid has none to get).
+  subroutine solid_share_corrections(s)
+    type(solid_t), intent(inout) :: s
+    if (associated(s%halo)) call s%halo%nodes2(s%d, s%a)
+  end subroutine solid_share_corrections
 
   !> solid_update for a step dt over the nodes list(1:n), or the nodes 1..n when list is
   !! absent; ke: their kinetic energy.

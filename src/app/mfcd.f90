@@ -17,6 +17,7 @@ program mfcd
   use log_m, only: log_print, log_flush
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
+  use run_domain_m, only: serial_domain_t, serial_domain_init
   use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
   use thread_policy_m, only: thread_policy_apply, thread_policy_text
   use gmsh_mesh_m, only: gmsh_built_in, gmsh_version
@@ -31,6 +32,8 @@ program mfcd
   logical :: check_only, restart_next
   integer :: i, nargs
   type(checkpoint_info_t) :: ckpt
+  !> one rank: the run's parts are its solids
+  type(serial_domain_t), target :: one
 
   ! first, before anything is printed: a short spin for waiting OpenMP threads (it may run
   ! this program again with GOMP_SPINCOUNT set; thread_policy_m says why)
@@ -123,10 +126,11 @@ program mfcd
   case ('detect')
     call run_detect(deck, bodies, err)
   case ('dynamic')
+    call serial_domain_init(one)
     if (len(restart_path) > 0) then
-      call run_dynamic(deck, bodies, su, err, restart_path)
+      call run_dynamic(deck, bodies, su, one, err, restart_path)
     else
-      call run_dynamic(deck, bodies, su, err)
+      call run_dynamic(deck, bodies, su, one, err)
     end if
   end select
   if (allocated(err)) call fail(err)

@@ -3,7 +3,7 @@
 !! one HDF5 file (and XDMF) a serial `mfcd DECK.nml` writes, from rank 0. Every rank reads
 !! the deck and builds the set-up (so bad input is found by all, before anything is
 !! written); only rank 0 logs. What the MPI driver does not take yet is refused as bad input
-!! (mpi_run_m: no subcycling). Options: --restart
+!! (mpi_domain_m: no subcycling). Options: --restart
 !! CHECKPOINT.h5, continue from a checkpoint of the deck's run (&output checkpoint_every, by
 !! mfcd or mfcd_mpi on any number of ranks);
 !! --ghost-margin=F, the margin of the ghost width of contact with a deforming master (a
@@ -24,7 +24,8 @@ program mfcd_mpi
   use output_path_m, only: check_output_path, output_result_text
   use log_m, only: log_print, log_flush
   use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
-  use mpi_run_m, only: run_dynamic_mpi, mpi_scene_check, ghost_margin_default
+  use explicit_driver_m, only: run_dynamic
+  use mpi_domain_m, only: mpi_domain_t, mpi_domain_init, mpi_scene_check, ghost_margin_default
   use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t
   implicit none
   type(deck_t) :: deck
@@ -38,6 +39,8 @@ program mfcd_mpi
   integer :: me, nranks, code, k, ios, ndeck
   real(wp) :: ghost_margin
   logical :: ghost_refresh
+  !> the ranks of MPI_COMM_WORLD: each solid's part on this one
+  type(mpi_domain_t), target :: ranks
   call MPI_Init()
   call MPI_Comm_rank(MPI_COMM_WORLD, me)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
@@ -95,11 +98,12 @@ program mfcd_mpi
   end if
   if (.not. allocated(err) .and. me == 0) call check_output_path(deck, err, restart_path)
   call agree_or_fail(exit_bad_input)
+  ! the serial program's driver, given the ranks instead of one
+  call mpi_domain_init(ranks, MPI_COMM_WORLD, ghost_margin, ghost_refresh)
   if (len(restart_path) > 0) then
-    call run_dynamic_mpi(MPI_COMM_WORLD, deck, bodies, su, ghost_margin, ghost_refresh, err, &
-      restart_path)
+    call run_dynamic(deck, bodies, su, ranks, err, restart_path)
   else
-    call run_dynamic_mpi(MPI_COMM_WORLD, deck, bodies, su, ghost_margin, ghost_refresh, err)
+    call run_dynamic(deck, bodies, su, ranks, err)
   end if
   call agree_or_fail(1)
   call log_print('mfcd_mpi: completed: wrote '//output_result_text(deck))

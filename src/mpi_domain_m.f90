@@ -1,0 +1,595 @@
+!> A dynamic run on MPI ranks (doc/parallel.md): the run_domain_t of the one driver
+!! (explicit_driver_m) for the ranks of an MPI communicator. The driver's loop is the serial
+!! one; this is what differs on ranks.
+!!
+!! Every rank builds the whole set-up (bodies, solids, contact pairs: as a serial run), then
+!! split keeps its part of each solid (decomposition_m: recursive coordinate bisection of the
+!! reference configuration) with its halo (halo_m, as the part's part_halo_t: the part
+!! exchanges its ghosts inside solid_internal_force, solid_update and contact itself), and
+!! narrows each contact pair to it: against a rigid master each rank holds the master whole;
+!! against a deforming master (self-contact too) each rank its own and ghost master
+!! particles (contact_dist_sm). Nodal values are the serial ones to the bit for any number of
+!! ranks; energies and the contact force are sums of per-rank sums (round-off); kappa, and
+!! with it the step, is a maximum (exact).
+!!
+!! Rank 0 writes the one HDF5 file (and XDMF) a serial run writes: for a snapshot, a failure,
+!! a checkpoint and the summary it gathers the whole solids (the parts' owned values), and
+!! draws the snapshots' det(M) fields from them with its copy of the pairs as set up. A
+!! history row's measures are maxima over the ranks, without a gather. Checkpoints are the
+!! serial ones, written by rank 0 from the gathered state and read whole by every rank, so a
+!! run continues on any number of ranks. Subcycling is refused (mpi_scene_check).
+module mpi_domain_m
+  use mpi_f08
+  use kinds_m, only: wp, i64
+  use errors_m, only: error_t, set_error
+  use deck_m, only: deck_t
+  use body_m, only: body_t
+  use solid_m, only: solid_t, solid_init, solid_set_owned, part_halo_t, state_fields, &
+    solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
+    solid_energies, solid_set_energies
+  use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
+  use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
+  use rank_comm_m, only: rank_comm_t
+  use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
+  use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_pair_localize, &
+    contact_pair_distribute, contact_dist_report
+  use contact_m, only: contact_counters_t
+  use body_measures_m, only: measures_t, body_measures_part
+  use run_report_m, only: run_record_t
+  use run_files_m, only: run_files_t, run_files_checkpoint
+  use run_domain_m, only: run_domain_t
+  implicit none
+  private
+  public :: mpi_domain_t, mpi_domain_init, mpi_scene_check, ghost_margin_default
+
+  !> The default margin of the ghost width of contact with a deforming master, a fraction of
+  !! the width contact needs: larger, fewer refreshes and more ghosts (doc/parallel.md)
+  real(wp), parameter :: ghost_margin_default = 0.5_wp
+
+  !> A part's exchanges with its neighbour ranks (halo_m), as its solid calls them.
+  type, extends(part_halo_t) :: mpi_halo_t
+    type(halo_plan_t) :: plan
+    real(wp), allocatable :: w(:, :)   !< (4, local nodes): two nodal arrays in one message
+  contains
+    procedure :: nodes => halo_node_array
+    procedure :: nodes2 => halo_node_pair
+    procedure :: points => halo_point_array
+  end type mpi_halo_t
+
+  !> The rank (from 0) of every node of a whole solid.
+  type :: part_owner_t
+    integer, allocatable :: owner(:)
+  end type part_owner_t
+
+  !> The ranks of an MPI communicator: each solid's part, its halo and the whole solids.
+  type, extends(run_domain_t) :: mpi_domain_t
+    type(MPI_Comm) :: mcomm
+    type(mpi_ranks_t) :: ranks
+    real(wp) :: ghost_margin = ghost_margin_default
+    logical :: ghost_refresh = .true.
+    type(solid_t), allocatable :: gs(:)           !< the whole solids (rank 0's, for output)
+    type(local_part_t), allocatable :: lp(:)      !< each solid's part
+    type(mpi_halo_t), allocatable :: halos(:)     !< each part's halo (its solid points here)
+    type(contact_pair_t), allocatable :: pairs_whole(:)   !< rank 0: the pairs as set up
+    integer(i64), allocatable :: flag_max(:)      !< each pair's most flagged in one step
+  contains
+    procedure :: split => mpi_split
+    procedure :: whole => mpi_whole
+    procedure :: output_pairs => mpi_pairs
+    procedure :: whole_nodes => mpi_nodes
+    procedure :: whole_points => mpi_points
+    procedure :: measures => mpi_measures
+    procedure :: contact_stats => mpi_stats
+    procedure :: counters => mpi_counters
+    procedure :: impulses_restarted => mpi_impulses
+    procedure :: checkpoint => mpi_checkpoint
+    procedure :: finish => mpi_finish
+  end type mpi_domain_t
+
+contains
+
+  !> The domain of the ranks of comm (dom must stay where it is: the solids' halos and the
+  !! communicator point into it). ghost_margin: the margin of the ghost width of contact
+  !! with a deforming master, a fraction of the width contact needs; ghost_refresh
+  !! .false.: testing only, the first ghost sets are kept (contacts they miss are missed).
+  subroutine mpi_domain_init(dom, comm, ghost_margin, ghost_refresh)
+    type(mpi_domain_t), intent(inout), target :: dom
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), intent(in) :: ghost_margin
+    logical, intent(in) :: ghost_refresh
+    dom%mcomm = comm
+    call mpi_ranks_init(dom%ranks, comm)
+    dom%comm => dom%ranks
+    dom%root = dom%ranks%me == 0
+    dom%ghost_margin = ghost_margin
+    dom%ghost_refresh = ghost_refresh
+  end subroutine mpi_domain_init
+
+  !> What this driver cannot run on ranks yet, as bad input (before anything is written).
+  subroutine mpi_scene_check(deck, err)
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    character(len=*), parameter :: what = "deck '"
+    if (deck%run%mode /= 'dynamic') then
+      call set_error(err, what//deck%path//"', group &run, variable mode: the MPI driver "// &
+        "runs mode = 'dynamic' only; run mfcd for the others")
+      return
+    end if
+    if (deck%solver%subcycle) then
+      call set_error(err, what//deck%path//"', group &solver, variable subcycle: not yet "// &
+        "with MPI; set subcycle = .false. or run mfcd")
+      return
+    end if
+    do k = 1, deck%ncontacts
+      associate (c => deck%contacts(k))
+        if (deck%bodies(c%imaster)%role == 'rigid') cycle
+        ! a deforming master (or self-contact): its ghost particles (contact_dist_sm)
+        if (c%detector /= 'det_m' .or. c%compare_detectors) then
+          call set_error(err, what//deck%path//"', group &contact, variable detector: "// &
+            "against the deforming master '"//trim(c%master)//"' the MPI driver takes "// &
+            "detector = 'det_m' (and compare_detectors = .false.); run mfcd for the others")
+          return
+        end if
+        if (c%shared_mass) then
+          call set_error(err, what//deck%path//"', group &contact, variable shared_mass: "// &
+            "not yet with MPI; give .false. or run mfcd")
+          return
+        end if
+      end associate
+    end do
+  end subroutine mpi_scene_check
+
+  !> solids (the whole set-up, and with restarted the state a checkpoint held) become this
+  !! rank's parts; the whole ones are kept for output; the pairs are narrowed to the parts.
+  subroutine mpi_split(dom, deck, solids, isolid, pairs, restarted, err)
+    class(mpi_domain_t), intent(inout), target :: dom
+    type(deck_t), intent(in) :: deck
+    type(solid_t), allocatable, intent(inout), target :: solids(:)
+    integer, intent(in) :: isolid(:)
+    type(contact_pair_t), intent(inout) :: pairs(:)
+    logical, intent(in) :: restarted
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, nk
+    type(part_owner_t), allocatable :: own(:)
+    class(rank_comm_t), pointer :: comm_ptr
+    ! every rank read the whole state; rank 0 keeps the pairs' counters (sums)
+    dom%flag_max = [(pairs(k)%count%detected_max, k = 1, size(pairs))]
+    if (.not. dom%root) then
+      do k = 1, size(pairs)
+        pairs(k)%count = contact_counters_t()
+      end do
+    end if
+    nk = size(solids)
+    call move_alloc(solids, dom%gs)
+    allocate(solids(nk), dom%lp(nk), dom%halos(nk), own(nk))
+    do k = 1, nk
+      call make_part(dom, deck, k, isolid, solids(k), own(k)%owner, err)
+      if (dom%any_error(err)) return
+      if (restarted) call restart_part(dom, k, solids(k))
+      solids(k)%halo => dom%halos(k)
+    end do
+    ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
+    ! the snapshots (drawn from the gathered state: contact_det_fields, contact_self_det)
+    if (dom%root) allocate(dom%pairs_whole, source=pairs)
+    comm_ptr => dom%ranks
+    do k = 1, size(pairs)
+      associate (s1 => pairs(k)%side(1)%isolid, s2 => pairs(k)%side(2)%isolid)
+        if (s2 == 0) then
+          call contact_pair_localize(pairs(k), dom%lp(s1)%nglob, solids, err)
+        else
+          ! a deforming master: each rank its own slave particles against its own and
+          ! ghost master particles, and the other way round (contact_dist_sm)
+          call contact_pair_distribute(pairs(k), solids, comm_ptr, own(s1)%owner, &
+            own(s2)%owner, dom%lp(s1)%nglob, dom%lp(s2)%nglob, dom%ghost_margin, &
+            dom%ghost_refresh, err)
+        end if
+      end associate
+      if (dom%any_error(err)) return
+    end do
+  end subroutine mpi_split
+
+  !> Solid k's part on this rank: the bisection of the whole solid's nodes and points, the
+  !! part's tables, its halo plan, the part solid (its velocities, kinetic energy at t = 0 of
+  !! its own nodes, limits and stabilization as the whole solid's); owner(:) the rank (from
+  !! 0) of every node of the whole solid.
+  subroutine make_part(dom, deck, k, isolid, p, owner, err)
+    type(mpi_domain_t), intent(inout), target :: dom
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k, isolid(:)
+    type(solid_t), intent(out) :: p
+    integer, allocatable, intent(out) :: owner(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(rcb_tree_t) :: tree
+    integer, allocatable :: node_part(:), point_part(:)
+    integer :: i, q, kb, j
+    associate (g => dom%gs(k), lp => dom%lp(k), h => dom%halos(k))
+      call rcb_build(g%x0, dom%ranks%nranks, tree)
+      allocate(node_part(g%np), point_part(g%nq))
+      do i = 1, g%np
+        node_part(i) = rcb_part(tree, g%x0(:, i))
+      end do
+      do q = 1, g%nq
+        point_part(q) = rcb_part(tree, g%t%xq(:, q))
+      end do
+      call local_part_build(g%t, node_part, point_part, dom%ranks%me + 1, lp)
+      owner = node_part - 1
+      call halo_plan_build(dom%mcomm, lp, node_part, point_part, h%plan, err)
+      if (allocated(err)) return
+      kb = findloc(isolid, k, dim=1)
+      associate (n => lp%nglob)
+        call solid_init(p, g%name, lp%t, g%x0(:, n), &
+          deck%materials(deck%bodies(kb)%imat)%params, 0.0_wp, [0.0_wp, 0.0_wp], &
+          g%pres(:, n), g%vpres(:, n), err)
+        if (allocated(err)) return
+        call solid_set_owned(p, lp%own_point, lp%own_node)
+        ! RKPM's SCNI stabilization as the whole solid's (elements have none)
+        p%stab_normal = g%stab_normal
+        p%stab_shear = g%stab_shear
+        p%v = g%v(:, n)
+        p%ke0 = 0.0_wp
+        do j = 1, size(p%own_n)
+          i = p%own_n(j)
+          p%ke0 = p%ke0 + 0.5_wp*p%t%mass(i)*sum(p%v(:, i)**2)
+        end do
+        p%ke = p%ke0
+        p%spacing = g%spacing
+        p%dt_cal = g%dt_cal
+        p%v_limit = g%v_limit
+        p%epsbar_limit = g%epsbar_limit
+        p%deps_limit = g%deps_limit
+        p%j_bounds = g%j_bounds
+        allocate(h%w(4, p%np))
+      end associate
+    end associate
+  end subroutine make_part
+
+  !> Part p of solid k from the whole solid read from a checkpoint (every local node and
+  !! point, ghosts too: the exchanges need not run before the first step); the energies,
+  !! sums over the ranks, on rank 0.
+  subroutine restart_part(dom, k, p)
+    type(mpi_domain_t), intent(in) :: dom
+    integer, intent(in) :: k
+    type(solid_t), intent(inout) :: p
+    real(wp), allocatable :: buf(:, :)
+    integer :: j, i
+    associate (g => dom%gs(k), n => dom%lp(k)%nglob, q => dom%lp(k)%qglob)
+      do j = 1, size(state_fields)
+        if (state_fields(j)%nodal) then
+          allocate(buf(solid_field_rows(g, j), size(n)))
+          call solid_get_field(g, j, buf, n)
+        else
+          allocate(buf(solid_field_rows(g, j), size(q)))
+          call solid_get_field(g, j, buf, q)
+        end if
+        call solid_put_field(p, j, buf, [(i, i = 1, size(buf, 2))])
+        deallocate(buf)
+      end do
+      call solid_state_derived(p)
+      p%ipoint_time = g%ipoint_time
+      p%kappa = g%kappa
+      p%dt_cal = g%dt_cal
+      call solid_set_energies(p, merge(solid_energies(g), 0.0_wp, dom%root))
+    end associate
+  end subroutine restart_part
+
+  !> Every part's owned values into rank 0's whole solids (for output and measures).
+  function mpi_whole(dom, solids, full) result(w)
+    class(mpi_domain_t), intent(inout), target :: dom
+    type(solid_t), intent(inout), target :: solids(:)
+    logical, intent(in) :: full
+    type(solid_t), pointer :: w(:)
+    integer :: k
+    do k = 1, size(solids)
+      call gather_solid(dom, solids(k), dom%lp(k), dom%gs(k), full)
+    end do
+    w => dom%gs
+  end function mpi_whole
+
+  !> The owned values of part p into rank 0's whole solid g: what output and the measures
+  !! need, and with full what a checkpoint holds besides (a, the reactions, P, the back
+  !! stress, the plastic strain rate).
+  subroutine gather_solid(dom, p, lp, g, full)
+    type(mpi_domain_t), intent(in) :: dom
+    type(solid_t), intent(in) :: p
+    type(local_part_t), intent(in) :: lp
+    type(solid_t), intent(inout) :: g
+    logical, intent(in) :: full
+    real(wp), allocatable :: sn(:, :), sq(:, :), rn(:, :), rq(:, :)
+    integer, allocatable :: idn(:), idq(:), rin(:), riq(:), cn(:), cq(:), dn(:), dq(:)
+    integer, allocatable :: kn(:), kq(:)
+    integer :: j, no, nqo, mn, mq, nranks
+    nranks = dom%ranks%nranks
+    kn = pack([(j, j = 1, size(state_fields))], state_fields%nodal .and. &
+      (full .or. state_fields%snapshot))
+    kq = pack([(j, j = 1, size(state_fields))], .not. state_fields%nodal .and. &
+      (full .or. state_fields%snapshot))
+    mn = sum([(solid_field_rows(p, kn(j)), j = 1, size(kn))])
+    mq = sum([(solid_field_rows(p, kq(j)), j = 1, size(kq))])
+    no = size(p%own_n)
+    nqo = size(p%own_q)
+    allocate(sn(mn, no), sq(mq, nqo), cn(nranks), cq(nranks), dn(nranks), dq(nranks))
+    idn = lp%nglob(p%own_n)
+    idq = lp%qglob(p%own_q)
+    call pack_fields(p, kn, p%own_n, sn)
+    call pack_fields(p, kq, p%own_q, sq)
+    call MPI_Gather(no, 1, MPI_INTEGER, cn, 1, MPI_INTEGER, 0, dom%mcomm)
+    call MPI_Gather(nqo, 1, MPI_INTEGER, cq, 1, MPI_INTEGER, 0, dom%mcomm)
+    if (dom%root) then
+      dn(1) = 0
+      dq(1) = 0
+      do j = 2, nranks
+        dn(j) = dn(j - 1) + cn(j - 1)
+        dq(j) = dq(j - 1) + cq(j - 1)
+      end do
+      allocate(rin(sum(cn)), riq(sum(cq)), rn(mn, sum(cn)), rq(mq, sum(cq)))
+    else
+      allocate(rin(1), riq(1), rn(mn, 1), rq(mq, 1))
+    end if
+    call MPI_Gatherv(idn, no, MPI_INTEGER, rin, cn, dn, MPI_INTEGER, 0, dom%mcomm)
+    call MPI_Gatherv(idq, nqo, MPI_INTEGER, riq, cq, dq, MPI_INTEGER, 0, dom%mcomm)
+    call MPI_Gatherv(sn, mn*no, MPI_DOUBLE_PRECISION, rn, mn*cn, mn*dn, &
+      MPI_DOUBLE_PRECISION, 0, dom%mcomm)
+    call MPI_Gatherv(sq, mq*nqo, MPI_DOUBLE_PRECISION, rq, mq*cq, mq*dq, &
+      MPI_DOUBLE_PRECISION, 0, dom%mcomm)
+    if (.not. dom%root) return
+    call unpack_fields(g, kn, rin, rn)
+    call unpack_fields(g, kq, riq, rq)
+    g%ipoint_time = p%ipoint_time
+  end subroutine gather_solid
+
+  !> buf(:, j): the state fields ks of solid s at entry idx(j), one after another.
+  subroutine pack_fields(s, ks, idx, buf)
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: ks(:), idx(:)
+    real(wp), intent(out) :: buf(:, :)
+    integer :: j, r0, rows
+    r0 = 0
+    do j = 1, size(ks)
+      rows = solid_field_rows(s, ks(j))
+      call solid_get_field(s, ks(j), buf(r0 + 1:r0 + rows, :), idx)
+      r0 = r0 + rows
+    end do
+  end subroutine pack_fields
+
+  !> The state fields ks of solid s at entry idx(j) from buf(:, j) (pack_fields' layout).
+  subroutine unpack_fields(s, ks, idx, buf)
+    type(solid_t), intent(inout) :: s
+    integer, intent(in) :: ks(:), idx(:)
+    real(wp), intent(in) :: buf(:, :)
+    integer :: j, r0, rows
+    r0 = 0
+    do j = 1, size(ks)
+      rows = solid_field_rows(s, ks(j))
+      call solid_put_field(s, ks(j), buf(r0 + 1:r0 + rows, :), idx)
+      r0 = r0 + rows
+    end do
+  end subroutine unpack_fields
+
+  function mpi_pairs(dom, pairs) result(w)
+    class(mpi_domain_t), intent(inout), target :: dom
+    type(contact_pair_t), intent(inout), target :: pairs(:)
+    type(contact_pair_t), pointer :: w(:)
+    if (dom%root) then
+      w => dom%pairs_whole
+    else
+      w => pairs
+    end if
+  end function mpi_pairs
+
+  integer function mpi_nodes(dom, solids, k) result(n)
+    class(mpi_domain_t), intent(in) :: dom
+    type(solid_t), intent(in) :: solids(:)
+    integer, intent(in) :: k
+    n = dom%gs(k)%np
+    if (size(solids) < 0) continue
+  end function mpi_nodes
+
+  integer function mpi_points(dom, solids, k) result(n)
+    class(mpi_domain_t), intent(in) :: dom
+    type(solid_t), intent(in) :: solids(:)
+    integer, intent(in) :: k
+    n = dom%gs(k)%nq
+    if (size(solids) < 0) continue
+  end function mpi_points
+
+  !> Maxima over the ranks: body_measures' values to the bit, without a gather.
+  function mpi_measures(dom, s) result(m)
+    class(mpi_domain_t), intent(inout) :: dom
+    type(solid_t), intent(inout) :: s
+    type(measures_t) :: m
+    m = body_measures_part(s, dom%ranks)
+  end function mpi_measures
+
+  !> The step's contact statistics over the ranks (counts and force summed, the rest the
+  !! largest; the tracked edge in contact on its owner), and the most particles each pair
+  !! flagged in one step over all ranks.
+  subroutine mpi_stats(dom, c, pairs)
+    class(mpi_domain_t), intent(inout) :: dom
+    type(contact_stats_t), intent(inout) :: c
+    type(contact_pair_t), intent(inout) :: pairs(:)
+    integer :: ni(4), nt(4), k
+    real(wp) :: rs(1), rt(1), rm(3), rmt(3)
+    integer :: nf(size(pairs)), nft(size(pairs))
+    ni = [c%n_contact, c%n_flagged, c%n_cmp_det, merge(1, 0, c%edge_in_contact)]
+    call MPI_Allreduce(ni, nt, 4, MPI_INTEGER, MPI_SUM, dom%mcomm)
+    rs = c%force_normal
+    call MPI_Allreduce(rs, rt, 1, MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
+    rm = [c%radius, c%pen_before, c%pen_after]
+    call MPI_Allreduce(rm, rmt, 3, MPI_DOUBLE_PRECISION, MPI_MAX, dom%mcomm)
+    c%n_contact = nt(1)
+    c%n_flagged = nt(2)
+    c%n_cmp_det = nt(3)
+    c%edge_in_contact = nt(4) > 0
+    c%force_normal = rt(1)
+    c%radius = rmt(1)
+    c%pen_before = rmt(2)
+    c%pen_after = rmt(3)
+    if (size(pairs) == 0) return
+    nf = [(pairs(k)%step%n_flagged, k = 1, size(pairs))]
+    call MPI_Allreduce(nf, nft, size(pairs), MPI_INTEGER, MPI_SUM, dom%mcomm)
+    dom%flag_max = max(dom%flag_max, int(nft, i64))
+  end subroutine mpi_stats
+
+  !> The pairs' counters summed over the ranks (most in one step: the largest); with
+  !! restore each rank's own are put back after (a checkpoint's copy during the run).
+  subroutine mpi_counters(dom, pairs, restore)
+    class(mpi_domain_t), intent(inout) :: dom
+    type(contact_pair_t), intent(inout) :: pairs(:)
+    logical, intent(in) :: restore
+    type(contact_counters_t), allocatable :: keep(:)
+    integer :: k
+    integer(i64) :: a(5), b(5)
+    if (restore) allocate(keep(size(pairs)), source=[(pairs(k)%count, k = 1, size(pairs))])
+    do k = 1, size(pairs)
+      associate (c => pairs(k)%count)
+        a = [c%screened, c%evaluated, c%detected, c%contacts, c%skipped]
+        call MPI_Allreduce(a, b, 5, MPI_INTEGER8, MPI_SUM, dom%mcomm)
+        c%screened = b(1)
+        c%evaluated = b(2)
+        c%detected = b(3)
+        c%contacts = b(4)
+        c%skipped = b(5)
+        ! (the most flagged in one step over all ranks: mpi_stats)
+        c%detected_max = dom%flag_max(k)
+      end associate
+    end do
+    if (.not. restore) return
+    do k = 1, size(pairs)
+      pairs(k)%count = keep(k)
+    end do
+  end subroutine mpi_counters
+
+  !> Rank 0 wrote a snapshot: every rank restarts its parts' contact impulse sums, as the
+  !! snapshot restarted the gathered ones.
+  subroutine mpi_impulses(dom, solids, written)
+    class(mpi_domain_t), intent(inout) :: dom
+    type(solid_t), intent(inout) :: solids(:)
+    logical, intent(in) :: written
+    integer :: flag, k
+    flag = merge(1, 0, written)
+    call MPI_Bcast(flag, 1, MPI_INTEGER, 0, dom%mcomm)
+    if (flag == 0) return
+    do k = 1, size(solids)
+      solids(k)%ipoint = 0.0_wp
+      solids(k)%ipoint_time = 0.0_wp
+    end do
+  end subroutine mpi_impulses
+
+  !> A checkpoint of the state after step r%n, written by rank 0 from the whole solids
+  !! gathered, the solids' energies and the pairs' counters summed over the ranks: the
+  !! serial layout, which any number of ranks can restart from (the ghost sets of contact
+  !! and skip_far's schedule start afresh, which is exact).
+  subroutine mpi_checkpoint(dom, out, deck, bodies, r, solids, pairs, t_loop, err)
+    class(mpi_domain_t), intent(inout), target :: dom
+    type(run_files_t), intent(inout) :: out
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(run_record_t), intent(in) :: r
+    type(solid_t), intent(inout), target :: solids(:)
+    type(contact_pair_t), intent(inout), target :: pairs(:)
+    real(wp), intent(in) :: t_loop
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    real(wp) :: e(8), et(8)
+    logical :: skip(size(pairs))
+    do k = 1, size(solids)
+      call gather_solid(dom, solids(k), dom%lp(k), dom%gs(k), .true.)
+      e = solid_energies(solids(k))
+      call MPI_Reduce(e, et, 8, MPI_DOUBLE_PRECISION, MPI_SUM, 0, dom%mcomm)
+      if (.not. dom%root) cycle
+      call solid_set_energies(dom%gs(k), et)
+      dom%gs(k)%kappa = solids(k)%kappa
+    end do
+    call counters_then_write()
+  contains
+    !> The summed counters in the file, each rank's own kept for the run.
+    subroutine counters_then_write()
+      type(contact_counters_t), allocatable :: keep(:)
+      integer :: j
+      allocate(keep(size(pairs)), source=[(pairs(j)%count, j = 1, size(pairs))])
+      call mpi_counters(dom, pairs, .false.)
+      if (dom%root) then
+        ! (skip_far's schedule is each rank's own: not written)
+        skip = [(pairs(j)%side(1)%skip_far, j = 1, size(pairs))]
+        do j = 1, size(pairs)
+          pairs(j)%side(1)%skip_far = .false.
+        end do
+        call run_files_checkpoint(out, deck, bodies, r, dom%gs, pairs, t_loop, err)
+        do j = 1, size(pairs)
+          pairs(j)%side(1)%skip_far = skip(j)
+        end do
+      end if
+      do j = 1, size(pairs)
+        pairs(j)%count = keep(j)
+      end do
+    end subroutine counters_then_write
+  end subroutine mpi_checkpoint
+
+  !> The bytes the halo exchanges moved, over all ranks, per step; contact's ghost sets
+  !! (log lines of rank 0).
+  subroutine mpi_finish(dom, solids, pairs, r)
+    class(mpi_domain_t), intent(inout) :: dom
+    type(solid_t), intent(in) :: solids(:)
+    type(contact_pair_t), intent(inout) :: pairs(:)
+    type(run_record_t), intent(in) :: r
+    integer(i64) :: loc(2), tot(2), b(1), bt(1)
+    integer :: k, ng(2), ngt(2), nref(2)
+    real(wp) :: gh(2), ght(2)
+    character(len=240) :: line
+    loc = 0
+    ng = 0
+    do k = 1, size(solids)
+      loc = loc + [dom%halos(k)%plan%bytes_nodes, dom%halos(k)%plan%bytes_points]
+      ng = ng + [solids(k)%np - size(solids(k)%own_n), solids(k)%nq - size(solids(k)%own_q)]
+    end do
+    call MPI_Allreduce(loc, tot, 2, MPI_INTEGER8, MPI_SUM, dom%mcomm)
+    call MPI_Allreduce(ng, ngt, 2, MPI_INTEGER, MPI_SUM, dom%mcomm)
+    if (dom%root) then
+      write(line, '(a,i0,a,i0,a,i0,a,es10.3,a,es10.3,a)') 'summary: MPI: ', &
+        dom%ranks%nranks, ' rank(s), ', ngt(1), ' ghost nodes and ', ngt(2), &
+        ' ghost points; the halos moved ', real(tot(1), wp)/max(r%n, 1), ' B (nodes) and ', &
+        real(tot(2), wp)/max(r%n, 1), ' B (points) per step'
+      write(*, '(a)') trim(line)
+    end if
+    ! contact with deforming masters: the refreshes of the ghost sets, the ghost master
+    ! particles (mean over the passes, summed over the ranks), the bytes contact moved
+    b = dom%ranks%bytes
+    call MPI_Allreduce(b, bt, 1, MPI_INTEGER8, MPI_SUM, dom%mcomm)
+    do k = 1, size(pairs)
+      if (.not. allocated(pairs(k)%dist)) cycle
+      call contact_dist_report(pairs(k), nref, gh)
+      call MPI_Allreduce(gh, ght, 2, MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
+      if (.not. dom%root) cycle
+      write(line, '(a,i0,a,i0,a,i0,a,f0.1,a,f0.1,a,es10.3,a)') 'summary: MPI: contact ', &
+        k, ': ghost sets refreshed ', nref(1), ' and ', nref(2), &
+        ' times (slave, master as masters), ', ght(1), ' and ', ght(2), &
+        ' ghost particles on average; contact moved ', real(bt(1), wp)/max(r%n, 1), &
+        ' B per step'
+      write(*, '(a)') trim(line)
+    end do
+  end subroutine mpi_finish
+
+  subroutine halo_node_array(h, x)
+    class(mpi_halo_t), intent(inout) :: h
+    real(wp), intent(inout) :: x(:, :)
+    call halo_nodes(h%plan, x)
+  end subroutine halo_node_array
+
+  !> Two nodal arrays x, y (2, local nodes) in one exchange.
+  subroutine halo_node_pair(h, x, y)
+    class(mpi_halo_t), intent(inout) :: h
+    real(wp), intent(inout) :: x(:, :), y(:, :)
+    h%w(1:2, :) = x
+    h%w(3:4, :) = y
+    call halo_nodes(h%plan, h%w)
+    x = h%w(1:2, :)
+    y = h%w(3:4, :)
+  end subroutine halo_node_pair
+
+  subroutine halo_point_array(h, x)
+    class(mpi_halo_t), intent(inout) :: h
+    real(wp), intent(inout) :: x(:, :)
+    call halo_points(h%plan, x)
+  end subroutine halo_point_array
+end module mpi_domain_m
