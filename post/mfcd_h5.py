@@ -62,6 +62,7 @@ Root attributes are in f.attrs (decoded); a run continued with --restart has f.r
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
@@ -70,7 +71,8 @@ import h5py
 import numpy as np
 
 __all__ = ["decode", "decode_attrs", "Body", "QuerySet", "MfcdFile", "open_run",
-           "SnapshotBody", "Snapshot", "parse_deck", "deck_group", "FIELDS", "field_values",
+           "SnapshotBody", "Snapshot", "parse_deck", "deck_group", "deck_default", "deck_vars",
+           "read_deck_vars", "FIELDS", "field_values",
            "CELL_FIELDS", "cell_field_values", "is_timing", "TIMING_VALUES", "DetField"]
 
 QUERY_KINDS = ("line", "grid", "points")
@@ -358,12 +360,71 @@ def _strip_comment(line: str) -> str:
     return line
 
 
+# the deck's description (src/deck_vars.tsv): each variable's type, count and default, the
+# same file mfcd's namelists and checks are generated from
+DECK_VARS_PATH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                              "src", "deck_vars.tsv")
+
+
+def _literal(text: str, typ: str):
+    """A literal of the description ('0.1', "'tensor'", '.true.', '0, 0') as Python."""
+    vals = [_typed(_value(t), typ) for t in re.findall(r"'[^']*'|[^,\s]+", text)]
+    return vals[0] if len(vals) == 1 else vals
+
+
+def read_deck_vars(path: str = DECK_VARS_PATH) -> Dict[tuple, dict]:
+    """{(group, name): {type, size, unit, default, valid}} of the deck's description; the
+    default is None where the description gives none (unset, derived by the reader)."""
+    out: Dict[tuple, dict] = {}
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            line = line.rstrip("\n")
+            if not line or line.startswith("#"):
+                continue
+            group, name, typ, dims, _length, unit, default, valid, _hint = line.split("\t")
+            size = 1
+            for d in ([] if dims == "-" else dims.split()):
+                size *= int(d)
+            dflt = None
+            if default not in ("unset", "huge", "-huge") and not default.startswith("derived "):
+                dflt = _literal(default, typ)
+            out[(group, name)] = {"type": typ, "size": size, "unit": unit, "default": dflt,
+                                  "valid": valid}
+    return out
+
+
+_DECK_VARS: Optional[Dict[tuple, dict]] = None
+
+
+def deck_vars() -> Dict[tuple, dict]:
+    """The deck's description (read_deck_vars), read once; {} without the source tree."""
+    global _DECK_VARS
+    if _DECK_VARS is None:
+        _DECK_VARS = read_deck_vars() if os.path.exists(DECK_VARS_PATH) else {}
+    return _DECK_VARS
+
+
+def _typed(v, typ: str):
+    """v (from _value) as the description's type: int, float, bool or str."""
+    if typ == "real" and isinstance(v, (int, float)) and not isinstance(v, bool):
+        return float(v)
+    if typ == "integer" and isinstance(v, (int, float)) and not isinstance(v, bool):
+        return int(v)
+    if typ == "string":
+        return v if isinstance(v, str) else str(v)
+    return v
+
+
 def parse_deck(text: str) -> List[tuple]:
     """The namelist groups of a deck text, in order: [(group, {variable: value}), ...].
 
-    A small reader for post-processing, not a Fortran namelist parser: names are lower-cased,
-    a value with one entry is a scalar (float, int, bool or str), with several a list.
+    A small reader for post-processing, not a Fortran namelist parser: names are lower-cased;
+    values are typed by the deck's description (src/deck_vars.tsv): reals float, integers
+    int, logicals bool, strings str; an array variable (lo, velocity, snapshot_times) is a
+    list, a scalar one value. A variable the description does not know keeps the reader's
+    guess (one entry a scalar, several a list). A repeat count r*v gives r values.
     """
+    desc = deck_vars()
     body = "\n".join(_strip_comment(l) for l in text.splitlines())
     groups = []
     # a group runs from &name to the first '/' outside quotes
@@ -374,18 +435,39 @@ def parse_deck(text: str) -> List[tuple]:
         vals: Dict[str, object] = {}
         toks = re.findall(r"'[^']*'|\"[^\"]*\"|=|,|[^\s,=]+", content)
         key, cur = None, []
+
+        def store():
+            d = desc.get((name, re.sub(r"\(.*", "", key)))
+            if d is None:
+                vals[key] = cur[0] if len(cur) == 1 else cur
+                return
+            typed = [_typed(v, d["type"]) for v in cur]
+            vals[key] = typed if d["size"] > 1 and "(" not in key else \
+                (typed[0] if len(typed) == 1 else typed)
+
         for i, t in enumerate(toks):
             if t not in ("=", ",") and i + 1 < len(toks) and toks[i + 1] == "=" \
                     and re.match(r"[A-Za-z]\w*(\(.*\))?$", t):
                 if key is not None:
-                    vals[key] = cur[0] if len(cur) == 1 else cur
+                    store()
                 key, cur = t.lower(), []
             elif t not in ("=", ","):
-                cur.append(_value(t))
+                rep = re.fullmatch(r"(\d+)\*(.+)", t) if t[0] not in "'\"" else None
+                if rep:
+                    cur.extend([_value(rep.group(2))] * int(rep.group(1)))
+                else:
+                    cur.append(_value(t))
         if key is not None:
-            vals[key] = cur[0] if len(cur) == 1 else cur
+            store()
         groups.append((name, vals))
     return groups
+
+
+def deck_default(group: str, name: str):
+    """The default of variable name of &group from the deck's description (None where the
+    reader derives it or the description is not at hand)."""
+    d = deck_vars().get((group.lower(), name.lower()))
+    return None if d is None else d["default"]
 
 
 def deck_group(text: str, group: str, **match) -> Optional[Dict[str, object]]:

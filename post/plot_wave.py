@@ -35,10 +35,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mfcd_h5 import MfcdFile, deck_group, parse_deck  # noqa: E402
+from mfcd_h5 import MfcdFile, deck_default, deck_group, parse_deck  # noqa: E402
 
-# defaults of material_params_t (src/material_m.f90) for variables a deck leaves out
-MATERIAL_DEFAULTS = {"density": 7800.0, "youngs_modulus": 211.0e9, "poisson_ratio": 0.3}
+# the material constants the wave speed needs; a deck that leaves one out has its default
+MATERIAL_CONSTANTS = ("density", "youngs_modulus", "poisson_ratio")
 
 
 def wave_parameters(f: MfcdFile, body: str) -> dict:
@@ -47,7 +47,7 @@ def wave_parameters(f: MfcdFile, body: str) -> dict:
     if spec is None:
         raise SystemExit(f"plot_wave: no &body name = '{body}' in the deck stored in {f.path}")
     mat = deck_group(f.deck, "material", name=spec.get("material", "")) or {}
-    prm = {k: float(mat.get(k, d)) for k, d in MATERIAL_DEFAULTS.items()}
+    prm = {k: float(mat.get(k, deck_default("material", k))) for k in MATERIAL_CONSTANTS}
     bc = None
     for g, vals in parse_deck(f.deck):
         if g == "bc" and vals.get("body") == body and \

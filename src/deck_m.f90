@@ -19,7 +19,8 @@ module deck_m
   private
   public :: deck_t, run_params_t, body_spec_t, detection_spec_t, output_spec_t
   public :: material_spec_t, solver_spec_t, bc_spec_t, contact_spec_t
-  public :: read_deck, max_vertices, max_points, max_geo_numbers, unset, untyped_vars
+  public :: read_deck, max_vertices, max_points, max_geo_numbers, unset
+  public :: deck_var_t, deck_vars, var_index, choices_text
   public :: body_count_var, body_place_var, body_make_vars
 
   integer, parameter :: max_vertices = 64
@@ -38,13 +39,7 @@ module deck_m
   integer(i64), parameter :: max_lattice = 50000000_i64
   !> Most query points of one &detection set (line or grid).
   integer(i64), parameter :: max_queries = 100000000_i64
-  integer, parameter :: path_len = 512
-  !> The lengths of the deck's other strings (their namelist variables are declared with
-  !! them, and string_length gives them to the check that refuses a longer value: gfortran
-  !! would cut it silently).
-  integer, parameter :: title_len = 128, name_len = 64, word_len = 16, window_len = 8, &
-    basis_len = 20, role_len = 10, integration_len = 6, discretization_len = 4, &
-    model_len = 32
+  include 'deck_lengths.inc'
   !> Largest deck read (bytes): a deck is a page of namelists.
   integer, parameter :: max_deck_bytes = 16777216
   !> Marks an array entry the deck did not set.
@@ -55,151 +50,174 @@ module deck_m
   !> The groups a deck may give more than once (each of the others at most once).
   character(len=*), parameter :: repeatable_groups(4) = [character(len=8) :: &
     'body', 'material', 'bc', 'contact']
-  character(len=*), parameter :: modes(2) = [character(len=8) :: 'detect', 'dynamic']
-  character(len=*), parameter :: roles(2) = [character(len=10) :: 'deformable', 'rigid']
-  character(len=*), parameter :: discretizations(2) = [character(len=4) :: 'rkpm', 'fem']
-  character(len=*), parameter :: integrations(3) = [character(len=6) :: &
-    'scni', 'gauss', 'direct']
   integer, parameter :: max_materials = 8
   integer, parameter :: max_bcs = 32
   integer, parameter :: max_snapshots = 256
   integer, parameter :: max_contacts = 8
-  character(len=*), parameter :: geometries(2) = [character(len=12) :: &
-    'plane', 'axisymmetric']
-  character(len=*), parameter :: shapes(6) = [character(len=14) :: &
-    'segment', 'rectangle', 'polygon', 'annulus_sector', 'file', 'geo']
+
+  !> A deck variable (src/deck_vars.tsv, whose header says what each column means): its
+  !! group and name; typ 'r' real, 'i' integer, 'l' logical, 's' string; how many values
+  !! it holds; a string's characters (0 for the others); unit; what a given value must be
+  !! (any, one of 'a' 'b' ..., an interval [a, b] (a, b] [a, b) (a, b), or > a, >= a, < a,
+  !! <= a); and the hint said when a value is refused.
+  type :: deck_var_t
+    character(len=9) :: group
+    character(len=17) :: name
+    character :: typ
+    integer :: size
+    integer :: length
+    character(len=8) :: unit
+    character(len=80) :: valid
+    character(len=192) :: hint
+  end type deck_var_t
+
+  include 'deck_vars_table.inc'
+
+  !> Where check_groups is in the deck text t (n characters): at t(i), on line lineno, in
+  !! group (its text for messages gtext, its index ig in known_groups) or not, after the
+  !! variable var (nvals values so far; subscripted: var(...) =); per group how many were
+  !! given (nth), the line of the first and of the end of the last.
+  type :: deck_scan_t
+    character(len=:), allocatable :: t
+    integer :: n = 0, i = 1, lineno = 1, ig = 0, nvals = 0
+    logical :: in_group = .false., subscripted = .false.
+    character(len=:), allocatable :: group, var, gtext
+    integer :: nth(size(known_groups)) = 0, first(size(known_groups)) = 0
+    integer :: last_end(size(known_groups)) = 0
+  end type deck_scan_t
 
   type :: run_params_t
-    character(len=title_len) :: title = ''
-    character(len=word_len) :: mode = 'detect'
-    integer :: ndim = 2
-    character(len=word_len) :: geometry = 'plane'
+    character(len=run_title_len) :: title
+    character(len=run_mode_len) :: mode
+    integer :: ndim
+    character(len=run_geometry_len) :: geometry
   end type run_params_t
 
   type :: body_spec_t
-    character(len=name_len) :: name = ''
-    character(len=word_len) :: shape = ''
-    real(wp) :: lo(3) = unset, hi(3) = unset
-    integer :: n(3) = 0
-    real(wp) :: vertices(2, max_vertices) = unset
+    character(len=body_name_len) :: name
+    character(len=body_shape_len) :: shape
+    real(wp) :: lo(3), hi(3)
+    integer :: n(3)
+    real(wp) :: vertices(2, max_vertices)
     integer :: nvert = 0
-    real(wp) :: spacing(3) = unset
-    real(wp) :: origin(2) = unset
-    real(wp) :: center(2) = 0.0_wp
-    real(wp) :: r_inner = 0.0_wp, r_outer = 0.0_wp
-    real(wp) :: theta_start = 0.0_wp, theta_end = 360.0_wp   !< degrees in the deck
-    character(len=path_len) :: file = ''
+    real(wp) :: spacing(3)
+    real(wp) :: origin(2)
+    real(wp) :: center(2)
+    real(wp) :: r_inner, r_outer
+    real(wp) :: theta_start, theta_end   !< degrees in the deck
+    character(len=body_file_len) :: file
     !> shape 'geo': the gmsh parser numbers set before the .geo script is read, as names
     !! (ngeo of them) and values
-    character(len=name_len) :: geo_names(max_geo_numbers) = ''
-    real(wp) :: geo_values(max_geo_numbers) = unset
+    character(len=body_geo_names_len) :: geo_names(max_geo_numbers)
+    real(wp) :: geo_values(max_geo_numbers)
     integer :: ngeo = 0
     !> shape 'geo': the limits on meshing the script, wall-clock seconds and triangles
-    real(wp) :: geo_time_limit = unset
-    integer :: geo_max_elements = -1
+    real(wp) :: geo_time_limit
+    integer :: geo_max_elements
     !> shape 'geo': the script's model, read once when the deck is checked (geo_script_m);
     !! what is meshed is exactly what was checked
     type(geo_model_t) :: geo
-    character(len=word_len) :: kernel = 'cubic_spline'
-    character(len=window_len) :: window = 'tensor'
-    character(len=basis_len) :: basis = 'bilinear'
-    real(wp) :: support_factor(3) = unset
-    character(len=role_len) :: role = 'deformable'
-    character(len=name_len) :: material = ''
-    real(wp) :: velocity(3) = 0.0_wp       !< initial velocity (m/s)
-    character(len=integration_len) :: integration = 'scni'
-    real(wp) :: stabilization = 0.1_wp     !< SCNI sub-cell stabilization alpha (0: off)
+    character(len=body_kernel_len) :: kernel
+    character(len=body_window_len) :: window
+    character(len=body_basis_len) :: basis
+    real(wp) :: support_factor(3)
+    character(len=body_role_len) :: role
+    character(len=body_material_len) :: material
+    real(wp) :: velocity(3)   !< initial velocity (m/s)
+    character(len=body_integration_len) :: integration
+    real(wp) :: stabilization   !< SCNI sub-cell stabilization alpha (0: off)
     !> 'rkpm' (particles) or 'fem' (CST4 elements on the n(1) x n(2) lattice's boxes)
-    character(len=discretization_len) :: discretization = 'rkpm'
+    character(len=body_discretization_len) :: discretization
     !> random offset of the interior particles, a fraction of the spacing (0: the lattice)
-    real(wp) :: perturbation = 0.0_wp
-    integer :: perturbation_seed = 1       !< seed of the offsets (xorshift64)
+    real(wp) :: perturbation
+    integer :: perturbation_seed   !< seed of the offsets (xorshift64)
     integer :: kid = 0, wshape = 0, bid = 0
-    integer :: imat = 0                    !< index into deck%materials
+    integer :: imat = 0   !< index into deck%materials
   end type body_spec_t
 
   !> A named material (&material): its constitutive model and parameters.
   type :: material_spec_t
-    character(len=name_len) :: name = ''
+    character(len=material_name_len) :: name = ''
     type(material_params_t) :: params
   end type material_spec_t
 
   !> Time integration and run control (&solver).
   type :: solver_spec_t
-    real(wp) :: t_end = 0.0_wp            !< end time (s)
-    real(wp) :: dt = 0.0_wp               !< fixed step (s); 0: cfl x critical step
-    real(wp) :: cfl = 0.5_wp              !< fraction of the estimated critical step
-    integer :: log_every = 0              !< log line every N steps (0: about 50 lines a run)
-    integer :: history_every = 0          !< history row every N steps (0: as log_every)
-    real(wp) :: snapshot_times(max_snapshots) = unset
+    real(wp) :: t_end   !< end time (s)
+    real(wp) :: dt   !< fixed step (s); 0: cfl x critical step
+    real(wp) :: cfl   !< fraction of the estimated critical step
+    integer :: log_every   !< log line every N steps (0: about 50 lines a run)
+    integer :: history_every   !< history row every N steps (0: as log_every)
+    real(wp) :: snapshot_times(max_snapshots)
     integer :: nsnap = 0
-    real(wp) :: energy_tol = 0.05_wp      !< stop when |residual| > tol x energy scale
-    integer :: max_steps = 100000000
+    real(wp) :: energy_tol   !< stop when |residual| > tol x energy scale
+    integer :: max_steps
     !> points whose nodes all still move in the body's initial uniform translation skip F,
     !! the material update and the internal force (exact to round-off)
-    logical :: skip_quiet = .true.
+    logical :: skip_quiet
     !> split a step where a few points' critical step falls below it: those points and
     !! their nodes advance in 2^L sub-steps, the rest once (element meshes against rigid
     !! masters; doc/solver.md, "Subcycling")
-    logical :: subcycle = .false.
+    logical :: subcycle
   end type solver_spec_t
 
   !> A kinematic condition (&bc) on the particles of a body inside a reference box.
   type :: bc_spec_t
-    character(len=name_len) :: body = ''
-    real(wp) :: region_lo(3) = -huge(1.0_wp), region_hi(3) = huge(1.0_wp)
-    integer :: component = 0              !< 1 or 2
-    character(len=role_len) :: kind = 'fixed'   !< 'fixed' or 'velocity'
-    real(wp) :: value = 0.0_wp            !< prescribed velocity (m/s)
+    character(len=bc_body_len) :: body
+    real(wp) :: region_lo(3), region_hi(3)
+    integer :: component   !< 1 or 2
+    character(len=bc_kind_len) :: kind   !< 'fixed' or 'velocity'
+    real(wp) :: value   !< prescribed velocity (m/s)
     integer :: ibody = 0
   end type bc_spec_t
 
   !> A master/slave contact pair (&contact), Sections 2 and 5.
   type :: contact_spec_t
-    character(len=name_len) :: master = '', slave = ''
-    real(wp) :: eps_cr = 5.0e-10_wp        !< det(M_master) threshold (paper: 5e-10)
-    real(wp) :: eps_rel = 0.0_wp           !< or a fraction of the master's plateau
-    real(wp) :: mu = 0.0_wp                !< Coulomb friction coefficient
+    character(len=contact_master_len) :: master
+    character(len=contact_slave_len) :: slave
+    real(wp) :: eps_cr   !< det(M_master) threshold (paper: 5e-10)
+    real(wp) :: eps_rel   !< or a fraction of the master's plateau
+    real(wp) :: mu   !< Coulomb friction coefficient
     !> 'det_m' (the paper's det(M) screen, eqs. 25-28) or 'node_to_segment' (a bucket-sorted
     !! closest-segment search, Benson-Hallquist style: the paper's comparison)
-    character(len=word_len) :: detector = 'det_m'
-    logical :: compare_detectors = .false. !< also evaluate the other detector, for counters
+    character(len=contact_detector_len) :: detector
+    logical :: compare_detectors   !< also evaluate the other detector, for counters
     !> skip slave particles that cannot have reached the master's box since they were last
     !! found outside it (a bound on their motion); exact: the same results
-    logical :: skip_far = .true.
-    real(wp) :: edge_point(3) = -huge(1.0_wp)  !< reference point of a slave particle whose
+    logical :: skip_far
+    real(wp) :: edge_point(3)   !< reference point of a slave particle whose
                                            !< contact and separation times are reported (m)
     !> eq. (93) against a deformable master with the master nodes' masses shared among the
     !! particles that push them (contact_params_t%shared_mass)
-    logical :: shared_mass = .false.
+    logical :: shared_mass
     !> master = slave: self-contact; a point's reference neighbours, within self_radius
     !! times its largest support, take no part in its det(M) or its gap
-    real(wp) :: self_radius = 2.0_wp
+    real(wp) :: self_radius
     integer :: imaster = 0, islave = 0
   end type contact_spec_t
 
   type :: detection_spec_t
     logical :: present = .false.
-    character(len=name_len) :: body = ''
-    real(wp) :: eps_cr = 5.0e-10_wp
-    real(wp) :: eps_rel = 0.0_wp
-    real(wp) :: line_from(3) = unset, line_to(3) = unset
-    integer :: line_n = 0
-    real(wp) :: grid_lo(3) = unset, grid_hi(3) = unset
-    integer :: grid_n(3) = 0
-    real(wp) :: points(3, max_points) = unset
+    character(len=detection_body_len) :: body
+    real(wp) :: eps_cr
+    real(wp) :: eps_rel
+    real(wp) :: line_from(3), line_to(3)
+    integer :: line_n
+    real(wp) :: grid_lo(3), grid_hi(3)
+    integer :: grid_n(3)
+    real(wp) :: points(3, max_points)
     integer :: npoints = 0
   end type detection_spec_t
 
   type :: output_spec_t
-    character(len=path_len) :: file = ''
-    logical :: overwrite = .true.
+    character(len=output_file_len) :: file
+    logical :: overwrite
     !> det(M) of each contact pair's master and slave on a grid at every snapshot (Figs. 9-10)
-    logical :: det_fields = .false.
-    real(wp) :: det_grid_lo(2) = unset, det_grid_hi(2) = unset
-    integer :: det_grid_n(2) = [201, 101]
+    logical :: det_fields
+    real(wp) :: det_grid_lo(2), det_grid_hi(2)
+    integer :: det_grid_n(2)
     !> mode dynamic: a checkpoint (<stem>.checkpoint.h5) every this many steps; 0: none
-    integer :: checkpoint_every = 0
+    integer :: checkpoint_every
   end type output_spec_t
 
   type :: deck_t
@@ -337,178 +355,196 @@ contains
   subroutine check_groups(deck, err)
     type(deck_t), intent(in) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=:), allocatable :: t, group, var, gtext
-    integer :: i, n, lineno, j, k, ig, nth(size(known_groups)), first(size(known_groups))
-    integer :: last_end(size(known_groups)), nvals
-    logical :: in_group, subscripted
-    character :: qc
-    t = deck%text
-    n = len(t)
-    i = 1
-    lineno = 1
-    in_group = .false.
-    group = ''
-    var = ''
-    gtext = ''
-    nth = 0
-    first = 0
-    last_end = 0
-    ig = 0
-    nvals = 0
-    subscripted = .false.
-    do while (i <= n)
-      select case (t(i:i))
+    type(deck_scan_t) :: sc
+    integer :: j
+    sc%t = deck%text
+    sc%n = len(sc%t)
+    do while (sc%i <= sc%n)
+      select case (sc%t(sc%i:sc%i))
       case (achar(10))
-        lineno = lineno + 1
-        i = i + 1
+        sc%lineno = sc%lineno + 1
+        sc%i = sc%i + 1
       case ("'", '"')
-        qc = t(i:i)
-        j = i + 1
-        do while (j <= n)
-          if (t(j:j) == qc) then
-            ! a doubled quote is a quote inside the string
-            if (j == n) exit
-            if (t(j + 1:j + 1) /= qc) exit
-            j = j + 1
-          else if (t(j:j) == achar(10)) then
-            lineno = lineno + 1
-          end if
-          j = j + 1
-        end do
-        if (in_group) then
-          call check_value(deck, lineno, group, gtext, var, t(i:min(j, n)), .true., err)
-          if (.not. allocated(err)) call count_values(t(i:min(j, n)))
-          if (allocated(err)) return
-        end if
-        i = j + 1
+        call scan_quoted(deck, sc, err)
       case ('!')
-        do while (i <= n)
-          if (t(i:i) == achar(10)) exit
-          i = i + 1
-        end do
+        j = index(sc%t(sc%i:), achar(10))
+        sc%i = merge(sc%n + 1, sc%i + j - 1, j == 0)
       case ('&')
-        j = name_end(t, i + 1)
-        if (j <= n) then
-          if (is_non_ascii(t(j:j))) then
-            call non_ascii_error(deck, lineno, 'the group name', t(i:name_end(t, j, .true.) - 1), &
-              err)
-            return
-          end if
-        end if
-        group = lower(t(i + 1:j - 1))
-        if (group /= 'end' .and. .not. any(known_groups == group)) then
-          call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
-            ": unknown namelist group &"//group//"; valid groups: "// &
-            join_names(known_groups)//" (see doc/deck.md)")
-          return
-        end if
-        in_group = group /= 'end'
-        var = ''
-        if (in_group) then
-          do ig = 1, size(known_groups)
-            if (known_groups(ig) == group) exit
-          end do
-          nth(ig) = nth(ig) + 1
-          if (nth(ig) == 1) first(ig) = lineno
-          if (nth(ig) > 1 .and. .not. any(repeatable_groups == group)) then
-            call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//": group &"// &
-              group//" is given a second time (first at line "//itoa(first(ig))//"); give "// &
-              "it once: only the first would be read (repeatable groups: "// &
-              join_names(repeatable_groups)//")")
-            return
-          end if
-          ! gfortran reads on from the line after the one where a group ends
-          if (nth(ig) > 1 .and. last_end(ig) == lineno) then
-            call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//": group &"// &
-              group//" "//itoa(nth(ig))//" starts on the line where &"//group//" "// &
-              itoa(nth(ig) - 1)//" ends, and would be skipped; start each group on a new line")
-            return
-          end if
-          gtext = ", group &"//group
-          if (any(repeatable_groups == group)) gtext = gtext//' ('//group//' '// &
-            itoa(nth(ig))//')'
-        end if
-        i = j
+        call scan_group_start(deck, sc, err)
       case ('/')
-        if (in_group) last_end(ig) = lineno
-        in_group = .false.
-        i = i + 1
+        if (sc%in_group) sc%last_end(sc%ig) = sc%lineno
+        sc%in_group = .false.
+        sc%i = sc%i + 1
       case (' ', ',', '=', achar(9), achar(13))
-        i = i + 1
+        sc%i = sc%i + 1
       case default
-        if (.not. in_group) then
-          i = i + 1
-          cycle
+        if (sc%in_group) then
+          call scan_word(deck, sc, err)
+        else
+          sc%i = sc%i + 1
         end if
-        j = name_end(t, i)
-        if (is_name_start(t(i:i)) .and. j <= n) then
-          if (is_non_ascii(t(j:j))) then
-            call non_ascii_error(deck, lineno, gtext(3:)//': the variable name', &
-              t(i:name_end(t, j, .true.) - 1), err)
-            return
-          end if
-        end if
-        k = after_subscript(t, j)
-        if (is_name_start(t(i:i)) .and. k <= n) then
-          if (t(k:k) == '=' .and. .not. is_value_word(lower(t(i:j - 1)))) then
-            ! a variable: name [(subscript)] =
-            var = lower(t(i:j - 1))
-            nvals = 0
-            subscripted = index(t(j:k), "(") > 0
-            if (.not. var_known(group, var)) then
-              call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)// &
-                ", group &"//group//": unknown variable '"//var//"'"// &
-                nearest_hint(group, var)//"; variables of &"//group//": "// &
-                group_vars(group)//" (see doc/deck.md)")
-              return
-            end if
-            i = k + 1
-            cycle
-          end if
-        end if
-        ! an unquoted value: up to the next separator
-        j = i
-        do while (j <= n)
-          if (index(" ,/!&'"""//achar(9)//achar(10)//achar(13), t(j:j)) > 0) exit
+      end select
+      if (allocated(err)) return
+    end do
+  end subroutine check_groups
+
+  !> A quoted string at t(i) (quotes included, a doubled quote inside it): its value
+  !! checked when it is in a group; i moves past it.
+  subroutine scan_quoted(deck, sc, err)
+    type(deck_t), intent(in) :: deck
+    type(deck_scan_t), intent(inout) :: sc
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j, line0
+    character :: qc
+    associate (t => sc%t, n => sc%n, i => sc%i)
+      qc = t(i:i)
+      line0 = sc%lineno
+      j = i + 1
+      do while (j <= n)
+        if (t(j:j) == qc) then
+          ! a doubled quote is a quote inside the string
+          if (j == n) exit
+          if (t(j + 1:j + 1) /= qc) exit
           j = j + 1
-        end do
-        if (any([(is_non_ascii(t(k:k)), k = i, j - 1)])) then
-          call non_ascii_error(deck, lineno, gtext(3:)//', variable '//var//': the value', &
-            t(i:j - 1), err)
+        else if (t(j:j) == achar(10)) then
+          sc%lineno = sc%lineno + 1
+        end if
+        j = j + 1
+      end do
+      if (sc%in_group) then
+        call check_value(deck, sc%lineno, sc%group, sc%gtext, sc%var, t(i:min(j, n)), &
+          .true., err)
+        if (.not. allocated(err)) call scan_count_values(deck, sc, t(i:min(j, n)), err)
+      end if
+      i = j + 1
+    end associate
+  end subroutine scan_quoted
+
+  !> A group starts at t(i) ('&name'): known, not repeated unless it may be, and on a line
+  !! of its own; i moves past the name.
+  subroutine scan_group_start(deck, sc, err)
+    type(deck_t), intent(in) :: deck
+    type(deck_scan_t), intent(inout) :: sc
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j
+    character(len=:), allocatable :: at
+    associate (t => sc%t, n => sc%n, i => sc%i, ig => sc%ig, nth => sc%nth)
+      at = "deck '"//deck%path//"' line "//itoa(sc%lineno)
+      j = name_end(t, i + 1)
+      if (j <= n) then
+        if (is_non_ascii(t(j:j))) then
+          call non_ascii_error(deck, sc%lineno, 'the group name', &
+            t(i:name_end(t, j, .true.) - 1), err)
           return
         end if
-        call check_value(deck, lineno, group, gtext, var, t(i:j - 1), .false., err)
-        if (.not. allocated(err)) call count_values(t(i:j - 1))
-        if (allocated(err)) return
-        i = j
-      end select
-    end do
-  contains
-    !> Count the values tok stands for (r*c: r of them) and refuse more than var holds,
-    !! unless a subscript placed them (lo(2) = ...).
-    subroutine count_values(tok)
-      character(len=*), intent(in) :: tok
-      integer :: star, r, ios, nmax
-      r = 1
-      star = index(tok, '*')
-      if (star > 1) then
-        read(tok(1:star - 1), *, iostat=ios) r
-        if (ios /= 0) r = 1
       end if
-      nvals = nvals + r
-      nmax = var_size(group, var)
-      if (subscripted .or. nmax == 0 .or. nvals <= nmax) return
-      if (nmax == 1) then
-        call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//gtext// &
-          ", variable "//var//": takes one value, and the deck gives more (the last "// &
-          tok//"); remove the extra values, or the missing 'name =' before them")
-      else
-        call set_error(err, "deck '"//deck%path//"' line "//itoa(lineno)//gtext// &
-          ", variable "//var//": takes at most "//itoa(nmax)//" values, and the deck "// &
-          "gives "//itoa(nvals)//"; remove the extra values")
+      sc%group = lower(t(i + 1:j - 1))
+      i = j
+      sc%in_group = sc%group /= 'end'
+      sc%var = ''
+      if (.not. sc%in_group) return
+      ! (gfortran 12's findloc does not pad a shorter character value)
+      do ig = size(known_groups), 1, -1
+        if (known_groups(ig) == sc%group) exit
+      end do
+      if (ig == 0) then
+        call set_error(err, at//": unknown namelist group &"//sc%group//"; valid groups: "// &
+          join_names(known_groups)//" (see doc/deck.md)")
+        return
       end if
-    end subroutine count_values
-  end subroutine check_groups
+      nth(ig) = nth(ig) + 1
+      if (nth(ig) == 1) sc%first(ig) = sc%lineno
+      if (nth(ig) > 1 .and. .not. any(repeatable_groups == sc%group)) then
+        call set_error(err, at//": group &"//sc%group//" is given a second time (first at "// &
+          "line "//itoa(sc%first(ig))//"); give it once: only the first would be read "// &
+          "(repeatable groups: "//join_names(repeatable_groups)//")")
+      else if (nth(ig) > 1 .and. sc%last_end(ig) == sc%lineno) then
+        ! gfortran reads on from the line after the one where a group ends
+        call set_error(err, at//": group &"//sc%group//" "//itoa(nth(ig))//" starts on "// &
+          "the line where &"//sc%group//" "//itoa(nth(ig) - 1)//" ends, and would be skipped; "// &
+          "start each group on a new line")
+      end if
+      sc%gtext = ", group &"//sc%group
+      if (any(repeatable_groups == sc%group)) sc%gtext = sc%gtext//' ('//sc%group//' '// &
+        itoa(nth(ig))//')'
+    end associate
+  end subroutine scan_group_start
+
+  !> In a group, at t(i): a variable (name [(subscript)] =), which must be known, or an
+  !! unquoted value of the current variable, checked; i moves past it.
+  subroutine scan_word(deck, sc, err)
+    type(deck_t), intent(in) :: deck
+    type(deck_scan_t), intent(inout) :: sc
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j, k
+    associate (t => sc%t, n => sc%n, i => sc%i)
+      j = name_end(t, i)
+      if (is_name_start(t(i:i)) .and. j <= n) then
+        if (is_non_ascii(t(j:j))) then
+          call non_ascii_error(deck, sc%lineno, sc%gtext(3:)//': the variable name', &
+            t(i:name_end(t, j, .true.) - 1), err)
+          return
+        end if
+      end if
+      k = after_subscript(t, j)
+      if (is_name_start(t(i:i)) .and. k <= n) then
+        if (t(k:k) == '=' .and. .not. is_value_word(lower(t(i:j - 1)))) then
+          sc%var = lower(t(i:j - 1))
+          sc%nvals = 0
+          sc%subscripted = index(t(j:k), "(") > 0
+          if (.not. var_known(sc%group, sc%var)) call set_error(err, "deck '"//deck%path// &
+            "' line "//itoa(sc%lineno)//", group &"//sc%group//": unknown variable '"// &
+            sc%var//"'"//nearest_hint(sc%group, sc%var)//"; variables of &"//sc%group// &
+            ": "//group_vars(sc%group)//" (see doc/deck.md)")
+          i = k + 1
+          return
+        end if
+      end if
+      ! an unquoted value: up to the next separator
+      j = i
+      do while (j <= n)
+        if (index(" ,/!&'"""//achar(9)//achar(10)//achar(13), t(j:j)) > 0) exit
+        j = j + 1
+      end do
+      if (any([(is_non_ascii(t(k:k)), k = i, j - 1)])) then
+        call non_ascii_error(deck, sc%lineno, sc%gtext(3:)//', variable '//sc%var// &
+          ': the value', t(i:j - 1), err)
+        return
+      end if
+      call check_value(deck, sc%lineno, sc%group, sc%gtext, sc%var, t(i:j - 1), .false., &
+        err)
+      if (.not. allocated(err)) call scan_count_values(deck, sc, t(i:j - 1), err)
+      i = j
+    end associate
+  end subroutine scan_word
+
+  !> Count the values tok stands for (r*c: r of them) and refuse more than the variable
+  !! holds, unless a subscript placed them (lo(2) = ...).
+  subroutine scan_count_values(deck, sc, tok, err)
+    type(deck_t), intent(in) :: deck
+    type(deck_scan_t), intent(inout) :: sc
+    character(len=*), intent(in) :: tok
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: star, r, ios, nmax
+    character(len=:), allocatable :: where
+    r = 1
+    star = index(tok, '*')
+    if (star > 1) then
+      read(tok(1:star - 1), *, iostat=ios) r
+      if (ios /= 0) r = 1
+    end if
+    sc%nvals = sc%nvals + r
+    nmax = var_size(sc%group, sc%var)
+    if (sc%subscripted .or. nmax == 0 .or. sc%nvals <= nmax) return
+    where = "deck '"//deck%path//"' line "//itoa(sc%lineno)//sc%gtext//", variable "//sc%var
+    if (nmax == 1) then
+      call set_error(err, where//": takes one value, and the deck gives more (the last "// &
+        tok//"); remove the extra values, or the missing 'name =' before them")
+    else
+      call set_error(err, where//": takes at most "//itoa(nmax)//" values, and the deck "// &
+        "gives "//itoa(sc%nvals)//"; remove the extra values")
+    end if
+  end subroutine scan_count_values
 
   !> One past the last name character from i (also past non-ASCII bytes when greedy).
   pure integer function name_end(t, i, greedy) result(j)
@@ -605,10 +641,15 @@ contains
       ! gfortran would cut a longer string to the variable's length without a word (a long
       ! output path would then name another file)
       if (typ == 's' .and. string_length(group, var) > 0) then
-        if (quoted_length(tok) > string_length(group, var)) call type_error('longer than '// &
-          itoa(string_length(group, var))//' characters, the most '//var//' holds; give '// &
-          'a shorter value (a path: a shorter or a relative one)')
+        if (quoted_length(tok) > string_length(group, var)) then
+          call type_error('longer than '//itoa(string_length(group, var))//' characters, '// &
+            'the most '//var//' holds; give a shorter value (a path: a shorter or a '// &
+            'relative one)')
+          return
+        end if
       end if
+      ! the value as the reader keeps it: quotes off, a doubled quote one, blanks trimmed
+      if (typ == 's') call valid_or_error(trim(unquoted(tok)), 0.0_wp)
       return
     end if
     ! an optional repeat count r*
@@ -639,6 +680,8 @@ contains
         call type_error('not a number; '//var//' takes '//expect)
       else if (.not. ieee_is_finite(x)) then
         call type_error(range_text)
+      else
+        call valid_or_error(tok, x)
       end if
     case ('i')
       if (verify(v, '0123456789+-') /= 0 .or. scan(v, '0123456789') == 0) then
@@ -646,8 +689,12 @@ contains
         return
       end if
       read(v, *, iostat=ios) ix
-      if (ios /= 0 .or. abs(ix) > int(huge(1), i64)) call type_error('outside the integer '// &
-        'range (at most '//itoa(huge(1))//'); give a smaller count')
+      if (ios /= 0 .or. abs(ix) > int(huge(1), i64)) then
+        call type_error('outside the integer range (at most '//itoa(huge(1))//'); give a '// &
+          'smaller count')
+      else
+        call valid_or_error(tok, real(ix, wp))
+      end if
     case ('l')
       if (v(1:1) == '.') v = v(2:)
       if (len(v) == 0) then
@@ -669,22 +716,37 @@ contains
       call set_error(err, where//", variable "//var//" = "//tok//": "//why//" (see "// &
         "doc/deck.md)")
     end subroutine type_error
+    !> The value (text t, number x) against what the variable's description allows.
+    subroutine valid_or_error(t, x)
+      character(len=*), intent(in) :: t
+      real(wp), intent(in) :: x
+      character(len=:), allocatable :: why
+      why = value_fault(var_index(group, var), t, x)
+      if (len(why) > 0) call type_error(why)
+    end subroutine valid_or_error
   end subroutine check_value
 
-  !> The characters of the quoted string q (its quotes taken off, a doubled quote one).
-  pure integer function quoted_length(q) result(n)
+  !> The text of the quoted string q: its quotes taken off, a doubled quote one.
+  pure function unquoted(q) result(t)
     character(len=*), intent(in) :: q
+    character(len=:), allocatable :: t
     integer :: j
-    n = 0
+    t = ''
     if (len(q) < 2) return
     j = 2
     do while (j < len(q))
-      n = n + 1
+      t = t//q(j:j)
       if (q(j:j) == q(1:1) .and. j + 1 < len(q)) then
         if (q(j + 1:j + 1) == q(1:1)) j = j + 1
       end if
       j = j + 1
     end do
+  end function unquoted
+
+  !> The characters of the quoted string q (its quotes taken off, a doubled quote one).
+  pure integer function quoted_length(q) result(n)
+    character(len=*), intent(in) :: q
+    n = len(unquoted(q))
   end function quoted_length
 
   !> The decimal exponent of the leading digit of the real literal v (12.5e3: 4, 0.03: -2,
@@ -768,29 +830,24 @@ contains
 
   pure logical function var_known(group, word)
     character(len=*), intent(in) :: group, word
-    var_known = index(', '//group_vars(group)//',', ', '//word//',') > 0
+    var_known = var_index(group, word) > 0
   end function var_known
 
   !> "; did you mean 'basis'?" for the valid name at the smallest edit distance (<= 3).
   pure function nearest_hint(group, word) result(hint)
     character(len=*), intent(in) :: group, word
-    character(len=:), allocatable :: hint, vars, best
-    integer :: a, z, d, dbest
-    vars = group_vars(group)//','
+    character(len=:), allocatable :: hint, best
+    integer :: i, d, dbest
     hint = ''
     best = ''
     dbest = 4
-    a = 1
-    do
-      z = index(vars(a:), ',')
-      if (z == 0) exit
-      d = edit_distance(trim(adjustl(vars(a:a + z - 2))), word)
+    do i = 1, size(deck_vars)
+      if (deck_vars(i)%group /= group) cycle
+      d = edit_distance(trim(deck_vars(i)%name), word)
       if (d < dbest) then
         dbest = d
-        best = trim(adjustl(vars(a:a + z - 2)))
+        best = trim(deck_vars(i)%name)
       end if
-      a = a + z
-      if (a > len(vars)) exit
     end do
     if (len(best) > 0) hint = "; did you mean '"//best//"'?"
   end function nearest_hint
@@ -799,15 +856,10 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=title_len) :: title
-    character(len=word_len) :: mode, geometry
-    integer :: ndim, ios
+    integer :: ios
     character(len=512) :: msg
-    namelist /run/ title, mode, ndim, geometry
-    title = ''
-    mode = 'detect'
-    ndim = 2
-    geometry = 'plane'
+    include 'deck_nml_run.inc'
+    include 'deck_default_run.inc'
     rewind(u)
     read(u, nml=run, iostat=ios, iomsg=msg)
     if (ios == iostat_end) then
@@ -820,15 +872,7 @@ contains
     end if
     mode = lower(mode)
     geometry = lower(geometry)
-    if (.not. any(modes == mode)) then
-      call bad(deck, 'run', 'mode', "'"//trim(mode)//"'", 'use one of: '// &
-        join_names(modes), err)
-    else if (ndim < 1 .or. ndim > 3) then
-      call bad(deck, 'run', 'ndim', itoa(ndim), 'use 1, 2 or 3', err)
-    else if (.not. any(geometries == geometry)) then
-      call bad(deck, 'run', 'geometry', "'"//trim(geometry)//"'", 'use one of: '// &
-        join_names(geometries), err)
-    else if (geometry == 'axisymmetric' .and. ndim /= 2) then
+    if (geometry == 'axisymmetric' .and. ndim /= 2) then
       call bad(deck, 'run', 'geometry', "'axisymmetric'", 'axisymmetric runs need ndim = 2', err)
     end if
     deck%run%title = title
@@ -841,64 +885,16 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=name_len) :: name
-    character(len=word_len) :: shape, kernel
-    character(len=window_len) :: window
-    character(len=basis_len) :: basis
-    character(len=path_len) :: file
-    real(wp) :: lo(3), hi(3), vertices(2, max_vertices), spacing(3), origin(2), center(2)
-    real(wp) :: r_inner, r_outer, theta_start, theta_end, support_factor(3), velocity(3)
-    real(wp) :: stabilization, perturbation
-    integer :: perturbation_seed
-    character(len=name_len) :: geo_names(max_geo_numbers)
-    real(wp) :: geo_values(max_geo_numbers), geo_time_limit
-    integer :: geo_max_elements
-    character(len=role_len) :: role
-    character(len=name_len) :: material
-    character(len=integration_len) :: integration
-    character(len=discretization_len) :: discretization
-    integer :: n(3), ios, k
+    integer :: ios, k
     character(len=512) :: msg
     type(body_spec_t) :: s, dflt
     type(body_spec_t), allocatable :: tmp(:)
-    namelist /body/ name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, &
-      r_outer, theta_start, theta_end, file, kernel, window, basis, support_factor, role, &
-      material, velocity, integration, stabilization, discretization, perturbation, &
-      perturbation_seed, geo_names, geo_values, geo_time_limit, geo_max_elements
+    include 'deck_nml_body.inc'
     allocate(tmp(max_bodies))
     rewind(u)
     k = 0
     do
-      name = dflt%name
-      shape = dflt%shape
-      lo = dflt%lo
-      hi = dflt%hi
-      n = dflt%n
-      vertices = dflt%vertices
-      spacing = dflt%spacing
-      origin = dflt%origin
-      center = dflt%center
-      r_inner = dflt%r_inner
-      r_outer = dflt%r_outer
-      theta_start = dflt%theta_start
-      theta_end = dflt%theta_end
-      file = dflt%file
-      kernel = dflt%kernel
-      window = dflt%window
-      basis = dflt%basis
-      support_factor = dflt%support_factor
-      role = dflt%role
-      material = dflt%material
-      velocity = dflt%velocity
-      integration = dflt%integration
-      stabilization = dflt%stabilization
-      discretization = dflt%discretization
-      perturbation = dflt%perturbation
-      perturbation_seed = dflt%perturbation_seed
-      geo_names = dflt%geo_names
-      geo_values = dflt%geo_values
-      geo_time_limit = dflt%geo_time_limit
-      geo_max_elements = dflt%geo_max_elements
+      include 'deck_default_body.inc'
       read(u, nml=body, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -964,8 +960,7 @@ contains
     type(body_spec_t), intent(inout) :: s
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: grp
-    integer :: nd, j, e1, e2
-    logical :: exists
+    integer :: nd, j
     nd = deck%run%ndim
     grp = 'body'
     if (len_trim(s%name) == 0) s%name = 'body'//itoa(k)
@@ -977,9 +972,10 @@ contains
         return
       end if
     end do
-    if (.not. any(shapes == s%shape)) then
-      call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", 'use one of: '// &
-        join_names(shapes), err)
+    ! (each value given is of its type and in its range already: check_value)
+    if (len_trim(s%shape) == 0) then
+      call bad(deck, grp, 'shape', "''", 'give the shape, one of: '// &
+        choices_text('body', 'shape'), err)
       return
     end if
     ! before the basis: a basis that does not exist in ndim is a symptom, the shape the cause
@@ -989,21 +985,56 @@ contains
         itoa(nd)//"); use shape = 'file' for other dimensions", err)
       return
     end if
-    if (.not. any(roles == s%role)) then
-      call bad(deck, grp, 'role', "'"//trim(s%role)//"'", 'use one of: '// &
-        join_names(roles), err)
+    call check_body_modes(deck, grp, s, err)
+    if (allocated(err)) return
+    s%kid = kernel_id(s%kernel)
+    s%wshape = window_shape_id(s%window)
+    s%bid = basis_id(s%basis, nd)
+    if (s%bid == 0) then
+      call bad(deck, grp, 'basis', "'"//trim(s%basis)//"'", 'use one of: '// &
+        join_names(basis_names)//" that exists in ndim = "//itoa(nd)// &
+        " (bilinear: 2D; trilinear: 3D; quadratic: 1D/2D; counterexample_1xy: 2D)", err)
       return
     end if
-    if (.not. any(integrations == s%integration)) then
-      call bad(deck, grp, 'integration', "'"//trim(s%integration)//"'", 'use one of: '// &
-        join_names(integrations)//" (scni is the default; direct is a negative control)", err)
-      return
+    if (s%support_factor(1) == unset) then
+      ! 2 dx suits linear and multilinear bases; a quadratic basis needs three particles per
+      ! direction at a corner, so rho > 2 dx (Theorem 3.1)
+      s%support_factor = merge(2.5_wp, 2.0_wp, basis_order(s%bid) > 1)
+    else
+      do j = 2, 3
+        if (s%support_factor(j) == unset) s%support_factor(j) = s%support_factor(j - 1)
+      end do
     end if
-    if (.not. any(discretizations == s%discretization)) then
-      call bad(deck, grp, 'discretization', "'"//trim(s%discretization)//"'", 'use one of: '// &
-        join_names(discretizations)//" (rkpm particles, the default; fem: CST4 elements)", err)
-      return
+    call check_body_shape(deck, grp, s, err)
+    if (allocated(err)) return
+    if (s%shape == 'geo') return
+    if (any(s%geo_names /= '')) then
+      call bad(deck, grp, 'geo_names', "'"//trim(s%geo_names(1))//"', ...", "gmsh parser "// &
+        "numbers are read by shape = 'geo' only (this body: shape '"//trim(s%shape)// &
+        "'); remove geo_names and geo_values", err)
+    else if (any(s%geo_values /= unset)) then
+      call bad(deck, grp, 'geo_values', rtoa(s%geo_values(1))//', ...', "gmsh parser "// &
+        "numbers are read by shape = 'geo' only (this body: shape '"//trim(s%shape)// &
+        "'); remove geo_values", err)
+    else if (s%geo_time_limit /= unset) then
+      call bad(deck, grp, 'geo_time_limit', rtoa(s%geo_time_limit), "the limits of "// &
+        "meshing a gmsh script are read by shape = 'geo' only (this body: shape '"// &
+        trim(s%shape)//"'); remove geo_time_limit", err)
+    else if (s%geo_max_elements /= -1) then
+      call bad(deck, grp, 'geo_max_elements', itoa(s%geo_max_elements), "the limits of "// &
+        "meshing a gmsh script are read by shape = 'geo' only (this body: shape '"// &
+        trim(s%shape)//"'); remove geo_max_elements", err)
     end if
+  end subroutine check_body
+
+  !> Body s (group text grp) against its discretization, role and the run's mode.
+  subroutine check_body_modes(deck, grp, s, err)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: grp
+    type(body_spec_t), intent(inout) :: s
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j, nd
+    nd = deck%run%ndim
     if (s%discretization == 'fem' .and. ((s%shape /= 'rectangle' .and. &
       s%shape /= 'annulus_sector' .and. s%shape /= 'file' .and. s%shape /= 'geo') .or. &
       nd /= 2)) then
@@ -1015,28 +1046,12 @@ contains
         trim(s%shape)//"'", err)
       return
     end if
-    if (s%stabilization < 0.0_wp .or. s%stabilization > 10.0_wp) then
-      call bad(deck, grp, 'stabilization', rtoa(s%stabilization), 'give the SCNI sub-cell '// &
-        'stabilization coefficient in [0, 10] (0 switches it off; 0.1 is the default)', err)
-      return
-    end if
-    if (s%perturbation < 0.0_wp .or. s%perturbation >= max_perturbation) then
-      call bad(deck, grp, 'perturbation', rtoa(s%perturbation), 'give the random offset of '// &
-        'the interior particles as a fraction of the spacing in [0, 0.5) (0, the default, '// &
-        'keeps the lattice; below 0.5 each particle stays inside its own lattice cell)', err)
-      return
-    end if
     if (s%perturbation > 0.0_wp .and. (s%discretization /= 'rkpm' .or. &
       (s%shape /= 'rectangle' .and. s%shape /= 'polygon'))) then
       call bad(deck, grp, 'perturbation', rtoa(s%perturbation), "particles are moved off "// &
         "the lattice of an RKPM 'rectangle' or 'polygon' body only (this body: shape '"// &
         trim(s%shape)//"', discretization '"//trim(s%discretization)//"'); give "// &
         "perturbation = 0 here", err)
-      return
-    end if
-    if (s%perturbation_seed < 0) then
-      call bad(deck, grp, 'perturbation_seed', itoa(s%perturbation_seed), 'give a seed '// &
-        '>= 0 (1 is the default; each seed gives its own, reproducible, particle cloud)', err)
       return
     end if
     if (deck%run%mode == 'dynamic' .and. s%role == 'deformable' .and. &
@@ -1077,39 +1092,17 @@ contains
         return
       end if
     end if
-    s%kid = kernel_id(s%kernel)
-    if (s%kid == 0) then
-      call bad(deck, grp, 'kernel', "'"//trim(s%kernel)//"'", 'use one of: '// &
-        join_names(kernel_names), err)
-      return
-    end if
-    s%wshape = window_shape_id(s%window)
-    if (s%wshape == 0) then
-      call bad(deck, grp, 'window', "'"//trim(s%window)//"'", 'use one of: '// &
-        join_names(window_shape_names), err)
-      return
-    end if
-    s%bid = basis_id(s%basis, nd)
-    if (s%bid == 0) then
-      call bad(deck, grp, 'basis', "'"//trim(s%basis)//"'", 'use one of: '// &
-        join_names(basis_names)//" that exists in ndim = "//itoa(nd)// &
-        " (bilinear: 2D; trilinear: 3D; quadratic: 1D/2D; counterexample_1xy: 2D)", err)
-      return
-    end if
-    if (s%support_factor(1) == unset) then
-      ! 2 dx suits linear and multilinear bases; a quadratic basis needs three particles per
-      ! direction at a corner, so rho > 2 dx (Theorem 3.1)
-      s%support_factor = merge(2.5_wp, 2.0_wp, basis_order(s%bid) > 1)
-    else
-      do j = 2, 3
-        if (s%support_factor(j) == unset) s%support_factor(j) = s%support_factor(j - 1)
-      end do
-    end if
-    if (any(s%support_factor(1:nd) <= 0.0_wp) .or. any(s%support_factor(1:nd) > 20.0_wp)) then
-      call bad(deck, grp, 'support_factor', rtoa(minval(s%support_factor(1:nd))), &
-        'use a value in (0, 20]; 2.0 is typical (rho = support_factor x spacing)', err)
-      return
-    end if
+  end subroutine check_body_modes
+
+  !> Body s (group text grp): the variables its shape needs, given and consistent.
+  subroutine check_body_shape(deck, grp, s, err)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: grp
+    type(body_spec_t), intent(inout) :: s
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j, nd, e1, e2
+    logical :: exists
+    nd = deck%run%ndim
     select case (s%shape)
     case ('segment')
       if (s%lo(1) == unset .or. s%hi(1) == unset .or. .not. s%hi(1) > s%lo(1)) then
@@ -1192,25 +1185,7 @@ contains
           'the path of a particle file in it (HDF5 .h5 or plain columns)', err)
       end if
     end select
-    if (allocated(err) .or. s%shape == 'geo') return
-    if (any(s%geo_names /= '')) then
-      call bad(deck, grp, 'geo_names', "'"//trim(s%geo_names(1))//"', ...", "gmsh parser "// &
-        "numbers are read by shape = 'geo' only (this body: shape '"//trim(s%shape)// &
-        "'); remove geo_names and geo_values", err)
-    else if (any(s%geo_values /= unset)) then
-      call bad(deck, grp, 'geo_values', rtoa(s%geo_values(1))//', ...', "gmsh parser "// &
-        "numbers are read by shape = 'geo' only (this body: shape '"//trim(s%shape)// &
-        "'); remove geo_values", err)
-    else if (s%geo_time_limit /= unset) then
-      call bad(deck, grp, 'geo_time_limit', rtoa(s%geo_time_limit), "the limits of "// &
-        "meshing a gmsh script are read by shape = 'geo' only (this body: shape '"// &
-        trim(s%shape)//"'); remove geo_time_limit", err)
-    else if (s%geo_max_elements /= -1) then
-      call bad(deck, grp, 'geo_max_elements', itoa(s%geo_max_elements), "the limits of "// &
-        "meshing a gmsh script are read by shape = 'geo' only (this body: shape '"// &
-        trim(s%shape)//"'); remove geo_max_elements", err)
-    end if
-  end subroutine check_body
+  end subroutine check_body_shape
 
   !> A shape = 'geo' body: file names a plain gmsh script (.geo) of at most geo_max_bytes,
   !! read once here; the parser numbers are pairs geo_names(k) = geo_values(k) given in a
@@ -1363,26 +1338,23 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=name_len) :: body
-    real(wp) :: eps_cr, eps_rel, line_from(3), line_to(3), grid_lo(3), grid_hi(3)
-    real(wp) :: points(3*max_points)
-    integer :: line_n, grid_n(3), ios, nd, j, nset
+    integer :: ios, nd, j, nset
     character(len=512) :: msg
     type(detection_spec_t) :: d
-    namelist /detection/ body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, &
-      grid_hi, grid_n, points
-    body = d%body
-    eps_cr = d%eps_cr
-    eps_rel = d%eps_rel
-    line_from = d%line_from
-    line_to = d%line_to
-    line_n = d%line_n
-    grid_lo = d%grid_lo
-    grid_hi = d%grid_hi
-    grid_n = d%grid_n
-    points = unset
+    include 'deck_nml_detection.inc'
+    include 'deck_default_detection.inc'
     rewind(u)
     read(u, nml=detection, iostat=ios, iomsg=msg)
+    d%body = body
+    d%eps_cr = eps_cr
+    d%eps_rel = eps_rel
+    d%line_from = line_from
+    d%line_to = line_to
+    d%line_n = line_n
+    d%grid_lo = grid_lo
+    d%grid_hi = grid_hi
+    d%grid_n = grid_n
+    deck%detection = d
     if (ios == iostat_end) then
       if (deck%run%mode == 'detect') call set_error(err, "deck '"//deck%path// &
         "': mode = 'detect' needs a &detection group (see doc/deck.md)")
@@ -1393,15 +1365,6 @@ contains
     end if
     nd = deck%run%ndim
     d%present = .true.
-    d%body = body
-    d%eps_cr = eps_cr
-    d%eps_rel = eps_rel
-    d%line_from = line_from
-    d%line_to = line_to
-    d%line_n = line_n
-    d%grid_lo = grid_lo
-    d%grid_hi = grid_hi
-    d%grid_n = grid_n
     ! points are consecutive ndim-tuples: points = x1, y1, x2, y2, ...
     nset = 0
     do j = 1, size(points)
@@ -1426,15 +1389,6 @@ contains
     if (.not. any(deck%bodies%name == body)) then
       call bad(deck, 'detection', 'body', "'"//trim(body)//"'", 'name one of the bodies: '// &
         join_names(deck%bodies%name), err)
-    else if (.not. (eps_cr > 0.0_wp)) then
-      call bad(deck, 'detection', 'eps_cr', rtoa(eps_cr), &
-        'give a small positive threshold (paper: 5e-10)', err)
-    else if (eps_rel < 0.0_wp .or. eps_rel >= 1.0_wp) then
-      call bad(deck, 'detection', 'eps_rel', rtoa(eps_rel), &
-        'give 0 (off) or a fraction of the interior plateau in (0, 1), e.g. 1e-5', err)
-    else if (line_n > max_queries) then
-      call bad(deck, 'detection', 'line_n', itoa(line_n), 'give at most 1e8 points on the '// &
-        'line (memory)', err)
     else if (line_n /= 0 .and. (line_n < 2 .or. any(line_from(1:nd) == unset) .or. &
       any(line_to(1:nd) == unset))) then
       call bad(deck, 'detection', 'line_n/line_from/line_to', itoa(line_n), &
@@ -1460,36 +1414,15 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=name_len) :: name
-    character(len=model_len) :: model
-    real(wp) :: density, youngs_modulus, poisson_ratio, sigma0, hardening_n, rate_m, eps0, eps1
-    real(wp) :: epsdot0, back_stress_b, theta, yield_stress, hardening_modulus
     integer :: ios, k, j
     character(len=512) :: msg
-    type(material_params_t) :: dflt
     type(material_spec_t) :: tmp(max_materials)
     type(error_t), allocatable :: e2
-    namelist /material/ name, model, density, youngs_modulus, poisson_ratio, sigma0, &
-      hardening_n, rate_m, eps0, eps1, epsdot0, back_stress_b, theta, yield_stress, &
-      hardening_modulus
+    include 'deck_nml_material.inc'
     rewind(u)
     k = 0
     do
-      name = ''
-      model = dflt%model
-      density = dflt%density
-      youngs_modulus = dflt%youngs_modulus
-      poisson_ratio = dflt%poisson_ratio
-      sigma0 = dflt%sigma0
-      hardening_n = dflt%hardening_n
-      rate_m = dflt%rate_m
-      eps0 = dflt%eps0
-      eps1 = unset
-      epsdot0 = dflt%epsdot0
-      back_stress_b = dflt%back_stress_b
-      theta = dflt%theta
-      yield_stress = dflt%yield_stress
-      hardening_modulus = dflt%hardening_modulus
+      include 'deck_default_material.inc'
       read(u, nml=material, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -1542,33 +1475,13 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    real(wp) :: t_end, dt, cfl, energy_tol, snapshot_times(max_snapshots)
-    integer :: log_every, history_every, max_steps, ios, j
-    logical :: skip_quiet, subcycle
+    integer :: ios, j
     character(len=512) :: msg
     type(solver_spec_t) :: sv
-    namelist /solver/ t_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, &
-      max_steps, skip_quiet, subcycle
-    t_end = sv%t_end
-    dt = sv%dt
-    cfl = sv%cfl
-    log_every = sv%log_every
-    history_every = sv%history_every
-    snapshot_times = unset
-    energy_tol = sv%energy_tol
-    max_steps = sv%max_steps
-    skip_quiet = sv%skip_quiet
-    subcycle = sv%subcycle
+    include 'deck_nml_solver.inc'
+    include 'deck_default_solver.inc'
     rewind(u)
     read(u, nml=solver, iostat=ios, iomsg=msg)
-    if (ios == iostat_end) then
-      if (deck%run%mode == 'dynamic') call set_error(err, "deck '"//deck%path// &
-        "': mode = 'dynamic' needs a &solver group with t_end (see doc/deck.md)")
-      return
-    else if (ios /= 0) then
-      call nml_error(deck, 'solver', '', msg, err)
-      return
-    end if
     sv%t_end = t_end
     sv%dt = dt
     sv%cfl = cfl
@@ -1578,31 +1491,31 @@ contains
     sv%max_steps = max_steps
     sv%skip_quiet = skip_quiet
     sv%subcycle = subcycle
+    sv%snapshot_times = unset
+    deck%solver = sv
+    if (ios == iostat_end) then
+      if (deck%run%mode == 'dynamic') call set_error(err, "deck '"//deck%path// &
+        "': mode = 'dynamic' needs a &solver group with t_end (see doc/deck.md)")
+      return
+    else if (ios /= 0) then
+      call nml_error(deck, 'solver', '', msg, err)
+      return
+    end if
     sv%nsnap = 0
     do j = 1, max_snapshots
       if (snapshot_times(j) /= unset) sv%nsnap = j
     end do
     sv%snapshot_times(1:sv%nsnap) = snapshot_times(1:sv%nsnap)
+    ! (each value given is in its range already: check_value)
     if (.not. (t_end > 0.0_wp)) then
       call bad(deck, 'solver', 't_end', rtoa(t_end), 'give the end time in s (> 0)', err)
-    else if (dt < 0.0_wp .or. dt > t_end) then
+    else if (dt > t_end) then
       call bad(deck, 'solver', 'dt', rtoa(dt), 'give 0 (automatic: cfl x critical step) '// &
         'or a fixed step in (0, t_end] s', err)
-    else if (.not. (cfl > 0.0_wp .and. cfl <= 1.0_wp)) then
-      call bad(deck, 'solver', 'cfl', rtoa(cfl), 'give a fraction of the critical step in '// &
-        '(0, 1]; 0.5 is safe', err)
-    else if (log_every < 0 .or. history_every < 0) then
-      call bad(deck, 'solver', 'log_every/history_every', itoa(min(log_every, history_every)), &
-        'give 0 (automatic) or a positive number of steps', err)
     else if (any(snapshot_times(1:sv%nsnap) == unset) .or. &
-      any(snapshot_times(1:sv%nsnap) < 0.0_wp) .or. any(snapshot_times(1:sv%nsnap) > t_end)) then
+      any(snapshot_times(1:sv%nsnap) > t_end)) then
       call bad(deck, 'solver', 'snapshot_times', itoa(sv%nsnap)//' values', &
         'give snapshot times in [0, t_end] s, one after another', err)
-    else if (.not. (energy_tol > 0.0_wp)) then
-      call bad(deck, 'solver', 'energy_tol', rtoa(energy_tol), 'give a positive tolerance '// &
-        'on the relative energy residual, e.g. 0.05', err)
-    else if (max_steps < 1) then
-      call bad(deck, 'solver', 'max_steps', itoa(max_steps), 'give a positive step limit', err)
     end if
     if (sv%nsnap > 1) then
       if (any(sv%snapshot_times(2:sv%nsnap) <= sv%snapshot_times(1:sv%nsnap - 1))) &
@@ -1616,23 +1529,15 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=name_len) :: body
-    character(len=role_len) :: kind
-    real(wp) :: region_lo(3), region_hi(3), value
-    integer :: component, ios, k, j
+    integer :: ios, k, j
     character(len=512) :: msg
-    type(bc_spec_t) :: dflt, tmp(max_bcs)
+    type(bc_spec_t) :: tmp(max_bcs)
     character(len=:), allocatable :: grp
-    namelist /bc/ body, region_lo, region_hi, component, kind, value
+    include 'deck_nml_bc.inc'
     rewind(u)
     k = 0
     do
-      body = dflt%body
-      kind = dflt%kind
-      region_lo = dflt%region_lo
-      region_hi = dflt%region_hi
-      component = dflt%component
-      value = dflt%value
+      include 'deck_default_bc.inc'
       read(u, nml=bc, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -1661,8 +1566,6 @@ contains
       else if (component < 1 .or. component > deck%run%ndim) then
         call bad(deck, grp, 'component', itoa(component), 'give the velocity component, 1 .. '// &
           itoa(deck%run%ndim), err)
-      else if (tmp(k)%kind /= 'fixed' .and. tmp(k)%kind /= 'velocity') then
-        call bad(deck, grp, 'kind', "'"//trim(kind)//"'", "use 'fixed' or 'velocity'", err)
       else if (any(region_lo(1:deck%run%ndim) > region_hi(1:deck%run%ndim))) then
         call bad(deck, grp, 'region_lo/region_hi', 'region_lo > region_hi', 'the box holds '// &
           'nothing; give region_lo <= region_hi in every direction (reference coordinates, '// &
@@ -1678,30 +1581,15 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=name_len) :: master, slave
-    real(wp) :: eps_cr, eps_rel, mu, edge_point(3), self_radius
-    character(len=word_len) :: detector
-    logical :: compare_detectors, skip_far, shared_mass
     integer :: ios, k, j
     character(len=512) :: msg
-    type(contact_spec_t) :: dflt, tmp(max_contacts)
+    type(contact_spec_t) :: tmp(max_contacts)
     character(len=:), allocatable :: grp
-    namelist /contact/ master, slave, eps_cr, eps_rel, mu, edge_point, detector, &
-      compare_detectors, skip_far, shared_mass, self_radius
+    include 'deck_nml_contact.inc'
     rewind(u)
     k = 0
     do
-      master = dflt%master
-      slave = dflt%slave
-      eps_cr = dflt%eps_cr
-      eps_rel = dflt%eps_rel
-      mu = dflt%mu
-      edge_point = dflt%edge_point
-      detector = dflt%detector
-      compare_detectors = dflt%compare_detectors
-      skip_far = dflt%skip_far
-      shared_mass = dflt%shared_mass
-      self_radius = dflt%self_radius
+      include 'deck_default_contact.inc'
       read(u, nml=contact, iostat=ios, iomsg=msg)
       if (ios == iostat_end) exit
       k = k + 1
@@ -1739,23 +1627,6 @@ contains
       else if (tmp(k)%imaster == tmp(k)%islave .and. compare_detectors) then
         call bad(deck, grp, 'compare_detectors', '.true.', 'self-contact (master = slave) '// &
           'has no node-to-segment detector to compare with; give .false.', err)
-      else if (.not. (self_radius >= 1.0_wp .and. self_radius <= 20.0_wp)) then
-        call bad(deck, grp, 'self_radius', rtoa(self_radius), 'give a multiple of the '// &
-          'support in [1, 20] (default 2): below 1, particles whose support covers a point '// &
-          'in the reference configuration would count as coming into contact with it', err)
-      else if (.not. (eps_cr > 0.0_wp)) then
-        call bad(deck, grp, 'eps_cr', rtoa(eps_cr), 'give a small positive threshold '// &
-          '(paper: 5e-10)', err)
-      else if (eps_rel < 0.0_wp .or. eps_rel >= 1.0_wp) then
-        call bad(deck, grp, 'eps_rel', rtoa(eps_rel), 'give 0 (off) or a fraction of the '// &
-          "master's interior plateau in (0, 1)", err)
-      else if (mu < 0.0_wp .or. mu > 10.0_wp) then
-        call bad(deck, grp, 'mu', rtoa(mu), 'give a friction coefficient in [0, 10] '// &
-          '(paper: 0.1)', err)
-      else if (detector /= 'det_m' .and. detector /= 'node_to_segment') then
-        call bad(deck, grp, 'detector', "'"//trim(detector)//"'", "give 'det_m' (the "// &
-          "paper's det(M) screen) or 'node_to_segment' (a conventional closest-segment "// &
-          "search)", err)
       else if (deck%run%mode /= 'dynamic') then
         call bad(deck, grp, 'master', "'"//trim(master)//"'", "contact pairs act in "// &
           "mode = 'dynamic' only", err)
@@ -1770,23 +1641,12 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    character(len=path_len) :: file
-    logical :: overwrite, det_fields
-    real(wp) :: det_grid_lo(2), det_grid_hi(2)
-    integer :: ios, det_grid_n(2), checkpoint_every
+    integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: given
     logical :: found
-    type(output_spec_t) :: dflt
-    namelist /output/ file, overwrite, det_fields, det_grid_lo, det_grid_hi, det_grid_n, &
-      checkpoint_every
-    file = ''
-    overwrite = .true.
-    det_fields = dflt%det_fields
-    det_grid_lo = dflt%det_grid_lo
-    det_grid_hi = dflt%det_grid_hi
-    det_grid_n = dflt%det_grid_n
-    checkpoint_every = dflt%checkpoint_every
+    include 'deck_nml_output.inc'
+    include 'deck_default_output.inc'
     ! gfortran reads overwrite = 'no' as an unknown name ("Cannot match namelist object
     ! name 'no'") and overwrite = fred as .false.: check the text before it reads it
     call group_value(deck%text, 'output', 'overwrite', given, found)
@@ -1819,11 +1679,6 @@ contains
       real(det_grid_n(1), wp)*det_grid_n(2) > 1.0e7_wp)) then
       call bad(deck, 'output', 'det_grid_n/det_grid_lo/det_grid_hi', itoa(det_grid_n(1))// &
         ', '//itoa(det_grid_n(2)), 'give 2 .. 1e7 points with det_grid_hi > det_grid_lo', err)
-      return
-    end if
-    if (checkpoint_every < 0) then
-      call bad(deck, 'output', 'checkpoint_every', itoa(checkpoint_every), 'give a number '// &
-        'of steps between checkpoints, >= 1, or 0 for none (the default)', err)
       return
     end if
     deck%output%file = file
@@ -1994,176 +1849,136 @@ contains
     end select
   end function shape_ndim
 
+  !> Where variable var of group is in deck_vars, 0 when it is not a deck variable.
+  pure integer function var_index(group, var) result(i)
+    character(len=*), intent(in) :: group, var
+    do i = 1, size(deck_vars)
+      if (deck_vars(i)%group == group .and. deck_vars(i)%name == var) return
+    end do
+    i = 0
+  end function var_index
+
+  !> The variables of group, 'a, b, c' (for messages).
   pure function group_vars(group) result(s)
     character(len=*), intent(in) :: group
     character(len=:), allocatable :: s
-    select case (group)
-    case ('run')
-      s = 'title, mode, ndim, geometry'
-    case ('body')
-      s = 'name, shape, lo, hi, n, vertices, spacing, origin, center, r_inner, r_outer, '// &
-        'theta_start, theta_end, file, kernel, window, basis, support_factor, role, '// &
-        'material, velocity, integration, stabilization, discretization, perturbation, '// &
-        'perturbation_seed, geo_names, geo_values, geo_time_limit, geo_max_elements'
-    case ('detection')
-      s = 'body, eps_cr, eps_rel, line_from, line_to, line_n, grid_lo, grid_hi, grid_n, points'
-    case ('output')
-      s = 'file, overwrite, det_fields, det_grid_lo, det_grid_hi, det_grid_n, checkpoint_every'
-    case ('material')
-      s = 'name, model, density, youngs_modulus, poisson_ratio, sigma0, hardening_n, '// &
-        'rate_m, eps0, eps1, epsdot0, back_stress_b, theta, yield_stress, hardening_modulus'
-    case ('solver')
-      s = 't_end, dt, cfl, log_every, history_every, snapshot_times, energy_tol, max_steps, '// &
-        'skip_quiet, subcycle'
-    case ('bc')
-      s = 'body, region_lo, region_hi, component, kind, value'
-    case ('contact')
-      s = 'master, slave, eps_cr, eps_rel, mu, edge_point, detector, compare_detectors, '// &
-        'skip_far, shared_mass, self_radius'
-    case default
-      s = ''
-    end select
+    integer :: i
+    s = ''
+    do i = 1, size(deck_vars)
+      if (deck_vars(i)%group /= group) cycle
+      if (len(s) > 0) s = s//', '
+      s = s//trim(deck_vars(i)%name)
+    end do
   end function group_vars
 
   !> The type of variable var of group: 'r' real, 'i' integer, 'l' logical, 's' string, or
-  !! ' ' when it is not listed here (then check_value refuses only NaN, Infinity and reals
-  !! out of range). Keep in step with group_vars: untyped_vars names what is missing.
+  !! ' ' when it is no deck variable.
   pure function var_type(group, var) result(typ)
     character(len=*), intent(in) :: group, var
     character :: typ
-    character(len=:), allocatable :: strs, ints, logs, reals
-    call typed_vars(group, strs, ints, logs, reals)
+    integer :: i
+    i = var_index(group, var)
     typ = ' '
-    if (entry_at(strs, var) > 0) typ = 's'
-    if (entry_at(ints, var) > 0) typ = 'i'
-    if (entry_at(logs, var) > 0) typ = 'l'
-    if (entry_at(reals, var) > 0) typ = 'r'
+    if (i > 0) typ = deck_vars(i)%typ
   end function var_type
 
   !> How many values variable var of group holds: its array size, 1 for a scalar, 0 when
-  !! it is not listed in typed_vars (no limit known).
+  !! it is no deck variable.
   pure integer function var_size(group, var) result(n)
     character(len=*), intent(in) :: group, var
-    character(len=:), allocatable :: strs, ints, logs, reals, listing
-    integer :: a, z
-    call typed_vars(group, strs, ints, logs, reals)
-    listing = strs//', '//ints//', '//logs//', '//reals//','
+    integer :: i
+    i = var_index(group, var)
     n = 0
-    a = entry_at(listing, var)
-    if (a == 0) return
-    n = 1
-    a = a + len(var)
-    if (listing(a:a) /= '(') return
-    z = index(listing(a:), ')')
-    read(listing(a + 1:a + z - 2), *) n
+    if (i > 0) n = deck_vars(i)%size
   end function var_size
 
-  !> The most characters the string variable var of group holds (its namelist variable's
-  !! length), 0 when var is not a string.
+  !> The most characters the string variable var of group holds, 0 when var is not a string.
   pure integer function string_length(group, var) result(n)
     character(len=*), intent(in) :: group, var
-    select case (group//':'//var)
-    case ('run:title')
-      n = title_len
-    case ('run:mode', 'run:geometry', 'body:shape', 'body:kernel', 'contact:detector')
-      n = word_len
-    case ('body:name', 'body:material', 'body:geo_names', 'detection:body', 'bc:body', &
-      'material:name', 'contact:master', 'contact:slave')
-      n = name_len
-    case ('body:file', 'output:file')
-      n = path_len
-    case ('body:window')
-      n = window_len
-    case ('body:basis')
-      n = basis_len
-    case ('body:role', 'bc:kind')
-      n = role_len
-    case ('body:integration')
-      n = integration_len
-    case ('body:discretization')
-      n = discretization_len
-    case ('material:model')
-      n = model_len
-    case default
-      n = 0
-    end select
+    integer :: i
+    i = var_index(group, var)
+    n = 0
+    if (i > 0) n = deck_vars(i)%length
   end function string_length
 
-  !> Where entry word starts in the list names ('a, b(3), c'), 0 if it is not there.
-  pure integer function entry_at(names, word) result(a)
-    character(len=*), intent(in) :: names, word
-    ! the position in ', '//names of ', word' is that of word in names
-    a = index(', '//names//',', ', '//word//',')
-    if (a == 0) a = index(', '//names//',', ', '//word//'(')
-  end function entry_at
-
-  !> The variables of group (group_vars) that var_type does not know: '' when in step.
-  pure function untyped_vars(group) result(s)
-    character(len=*), intent(in) :: group
-    character(len=:), allocatable :: s, vars
-    integer :: a, z
-    vars = group_vars(group)//','
+  !> The values variable var of group may take, "'a', 'b'" (for messages); '' when any.
+  pure function choices_text(group, var) result(s)
+    character(len=*), intent(in) :: group, var
+    character(len=:), allocatable :: s, v
+    integer :: i
+    i = var_index(group, var)
     s = ''
-    a = 1
-    do
-      z = index(vars(a:), ',')
-      if (z == 0) exit
-      if (var_type(group, trim(adjustl(vars(a:a + z - 2)))) == ' ') &
-        s = s//' '//trim(adjustl(vars(a:a + z - 2)))
-      a = a + z
-      if (a > len(vars)) exit
+    if (i == 0) return
+    v = trim(deck_vars(i)%valid)
+    if (index(v, 'one of ') /= 1) return
+    s = v(8:)
+    do while (index(s, "' '") > 0)
+      i = index(s, "' '")
+      s = s(1:i)//', '//s(i + 2:)
     end do
-  end function untyped_vars
+  end function choices_text
 
-  !> The variables of each group by type, comma-separated; arrays with their size, as
-  !! the namelists declare them: 'lo(3)'.
-  pure subroutine typed_vars(group, strs, ints, logs, reals)
-    character(len=*), intent(in) :: group
-    character(len=:), allocatable, intent(out) :: strs, ints, logs, reals
-    strs = ''
-    ints = ''
-    logs = ''
-    reals = ''
-    select case (group)
-    case ('run')
-      strs = 'title, mode, geometry'
-      ints = 'ndim'
-    case ('body')
-      strs = 'name, shape, file, kernel, window, basis, role, material, integration, '// &
-        'discretization, geo_names('//itoa(max_geo_numbers)//')'
-      ints = 'n(3), perturbation_seed, geo_max_elements'
-      reals = 'lo(3), hi(3), vertices('//itoa(2*max_vertices)//'), spacing(3), origin(2), '// &
-        'center(2), r_inner, r_outer, theta_start, theta_end, support_factor(3), '// &
-        'velocity(3), stabilization, perturbation, geo_values('//itoa(max_geo_numbers)// &
-        '), geo_time_limit'
-    case ('detection')
-      strs = 'body'
-      ints = 'line_n, grid_n(3)'
-      reals = 'eps_cr, eps_rel, line_from(3), line_to(3), grid_lo(3), grid_hi(3), points('// &
-        itoa(3*max_points)//')'
-    case ('output')
-      strs = 'file'
-      ints = 'det_grid_n(2), checkpoint_every'
-      logs = 'overwrite, det_fields'
-      reals = 'det_grid_lo(2), det_grid_hi(2)'
-    case ('material')
-      strs = 'name, model'
-      reals = 'density, youngs_modulus, poisson_ratio, sigma0, hardening_n, rate_m, eps0, '// &
-        'eps1, epsdot0, back_stress_b, theta, yield_stress, hardening_modulus'
-    case ('solver')
-      ints = 'log_every, history_every, max_steps'
-      reals = 't_end, dt, cfl, snapshot_times('//itoa(max_snapshots)//'), energy_tol'
-      logs = 'skip_quiet, subcycle'
-    case ('bc')
-      strs = 'body, kind'
-      ints = 'component'
-      reals = 'region_lo(3), region_hi(3), value'
-    case ('contact')
-      strs = 'master, slave, detector'
-      logs = 'compare_detectors, skip_far, shared_mass'
-      reals = 'eps_cr, eps_rel, mu, edge_point(3), self_radius'
-    end select
-  end subroutine typed_vars
+  !> Whether w is one of the quoted words of list ("'a' 'b' 'c'").
+  pure logical function is_choice(list, w)
+    character(len=*), intent(in) :: list, w
+    integer :: a, z
+    is_choice = .false.
+    a = 1
+    do while (a < len(list))
+      z = a + index(list(a + 1:), "'")
+      if (z == a) exit
+      if (list(a + 1:z - 1) == w .and. len(w) == z - a - 1) is_choice = .true.
+      a = z + 2
+    end do
+  end function is_choice
+
+  !> '' when the value x (text tok) of deck variable i is valid, else why not and the fix.
+  !! Strings are compared lower-cased with the choices; numbers with the interval.
+  pure function value_fault(i, tok, x) result(why)
+    integer, intent(in) :: i
+    character(len=*), intent(in) :: tok
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: why, v, hint
+    real(wp) :: a, b
+    integer :: c, ios
+    logical :: ok
+    why = ''
+    v = trim(deck_vars(i)%valid)
+    hint = trim(deck_vars(i)%hint)
+    if (len(hint) > 0) hint = ' ('//hint//')'
+    if (v == 'any') return
+    if (index(v, 'one of ') == 1) then
+      if (.not. is_choice(v(8:), lower(tok))) why = 'use one of: '// &
+        choices_text(deck_vars(i)%group, deck_vars(i)%name)//hint
+      return
+    end if
+    if (v(1:1) == '[' .or. v(1:1) == '(') then
+      c = index(v, ',')
+      read(v(2:c - 1), *, iostat=ios) a
+      if (ios == 0) read(v(c + 1:len(v) - 1), *, iostat=ios) b
+      ok = merge(x >= a, x > a, v(1:1) == '[') .and. merge(x <= b, x < b, v(len(v):) == ']')
+    else
+      c = scan(v, ' ')
+      read(v(c + 1:), *, iostat=ios) a
+      select case (v(1:c - 1))
+      case ('>')
+        ok = x > a
+      case ('>=')
+        ok = x >= a
+      case ('<')
+        ok = x < a
+      case default
+        ok = x <= a
+      end select
+    end if
+    if (ios /= 0) then
+      why = 'the deck description (src/deck_vars.tsv) has no valid range: '//v
+    else if (.not. ok .and. scan(v(1:1), '[(') > 0) then
+      why = 'give a value in '//v//hint
+    else if (.not. ok) then
+      why = 'give a value '//v//hint
+    end if
+  end function value_fault
 
   subroutine bad(deck, group, var, value, fix, err)
     type(deck_t), intent(in) :: deck

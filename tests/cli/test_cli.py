@@ -96,14 +96,14 @@ def main():
     bad_case(tmp, "misspelt", deck(body=GOOD_BODY.replace("  n = 11", "  nn = 11")),
              ["&body", "'nn'", "did you mean 'n'"])
     bad_case(tmp, "kernel", deck(body=GOOD_BODY.replace("/\n", "  kernel = 'spline'\n/\n")),
-             ["&body", "kernel", "'spline'", "cubic_spline, quartic"])
+             ["&body", "kernel", "'spline'", "'cubic_spline', 'quartic'"])
     bad_case(tmp, "basis", deck(body=GOOD_BODY.replace("/\n", "  basis = 'cubic'\n/\n")),
              ["&body", "basis", "'cubic'", "bilinear"])
     bad_case(tmp, "window", deck(body=GOOD_BODY.replace("/\n", "  window = 'box'\n/\n")),
-             ["&body", "window", "'box'", "tensor, radial"])
+             ["&body", "window", "'box'", "'tensor', 'radial'"])
     bad_case(tmp, "shape", deck(body=GOOD_BODY.replace("'rectangle'", "'square'")),
              ["&body", "shape", "'square'", "rectangle"])
-    bad_case(tmp, "ndim", deck(run_group="&run ndim = 5 /\n"), ["&run", "ndim", "1, 2 or 3"])
+    bad_case(tmp, "ndim", deck(run_group="&run ndim = 5 /\n"), ["&run", "ndim", "[1, 3]"])
     bad_case(tmp, "group", deck(run_group="&runn ndim = 2 /\n"), ["&runn", "valid groups"])
     bad_case(tmp, "eps", deck(detection=DETECTION.replace("/\n", "  eps_cr = 0.0\n/\n")),
              ["&detection", "eps_cr", "5e-10"])
