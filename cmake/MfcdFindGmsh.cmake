@@ -1,5 +1,5 @@
 # MfcdFindGmsh.cmake: find gmsh's shared library for mfcd (&body shape = 'geo' meshes a .geo
-# in memory through gmsh's C API, src/gmsh_mesh_m.f90). Used by mfcd's build
+# in memory through gmsh's C API, src/setup/gmsh_mesh_m.f90). Used by mfcd's build
 # (cmake/MfcdGmsh.cmake) and, installed beside it, by mfcd's package config, so that a
 # project using an mfcd built with gmsh links the same library.
 #

@@ -1,5 +1,5 @@
 # MFCD_GMSH: mesh .geo bodies in memory through gmsh's C API (&body shape = 'geo',
-# src/gmsh_mesh_m.f90), or not (src/gmsh_mesh_stub_m.f90, which refuses such a body with a
+# src/setup/gmsh_mesh_m.f90), or not (src/setup/gmsh_mesh_stub_m.f90, which refuses such a body with a
 # message saying how to get gmsh).
 #
 #   AUTO (default)  on when gmsh's library and its C header gmshc.h are found and a program

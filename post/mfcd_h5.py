@@ -360,10 +360,10 @@ def _strip_comment(line: str) -> str:
     return line
 
 
-# the deck's description (src/deck_vars.tsv): each variable's type, count and default, the
+# the deck's description (src/setup/deck_vars.tsv): each variable's type, count and default, the
 # same file mfcd's namelists and checks are generated from
 DECK_VARS_PATH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                              "src", "deck_vars.tsv")
+                              "src", "setup", "deck_vars.tsv")
 
 
 def _literal(text: str, typ: str):
@@ -419,7 +419,7 @@ def parse_deck(text: str) -> List[tuple]:
     """The namelist groups of a deck text, in order: [(group, {variable: value}), ...].
 
     A small reader for post-processing, not a Fortran namelist parser: names are lower-cased;
-    values are typed by the deck's description (src/deck_vars.tsv): reals float, integers
+    values are typed by the deck's description (src/setup/deck_vars.tsv): reals float, integers
     int, logicals bool, strings str; an array variable (lo, velocity, snapshot_times) is a
     list, a scalar one value. A variable the description does not know keeps the reader's
     guess (one entry a scalar, several a list). A repeat count r*v gives r values.

@@ -6,7 +6,7 @@
 A bar whose end is pushed at velocity v from t = 0 carries a step front at c0 = sqrt(E/rho)
 (plane strain with nu = 0 makes it one-dimensional), with sigma_xx = -rho c0 v and particle
 velocity v behind it, nothing ahead. E and rho are read from the deck stored in the file
-(/deck: the body's &material, defaults of src/material_m.f90 where the deck leaves them
+(/deck: the body's &material, defaults of src/material/material_m.f90 where the deck leaves them
 out), v and the loaded end from the body's &bc with kind = 'velocity' on component 1. With
 nu /= 0 the long-wave bar speed sqrt(E/((1 - nu^2) rho)) of a plane-strain strip is used
 instead (noted in the figure).

@@ -31,7 +31,7 @@ Only the nodes of the triangles are kept (gmsh's construction points are dropped
 with a message on a bad geometry or an empty mesh.
 
 mfcd builds the same body in memory from the .geo itself (`&body shape = 'geo'`, when built
-with gmsh: src/mesh_cells_m.f90 ports the functions below, bit for bit; the test
+with gmsh: src/body/mesh_cells_m.f90 ports the functions below, bit for bit; the test
 `regression_geo_equivalence` compares the two). This script remains the way to look at a
 mesh, or to hand one to other tools.
 """
@@ -47,7 +47,7 @@ def mesh_geo(geo, numbers, quiet=True):
     """(x (np, 2), triangles (ne, 3) 0-based, counter-clockwise) of the .geo's 2D mesh."""
     import gmsh
     # without the user's gmsh configuration files (~/.gmshrc, gmsh-options), as mfcd's
-    # &body shape = 'geo' does (src/gmsh_mesh_m.f90): the same .geo and numbers give the
+    # &body shape = 'geo' does (src/setup/gmsh_mesh_m.f90): the same .geo and numbers give the
     # same mesh whoever runs it
     gmsh.initialize(readConfigFiles=False)
     try:

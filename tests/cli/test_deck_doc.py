@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""doc/deck.md against the deck's description, src/deck_vars.tsv (issue 21, item 4).
+"""doc/deck.md against the deck's description, src/setup/deck_vars.tsv (issue 21, item 4).
 
 The description is the one place a deck variable is defined: mfcd's namelists, defaults and
 value checks are generated from it, and this test holds the tables of doc/deck.md to it.
@@ -15,7 +15,7 @@ For every table row of a group's section (| `name` | type | unit | default | val
 - valid: every choice of a `one of` variable is listed, quoted; an interval or bound appears
   as the description writes it.
 
-Standard library only. Usage: test_deck_doc.py [doc/deck.md [src/deck_vars.tsv]]
+Standard library only. Usage: test_deck_doc.py [doc/deck.md [src/setup/deck_vars.tsv]]
 """
 import os
 import re
@@ -87,7 +87,7 @@ def check(doc, tsv):
         where = f"{os.path.relpath(doc, ROOT)}:{lineno} &{group} {name}"
         row = desc.get((group, name))
         if row is None:
-            problems.append(f"{where}: not a variable of &{group} in src/deck_vars.tsv")
+            problems.append(f"{where}: not a variable of &{group} in src/setup/deck_vars.tsv")
             continue
         seen.add((group, name))
         typ, unit, default, valid = cells[1], cells[2], cells[3], cells[4]
@@ -111,13 +111,13 @@ def check(doc, tsv):
             problems.append(f"{where}: valid '{valid}' lacks the description's '{v}'")
     for key in desc:
         if key not in seen:
-            problems.append(f"doc/deck.md: no row for &{key[0]} {key[1]} (src/deck_vars.tsv)")
+            problems.append(f"doc/deck.md: no row for &{key[0]} {key[1]} (src/setup/deck_vars.tsv)")
     return problems
 
 
 def main(argv):
     doc = argv[1] if len(argv) > 1 else os.path.join(ROOT, "doc", "deck.md")
-    tsv = argv[2] if len(argv) > 2 else os.path.join(ROOT, "src", "deck_vars.tsv")
+    tsv = argv[2] if len(argv) > 2 else os.path.join(ROOT, "src", "setup", "deck_vars.tsv")
     problems = check(doc, tsv)
     for p in problems:
         print("[ FAIL ] " + p)

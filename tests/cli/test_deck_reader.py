@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """post/mfcd_h5.py's deck reader types values by the deck's description (issue 21, item 4).
 
-Every deck in input/ is parsed; each value of a variable the description (src/deck_vars.tsv)
+Every deck in input/ is parsed; each value of a variable the description (src/setup/deck_vars.tsv)
 knows must have the description's type (real: float, integer: int, logical: bool, string:
 str), an array variable must be a list and a scalar one a single value; every default the
 description gives is of its type too. Needs numpy and h5py (mfcd_h5 imports them).

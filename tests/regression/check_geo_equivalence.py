@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The two routes from a gmsh script to a body give the same body, bit for bit (issue 11,
 item 1): `&body shape = 'geo'`, where mfcd meshes the .geo in memory through gmsh's C API
-(src/gmsh_mesh_m.f90) and builds the nodes, volumes, boundary loops and median-dual cells
-itself (src/mesh_cells_m.f90), and `shape = 'file'` on the particle file tools/mesh_body.py
+(src/setup/gmsh_mesh_m.f90) and builds the nodes, volumes, boundary loops and median-dual cells
+itself (src/body/mesh_cells_m.f90), and `shape = 'file'` on the particle file tools/mesh_body.py
 writes from the same .geo and numbers with gmsh's Python API.
 
 For each deck given (a deck with one shape = 'geo' body, e.g. input/hertz_sphere_fem.nml), in
@@ -29,7 +29,7 @@ difference of the routes.
 
 The shape = 'geo' run gets an empty directory as HOME, which must stay empty: gmsh's GUI
 toolkit would write ~/.fltk/fltk.org/fltk.prefs when gmsh starts, and mfcd creates no file
-outside its output (src/gmsh_mesh_m.f90).
+outside its output (src/setup/gmsh_mesh_m.f90).
 
 Exit 77 (skipped) when mfcd is built without gmsh or the gmsh Python module is missing
 (`bash tools/setup.sh --gmsh` and a rebuild give both).

@@ -228,7 +228,7 @@ contains
   end subroutine read_plain_file
 
   !> Why no output can go to directory path ('' when it can): on a read-only file system,
-  !! or on a pseudo file system of the kernel such as /proc (src/file_system.c), which
+  !! or on a pseudo file system of the kernel such as /proc (src/io/file_system.c), which
   !! write permission alone does not tell for root.
   function fs_refusal(path) result(why)
     character(len=*), intent(in) :: path

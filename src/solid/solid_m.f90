@@ -271,7 +271,7 @@ contains
   !! s_min the smallest principal stretch (in-plane singular values of F, and F33): the
   !! critical step of the body scales like 1/sqrt(max_L kappa_L). The bound rather than the
   !! exact sum: measured against the power iteration on bodies built in the deformed shape
-  !! (tests/unit/test_stable_step.pf), the exact sum overestimates the step by 15-37% on
+  !! (tests/unit/solid/test_stable_step.pf), the exact sum overestimates the step by 15-37% on
   !! anisotropic compressions (the highest mode follows the shortest direction, not the
   !! sum of the directions); the bound is 8-12% below it, never above (doc/solver.md).
   subroutine step_metric(s)

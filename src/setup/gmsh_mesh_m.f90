@@ -4,7 +4,7 @@
 !! own interpreter never sees the user's text: no script is merged or opened, so nothing
 !! of gmsh's language but the subset reaches gmsh.
 !!
-!! gmsh runs in a confined thread (confine_m, src/confine.c): it cannot create, change or
+!! gmsh runs in a confined thread (confine_m, src/io/confine.c): it cannot create, change or
 !! remove a file, start a process or read standard input (its GUI toolkit, FLTK, writes
 !! preference files when gmsh starts, as root /etc/fltk/fltk.org/fltk.prefs; the write
 !! fails there), it runs with / as its working directory (PETSc, linked into gmsh, reads

@@ -16,7 +16,7 @@
 !! in the same order as the serial run, and the force gather at one of its nodes (eq. 72,
 !! over the transpose) visits the same points in the same order: the forces at owned nodes
 !! equal the serial ones to the bit, whatever the number of ranks (checked by
-!! tests/unit/test_decomposition.pf on emulated ranks). A ghost point's row keeps only the
+!! tests/unit/parallel/test_decomposition.pf on emulated ranks). A ghost point's row keeps only the
 !! entries of its local nodes: it is never evaluated locally.
 module decomposition_m
   use kinds_m, only: wp

@@ -21,7 +21,7 @@
  * stopped safely any other way). A crash meanwhile (SIGSEGV, SIGBUS, SIGILL, SIGFPE,
  * SIGABRT: a mesher may abort on a geometry it cannot handle) ends the process the same
  * way, with the caller's crash message, instead of with a core dump.
- * mfcd runs gmsh this way (src/gmsh_mesh_m.f90): gmsh is a large C++ library with a GUI
+ * mfcd runs gmsh this way (src/setup/gmsh_mesh_m.f90): gmsh is a large C++ library with a GUI
  * toolkit, PETSc and plugins linked in, and this is what keeps its side effects out of
  * the user's file system whatever it does (doc/deck.md, "What a gmsh script can do").
  *

@@ -55,7 +55,7 @@ module deck_m
   integer, parameter :: max_snapshots = 256
   integer, parameter :: max_contacts = 8
 
-  !> A deck variable (src/deck_vars.tsv, whose header says what each column means): its
+  !> A deck variable (src/setup/deck_vars.tsv, whose header says what each column means): its
   !! group and name; typ 'r' real, 'i' integer, 'l' logical, 's' string; how many values
   !! it holds; a string's characters (0 for the others); unit; what a given value must be
   !! (any, one of 'a' 'b' ..., an interval [a, b] (a, b] [a, b) (a, b), or > a, >= a, < a,
@@ -904,7 +904,7 @@ contains
       end if
       if (k > max_bodies) then
         call set_error(err, "deck '"//deck%path//"': more than "//itoa(max_bodies)// &
-          " &body groups; merge bodies or raise max_bodies in src/deck_m.f90")
+          " &body groups; merge bodies or raise max_bodies in src/setup/deck_m.f90")
         return
       end if
       s = dflt
@@ -1972,7 +1972,7 @@ contains
       end select
     end if
     if (ios /= 0) then
-      why = 'the deck description (src/deck_vars.tsv) has no valid range: '//v
+      why = 'the deck description (src/setup/deck_vars.tsv) has no valid range: '//v
     else if (.not. ok .and. scan(v(1:1), '[(') > 0) then
       why = 'give a value in '//v//hint
     else if (.not. ok) then

@@ -1,4 +1,4 @@
-!> A task run in a confined thread, with limits on its time and memory (src/confine.c):
+!> A task run in a confined thread, with limits on its time and memory (src/io/confine.c):
 !! the task reads files but creates, changes or removes none, starts no process, opens no
 !! socket and reads nothing from standard input; it runs with / as its working directory
 !! and /dev/null as HOME, and what it changes of the process (directory, environment,
