@@ -196,7 +196,7 @@ contains
       call route_reactions(p, ia, ib)
       if (p%self) then
         ! one solid: the reactions added, corrected once with the forces below
-        if (spreads(b, solids)) call solids(b%isolid)%halo%nodes(db%f)
+        if (spreads(b, solids)) call solids(b%isolid)%part%halo%nodes(db%f)
         call solid_add_point_forces(solids(b%isolid), db%f)
       else
         call spread_correct(b, db, solids(b%isolid), dt)
@@ -232,10 +232,10 @@ contains
     type(dist_side_t), intent(inout) :: ds
     type(solid_t), intent(inout) :: sol
     real(wp), intent(in) :: dt
-    if (associated(sol%halo) .and. .not. sol%t%interpolating) call sol%halo%nodes(ds%f)
+    if (associated(sol%part%halo) .and. .not. sol%t%interpolating) call sol%part%halo%nodes(ds%f)
     call solid_add_point_forces(sol, ds%f)
     call solid_correct(sol, dt)
-    if (associated(sol%halo) .and. .not. sol%t%interpolating) &
+    if (associated(sol%part%halo) .and. .not. sol%t%interpolating) &
       call solid_share_corrections(sol)
   end subroutine spread_correct
 

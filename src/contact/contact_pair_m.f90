@@ -740,7 +740,7 @@ contains
       e = 0
       if (p%edge > 0) then
         do k = 1, size(nglob)
-          if (nglob(k) == p%edge .and. any(sol%own_n == k)) e = k
+          if (nglob(k) == p%edge .and. any(sol%part%own_n == k)) e = k
         end do
       end if
       p%edge = e
@@ -757,21 +757,21 @@ contains
     s%nlist = s%np
     if (s%isolid == 0) return
     associate (sol => solids(s%isolid))
-      if (sol%sub_rate < 0) then
+      if (sol%sub%rate < 0) then
         ! a rank's part of a solid (distributed memory): its own nodes
-        if (sol%dist) then
+        if (sol%part%on) then
           if (.not. allocated(s%list)) allocate(s%list(s%np))
           s%listed = .true.
-          s%nlist = size(sol%own_n)
-          s%list(1:s%nlist) = sol%own_n
+          s%nlist = size(sol%part%own_n)
+          s%list(1:s%nlist) = sol%part%own_n
         end if
         return
       end if
-      r = sol%sub_rate
+      r = sol%sub%rate
       if (.not. allocated(s%list)) allocate(s%list(s%np))
       s%listed = .true.
-      s%nlist = sol%nptr(r + 1) - sol%nptr(r)
-      s%list(1:s%nlist) = sol%nlist(sol%nptr(r):sol%nptr(r + 1) - 1)
+      s%nlist = sol%sub%nptr(r + 1) - sol%sub%nptr(r)
+      s%list(1:s%nlist) = sol%sub%nlist(sol%sub%nptr(r):sol%sub%nptr(r + 1) - 1)
     end associate
   end subroutine side_select
 
@@ -887,7 +887,7 @@ contains
       ! (self-contact: one solid, corrected once below)
       if (b%isolid /= a%isolid) call solid_correct(solids(b%isolid), dt)
     end if
-    if (spreads(a, solids)) call solids(a%isolid)%halo%nodes(a%fphys)
+    if (spreads(a, solids)) call solids(a%isolid)%part%halo%nodes(a%fphys)
     call solid_add_point_forces(solids(a%isolid), a%fphys)
     call solid_correct(solids(a%isolid), dt)
     if (spreads(a, solids)) call solid_share_corrections(solids(a%isolid))
@@ -1252,6 +1252,6 @@ contains
     type(solid_t), intent(in) :: solids(:)
     spreads = .false.
     if (s%isolid == 0) return
-    spreads = associated(solids(s%isolid)%halo) .and. .not. solids(s%isolid)%t%interpolating
+    spreads = associated(solids(s%isolid)%part%halo) .and. .not. solids(s%isolid)%t%interpolating
   end function spreads
 end module contact_pair_m

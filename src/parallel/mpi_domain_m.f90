@@ -167,7 +167,7 @@ contains
       call make_part(dom, deck, k, isolid, solids(k), own(k)%owner, err)
       if (dom%any_error(err)) return
       if (restarted) call restart_part(dom, k, solids(k))
-      solids(k)%halo => dom%halos(k)
+      solids(k)%part%halo => dom%halos(k)
     end do
     ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
     ! the snapshots (drawn from the gathered state: contact_det_fields, contact_self_det)
@@ -228,8 +228,8 @@ contains
         p%stab_shear = g%stab_shear
         p%v = g%v(:, n)
         p%ke0 = 0.0_wp
-        do j = 1, size(p%own_n)
-          i = p%own_n(j)
+        do j = 1, size(p%part%own_n)
+          i = p%part%own_n(j)
           p%ke0 = p%ke0 + 0.5_wp*p%t%mass(i)*sum(p%v(:, i)**2)
         end do
         p%ke = p%ke0
@@ -306,13 +306,13 @@ contains
       (full .or. state_fields%snapshot))
     mn = sum([(solid_field_rows(p, kn(j)), j = 1, size(kn))])
     mq = sum([(solid_field_rows(p, kq(j)), j = 1, size(kq))])
-    no = size(p%own_n)
-    nqo = size(p%own_q)
+    no = size(p%part%own_n)
+    nqo = size(p%part%own_q)
     allocate(sn(mn, no), sq(mq, nqo), cn(nranks), cq(nranks), dn(nranks), dq(nranks))
-    idn = lp%nglob(p%own_n)
-    idq = lp%qglob(p%own_q)
-    call pack_fields(p, kn, p%own_n, sn)
-    call pack_fields(p, kq, p%own_q, sq)
+    idn = lp%nglob(p%part%own_n)
+    idq = lp%qglob(p%part%own_q)
+    call pack_fields(p, kn, p%part%own_n, sn)
+    call pack_fields(p, kq, p%part%own_q, sq)
     call MPI_Gather(no, 1, MPI_INTEGER, cn, 1, MPI_INTEGER, 0, dom%mcomm)
     call MPI_Gather(nqo, 1, MPI_INTEGER, cq, 1, MPI_INTEGER, 0, dom%mcomm)
     if (dom%root) then
@@ -541,7 +541,7 @@ contains
     ng = 0
     do k = 1, size(solids)
       loc = loc + [dom%halos(k)%plan%bytes_nodes, dom%halos(k)%plan%bytes_points]
-      ng = ng + [solids(k)%np - size(solids(k)%own_n), solids(k)%nq - size(solids(k)%own_q)]
+      ng = ng + [solids(k)%np - size(solids(k)%part%own_n), solids(k)%nq - size(solids(k)%part%own_q)]
     end do
     call MPI_Allreduce(loc, tot, 2, MPI_INTEGER8, MPI_SUM, dom%mcomm)
     call MPI_Allreduce(ng, ngt, 2, MPI_INTEGER, MPI_SUM, dom%mcomm)

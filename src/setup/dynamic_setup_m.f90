@@ -148,7 +148,7 @@ contains
     s%spacing = minval(b%spacing(1:2))
     if (deck%solver%skip_quiet) call solid_quiet_init(s, bs%velocity(1:2))
     ! (read_deck refuses subcycle for anything but element meshes against rigid masters)
-    s%sub_on = deck%solver%subcycle .and. s%t%interpolating
+    s%sub%on = deck%solver%subcycle .and. s%t%interpolating
   end subroutine setup_solid
 
   !> The deck's &bc groups of body k as masks over the nodes' reference positions: a node

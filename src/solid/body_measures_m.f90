@@ -48,18 +48,18 @@ contains
     real(wp) :: v(5), w(1), x(2), zmin
     integer :: k
     v = -huge(1.0_wp)
-    do k = 1, size(s%own_n)
-      x = solid_point_position(s, s%own_n(k))
+    do k = 1, size(s%part%own_n)
+      x = solid_point_position(s, s%part%own_n(k))
       v(1:4) = max(v(1:4), [-x(2), x(2), -x(1), x(1)])
     end do
-    do k = 1, size(s%own_q)
-      v(5) = max(v(5), s%st%epsbar(s%own_q(k)))
+    do k = 1, size(s%part%own_q)
+      v(5) = max(v(5), s%st%epsbar(s%part%own_q(k)))
     end do
     call comm%max_real(v)
     zmin = -v(1)
     w = -huge(1.0_wp)
-    do k = 1, size(s%own_n)
-      x = solid_point_position(s, s%own_n(k))
+    do k = 1, size(s%part%own_n)
+      x = solid_point_position(s, s%part%own_n(k))
       if (x(2) <= zmin + s%spacing(2)) w(1) = max(w(1), x(1))
     end do
     call comm%max_real(w)

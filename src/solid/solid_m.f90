@@ -25,7 +25,7 @@ module solid_m
     rate_of_deformation_list, piola_stress_list, internal_force_list
   implicit none
   private
-  public :: solid_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
+  public :: solid_t, solid_sub_t, solid_part_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
   public :: solid_kinetic_energy, solid_positions, solid_point_position
   public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_quiet_init, &
     solid_quiet_blocks
@@ -108,6 +108,35 @@ module solid_m
     end subroutine halo_pair_i
   end interface
 
+  !> Subcycling (&solver subcycle; the step and its rules in subcycle_m): a step dt of
+  !! levels L takes each node over 2^r sub-steps dt/2^r, its rate r (0..L), and evaluates
+  !! each point at the rate of its fastest node.
+  type :: solid_sub_t
+    logical :: on = .false.                      !< this solid may subcycle (element meshes)
+    integer :: levels = 0                        !< L of this step (0: a plain step)
+    integer :: rate = -1                         !< the rate whose nodes move now (-1: all)
+    real(wp) :: dt = 0.0_wp                      !< the step dt (s)
+    integer, allocatable :: node_rate(:), point_rate(:)   !< (np), (nq)
+    !> nodes and points by rate (CSR over rates 0..L), and for each point rate p the nodes
+    !! of lower rate its points touch (iface), which it needs between their steps' ends
+    integer, allocatable :: nptr(:), nlist(:), qptr(:), qlist(:), iptr(:), ilist(:)
+    integer, allocatable :: lev_node(:), lev_point(:), mark(:)   !< work space
+    real(wp), allocatable :: d_end(:, :)         !< d at the end of each node's current step
+  end type solid_sub_t
+
+  !> Distributed memory (decomposition_m, halo_m, doc/parallel.md): the solid is a rank's
+  !! part on its local tables. It evaluates its own points and updates its own nodes (and
+  !! sums their energies); the ghosts' values come from their owners by halo exchange
+  !! between solid_points_force and solid_nodes_force (P of the ghost points) and after
+  !! solid_update (d, v, a of the ghost nodes). Predictions run on every local node: a
+  !! ghost node's, from its owner's v and a, is its owner's to the bit.
+  type :: solid_part_t
+    logical :: on = .false.                      !< a rank's part (else the whole solid)
+    integer, allocatable :: own_q(:), own_n(:)   !< owned points, owned nodes (local numbers)
+    !> the part's exchanges with the neighbour ranks (none for a serial solid)
+    class(part_halo_t), pointer :: halo => null()
+  end type solid_part_t
+
   type :: solid_t
     character(len=64) :: name = ''
     real(wp) :: spacing(2) = 0.0_wp              !< nominal node spacing (m), for measures
@@ -165,29 +194,10 @@ module solid_m
     logical, allocatable :: qact(:)              !< point active (nq)
     logical, allocatable :: bact(:)              !< material block with an active point
     integer(i64) :: quiet_skipped = 0            !< point-steps skipped
-    ! subcycling (&solver subcycle; the step and its rules in subcycle_m): a step dt of
-    ! levels L takes each node over 2^r sub-steps dt/2^r, its rate r (0..L), and evaluates
-    ! each point at the rate of its fastest node
-    logical :: sub_on = .false.                  !< this solid may subcycle (element meshes)
-    integer :: sub_levels = 0                    !< L of this step (0: a plain step)
-    integer :: sub_rate = -1                     !< the rate whose nodes move now (-1: all)
-    real(wp) :: sub_dt = 0.0_wp                  !< the step dt (s)
-    integer, allocatable :: node_rate(:), point_rate(:)   !< (np), (nq)
-    !> nodes and points by rate (CSR over rates 0..L), and for each point rate p the nodes
-    !! of lower rate its points touch (iface), which it needs between their steps' ends
-    integer, allocatable :: nptr(:), nlist(:), qptr(:), qlist(:), iptr(:), ilist(:)
-    integer, allocatable :: lev_node(:), lev_point(:), mark(:)   !< work space
-    real(wp), allocatable :: d_end(:, :)         !< d at the end of each node's current step
-    ! distributed memory (issue 12; decomposition_m, halo_m, doc/parallel.md): this solid is
-    ! a rank's part on its local tables. It evaluates its own points and updates its own
-    ! nodes (and sums their energies); the ghosts' values come from their owners by halo
-    ! exchange between solid_points_force and solid_nodes_force (P of the ghost points) and
-    ! after solid_update (d, v, a of the ghost nodes). Predictions run on every local node:
-    ! a ghost node's, from its owner's v and a, is its owner's to the bit.
-    logical :: dist = .false.
-    integer, allocatable :: own_q(:), own_n(:)   !< owned points, owned nodes (local numbers)
-    !> the part's exchanges with the neighbour ranks (none for a serial solid)
-    class(part_halo_t), pointer :: halo => null()
+    !> subcycling (&solver subcycle): solid_sub_t
+    type(solid_sub_t) :: sub
+    !> distributed memory: solid_part_t
+    type(solid_part_t) :: part
   end type solid_t
 
 contains
@@ -444,7 +454,7 @@ contains
       s%v = s%vpres
       s%a = 0.0_wp
     end where
-    if (associated(s%halo)) call s%halo%nodes2(s%v, s%a)
+    if (associated(s%part%halo)) call s%part%halo%nodes2(s%v, s%a)
   end subroutine solid_start
 
   !> The prediction of eq. (64); contact may correct it (solid_correct) before the forces.
@@ -461,8 +471,8 @@ contains
       end where
       ! subcycling: the nodes of rate above 0 wait at d_n for their sub-steps
       h = dt
-      if (s%sub_rate == 0) then
-        if (s%node_rate(i) > 0) h = 0.0_wp
+      if (s%sub%rate == 0) then
+        if (s%sub%node_rate(i) > 0) h = 0.0_wp
       end if
       s%d_old(:, i) = s%d(:, i)
       s%d(:, i) = s%d(:, i) + h*s%v(:, i) + 0.5_wp*h*h*s%a(:, i)   ! (64)
@@ -484,18 +494,18 @@ contains
     real(wp), intent(out) :: bad_j
     integer :: q, nblocks, i0, i1, blk, kq
     real(wp) :: dw, dwp, t0, t1, t2, kmax
-    if (s%sub_levels > 0) then
+    if (s%sub%levels > 0) then
       ! the end of a subcycled step: every rate's points and nodes
-      call solid_rates_force(s, 0, 2**s%sub_levels, bad_q, bad_j)
+      call solid_rates_force(s, 0, 2**s%sub%levels, bad_q, bad_j)
       return
     end if
-    if (s%dist) then
+    if (s%part%on) then
       ! a rank's part: its points, the ghost points' P and stabilization stresses from
       ! their owners, its nodes
       call solid_points_force(s, dt, bad_q, bad_j)
-      if (associated(s%halo)) then
-        call s%halo%points(s%p)
-        if (s%stab_normal > 0.0_wp) call s%halo%points(s%stab)
+      if (associated(s%part%halo)) then
+        call s%part%halo%points(s%p)
+        if (s%stab_normal > 0.0_wp) call s%part%halo%points(s%stab)
       end if
       call solid_nodes_force(s)
       return
@@ -582,9 +592,9 @@ contains
     type(solid_t), intent(inout) :: s
     logical, intent(in) :: own_point(:), own_node(:)
     integer :: k
-    s%dist = .true.
-    s%own_q = pack([(k, k = 1, s%nq)], own_point)
-    s%own_n = pack([(k, k = 1, s%np)], own_node)
+    s%part%on = .true.
+    s%part%own_q = pack([(k, k = 1, s%nq)], own_point)
+    s%part%own_n = pack([(k, k = 1, s%np)], own_node)
   end subroutine solid_set_owned
 
   !> Distributed memory, the first half of eq. (62): F, the material and P at the owned
@@ -597,7 +607,7 @@ contains
     real(wp), intent(out) :: bad_j
     integer :: kq
     real(wp) :: kmax
-    call update_points(s, dt, s%own_q, size(s%own_q), bad_q, kmax, kq)
+    call update_points(s, dt, s%part%own_q, size(s%part%own_q), bad_q, kmax, kq)
     if (kq > 0) then
       s%kappa = kmax
       s%kappa_q = kq
@@ -620,13 +630,13 @@ contains
     real(wp) :: t0
     t0 = omp_get_wtime()
     if (s%stab_normal > 0.0_wp) then
-      call internal_force_list(s%t, s%p, s%fint, s%own_n, size(s%own_n), s%stab)
+      call internal_force_list(s%t, s%p, s%fint, s%part%own_n, size(s%part%own_n), s%stab)
     else
-      call internal_force_list(s%t, s%p, s%fint, s%own_n, size(s%own_n))
+      call internal_force_list(s%t, s%p, s%fint, s%part%own_n, size(s%part%own_n))
     end if
     !$omp parallel do default(none) shared(s) private(i) schedule(static)
-    do k = 1, size(s%own_n)
-      i = s%own_n(k)
+    do k = 1, size(s%part%own_n)
+      i = s%part%own_n(k)
       s%a_old(:, i) = s%a(:, i)
       s%a(:, i) = (s%fext(:, i) - s%fint(:, i))/s%t%mass(i)
     end do
@@ -750,15 +760,15 @@ contains
     integer, intent(out) :: npt(0:lmax), nnd(0:lmax)
     integer :: q, i, k, l
     real(wp) :: r
-    if (.not. allocated(s%lev_node)) allocate(s%lev_node(s%np), s%lev_point(s%nq))
+    if (.not. allocated(s%sub%lev_node)) allocate(s%sub%lev_node(s%np), s%sub%lev_point(s%nq))
     ! each point's own level, from its current kappa_L = kappa0_L/s_min(F)^2
     !$omp parallel do default(none) shared(s, dref, lmax) private(r) schedule(static)
     do q = 1, s%nq
       r = s%dt_cal/(dref*sqrt(s%kap0(q)/stretch2_min(s%f(:, q))))
-      s%lev_point(q) = lmax
-      if (r < 2.0_wp**lmax) s%lev_point(q) = max(0, exponent(r) - 1)
+      s%sub%lev_point(q) = lmax
+      if (r < 2.0_wp**lmax) s%sub%lev_point(q) = max(0, exponent(r) - 1)
       ! (a non-finite r, from a broken point, steps at the finest rate)
-      if (.not. (r == r)) s%lev_point(q) = 0
+      if (.not. (r == r)) s%sub%lev_point(q) = 0
     end do
     !$omp end parallel do
     nnd = 0
@@ -767,9 +777,9 @@ contains
     do i = 1, s%np
       l = lmax
       do k = s%t%tptr(i), s%t%tptr(i + 1) - 1
-        l = min(l, s%lev_point(s%t%tq(k)))
+        l = min(l, s%sub%lev_point(s%t%tq(k)))
       end do
-      s%lev_node(i) = l
+      s%sub%lev_node(i) = l
       nnd(l) = nnd(l) + 1
     end do
     !$omp end parallel do
@@ -779,9 +789,9 @@ contains
     do q = 1, s%nq
       l = lmax
       do k = s%t%ptr(q), s%t%ptr(q + 1) - 1
-        l = min(l, s%lev_node(s%t%nbr(k)))
+        l = min(l, s%sub%lev_node(s%t%nbr(k)))
       end do
-      s%lev_point(q) = l
+      s%sub%lev_point(q) = l
       npt(l) = npt(l) + 1
     end do
     !$omp end parallel do
@@ -796,40 +806,40 @@ contains
     integer, intent(in) :: levels
     real(wp), intent(in) :: dt
     integer :: i, q, k, e, r, n
-    s%sub_levels = levels
-    s%sub_dt = dt
-    s%sub_rate = -1
+    s%sub%levels = levels
+    s%sub%dt = dt
+    s%sub%rate = -1
     if (levels == 0) return
-    if (.not. allocated(s%node_rate)) then
-      allocate(s%node_rate(s%np), s%point_rate(s%nq), s%nlist(s%np), s%qlist(s%nq), &
-        s%ilist(size(s%t%nbr)), s%mark(s%np), s%d_end(2, s%np), s%nptr(0:32), &
-        s%qptr(0:32), s%iptr(0:32))
-      s%mark = -1
+    if (.not. allocated(s%sub%node_rate)) then
+      allocate(s%sub%node_rate(s%np), s%sub%point_rate(s%nq), s%sub%nlist(s%np), s%sub%qlist(s%nq), &
+        s%sub%ilist(size(s%t%nbr)), s%sub%mark(s%np), s%sub%d_end(2, s%np), s%sub%nptr(0:32), &
+        s%sub%qptr(0:32), s%sub%iptr(0:32))
+      s%sub%mark = -1
     end if
-    s%node_rate = max(0, levels - s%lev_node)
-    s%point_rate = max(0, levels - s%lev_point)
-    call by_rate(s%node_rate, levels, s%nptr, s%nlist)
-    call by_rate(s%point_rate, levels, s%qptr, s%qlist)
+    s%sub%node_rate = max(0, levels - s%sub%lev_node)
+    s%sub%point_rate = max(0, levels - s%sub%lev_point)
+    call by_rate(s%sub%node_rate, levels, s%sub%nptr, s%sub%nlist)
+    call by_rate(s%sub%point_rate, levels, s%sub%qptr, s%sub%qlist)
     ! interface nodes of each point rate r: the nodes of lower rate its points touch
     n = 0
-    s%iptr(0:1) = 1
+    s%sub%iptr(0:1) = 1
     do r = 1, levels
-      do k = s%qptr(r), s%qptr(r + 1) - 1
-        q = s%qlist(k)
+      do k = s%sub%qptr(r), s%sub%qptr(r + 1) - 1
+        q = s%sub%qlist(k)
         do e = s%t%ptr(q), s%t%ptr(q + 1) - 1
           i = s%t%nbr(e)
-          if (s%node_rate(i) >= r .or. s%mark(i) == r) cycle
-          s%mark(i) = r
+          if (s%sub%node_rate(i) >= r .or. s%sub%mark(i) == r) cycle
+          s%sub%mark(i) = r
           n = n + 1
-          s%ilist(n) = i
+          s%sub%ilist(n) = i
         end do
       end do
-      s%iptr(r + 1) = n + 1
+      s%sub%iptr(r + 1) = n + 1
     end do
     do k = 1, n
-      s%mark(s%ilist(k)) = -1
+      s%sub%mark(s%sub%ilist(k)) = -1
     end do
-    s%sub_rate = 0
+    s%sub%rate = 0
   contains
     !> rate(1:m) sorted by counting: ptr(r) .. ptr(r+1)-1 index list's entries of rate r.
     subroutine by_rate(rate, lv, ptr, list)
@@ -861,8 +871,8 @@ contains
     type(solid_t), intent(inout) :: s
     integer, intent(in) :: r
     integer :: k
-    do k = s%nptr(r), s%nptr(r + 1) - 1
-      s%d_end(:, s%nlist(k)) = s%d(:, s%nlist(k))
+    do k = s%sub%nptr(r), s%sub%nptr(r + 1) - 1
+      s%sub%d_end(:, s%sub%nlist(k)) = s%d(:, s%sub%nlist(k))
     end do
   end subroutine solid_sub_begin
 
@@ -873,11 +883,11 @@ contains
     integer, intent(in) :: r
     integer :: k, i
     real(wp) :: h
-    s%sub_rate = r
-    h = s%sub_dt/2.0_wp**r
+    s%sub%rate = r
+    h = s%sub%dt/2.0_wp**r
     !$omp parallel do default(none) shared(s, h, r) private(i) schedule(static)
-    do k = s%nptr(r), s%nptr(r + 1) - 1
-      i = s%nlist(k)
+    do k = s%sub%nptr(r), s%sub%nptr(r + 1) - 1
+      i = s%sub%nlist(k)
       where (s%pres(:, i))
         s%v(:, i) = s%vpres(:, i)
         s%a(:, i) = 0.0_wp
@@ -904,16 +914,16 @@ contains
     real(wp), intent(out) :: bad_j
     integer :: lv, p, j, i, r, kk, bq, kq, kqa, n0, n
     real(wp) :: delta, tau, km, kma, t0, dtbad
-    lv = s%sub_levels
-    delta = s%sub_dt/2.0_wp**lv
+    lv = s%sub%levels
+    delta = s%sub%dt/2.0_wp**lv
     do p = max(smin, 1), lv
       !$omp parallel do default(none) shared(s, p, smin, lv, k, delta) &
       !$omp private(i, r, kk, tau) schedule(static)
-      do j = s%iptr(p), s%iptr(p + 1) - 1
-        i = s%ilist(j)
-        r = s%node_rate(i)
+      do j = s%sub%iptr(p), s%sub%iptr(p + 1) - 1
+        i = s%sub%ilist(j)
+        r = s%sub%node_rate(i)
         if (r >= smin) then
-          s%d(:, i) = s%d_end(:, i)
+          s%d(:, i) = s%sub%d_end(:, i)
         else
           kk = mod(k, 2**(lv - r))
           tau = real(kk, wp)*delta
@@ -923,16 +933,16 @@ contains
       !$omp end parallel do
     end do
     bad_q = 0
-    dtbad = s%sub_dt
+    dtbad = s%sub%dt
     kma = 0.0_wp
     kqa = 0
     do p = smin, lv
-      n = s%qptr(p + 1) - s%qptr(p)
+      n = s%sub%qptr(p + 1) - s%sub%qptr(p)
       if (n == 0) cycle
-      call update_points(s, s%sub_dt/2.0_wp**p, s%qlist(s%qptr(p):), n, bq, km, kq)
+      call update_points(s, s%sub%dt/2.0_wp**p, s%sub%qlist(s%sub%qptr(p):), n, bq, km, kq)
       if (bq > bad_q) then
         bad_q = bq
-        dtbad = s%sub_dt/2.0_wp**p
+        dtbad = s%sub%dt/2.0_wp**p
       end if
       if (kq > 0 .and. (km > kma .or. (km == kma .and. kq < kqa))) then
         kma = km
@@ -940,16 +950,16 @@ contains
       end if
     end do
     t0 = omp_get_wtime()
-    n0 = s%nptr(smin)
-    n = s%nptr(lv + 1) - n0
+    n0 = s%sub%nptr(smin)
+    n = s%sub%nptr(lv + 1) - n0
     if (smin == 0) then
       call internal_force(s%t, s%p, s%fint)
     else
-      call internal_force_list(s%t, s%p, s%fint, s%nlist(n0:), n)
+      call internal_force_list(s%t, s%p, s%fint, s%sub%nlist(n0:), n)
     end if
     !$omp parallel do default(none) shared(s, n0, n) private(i) schedule(static)
     do j = n0, n0 + n - 1
-      i = s%nlist(j)
+      i = s%sub%nlist(j)
       s%a_old(:, i) = s%a(:, i)
       s%a(:, i) = (s%fext(:, i) - s%fint(:, i))/s%t%mass(i)
     end do
@@ -975,9 +985,9 @@ contains
     integer :: r
     real(wp) :: ke, ker
     ke = 0.0_wp
-    do r = smin, s%sub_levels
-      call advance_nodes(s, s%sub_dt/2.0_wp**r, s%nptr(r + 1) - s%nptr(r), ker, &
-        s%nlist(s%nptr(r):))
+    do r = smin, s%sub%levels
+      call advance_nodes(s, s%sub%dt/2.0_wp**r, s%sub%nptr(r + 1) - s%sub%nptr(r), ker, &
+        s%sub%nlist(s%sub%nptr(r):))
       ke = ke + ker
     end do
     if (smin == 0) s%ke = ke
@@ -986,8 +996,8 @@ contains
   !> The step is over: back to plain steps until the next solid_sub_select.
   subroutine solid_sub_end(s)
     type(solid_t), intent(inout) :: s
-    s%sub_levels = 0
-    s%sub_rate = -1
+    s%sub%levels = 0
+    s%sub%rate = -1
   end subroutine solid_sub_end
 
   !> The velocity of eq. (63), with the work of the kinematic conditions and of the contact
@@ -997,12 +1007,12 @@ contains
     type(solid_t), intent(inout) :: s
     real(wp), intent(in) :: dt
     real(wp) :: ke
-    if (s%sub_levels > 0) then
+    if (s%sub%levels > 0) then
       ! the end of a subcycled step: every node over its own step
       call solid_rates_update(s, 0)
     else
-      if (s%dist) then
-        call advance_nodes(s, dt, size(s%own_n), ke, s%own_n)
+      if (s%part%on) then
+        call advance_nodes(s, dt, size(s%part%own_n), ke, s%part%own_n)
       else
         call advance_nodes(s, dt, s%np, ke)
       end if
@@ -1010,7 +1020,7 @@ contains
     end if
     s%ipoint_time = s%ipoint_time + dt
     ! a rank's part: the ghost nodes' v and a from their owners
-    if (associated(s%halo)) call s%halo%nodes2(s%v, s%a)
+    if (associated(s%part%halo)) call s%part%halo%nodes2(s%v, s%a)
   end subroutine solid_update
 
   !> The rows of state field k (state_fields) of solid s: 2 for nodal vectors, the
@@ -1141,7 +1151,7 @@ contains
   !! owners (a serial solid has none to get).
   subroutine solid_share_corrections(s)
     type(solid_t), intent(inout) :: s
-    if (associated(s%halo)) call s%halo%nodes2(s%d, s%a)
+    if (associated(s%part%halo)) call s%part%halo%nodes2(s%d, s%a)
   end subroutine solid_share_corrections
 
   !> solid_update for a step dt over the nodes list(1:n), or the nodes 1..n when list is
@@ -1249,13 +1259,13 @@ contains
     ! (subcycling: only the nodes of the rate being stepped have forces)
     k0 = 0
     n = s%np
-    if (s%sub_rate >= 0) then
-      k0 = s%nptr(s%sub_rate) - 1
-      n = s%nptr(s%sub_rate + 1) - s%nptr(s%sub_rate)
+    if (s%sub%rate >= 0) then
+      k0 = s%sub%nptr(s%sub%rate) - 1
+      n = s%sub%nptr(s%sub%rate + 1) - s%sub%nptr(s%sub%rate)
     end if
     do jj = 1, n
       j = jj
-      if (s%sub_rate >= 0) j = s%nlist(k0 + jj)
+      if (s%sub%rate >= 0) j = s%sub%nlist(k0 + jj)
       if (all(fphys(:, j) == 0.0_wp)) cycle
       s%fpoint(:, j) = s%fpoint(:, j) + fphys(:, j)
       if (s%t%interpolating) then
@@ -1277,14 +1287,14 @@ contains
     ! subcycling: only the nodes of the rate being stepped
     k0 = 0
     n = s%np
-    if (s%sub_rate >= 0) then
-      k0 = s%nptr(s%sub_rate) - 1
-      n = s%nptr(s%sub_rate + 1) - s%nptr(s%sub_rate)
+    if (s%sub%rate >= 0) then
+      k0 = s%sub%nptr(s%sub%rate) - 1
+      n = s%sub%nptr(s%sub%rate + 1) - s%sub%nptr(s%sub%rate)
     end if
     !$omp parallel do default(none) shared(s, dt, n, k0) private(i) schedule(static)
     do k = 1, n
       i = k
-      if (s%sub_rate >= 0) i = s%nlist(k0 + k)
+      if (s%sub%rate >= 0) i = s%sub%nlist(k0 + k)
       s%a(:, i) = s%a_old(:, i) + s%fcon(:, i)/s%t%mass(i)
       where (s%pres(:, i)) s%a(:, i) = 0.0_wp
       s%d(:, i) = s%d_old(:, i) + dt*s%v(:, i) + 0.5_wp*dt*dt*s%a(:, i)

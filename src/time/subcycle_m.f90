@@ -68,7 +68,7 @@ contains
     logical :: ready
     ready = on .and. size(solids) > 0
     do k = 1, size(solids)
-      ready = ready .and. solids(k)%sub_on .and. solids(k)%all_awake
+      ready = ready .and. solids(k)%sub%on .and. solids(k)%all_awake
     end do
     lfix = 0
     if (ready .and. .not. c%adaptive) then
@@ -173,7 +173,7 @@ contains
     bad_q = 0
     bad_j = 1.0_wp
     if (size(solids) == 0) return
-    lv = solids(1)%sub_levels
+    lv = solids(1)%sub%levels
     if (lv == 0) return
     do j = 1, size(solids)
       call solid_sub_begin(solids(j), 0)
@@ -188,7 +188,7 @@ contains
         any_nodes = .false.
         do j = 1, size(solids)
           call solid_rate_predict(solids(j), r)
-          any_nodes = any_nodes .or. solids(j)%nptr(r + 1) > solids(j)%nptr(r)
+          any_nodes = any_nodes .or. solids(j)%sub%nptr(r + 1) > solids(j)%sub%nptr(r)
         end do
         if (any_nodes) then
           t0 = omp_get_wtime()
@@ -206,7 +206,7 @@ contains
       smin = lv - trailz(k)
       do j = 1, size(solids)
         call solid_rates_force(solids(j), smin, k, bad_q, bad_j)
-        rec%fine_evals = rec%fine_evals + (solids(j)%qptr(lv + 1) - solids(j)%qptr(smin))
+        rec%fine_evals = rec%fine_evals + (solids(j)%sub%qptr(lv + 1) - solids(j)%sub%qptr(smin))
         rec%uniform_evals = rec%uniform_evals + solids(j)%nq
         if (bad_q > 0) then
           k_bad = j
@@ -217,7 +217,7 @@ contains
       if (k_bad > 0) exit
     end do
     do j = 1, size(solids)
-      solids(j)%sub_rate = -1
+      solids(j)%sub%rate = -1
     end do
     ! the step's first pass acted on the nodes of rate 0, each rate's passes on its own
     do r = 1, lv
@@ -254,7 +254,7 @@ contains
     type(solid_t), intent(inout) :: solids(:)
     integer :: k
     do k = 1, size(solids)
-      if (solids(k)%sub_levels > 0) call solid_sub_end(solids(k))
+      if (solids(k)%sub%levels > 0) call solid_sub_end(solids(k))
     end do
   end subroutine subcycle_end
 end module subcycle_m
