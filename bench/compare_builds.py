@@ -18,8 +18,14 @@ driver refuses, such as a subcycled one, are skipped when both builds refuse the
 Not a test: it takes minutes (the paper's Taylor bars are half a minute a run); its result
 goes in the closing note of a refactor. Exit 0 when everything compared is equal.
 
-Usage: python bench/compare_builds.py [--ref COMMIT] [--threads 1,2] [--mpi]
-                                      [--ranks 1,2,3,4] [DECK ...]
+The reference's files are kept under build-ref/cache-<ref>/ and reused by later runs (its
+program never changes), so a second comparison costs the new build's runs only; --ref-only
+fills that cache and compares nothing (run it while the new tree is still being edited).
+--new COMMIT compares a commit (checked out in a worktree under build-ref/) instead of this
+working tree, so the tree may change while the comparison runs.
+
+Usage: python bench/compare_builds.py [--ref COMMIT] [--new COMMIT] [--ref-only]
+                                      [--threads 1,2] [--mpi] [--ranks 1,2,3,4] [DECK ...]
 """
 import argparse
 import os
@@ -110,9 +116,64 @@ def deck_copy(deck, work, tag, extra=""):
     return path, out
 
 
+def worktree(commit):
+    """A checkout of commit under build-ref/ (made once)."""
+    src = os.path.join(ROOT, "build-ref", "src-" + commit)
+    if not os.path.isdir(src):
+        os.makedirs(os.path.dirname(src), exist_ok=True)
+        sh(["git", "worktree", "add", "--detach", src, commit])
+    return src
+
+
+def cached(cache, key, out, produce):
+    """The reference's file for key: from the cache, or produced (produce() returns the
+    exit status; 2 on ranks is a refusal, kept as such) and copied there. Returns
+    (exit status, path)."""
+    keep = os.path.join(cache, key + ".h5")
+    refused = os.path.join(cache, key + ".refused")
+    if os.path.exists(keep):
+        return 0, keep
+    if os.path.exists(refused):
+        return 2, ""
+    rc = produce()
+    if rc == 0:
+        shutil.copyfile(out, keep + ".part")
+        os.replace(keep + ".part", keep)
+        return 0, keep
+    if rc == 2:
+        open(refused, "w").close()
+    return rc, ""
+
+
 def steps_of(h5):
     with h5py.File(h5, "r") as f:
         return int(f["summary"].attrs["steps"])
+
+
+def restarted(deck, work, prog, env, tag, every):
+    """The deck run with a checkpoint at step every and continued from it by --restart."""
+    path, out = deck_copy(deck, work, f"{deck}_{tag}_ck", f"  checkpoint_every = {every}")
+    rc, err = run([prog, path], env)
+    if rc != 0:
+        raise RuntimeError(f"{deck} {tag} checkpoint: {err[-1500:]}")
+    ck = out[:-3] + ".checkpoint.h5"
+    os.remove(out)
+    rc, err = run([prog, "--restart", ck, path], env)
+    if rc != 0:
+        raise RuntimeError(f"{deck} {tag} restart: {err[-1500:]}")
+    return out
+
+
+def restart_ref(deck, work, progs, env, cache, key, full):
+    """The reference's restarted file (cached like its plain runs)."""
+    every = max(1, steps_of(full)//2)
+
+    def produce():
+        restarted(deck, work, progs["ref"], env, "ref", every)
+        return 0
+    rc, out = cached(cache, key + "_restart", os.path.join(work, f"{deck}_ref_ck.h5"),
+                     produce)
+    return out
 
 
 def run(cmd, env):
@@ -123,18 +184,21 @@ def run(cmd, env):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--ref", default="762ac98")
+    ap.add_argument("--new", default="")
+    ap.add_argument("--ref-only", action="store_true")
     ap.add_argument("--threads", default="1,2")
     ap.add_argument("--mpi", action="store_true")
     ap.add_argument("--ranks", default="1,2,3,4")
     ap.add_argument("decks", nargs="*")
     a = ap.parse_args()
     decks = a.decks or DECKS
-    ref_src = os.path.join(ROOT, "build-ref", "src-" + a.ref)
-    if not os.path.isdir(ref_src):
-        os.makedirs(os.path.dirname(ref_src), exist_ok=True)
-        sh(["git", "worktree", "add", "--detach", ref_src, a.ref])
+    ref_src = worktree(a.ref)
+    new_src = worktree(a.new) if a.new else ROOT
+    cache = os.path.join(ROOT, "build-ref", "cache-" + a.ref)
+    os.makedirs(cache, exist_ok=True)
     progs = {}
-    for tag, src in (("ref", ref_src), ("new", ROOT)):
+    builds = (("ref", ref_src),) if a.ref_only else (("ref", ref_src), ("new", new_src))
+    for tag, src in builds:
         bdir = os.path.join(ROOT, "build-ref", f"{tag}-serial")
         build(src, bdir, False)
         progs[tag] = os.path.join(bdir, "bin", "mfcd")
@@ -158,18 +222,33 @@ def main():
             for label, env, ranks in runs:
                 files = {}
                 refused = 0
-                for tag in ("ref", "new"):
+                key = f"{deck}_" + label.replace(" ", "_").replace("(", "").replace(")", "")
+                for tag in ("ref",) if a.ref_only else ("ref", "new"):
                     prog = progs[tag] if ranks is None else progs[tag + "_mpi"]
                     cmd = ([prog] if ranks is None else
                            ["mpirun", "--oversubscribe", "-np", str(ranks), prog])
                     path, out = deck_copy(deck, work, f"{deck}_{tag}")
-                    rc, err = run(cmd + [path], env)
+                    err = ""
+
+                    def produce():
+                        nonlocal err
+                        rc, err = run(cmd + [path], env)
+                        return rc
+                    if tag == "ref":
+                        rc, out = cached(cache, key, out, produce)
+                    else:
+                        rc = produce()
                     if rc == 2 and ranks is not None:
                         refused += 1
                         continue
                     if rc != 0:
                         raise RuntimeError(f"{deck} {tag} {label}: exit {rc}\n{err[-1500:]}")
                     files[tag] = out
+                if a.ref_only:
+                    if files and dynamic and ranks is None:
+                        restart_ref(deck, work, progs, env, cache, key, files["ref"])
+                    print(f"[ REF  ] {deck}, {label}", flush=True)
+                    continue
                 if refused == 2:
                     print(f"[ SKIP ] {deck}, {label}: refused by both builds' mfcd_mpi")
                     continue
@@ -186,28 +265,20 @@ def main():
                 if not dynamic or ranks is not None:
                     continue
                 # a checkpoint half way, continued by --restart, by both programs
-                every = max(1, steps_of(files["new"])//2)
-                cont = {}
-                for tag in ("ref", "new"):
-                    path, out = deck_copy(deck, work, f"{deck}_{tag}_ck",
-                                          f"  checkpoint_every = {every}")
-                    rc, err = run([progs[tag], path], env)
-                    if rc != 0:
-                        raise RuntimeError(f"{deck} {tag} checkpoint: {err[-1500:]}")
-                    ck = out[:-3] + ".checkpoint.h5"
-                    os.remove(out)
-                    rc, err = run([progs[tag], "--restart", ck, path], env)
-                    if rc != 0:
-                        raise RuntimeError(f"{deck} {tag} restart: {err[-1500:]}")
-                    cont[tag] = out
+                every = max(1, steps_of(files["ref"])//2)
+                cont = {"ref": restart_ref(deck, work, progs, env, cache, key, files["ref"]),
+                        "new": restarted(deck, work, progs["new"], env, "new", every)}
                 diff = compare(cont["ref"], cont["new"])
                 total += 1
                 failures += bool(diff)
                 print(("[  OK  ] " if not diff else "[ FAIL ] ") + f"{deck}, {label}, "
                       f"restarted at step {every}" + (": " + diff if diff else ""),
                       flush=True)
+    if a.ref_only:
+        print(f"reference files of {a.ref} in {cache}")
+        return 0
     print(f"{total - failures} of {total} comparisons equal to the bit ({a.ref} against "
-          f"this tree)")
+          f"{a.new or 'this tree'})")
     return 0 if failures == 0 else 1
 
 
