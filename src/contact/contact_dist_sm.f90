@@ -350,7 +350,7 @@ contains
       !$omp parallel do default(none) shared(s, ds, sol) private(i) schedule(static)
       do k = 1, size(ds%own)
         i = ds%own(k)
-        s%x_pred(:, i) = sol%x0(:, ds%gl(i)) + sol%d(:, ds%gl(i))
+        s%x_pred(:, i) = sol%x0(:, ds%gl(i)) + sol%state%d(:, ds%gl(i))
       end do
       !$omp end parallel do
     else

@@ -412,7 +412,7 @@ contains
     s%travel = 0.0_wp
     allocate(s%due(s%np), s%d_scr(2, s%np))
     s%due = -1.0_wp
-    s%d_scr = solids(s%isolid)%d
+    s%d_scr = solids(s%isolid)%state%d
     s%near = .true.
   end subroutine skip_far_init
 
@@ -636,8 +636,8 @@ contains
     !$omp schedule(static)
     do ii = 1, s%nlist
       i = side_particle(s, ii)
-      dmax2 = max(dmax2, sum((sol%d(:, i) - s%d_scr(:, i))**2))
-      s%d_scr(:, i) = sol%d(:, i)
+      dmax2 = max(dmax2, sum((sol%state%d(:, i) - s%d_scr(:, i))**2))
+      s%d_scr(:, i) = sol%state%d(:, i)
     end do
     !$omp end parallel do
     s%travel = s%travel + factor*s%lip*sqrt(dmax2)
@@ -734,7 +734,7 @@ contains
       where (sol%pres(1, :) .and. sol%pres(2, :)) s%imass = 0.0_wp
       if (allocated(s%due)) then
         s%due = s%due(nglob)
-        s%d_scr = sol%d
+        s%d_scr = sol%state%d
       end if
       if (allocated(s%list)) deallocate(s%list)
       e = 0

@@ -49,12 +49,12 @@ contains
     type(energies_t), intent(out) :: en
     integer :: k
     do k = 1, size(solids)
-      en%ke = en%ke + solids(k)%ke
-      en%ke0 = en%ke0 + solids(k)%ke0
-      en%w_int = en%w_int + solids(k)%w_int + solids(k)%e_stab
-      en%w_plastic = en%w_plastic + solids(k)%w_plastic
-      en%w_ext = en%w_ext + solids(k)%w_ext + solids(k)%w_bc
-      en%w_contact = en%w_contact + solids(k)%w_contact
+      en%ke = en%ke + solids(k)%acc%ke
+      en%ke0 = en%ke0 + solids(k)%acc%ke0
+      en%w_int = en%w_int + solids(k)%acc%w_int + solids(k)%acc%e_stab
+      en%w_plastic = en%w_plastic + solids(k)%acc%w_plastic
+      en%w_ext = en%w_ext + solids(k)%acc%w_ext + solids(k)%acc%w_bc
+      en%w_contact = en%w_contact + solids(k)%acc%w_contact
     end do
     en%residual = en%ke + en%w_int - en%ke0 - en%w_ext - en%w_contact
     en%scale = max(en%ke0, en%ke, abs(en%w_int), abs(en%w_ext), abs(en%w_contact), &
@@ -76,14 +76,14 @@ contains
     integer :: k
     vref = 0.0_wp
     do k = 1, size(solids)
-      vref = max(vref, sqrt(maxval(sum(solids(k)%v**2, dim=1))), &
+      vref = max(vref, sqrt(maxval(sum(solids(k)%state%v**2, dim=1))), &
         sqrt(maxval(sum(solids(k)%vpres**2, dim=1))))
     end do
     do k = 1, size(solids)
-      solids(k)%v_limit = 5.0_wp*vref + 0.2_wp*solids(k)%mat%dilatational_speed()
-      solids(k)%epsbar_limit = epsbar_limit
-      solids(k)%deps_limit = deps_limit
-      solids(k)%j_bounds = j_limits
+      solids(k)%opt%v_limit = 5.0_wp*vref + 0.2_wp*solids(k)%mat%dilatational_speed()
+      solids(k)%opt%epsbar_limit = epsbar_limit
+      solids(k)%opt%deps_limit = deps_limit
+      solids(k)%opt%j_bounds = j_limits
     end do
   end subroutine set_health_limits
 
@@ -107,14 +107,14 @@ contains
       return
     end if
     call solid_worst_node(s, j, vmax)
-    if (.not. (vmax <= s%v_limit)) then
+    if (.not. (vmax <= s%opt%v_limit)) then
       failed = .true.
       if (vmax >= huge(1.0_wp)) then
         reason = 'step '//itoa(n)//', body '''//trim(s%name)// &
           ''': non-finite displacement or velocity (node '//itoa(j)//'); '//fix_text(s)
       else
         reason = 'step '//itoa(n)//', body '''//trim(s%name)//''', node '//itoa(j)// &
-          ': speed '//rtoa(vmax)//' m/s above the limit '//rtoa(s%v_limit)// &
+          ': speed '//rtoa(vmax)//' m/s above the limit '//rtoa(s%opt%v_limit)// &
           ' m/s (5 x the fastest initial or prescribed speed + 0.2 c_d): a local '// &
           'instability; '//fix_text(s)
       end if
@@ -131,16 +131,16 @@ contains
       character(len=:), allocatable :: txt
       select case (s%bad_code)
       case (health_j)
-        txt = 'J = '//rtoa(bad_j)//' outside ('//rtoa(s%j_bounds(1))//', '// &
-          rtoa(s%j_bounds(2))//'): the cell is inverting or exploding; '//fix_text(s)
+        txt = 'J = '//rtoa(bad_j)//' outside ('//rtoa(s%opt%j_bounds(1))//', '// &
+          rtoa(s%opt%j_bounds(2))//'): the cell is inverting or exploding; '//fix_text(s)
       case (health_stress)
         txt = 'non-finite stress (J = '//rtoa(bad_j)//'); '//fix_text(s)
       case (health_epsbar)
         txt = 'effective plastic strain '//rtoa(s%st%epsbar(q))//' above the limit '// &
-          rtoa(s%epsbar_limit)//': runaway local plastic flow; '//fix_text(s)
+          rtoa(s%opt%epsbar_limit)//': runaway local plastic flow; '//fix_text(s)
       case default
         txt = 'effective plastic strain rate '//rtoa(s%st%epsdot(q))//' /s: increment '// &
-          'in one step above '//rtoa(s%deps_limit)//', the step does not resolve the '// &
+          'in one step above '//rtoa(s%opt%deps_limit)//', the step does not resolve the '// &
           'motion; '//fix_text(s)
       end select
     end function point_text
@@ -234,7 +234,7 @@ contains
     jb = 1
     do k = 1, size(solids)
       do j = 1, solids(k)%np
-        v = norm2(solids(k)%v(:, j))
+        v = norm2(solids(k)%state%v(:, j))
         if (v > vmax) then
           vmax = v
           kb = k

@@ -132,7 +132,7 @@ contains
         gb = g//'/'//trim(tb%name)
         call solid_positions(tb, at_prediction, tb%x)
         allocate(vphys(2, np), sig(4, np), eps(np), jj(np), w(np), fc(2, np))
-        call physical_positions(tb%t, 0.0_wp*tb%x0, tb%v, vphys)
+        call physical_positions(tb%t, 0.0_wp*tb%x0, tb%state%v, vphys)
         sig = 0.0_wp
         eps = 0.0_wp
         jj = 0.0_wp
@@ -140,7 +140,7 @@ contains
         ! nodal values: the weighted mean over the points a node owns (an SCNI cell), or
         ! over the points it belongs to when points have no owner (elements)
         do q = 1, tb%nq
-          jq = jacobian(tb%f(:, q))
+          jq = jacobian(tb%state%f(:, q))
           if (tb%t%owner(q) > 0) then
             call accumulate(tb%t%owner(q))
           else
@@ -155,9 +155,9 @@ contains
           jj(i) = jj(i)/w(i)
         end do
         fc = 0.0_wp
-        if (tb%ipoint_time > 0.0_wp) fc = tb%ipoint/tb%ipoint_time
-        tb%ipoint = 0.0_wp
-        tb%ipoint_time = 0.0_wp
+        if (tb%state%ipoint_time > 0.0_wp) fc = tb%state%ipoint/tb%state%ipoint_time
+        tb%state%ipoint = 0.0_wp
+        tb%state%ipoint_time = 0.0_wp
         call h5_group(f, gb, err)
         if (.not. allocated(err)) call h5_write(f, gb//'/x', tb%x, 'm', err, &
           'physical particle positions (2, np)')
@@ -196,7 +196,7 @@ contains
       integer :: qq
       allocate(sc(4, s%nq), jc(s%nq))
       do qq = 1, s%nq
-        jc(qq) = jacobian(s%f(:, qq))
+        jc(qq) = jacobian(s%state%f(:, qq))
         sc(:, qq) = s%st%tau(:, qq)/jc(qq)
       end do
       call h5_write(f, gb//'/stress_cells', sc, 'Pa', err, &

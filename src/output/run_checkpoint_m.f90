@@ -209,16 +209,16 @@ contains
       if (allocated(err)) return
       call write_field(f, g, s, k, err)
     end do
-    if (.not. allocated(err)) call h5_attr(f, g, 'contact_impulse_time', s%ipoint_time, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'contact_impulse_time', s%state%ipoint_time, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'energies', solid_energies(s), err)
     if (.not. allocated(err)) call h5_attr(f, g, 'kappa_dt_cal', [s%kappa, s%dt_cal], err)
     if (.not. allocated(err)) call h5_attr(f, g, 'kappa_q', s%kappa_q, err)
-    if (.not. allocated(err)) call h5_attr(f, g, 'wall', s%wall, err)
+    if (.not. allocated(err)) call h5_attr(f, g, 'wall', s%acc%wall, err)
     ! quiet points (&solver skip_quiet): which are active, which nodes are disturbed, so
     ! that a restarted run skips what the uninterrupted one skips
     if (s%quiet_on .and. .not. allocated(err)) then
       call h5_attr(f, g, 'quiet_all_awake_skipped', [merge(1.0_wp, 0.0_wp, s%all_awake), &
-        real(s%quiet_skipped, wp)], err)
+        real(s%acc%quiet_skipped, wp)], err)
       if (.not. allocated(err)) call h5_write(f, g//'/quiet_awake', merge(1.0_wp, 0.0_wp, &
         s%awake), '1', err, 'node disturbed from the uniform translation: 1 (np)')
       if (.not. allocated(err)) call h5_write(f, g//'/quiet_active', merge(1.0_wp, 0.0_wp, &
@@ -626,13 +626,13 @@ contains
       call read_field(f, g, s, k, err)
     end do
     if (.not. allocated(err)) call h5_read_attr(f, g, 'contact_impulse_time', &
-      s%ipoint_time, err)
+      s%state%ipoint_time, err)
     en = 0.0_wp
     kd = 0.0_wp
     if (.not. allocated(err)) call h5_read_attr(f, g, 'energies', en, err)
     if (.not. allocated(err)) call h5_read_attr(f, g, 'kappa_dt_cal', kd, err)
     if (.not. allocated(err)) call h5_read_attr(f, g, 'kappa_q', s%kappa_q, err)
-    if (.not. allocated(err)) call h5_read_attr(f, g, 'wall', s%wall, err)
+    if (.not. allocated(err)) call h5_read_attr(f, g, 'wall', s%acc%wall, err)
     if (allocated(err)) return
     call solid_set_energies(s, en)
     s%kappa = kd(1)
@@ -686,7 +686,7 @@ contains
     if (.not. allocated(err)) call h5_read(f, g//'/quiet_active', qa, err)
     if (allocated(err)) return
     s%all_awake = flags(1) > 0.5_wp
-    s%quiet_skipped = nint(flags(2), i64)
+    s%acc%quiet_skipped = nint(flags(2), i64)
     s%awake = aw > 0.5_wp
     s%qact = qa > 0.5_wp
     call solid_quiet_blocks(s)

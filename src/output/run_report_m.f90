@@ -205,7 +205,7 @@ contains
     integer :: k
     share = 0.0_wp
     do k = 1, size(solids)
-      share = share + solids(k)%wall
+      share = share + solids(k)%acc%wall
     end do
     share = share/max(r%t_loop, clock_tick)
   end function time_shares
@@ -316,7 +316,7 @@ contains
       call put_r('width', m%width, 'm')
       call put_r('foot_radius', m%foot_radius, 'm')
       call put_r('max_epsbar', m%max_epsbar, '1')
-      call put_r('quiet_point_steps_skipped', real(solids(k)%quiet_skipped, wp), '1')
+      call put_r('quiet_point_steps_skipped', real(solids(k)%acc%quiet_skipped, wp), '1')
       call close_group()
     end do
     call summary_log(r, en, pairs, solids, files, wall, rate, sh, tl)
@@ -387,9 +387,9 @@ contains
       en%residual, ' J of scale ', en%scale, ' J: relative ', en%residual/max(en%scale, &
       tiny(1.0_wp))
     do k = 1, size(solids)
-      if (solids(k)%quiet_skipped > 0) write(output_unit, '(a,i0,a,f5.1,a)') 'summary: '// &
-        'body '''//trim(solids(k)%name)//''': skip_quiet: ', solids(k)%quiet_skipped, &
-        ' point-steps (', 100.0_wp*real(solids(k)%quiet_skipped, wp)/real(max(r%n + 1, 1)* &
+      if (solids(k)%acc%quiet_skipped > 0) write(output_unit, '(a,i0,a,f5.1,a)') 'summary: '// &
+        'body '''//trim(solids(k)%name)//''': skip_quiet: ', solids(k)%acc%quiet_skipped, &
+        ' point-steps (', 100.0_wp*real(solids(k)%acc%quiet_skipped, wp)/real(max(r%n + 1, 1)* &
         max(solids(k)%nq, 1), wp), '%) skipped: points still in the uniform initial motion'
     end do
     do k = 1, size(pairs)

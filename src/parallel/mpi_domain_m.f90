@@ -224,21 +224,21 @@ contains
         if (allocated(err)) return
         call solid_set_owned(p, lp%own_point, lp%own_node)
         ! RKPM's SCNI stabilization as the whole solid's (elements have none)
-        p%stab_normal = g%stab_normal
-        p%stab_shear = g%stab_shear
-        p%v = g%v(:, n)
-        p%ke0 = 0.0_wp
+        p%opt%stab_normal = g%opt%stab_normal
+        p%opt%stab_shear = g%opt%stab_shear
+        p%state%v = g%state%v(:, n)
+        p%acc%ke0 = 0.0_wp
         do j = 1, size(p%part%own_n)
           i = p%part%own_n(j)
-          p%ke0 = p%ke0 + 0.5_wp*p%t%mass(i)*sum(p%v(:, i)**2)
+          p%acc%ke0 = p%acc%ke0 + 0.5_wp*p%t%mass(i)*sum(p%state%v(:, i)**2)
         end do
-        p%ke = p%ke0
+        p%acc%ke = p%acc%ke0
         p%spacing = g%spacing
         p%dt_cal = g%dt_cal
-        p%v_limit = g%v_limit
-        p%epsbar_limit = g%epsbar_limit
-        p%deps_limit = g%deps_limit
-        p%j_bounds = g%j_bounds
+        p%opt%v_limit = g%opt%v_limit
+        p%opt%epsbar_limit = g%opt%epsbar_limit
+        p%opt%deps_limit = g%opt%deps_limit
+        p%opt%j_bounds = g%opt%j_bounds
         allocate(h%w(4, p%np))
       end associate
     end associate
@@ -266,7 +266,7 @@ contains
         deallocate(buf)
       end do
       call solid_state_derived(p)
-      p%ipoint_time = g%ipoint_time
+      p%state%ipoint_time = g%state%ipoint_time
       p%kappa = g%kappa
       p%dt_cal = g%dt_cal
       call solid_set_energies(p, merge(solid_energies(g), 0.0_wp, dom%root))
@@ -335,7 +335,7 @@ contains
     if (.not. dom%root) return
     call unpack_fields(g, kn, rin, rn)
     call unpack_fields(g, kq, riq, rq)
-    g%ipoint_time = p%ipoint_time
+    g%state%ipoint_time = p%state%ipoint_time
   end subroutine gather_solid
 
   !> buf(:, j): the state fields ks of solid s at entry idx(j), one after another.
@@ -471,8 +471,8 @@ contains
     call MPI_Bcast(flag, 1, MPI_INTEGER, 0, dom%mcomm)
     if (flag == 0) return
     do k = 1, size(solids)
-      solids(k)%ipoint = 0.0_wp
-      solids(k)%ipoint_time = 0.0_wp
+      solids(k)%state%ipoint = 0.0_wp
+      solids(k)%state%ipoint_time = 0.0_wp
     end do
   end subroutine mpi_impulses
 
@@ -541,7 +541,8 @@ contains
     ng = 0
     do k = 1, size(solids)
       loc = loc + [dom%halos(k)%plan%bytes_nodes, dom%halos(k)%plan%bytes_points]
-      ng = ng + [solids(k)%np - size(solids(k)%part%own_n), solids(k)%nq - size(solids(k)%part%own_q)]
+      ng = ng + [solids(k)%np - size(solids(k)%part%own_n), &
+        solids(k)%nq - size(solids(k)%part%own_q)]
     end do
     call MPI_Allreduce(loc, tot, 2, MPI_INTEGER8, MPI_SUM, dom%mcomm)
     call MPI_Allreduce(ng, ngt, 2, MPI_INTEGER, MPI_SUM, dom%mcomm)

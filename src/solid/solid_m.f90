@@ -25,7 +25,8 @@ module solid_m
     rate_of_deformation_list, piola_stress_list, internal_force_list
   implicit none
   private
-  public :: solid_t, solid_sub_t, solid_part_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
+  public :: solid_t, solid_sub_t, solid_part_t, solid_state_t, solid_options_t, &
+    solid_accounts_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
   public :: solid_kinetic_energy, solid_positions, solid_point_position
   public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_quiet_init, &
     solid_quiet_blocks
@@ -46,7 +47,8 @@ module solid_m
     'plastic strain increment above its limit']
 
   integer, parameter :: at_step_start = 1   !< solid_positions gives x at the start of the step
-  integer, parameter :: at_prediction = 2   !< solid_positions gives x at the (corrected) prediction
+  !> solid_positions gives x at the (corrected) prediction
+  integer, parameter :: at_prediction = 2
 
 
   !> Material points are updated in blocks of this many (dynamic scheduling over blocks).
@@ -137,6 +139,45 @@ module solid_m
     class(part_halo_t), pointer :: halo => null()
   end type solid_part_t
 
+  !> What a step changes: the nodal coefficients of eqs. (65)-(67), the reactions of the
+  !! kinematic conditions, the contact impulse since the last snapshot, F and P (eq. 62) and
+  !! the material's state. The fields a restart needs are state_fields (solid_get_field,
+  !! solid_put_field); the rest follows from them (solid_state_derived).
+  type :: solid_state_t
+    real(wp), allocatable :: d(:, :), v(:, :), a(:, :)   !< (2, np) (m, m/s, m/s^2)
+    real(wp), allocatable :: d_old(:, :)         !< d at the start of the step
+    real(wp), allocatable :: a_old(:, :)         !< a_n during the step
+    real(wp), allocatable :: freac(:, :), freac_old(:, :)  !< reactions (2, np) (N)
+    !> the contact forces' impulse on the physical points since the last snapshot (N s),
+    !! 1/2 dt fpoint per step as the history's f_contact (eq. 63), and the time it covers
+    !! (s): /snapshots f_contact = impulse / time
+    real(wp), allocatable :: ipoint(:, :)
+    real(wp) :: ipoint_time = 0.0_wp
+    real(wp), allocatable :: f(:, :), f_old(:, :)        !< F (5, nq)
+    real(wp), allocatable :: p(:, :), p_old(:, :)        !< first Piola-Kirchhoff (5, nq) (Pa)
+    type(material_state_t) :: st                 !< stresses, back stress, epsbar, its rate
+  end type solid_state_t
+
+  !> Options of a solid, set once by the run's set-up: the SCNI stabilization and the local
+  !! health limits (run_health_m).
+  type :: solid_options_t
+    real(wp) :: stab_normal = 0.0_wp, stab_shear = 0.0_wp  !< alpha (lambda + 2 mu), alpha mu
+    real(wp) :: v_limit = huge(1.0_wp)           !< node speed limit (m/s)
+    real(wp) :: epsbar_limit = huge(1.0_wp)      !< effective plastic strain limit (-)
+    real(wp) :: deps_limit = huge(1.0_wp)        !< its increment in one step (-)
+    real(wp) :: j_bounds(2) = [0.0_wp, huge(1.0_wp)]   !< J must stay inside (-)
+  end type solid_options_t
+
+  !> What a solid has received and spent since t = 0: the energy accounts (J, or J/m in
+  !! plane strain; solid_energies packs them for checkpoints), and the work done.
+  type :: solid_accounts_t
+    real(wp) :: ke0 = 0.0_wp, ke = 0.0_wp, w_int = 0.0_wp, w_plastic = 0.0_wp, w_bc = 0.0_wp
+    real(wp) :: w_ext = 0.0_wp, w_contact = 0.0_wp
+    real(wp) :: e_stab = 0.0_wp                  !< stabilization energy
+    real(wp) :: wall(3) = 0.0_wp                 !< seconds in kinematics, material, forces
+    integer(i64) :: quiet_skipped = 0            !< quiet point-steps skipped
+  end type solid_accounts_t
+
   type :: solid_t
     character(len=64) :: name = ''
     real(wp) :: spacing(2) = 0.0_wp              !< nominal node spacing (m), for measures
@@ -146,43 +187,26 @@ module solid_m
     class(material_t), allocatable :: mat
     type(material_state_t) :: st
     real(wp), allocatable :: x0(:, :)            !< reference positions (2, np) (m)
-    real(wp), allocatable :: d(:, :), v(:, :), a(:, :)   !< nodal coefficients, eqs. (65)-(67)
-    real(wp), allocatable :: d_old(:, :)         !< d at the start of the step
-    real(wp), allocatable :: a_old(:, :)         !< a_n during the step
+    type(solid_state_t) :: state                 !< what a step changes
+    type(solid_options_t) :: opt                 !< set once by the run's set-up
+    type(solid_accounts_t) :: acc                !< energies and work since t = 0
+    logical, allocatable :: pres(:, :)           !< prescribed velocity component (2, np)
+    real(wp), allocatable :: vpres(:, :)         !< its value (m/s)
+    ! work space of a step, recomputed from the state
     real(wp), allocatable :: fint(:, :), fext(:, :)      !< (2, np) (N)
     real(wp), allocatable :: fcon(:, :)          !< contact forces on the coefficients (N)
     !> contact forces at the nodes' physical points this step, before eq. (98) spreads them
     !! (action and reaction of every pass; N)
     real(wp), allocatable :: fpoint(:, :)
-    !> their impulse since the last snapshot (N s), 1/2 dt fpoint per step as the history's
-    !! f_contact (eq. 63), and the time it covers (s): /snapshots f_contact = impulse / time
-    real(wp), allocatable :: ipoint(:, :)
-    real(wp) :: ipoint_time = 0.0_wp
-    real(wp), allocatable :: x(:, :)             !< physical positions (2, np) (m), work space
-    real(wp), allocatable :: f(:, :), f_old(:, :)        !< F (5, nq)
-    real(wp), allocatable :: p(:, :), p_old(:, :)        !< first Piola-Kirchhoff (5, nq) (Pa)
+    real(wp), allocatable :: x(:, :)             !< physical positions (2, np) (m)
     real(wp), allocatable :: dr(:, :), w12(:), dwp(:)    !< D (4, nq), W12, plastic work
-    logical, allocatable :: pres(:, :)           !< prescribed velocity component (2, np)
-    real(wp), allocatable :: vpres(:, :)         !< its value (m/s)
-    real(wp), allocatable :: freac(:, :), freac_old(:, :)  !< reactions there (N)
-    ! energy accounts since t = 0 (J, or J/m in plane strain)
-    real(wp) :: ke0 = 0.0_wp, ke = 0.0_wp, w_int = 0.0_wp, w_plastic = 0.0_wp, w_bc = 0.0_wp
-    real(wp) :: w_ext = 0.0_wp, w_contact = 0.0_wp
-    real(wp) :: e_stab = 0.0_wp                  !< stabilization energy (J)
-    real(wp) :: stab_normal = 0.0_wp, stab_shear = 0.0_wp  !< alpha (lambda + 2 mu), alpha mu
-    real(wp), allocatable :: stab(:, :)          !< stabilization stresses (4, nq), work space
-    real(wp) :: wall(3) = 0.0_wp                 !< seconds in kinematics, material, forces
+    real(wp), allocatable :: stab(:, :)          !< stabilization stresses (4, nq)
     ! the critical-step estimate that follows the deformation (solid_step_estimate)
     real(wp), allocatable :: kap0(:)             !< kappa0_L of each point (1/m^2), step_metric
     real(wp) :: kappa0 = 0.0_wp                  !< largest kappa in the reference state (1/m^2)
     real(wp) :: kappa = 0.0_wp                   !< largest kappa at the current state (1/m^2)
     integer :: kappa_q = 0                       !< the point where it is
     real(wp) :: dt_cal = 0.0_wp                  !< 2/omega_max(0) sqrt(kappa0) (s/m)
-    ! local health limits (set by the run's set-up; see run_health_m) and what broke them
-    real(wp) :: v_limit = huge(1.0_wp)           !< node speed limit (m/s)
-    real(wp) :: epsbar_limit = huge(1.0_wp)      !< effective plastic strain limit (-)
-    real(wp) :: deps_limit = huge(1.0_wp)        !< its increment in one step (-)
-    real(wp) :: j_bounds(2) = [0.0_wp, huge(1.0_wp)]   !< J must stay inside (-)
     integer :: bad_code = 0                      !< point_health code of the failed point
     ! quiet points (&solver skip_quiet): a point all of whose nodes still move in the
     ! body's initial uniform translation has F = I and no stress; it skips F, the material
@@ -193,7 +217,6 @@ module solid_m
     logical, allocatable :: awake(:)             !< node disturbed (np)
     logical, allocatable :: qact(:)              !< point active (nq)
     logical, allocatable :: bact(:)              !< material block with an active point
-    integer(i64) :: quiet_skipped = 0            !< point-steps skipped
     !> subcycling (&solver subcycle): solid_sub_t
     type(solid_sub_t) :: sub
     !> distributed memory: solid_part_t
@@ -225,49 +248,49 @@ contains
     nq = s%t%nq
     s%np = np
     s%nq = nq
-    s%stab_normal = alpha*(s%mat%lambda + 2.0_wp*s%mat%g)
-    s%stab_shear = alpha*s%mat%g
+    s%opt%stab_normal = alpha*(s%mat%lambda + 2.0_wp*s%mat%g)
+    s%opt%stab_shear = alpha*s%mat%g
     allocate(s%stab(4, nq))
     s%stab = 0.0_wp
     call s%st%init(nq)
     s%x0 = x0
     s%x = x0
-    allocate(s%d(2, np), s%v(2, np), s%a(2, np), s%d_old(2, np), s%a_old(2, np), &
-      s%fint(2, np), s%fext(2, np), s%fcon(2, np), s%freac(2, np), s%freac_old(2, np), &
-      s%fpoint(2, np), s%ipoint(2, np))
-    s%d = 0.0_wp
-    s%d_old = 0.0_wp
-    s%a = 0.0_wp
-    s%a_old = 0.0_wp
+    allocate(s%state%d(2, np), s%state%v(2, np), s%state%a(2, np), s%state%d_old(2, np), &
+      s%state%a_old(2, np), s%state%freac(2, np), s%state%freac_old(2, np), &
+      s%state%ipoint(2, np), s%fint(2, np), s%fext(2, np), s%fcon(2, np), s%fpoint(2, np))
+    s%state%d = 0.0_wp
+    s%state%d_old = 0.0_wp
+    s%state%a = 0.0_wp
+    s%state%a_old = 0.0_wp
     s%fint = 0.0_wp
     s%fext = 0.0_wp
     s%fcon = 0.0_wp
     s%fpoint = 0.0_wp
-    s%ipoint = 0.0_wp
-    s%freac = 0.0_wp
-    s%freac_old = 0.0_wp
+    s%state%ipoint = 0.0_wp
+    s%state%freac = 0.0_wp
+    s%state%freac_old = 0.0_wp
     do i = 1, np
-      s%v(:, i) = v0
+      s%state%v(:, i) = v0
     end do
     s%pres = pres
     s%vpres = vpres
     s%pres(1, :) = s%pres(1, :) .or. s%t%fix1
     where (s%t%fix1) s%vpres(1, :) = 0.0_wp
-    where (s%pres) s%v = s%vpres
-    allocate(s%f(5, nq), s%f_old(5, nq), s%p(5, nq), s%p_old(5, nq), s%dr(4, nq), &
-      s%w12(nq), s%dwp(nq))
-    s%f = 0.0_wp
-    s%f(1, :) = 1.0_wp
-    s%f(4, :) = 1.0_wp
-    s%f(5, :) = 1.0_wp
-    s%f_old = s%f
-    s%p = 0.0_wp
-    s%p_old = 0.0_wp
+    where (s%pres) s%state%v = s%vpres
+    allocate(s%state%f(5, nq), s%state%f_old(5, nq), s%state%p(5, nq), s%state%p_old(5, nq), &
+      s%dr(4, nq), s%w12(nq), s%dwp(nq))
+    s%state%f = 0.0_wp
+    s%state%f(1, :) = 1.0_wp
+    s%state%f(4, :) = 1.0_wp
+    s%state%f(5, :) = 1.0_wp
+    s%state%f_old = s%state%f
+    s%state%p = 0.0_wp
+    s%state%p_old = 0.0_wp
     s%dr = 0.0_wp
     s%w12 = 0.0_wp
     s%dwp = 0.0_wp
-    s%ke0 = solid_kinetic_energy(s)
-    s%ke = s%ke0
+    s%acc%ke0 = solid_kinetic_energy(s)
+    s%acc%ke = s%acc%ke0
     call step_metric(s)
   end subroutine solid_init
 
@@ -361,7 +384,7 @@ contains
       end do
     end do
     call solid_quiet_blocks(s)
-    s%quiet_skipped = s%quiet_skipped + (s%nq - nact)
+    s%acc%quiet_skipped = s%acc%quiet_skipped + (s%nq - nact)
     if (nact == s%nq) then
       s%all_awake = .true.
       s%awake = .true.
@@ -440,7 +463,7 @@ contains
   !> 1/2 sum m |v|^2 (J; J/m in plane strain).
   pure real(wp) function solid_kinetic_energy(s) result(ke)
     type(solid_t), intent(in) :: s
-    ke = 0.5_wp*sum(s%t%mass*(s%v(1, :)**2 + s%v(2, :)**2))
+    ke = 0.5_wp*sum(s%t%mass*(s%state%v(1, :)**2 + s%state%v(2, :)**2))
   end function solid_kinetic_energy
 
   !> The state at t = 0: forces and accelerations at u = 0, prescribed components at rest.
@@ -451,10 +474,10 @@ contains
     real(wp), intent(out) :: bad_j
     call solid_internal_force(s, dt, bad_q, bad_j)
     where (s%pres)
-      s%v = s%vpres
-      s%a = 0.0_wp
+      s%state%v = s%vpres
+      s%state%a = 0.0_wp
     end where
-    if (associated(s%part%halo)) call s%part%halo%nodes2(s%v, s%a)
+    if (associated(s%part%halo)) call s%part%halo%nodes2(s%state%v, s%state%a)
   end subroutine solid_start
 
   !> The prediction of eq. (64); contact may correct it (solid_correct) before the forces.
@@ -466,17 +489,17 @@ contains
     !$omp parallel do default(none) shared(s, dt) private(h) schedule(static)
     do i = 1, s%np
       where (s%pres(:, i))
-        s%v(:, i) = s%vpres(:, i)
-        s%a(:, i) = 0.0_wp
+        s%state%v(:, i) = s%vpres(:, i)
+        s%state%a(:, i) = 0.0_wp
       end where
       ! subcycling: the nodes of rate above 0 wait at d_n for their sub-steps
       h = dt
       if (s%sub%rate == 0) then
         if (s%sub%node_rate(i) > 0) h = 0.0_wp
       end if
-      s%d_old(:, i) = s%d(:, i)
-      s%d(:, i) = s%d(:, i) + h*s%v(:, i) + 0.5_wp*h*h*s%a(:, i)   ! (64)
-      s%a_old(:, i) = s%a(:, i)
+      s%state%d_old(:, i) = s%state%d(:, i)
+      s%state%d(:, i) = s%state%d(:, i) + h*s%state%v(:, i) + 0.5_wp*h*h*s%state%a(:, i)   ! (64)
+      s%state%a_old(:, i) = s%state%a(:, i)
       s%fcon(:, i) = 0.0_wp
       s%fpoint(:, i) = 0.0_wp
     end do
@@ -504,8 +527,8 @@ contains
       ! their owners, its nodes
       call solid_points_force(s, dt, bad_q, bad_j)
       if (associated(s%part%halo)) then
-        call s%part%halo%points(s%p)
-        if (s%stab_normal > 0.0_wp) call s%part%halo%points(s%stab)
+        call s%part%halo%points(s%state%p)
+        if (s%opt%stab_normal > 0.0_wp) call s%part%halo%points(s%stab)
       end if
       call solid_nodes_force(s)
       return
@@ -514,27 +537,27 @@ contains
     if (.not. s%all_awake) call quiet_update(s)
     !$omp parallel do default(none) shared(s) schedule(static)
     do q = 1, s%nq
-      s%f_old(:, q) = s%f(:, q)
-      s%p_old(:, q) = s%p(:, q)
+      s%state%f_old(:, q) = s%state%f(:, q)
+      s%state%p_old(:, q) = s%state%p(:, q)
     end do
     !$omp end parallel do
     if (s%all_awake) then
-      if (s%stab_normal > 0.0_wp) then
-        call deformation_gradient(s%t, s%d, s%f, [s%stab_normal, s%stab_shear], s%stab, &
-          s%e_stab)
+      if (s%opt%stab_normal > 0.0_wp) then
+        call deformation_gradient(s%t, s%state%d, s%state%f, &
+          [s%opt%stab_normal, s%opt%stab_shear], s%stab, s%acc%e_stab)
       else
-        call deformation_gradient(s%t, s%d, s%f)
+        call deformation_gradient(s%t, s%state%d, s%state%f)
       end if
     else
       ! quiet points keep F = I and zero stabilization stresses (and add no energy)
-      if (s%stab_normal > 0.0_wp) then
-        call deformation_gradient(s%t, s%d, s%f, [s%stab_normal, s%stab_shear], s%stab, &
-          s%e_stab, active=s%qact)
+      if (s%opt%stab_normal > 0.0_wp) then
+        call deformation_gradient(s%t, s%state%d, s%state%f, &
+          [s%opt%stab_normal, s%opt%stab_shear], s%stab, s%acc%e_stab, active=s%qact)
       else
-        call deformation_gradient(s%t, s%d, s%f, active=s%qact)
+        call deformation_gradient(s%t, s%state%d, s%state%f, active=s%qact)
       end if
     end if
-    call rate_of_deformation(s%nq, dt, s%f_old, s%f, s%dr, s%w12)
+    call rate_of_deformation(s%nq, dt, s%state%f_old, s%state%f, s%dr, s%w12)
     t1 = omp_get_wtime()
     nblocks = (s%nq + material_block - 1)/material_block
     !$omp parallel do default(none) shared(s, dt, nblocks) private(i0, i1) &
@@ -549,18 +572,18 @@ contains
     end do
     !$omp end parallel do
     t2 = omp_get_wtime()
-    call piola_stress(s%nq, s%f, s%st%tau, s%p)
+    call piola_stress(s%nq, s%state%f, s%st%tau, s%state%p)
     if (s%all_awake) then
-      if (s%stab_normal > 0.0_wp) then
-        call internal_force(s%t, s%p, s%fint, s%stab)
+      if (s%opt%stab_normal > 0.0_wp) then
+        call internal_force(s%t, s%state%p, s%fint, s%stab)
       else
-        call internal_force(s%t, s%p, s%fint)
+        call internal_force(s%t, s%state%p, s%fint)
       end if
     else
-      if (s%stab_normal > 0.0_wp) then
-        call internal_force(s%t, s%p, s%fint, s%stab, awake=s%awake)
+      if (s%opt%stab_normal > 0.0_wp) then
+        call internal_force(s%t, s%state%p, s%fint, s%stab, awake=s%awake)
       else
-        call internal_force(s%t, s%p, s%fint, awake=s%awake)
+        call internal_force(s%t, s%state%p, s%fint, awake=s%awake)
       end if
     end if
     call points_account(s, dt, bad_q, dw, dwp, kmax, kq)
@@ -571,18 +594,18 @@ contains
     bad_j = 1.0_wp
     s%bad_code = health_ok
     if (bad_q > 0) then
-      bad_j = jacobian(s%f(:, bad_q))
+      bad_j = jacobian(s%state%f(:, bad_q))
       s%bad_code = point_health(s, bad_q, dt)
     end if
-    s%w_int = s%w_int + dw
-    s%w_plastic = s%w_plastic + dwp
+    s%acc%w_int = s%acc%w_int + dw
+    s%acc%w_plastic = s%acc%w_plastic + dwp
     !$omp parallel do default(none) shared(s) schedule(static)
     do q = 1, s%np
-      s%a_old(:, q) = s%a(:, q)
-      s%a(:, q) = (s%fext(:, q) - s%fint(:, q))/s%t%mass(q)
+      s%state%a_old(:, q) = s%state%a(:, q)
+      s%state%a(:, q) = (s%fext(:, q) - s%fint(:, q))/s%t%mass(q)
     end do
     !$omp end parallel do
-    s%wall = s%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
+    s%acc%wall = s%acc%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
   end subroutine solid_internal_force
 
   !> Distributed memory: this solid owns the points own_point and the nodes own_node of its
@@ -615,7 +638,7 @@ contains
     bad_j = 1.0_wp
     s%bad_code = health_ok
     if (bad_q > 0) then
-      bad_j = jacobian(s%f(:, bad_q))
+      bad_j = jacobian(s%state%f(:, bad_q))
       s%bad_code = point_health(s, bad_q, dt)
     end if
   end subroutine solid_points_force
@@ -629,19 +652,19 @@ contains
     integer :: k, i
     real(wp) :: t0
     t0 = omp_get_wtime()
-    if (s%stab_normal > 0.0_wp) then
-      call internal_force_list(s%t, s%p, s%fint, s%part%own_n, size(s%part%own_n), s%stab)
+    if (s%opt%stab_normal > 0.0_wp) then
+      call internal_force_list(s%t, s%state%p, s%fint, s%part%own_n, size(s%part%own_n), s%stab)
     else
-      call internal_force_list(s%t, s%p, s%fint, s%part%own_n, size(s%part%own_n))
+      call internal_force_list(s%t, s%state%p, s%fint, s%part%own_n, size(s%part%own_n))
     end if
     !$omp parallel do default(none) shared(s) private(i) schedule(static)
     do k = 1, size(s%part%own_n)
       i = s%part%own_n(k)
-      s%a_old(:, i) = s%a(:, i)
-      s%a(:, i) = (s%fext(:, i) - s%fint(:, i))/s%t%mass(i)
+      s%state%a_old(:, i) = s%state%a(:, i)
+      s%state%a(:, i) = (s%fext(:, i) - s%fint(:, i))/s%t%mass(i)
     end do
     !$omp end parallel do
-    s%wall(3) = s%wall(3) + (omp_get_wtime() - t0)
+    s%acc%wall(3) = s%acc%wall(3) + (omp_get_wtime() - t0)
   end subroutine solid_nodes_force
 
   !> After the material update of a step dt at the points list(1:n) (all points when list
@@ -673,12 +696,13 @@ contains
     do k = 1, nk
       q = k
       if (listed) q = list(k)
-      dw = dw + s%t%wgt(q)*0.5_wp*sum((s%p_old(:, q) + s%p(:, q))*(s%f(:, q) - s%f_old(:, q)))
+      dw = dw + s%t%wgt(q)*0.5_wp*sum((s%state%p_old(:, q) + s%state%p(:, q)) &
+        *(s%state%f(:, q) - s%state%f_old(:, q)))
       dwp = dwp + s%t%wgt(q)*s%dwp(q)
       if (point_health(s, q, dt) /= health_ok) then
         bad_q = max(bad_q, q)
       else
-        kp = s%kap0(q)/stretch2_min(s%f(:, q))
+        kp = s%kap0(q)/stretch2_min(s%state%f(:, q))
         if (kp > kloc) then
           kloc = kp
           qloc = q
@@ -710,18 +734,18 @@ contains
     !$omp parallel do default(none) shared(s, list, n) private(q) schedule(static)
     do k = 1, n
       q = list(k)
-      s%f_old(:, q) = s%f(:, q)
-      s%p_old(:, q) = s%p(:, q)
+      s%state%f_old(:, q) = s%state%f(:, q)
+      s%state%p_old(:, q) = s%state%p(:, q)
     end do
     !$omp end parallel do
-    if (s%stab_normal > 0.0_wp) then
+    if (s%opt%stab_normal > 0.0_wp) then
       ! (a rank's part of a stabilized RKPM solid: its points' share of the energy)
-      call deformation_gradient_list(s%t, s%d, s%f, list, n, [s%stab_normal, s%stab_shear], &
-        s%stab, s%e_stab)
+      call deformation_gradient_list(s%t, s%state%d, s%state%f, list, n, &
+        [s%opt%stab_normal, s%opt%stab_shear], s%stab, s%acc%e_stab)
     else
-      call deformation_gradient_list(s%t, s%d, s%f, list, n)
+      call deformation_gradient_list(s%t, s%state%d, s%state%f, list, n)
     end if
-    call rate_of_deformation_list(dt, s%f_old, s%f, s%dr, s%w12, list, n)
+    call rate_of_deformation_list(dt, s%state%f_old, s%state%f, s%dr, s%w12, list, n)
     t1 = omp_get_wtime()
     ! in chunks of the list, each run of consecutive points in one call (the slow points of
     ! a subcycled step are most of the body in a few long runs)
@@ -742,11 +766,11 @@ contains
     end do
     !$omp end parallel do
     t2 = omp_get_wtime()
-    call piola_stress_list(s%f, s%st%tau, s%p, list, n)
+    call piola_stress_list(s%state%f, s%st%tau, s%state%p, list, n)
     call points_account(s, dt, bad_q, dw, dwp, kmax, kq, list, n)
-    s%w_int = s%w_int + dw
-    s%w_plastic = s%w_plastic + dwp
-    s%wall = s%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
+    s%acc%w_int = s%acc%w_int + dw
+    s%acc%w_plastic = s%acc%w_plastic + dwp
+    s%acc%wall = s%acc%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
   end subroutine update_points
 
   !> The subcycling levels for the reference step dref (s): a point whose critical-step
@@ -764,7 +788,7 @@ contains
     ! each point's own level, from its current kappa_L = kappa0_L/s_min(F)^2
     !$omp parallel do default(none) shared(s, dref, lmax) private(r) schedule(static)
     do q = 1, s%nq
-      r = s%dt_cal/(dref*sqrt(s%kap0(q)/stretch2_min(s%f(:, q))))
+      r = s%dt_cal/(dref*sqrt(s%kap0(q)/stretch2_min(s%state%f(:, q))))
       s%sub%lev_point(q) = lmax
       if (r < 2.0_wp**lmax) s%sub%lev_point(q) = max(0, exponent(r) - 1)
       ! (a non-finite r, from a broken point, steps at the finest rate)
@@ -811,9 +835,9 @@ contains
     s%sub%rate = -1
     if (levels == 0) return
     if (.not. allocated(s%sub%node_rate)) then
-      allocate(s%sub%node_rate(s%np), s%sub%point_rate(s%nq), s%sub%nlist(s%np), s%sub%qlist(s%nq), &
-        s%sub%ilist(size(s%t%nbr)), s%sub%mark(s%np), s%sub%d_end(2, s%np), s%sub%nptr(0:32), &
-        s%sub%qptr(0:32), s%sub%iptr(0:32))
+      allocate(s%sub%node_rate(s%np), s%sub%point_rate(s%nq), s%sub%nlist(s%np), &
+        s%sub%qlist(s%nq), s%sub%ilist(size(s%t%nbr)), s%sub%mark(s%np), &
+        s%sub%d_end(2, s%np), s%sub%nptr(0:32), s%sub%qptr(0:32), s%sub%iptr(0:32))
       s%sub%mark = -1
     end if
     s%sub%node_rate = max(0, levels - s%sub%lev_node)
@@ -872,7 +896,7 @@ contains
     integer, intent(in) :: r
     integer :: k
     do k = s%sub%nptr(r), s%sub%nptr(r + 1) - 1
-      s%sub%d_end(:, s%sub%nlist(k)) = s%d(:, s%sub%nlist(k))
+      s%sub%d_end(:, s%sub%nlist(k)) = s%state%d(:, s%sub%nlist(k))
     end do
   end subroutine solid_sub_begin
 
@@ -889,12 +913,12 @@ contains
     do k = s%sub%nptr(r), s%sub%nptr(r + 1) - 1
       i = s%sub%nlist(k)
       where (s%pres(:, i))
-        s%v(:, i) = s%vpres(:, i)
-        s%a(:, i) = 0.0_wp
+        s%state%v(:, i) = s%vpres(:, i)
+        s%state%a(:, i) = 0.0_wp
       end where
-      s%d_old(:, i) = s%d(:, i)
-      s%d(:, i) = s%d(:, i) + h*s%v(:, i) + 0.5_wp*h*h*s%a(:, i)   ! (64)
-      s%a_old(:, i) = s%a(:, i)
+      s%state%d_old(:, i) = s%state%d(:, i)
+      s%state%d(:, i) = s%state%d(:, i) + h*s%state%v(:, i) + 0.5_wp*h*h*s%state%a(:, i)   ! (64)
+      s%state%a_old(:, i) = s%state%a(:, i)
       s%fcon(:, i) = 0.0_wp
       s%fpoint(:, i) = 0.0_wp
     end do
@@ -923,11 +947,12 @@ contains
         i = s%sub%ilist(j)
         r = s%sub%node_rate(i)
         if (r >= smin) then
-          s%d(:, i) = s%sub%d_end(:, i)
+          s%state%d(:, i) = s%sub%d_end(:, i)
         else
           kk = mod(k, 2**(lv - r))
           tau = real(kk, wp)*delta
-          s%d(:, i) = s%d_old(:, i) + tau*s%v(:, i) + 0.5_wp*tau*tau*s%a(:, i)
+          s%state%d(:, i) = s%state%d_old(:, i) + tau*s%state%v(:, i) &
+            + 0.5_wp*tau*tau*s%state%a(:, i)
         end if
       end do
       !$omp end parallel do
@@ -953,18 +978,18 @@ contains
     n0 = s%sub%nptr(smin)
     n = s%sub%nptr(lv + 1) - n0
     if (smin == 0) then
-      call internal_force(s%t, s%p, s%fint)
+      call internal_force(s%t, s%state%p, s%fint)
     else
-      call internal_force_list(s%t, s%p, s%fint, s%sub%nlist(n0:), n)
+      call internal_force_list(s%t, s%state%p, s%fint, s%sub%nlist(n0:), n)
     end if
     !$omp parallel do default(none) shared(s, n0, n) private(i) schedule(static)
     do j = n0, n0 + n - 1
       i = s%sub%nlist(j)
-      s%a_old(:, i) = s%a(:, i)
-      s%a(:, i) = (s%fext(:, i) - s%fint(:, i))/s%t%mass(i)
+      s%state%a_old(:, i) = s%state%a(:, i)
+      s%state%a(:, i) = (s%fext(:, i) - s%fint(:, i))/s%t%mass(i)
     end do
     !$omp end parallel do
-    s%wall(3) = s%wall(3) + (omp_get_wtime() - t0)
+    s%acc%wall(3) = s%acc%wall(3) + (omp_get_wtime() - t0)
     if (smin == 0 .and. kqa > 0) then
       s%kappa = kma
       s%kappa_q = kqa
@@ -972,7 +997,7 @@ contains
     bad_j = 1.0_wp
     s%bad_code = health_ok
     if (bad_q > 0) then
-      bad_j = jacobian(s%f(:, bad_q))
+      bad_j = jacobian(s%state%f(:, bad_q))
       s%bad_code = point_health(s, bad_q, dtbad)
     end if
   end subroutine solid_rates_force
@@ -990,7 +1015,7 @@ contains
         s%sub%nlist(s%sub%nptr(r):))
       ke = ke + ker
     end do
-    if (smin == 0) s%ke = ke
+    if (smin == 0) s%acc%ke = ke
   end subroutine solid_rates_update
 
   !> The step is over: back to plain steps until the next solid_sub_select.
@@ -1016,11 +1041,11 @@ contains
       else
         call advance_nodes(s, dt, s%np, ke)
       end if
-      s%ke = ke
+      s%acc%ke = ke
     end if
-    s%ipoint_time = s%ipoint_time + dt
+    s%state%ipoint_time = s%state%ipoint_time + dt
     ! a rank's part: the ghost nodes' v and a from their owners
-    if (associated(s%part%halo)) call s%part%halo%nodes2(s%v, s%a)
+    if (associated(s%part%halo)) call s%part%halo%nodes2(s%state%v, s%state%a)
   end subroutine solid_update
 
   !> The rows of state field k (state_fields) of solid s: 2 for nodal vectors, the
@@ -1030,19 +1055,19 @@ contains
     integer, intent(in) :: k
     select case (k)
     case (1)
-      n = size(s%d, 1)
+      n = size(s%state%d, 1)
     case (2)
-      n = size(s%v, 1)
+      n = size(s%state%v, 1)
     case (3)
-      n = size(s%a, 1)
+      n = size(s%state%a, 1)
     case (4)
-      n = size(s%freac_old, 1)
+      n = size(s%state%freac_old, 1)
     case (5)
-      n = size(s%ipoint, 1)
+      n = size(s%state%ipoint, 1)
     case (6)
-      n = size(s%f, 1)
+      n = size(s%state%f, 1)
     case (7)
-      n = size(s%p, 1)
+      n = size(s%state%p, 1)
     case (8)
       n = size(s%st%tau, 1)
     case (9)
@@ -1060,19 +1085,19 @@ contains
     integer, intent(in) :: idx(:)
     select case (k)
     case (1)
-      buf = s%d(:, idx)
+      buf = s%state%d(:, idx)
     case (2)
-      buf = s%v(:, idx)
+      buf = s%state%v(:, idx)
     case (3)
-      buf = s%a(:, idx)
+      buf = s%state%a(:, idx)
     case (4)
-      buf = s%freac_old(:, idx)
+      buf = s%state%freac_old(:, idx)
     case (5)
-      buf = s%ipoint(:, idx)
+      buf = s%state%ipoint(:, idx)
     case (6)
-      buf = s%f(:, idx)
+      buf = s%state%f(:, idx)
     case (7)
-      buf = s%p(:, idx)
+      buf = s%state%p(:, idx)
     case (8)
       buf = s%st%tau(:, idx)
     case (9)
@@ -1092,19 +1117,19 @@ contains
     integer, intent(in) :: idx(:)
     select case (k)
     case (1)
-      s%d(:, idx) = buf
+      s%state%d(:, idx) = buf
     case (2)
-      s%v(:, idx) = buf
+      s%state%v(:, idx) = buf
     case (3)
-      s%a(:, idx) = buf
+      s%state%a(:, idx) = buf
     case (4)
-      s%freac_old(:, idx) = buf
+      s%state%freac_old(:, idx) = buf
     case (5)
-      s%ipoint(:, idx) = buf
+      s%state%ipoint(:, idx) = buf
     case (6)
-      s%f(:, idx) = buf
+      s%state%f(:, idx) = buf
     case (7)
-      s%p(:, idx) = buf
+      s%state%p(:, idx) = buf
     case (8)
       s%st%tau(:, idx) = buf
     case (9)
@@ -1120,9 +1145,9 @@ contains
   !! of the step start, F and P of the last evaluation.
   subroutine solid_state_derived(s)
     type(solid_t), intent(inout) :: s
-    s%freac = s%freac_old
-    s%f_old = s%f
-    s%p_old = s%p
+    s%state%freac = s%state%freac_old
+    s%state%f_old = s%state%f
+    s%state%p_old = s%state%p
   end subroutine solid_state_derived
 
   !> The energy accounts of solid s, in the order checkpoints hold them: ke0, ke, w_int,
@@ -1130,28 +1155,29 @@ contains
   pure function solid_energies(s) result(e)
     type(solid_t), intent(in) :: s
     real(wp) :: e(8)
-    e = [s%ke0, s%ke, s%w_int, s%w_plastic, s%w_bc, s%w_ext, s%w_contact, s%e_stab]
+    e = [s%acc%ke0, s%acc%ke, s%acc%w_int, s%acc%w_plastic, s%acc%w_bc, s%acc%w_ext, &
+      s%acc%w_contact, s%acc%e_stab]
   end function solid_energies
 
   !> The energy accounts of solid s from e (solid_energies' order).
   subroutine solid_set_energies(s, e)
     type(solid_t), intent(inout) :: s
     real(wp), intent(in) :: e(8)
-    s%ke0 = e(1)
-    s%ke = e(2)
-    s%w_int = e(3)
-    s%w_plastic = e(4)
-    s%w_bc = e(5)
-    s%w_ext = e(6)
-    s%w_contact = e(7)
-    s%e_stab = e(8)
+    s%acc%ke0 = e(1)
+    s%acc%ke = e(2)
+    s%acc%w_int = e(3)
+    s%acc%w_plastic = e(4)
+    s%acc%w_bc = e(5)
+    s%acc%w_ext = e(6)
+    s%acc%w_contact = e(7)
+    s%acc%e_stab = e(8)
   end subroutine solid_set_energies
 
   !> After contact corrected d and a at a part's own nodes: the ghost nodes' from their
   !! owners (a serial solid has none to get).
   subroutine solid_share_corrections(s)
     type(solid_t), intent(inout) :: s
-    if (associated(s%part%halo)) call s%part%halo%nodes2(s%d, s%a)
+    if (associated(s%part%halo)) call s%part%halo%nodes2(s%state%d, s%state%a)
   end subroutine solid_share_corrections
 
   !> solid_update for a step dt over the nodes list(1:n), or the nodes 1..n when list is
@@ -1174,25 +1200,26 @@ contains
     do k = 1, n
       i = k
       if (listed) i = list(k)
-      where (s%pres(:, i)) s%a(:, i) = 0.0_wp
-      s%v(:, i) = s%v(:, i) + 0.5_wp*dt*(s%a_old(:, i) + s%a(:, i))   ! (63)
-      where (s%pres(:, i)) s%v(:, i) = s%vpres(:, i)
+      where (s%pres(:, i)) s%state%a(:, i) = 0.0_wp
+      s%state%v(:, i) = s%state%v(:, i) &
+        + 0.5_wp*dt*(s%state%a_old(:, i) + s%state%a(:, i))   ! (63)
+      where (s%pres(:, i)) s%state%v(:, i) = s%vpres(:, i)
       ! kinematic conditions: reactions R = f_int - f_ext times the motion
-      s%freac(:, i) = merge(s%fint(:, i) - s%fext(:, i), 0.0_wp, s%pres(:, i))
-      du = s%d(:, i) - s%d_old(:, i)
-      wbc = wbc + 0.5_wp*sum((s%freac_old(:, i) + s%freac(:, i))*du)
+      s%state%freac(:, i) = merge(s%fint(:, i) - s%fext(:, i), 0.0_wp, s%pres(:, i))
+      du = s%state%d(:, i) - s%state%d_old(:, i)
+      wbc = wbc + 0.5_wp*sum((s%state%freac_old(:, i) + s%state%freac(:, i))*du)
       ! a contact force on a prescribed component is held by the condition: its reaction
       ! does the opposite work (a driven plate pushing a body supplies what contact
       ! delivers to the body; w_contact counts both and nets to ~0)
       wbc = wbc - 0.5_wp*sum(merge(s%fcon(:, i), 0.0_wp, s%pres(:, i))*du)
-      s%freac_old(:, i) = s%freac(:, i)
+      s%state%freac_old(:, i) = s%state%freac(:, i)
       wc = wc + 0.5_wp*sum(s%fcon(:, i)*du)
-      s%ipoint(:, i) = s%ipoint(:, i) + 0.5_wp*dt*s%fpoint(:, i)
-      ke = ke + 0.5_wp*s%t%mass(i)*sum(s%v(:, i)**2)
+      s%state%ipoint(:, i) = s%state%ipoint(:, i) + 0.5_wp*dt*s%fpoint(:, i)
+      ke = ke + 0.5_wp*s%t%mass(i)*sum(s%state%v(:, i)**2)
     end do
     !$omp end parallel do
-    s%w_bc = s%w_bc + wbc
-    s%w_contact = s%w_contact + wc
+    s%acc%w_bc = s%acc%w_bc + wbc
+    s%acc%w_contact = s%acc%w_contact + wc
   end subroutine advance_nodes
 
   !> Physical positions of every node (2, np) at the start of the step or at the current
@@ -1202,9 +1229,9 @@ contains
     integer, intent(in) :: which
     real(wp), intent(out) :: x(:, :)
     if (which == at_step_start) then
-      call physical_positions(s%t, s%x0, s%d_old, x)
+      call physical_positions(s%t, s%x0, s%state%d_old, x)
     else
-      call physical_positions(s%t, s%x0, s%d, x)
+      call physical_positions(s%t, s%x0, s%state%d, x)
     end if
   end subroutine solid_positions
 
@@ -1217,11 +1244,11 @@ contains
     real(wp) :: x(2)
     if (present(which)) then
       if (which == at_step_start) then
-        x = point_position(s, s%d_old, j)
+        x = point_position(s, s%state%d_old, j)
         return
       end if
     end if
-    x = point_position(s, s%d, j)
+    x = point_position(s, s%state%d, j)
   end function solid_point_position
 
   pure function point_position(s, d, j) result(x)
@@ -1295,9 +1322,9 @@ contains
     do k = 1, n
       i = k
       if (s%sub%rate >= 0) i = s%sub%nlist(k0 + k)
-      s%a(:, i) = s%a_old(:, i) + s%fcon(:, i)/s%t%mass(i)
-      where (s%pres(:, i)) s%a(:, i) = 0.0_wp
-      s%d(:, i) = s%d_old(:, i) + dt*s%v(:, i) + 0.5_wp*dt*dt*s%a(:, i)
+      s%state%a(:, i) = s%state%a_old(:, i) + s%fcon(:, i)/s%t%mass(i)
+      where (s%pres(:, i)) s%state%a(:, i) = 0.0_wp
+      s%state%d(:, i) = s%state%d_old(:, i) + dt*s%state%v(:, i) + 0.5_wp*dt*dt*s%state%a(:, i)
     end do
     !$omp end parallel do
   end subroutine solid_correct
@@ -1310,14 +1337,14 @@ contains
     real(wp), intent(in) :: dt
     real(wp) :: jq
     code = health_ok
-    jq = jacobian(s%f(:, q))
-    if (.not. (jq > s%j_bounds(1) .and. jq < s%j_bounds(2))) then
+    jq = jacobian(s%state%f(:, q))
+    if (.not. (jq > s%opt%j_bounds(1) .and. jq < s%opt%j_bounds(2))) then
       code = health_j
     else if (.not. all(abs(s%st%tau(:, q)) < huge(1.0_wp))) then
       code = health_stress
-    else if (.not. (s%st%epsbar(q) <= s%epsbar_limit)) then
+    else if (.not. (s%st%epsbar(q) <= s%opt%epsbar_limit)) then
       code = health_epsbar
-    else if (.not. (dt*s%st%epsdot(q) <= s%deps_limit)) then
+    else if (.not. (dt*s%st%epsdot(q) <= s%opt%deps_limit)) then
       code = health_deps
     end if
   end function point_health
@@ -1333,12 +1360,13 @@ contains
     j = 1
     v2max = -1.0_wp
     do i = 1, s%np
-      if (.not. all(abs(s%d(:, i)) < huge(1.0_wp) .and. abs(s%v(:, i)) < huge(1.0_wp))) then
+      if (.not. all(abs(s%state%d(:, i)) < huge(1.0_wp) &
+          .and. abs(s%state%v(:, i)) < huge(1.0_wp))) then
         j = i
         vmax = huge(1.0_wp)
         return
       end if
-      v2 = s%v(1, i)**2 + s%v(2, i)**2
+      v2 = s%state%v(1, i)**2 + s%state%v(2, i)**2
       if (v2 > v2max) then
         v2max = v2
         j = i

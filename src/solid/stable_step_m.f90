@@ -90,8 +90,8 @@ contains
           lam*tr + 2.0_wp*mu*eps(2), lam*tr + 2.0_wp*mu*eps(3)]
       end do
       call internal_force(tb%t, p, y)
-      if (tb%stab_normal > 0.0_wp) call stabilization_force(tb%t, x, tb%stab_normal, &
-        tb%stab_shear, sw, y, es)
+      if (tb%opt%stab_normal > 0.0_wp) call stabilization_force(tb%t, x, tb%opt%stab_normal, &
+        tb%opt%stab_shear, sw, y, es)
       where (tb%pres) y = 0.0_wp
       omega2 = sum(x*y)
       x(1, :) = y(1, :)/tb%t%mass
@@ -182,6 +182,6 @@ contains
     end if
     txt = 'body '''//trim(solids(k)%name)//''', integration point '//itoa(q)
     if (solids(k)%t%owner(q) > 0) txt = txt//' (particle '//itoa(solids(k)%t%owner(q))//')'
-    if (.not. smallest) txt = txt//', J = '//rtoa(jacobian(solids(k)%f(:, q)))
+    if (.not. smallest) txt = txt//', J = '//rtoa(jacobian(solids(k)%state%f(:, q)))
   end function step_limit_text
 end module stable_step_m
