@@ -21,6 +21,7 @@ module cst4_m
   use body_m, only: body_t
   use generators_m, only: make_rectangle, make_annulus, set_supports
   use geometry_m, only: full_turn_tol
+  use dims_m, only: dims_plane
   use solid_tables_m, only: solid_tables_t, tables_transpose
   implicit none
   private
@@ -243,11 +244,13 @@ contains
     end if
     t%np = np
     t%nq = ne
+    t%dims = dims_plane   ! these builders make the plane tables
     t%scheme = 0
     t%axisym = axisym
     t%interpolating = .true.
-    allocate(t%xq(2, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), t%nbr(3*ne))
-    allocate(t%g(4, 3*ne), t%h(3*ne), t%gs(4, 3*ne), t%ws(2, ne), areas(ne))
+    allocate(t%xq(t%dims%ndim, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), t%nbr(3*ne))
+    allocate(t%g(t%dims%ngrad, 3*ne), t%h(3*ne), t%gs(t%dims%ngrad, 3*ne), &
+      t%ws(t%dims%ndim, ne), areas(ne))
     t%owner = 0
     t%gs = 0.0_wp
     t%ws = 0.0_wp
@@ -323,7 +326,7 @@ contains
     allocate(t%fix1(np))
     t%fix1 = axisym .and. abs(b%x(1, :)) <= tol
     ! nodal interpolation: the position table N_I(X_J) is the identity
-    allocate(t%pptr(np + 1), t%pnbr(np), t%pn(2, np))
+    allocate(t%pptr(np + 1), t%pnbr(np), t%pn(t%dims%ndim, np))
     t%pptr = [(i, i = 1, np + 1)]
     t%pnbr = [(i, i = 1, np)]
     t%pn = 1.0_wp

@@ -33,6 +33,7 @@ module rkpm_tl_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
   use body_m, only: body_t, max_cell_vertices
+  use dims_m, only: dims_plane
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_polygon, clip_polygon_box
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape, cloud_count_cover
@@ -83,6 +84,7 @@ contains
     np = b%np
     t%np = np
     t%axisym = axisym
+    t%dims = dims_plane   ! these builders make the plane tables
     t%scheme = scheme
     if (b%ndim /= 2) then
       call set_error(err, 'the RKPM solver needs ndim = 2 (plane strain or axisymmetric)')
@@ -278,7 +280,7 @@ contains
     maxk = union_bound(b, c)
     allocate(gl(4, maxk, np), hl(maxk, np), ml(maxk, np), idl(maxk, np), nl(np))
     allocate(sub(4, maxk, np), wsub(2, np))
-    allocate(t%xq(2, np), t%owner(np), t%wgt(np))
+    allocate(t%xq(t%dims%ndim, np), t%owner(np), t%wgt(np))
     big = 1.0e3_wp*maxval(abs(b%x)) + 1.0_wp
     bad = 0
     !$omp parallel default(none) shared(b, c, twin, np, t, gl, hl, ml, idl, nl, maxk, rho0, &
@@ -647,8 +649,8 @@ contains
     real(wp), intent(in), optional :: sub(:, :, :), wsub(:, :)
     integer :: q, k, e, nnz
     nnz = sum(nl)
-    allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(4, nnz), t%h(nnz), t%mass(t%np))
-    allocate(t%gs(4, nnz), t%ws(2, t%nq))
+    allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(t%dims%ngrad, nnz), t%h(nnz), t%mass(t%np))
+    allocate(t%gs(t%dims%ngrad, nnz), t%ws(t%dims%ndim, t%nq))
     t%gs = 0.0_wp
     t%ws = 0.0_wp
     if (present(wsub)) t%ws = wsub
@@ -697,7 +699,7 @@ contains
         "particle "//itoa(bad)//": "//shape_failure(c, b%x(:, bad), [0.0_wp, 0.0_wp]))
       return
     end if
-    allocate(t%pptr(np + 1), t%pnbr(sum(cnt)), t%pn(2, sum(cnt)))
+    allocate(t%pptr(np + 1), t%pnbr(sum(cnt)), t%pn(t%dims%ndim, sum(cnt)))
     t%pptr(1) = 1
     do j = 1, np
       t%pptr(j + 1) = t%pptr(j) + cnt(j)

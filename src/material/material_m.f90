@@ -19,6 +19,7 @@
 !! All models are chosen once by make_material; the time loop calls mat%update on blocks of
 !! points (i0..i1), never per point through a select case.
 module material_m
+  use dims_m, only: dims_plane
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
   use strings_m, only: rtoa, join_names, lower
@@ -28,7 +29,8 @@ module material_m
   public :: material_params_t, material_state_t, material_t
   public :: make_material, check_material_params, jaumann_rotate, elastic_rate
 
-  integer, parameter :: ncomp = 4  !< stored tensor components (11, 22, 33, 12)
+  !> stored tensor components (11, 22, 33, 12): the updates are the plane kernels
+  integer, parameter :: ncomp = dims_plane%ncomp
 
   !> Valid values of material_params_t%model.
   character(len=*), parameter :: material_names(3) = [character(len=12) :: &

@@ -190,12 +190,13 @@ contains
       u%nq = nql
       u%scheme = t%scheme
       u%axisym = t%axisym
+      u%dims = t%dims
       u%interpolating = t%interpolating
       u%hmin = t%hmin
       u%total_mass = t%total_mass
       u%total_volume = t%total_volume
-      allocate(u%ptr(nql + 1), u%nbr(nnz), u%g(4, nnz), u%h(nnz))
-      if (with_gs) allocate(u%gs(4, nnz))
+      allocate(u%ptr(nql + 1), u%nbr(nnz), u%g(t%dims%ngrad, nnz), u%h(nnz))
+      if (with_gs) allocate(u%gs(t%dims%ngrad, nnz))
       u%xq = t%xq(:, lp%qglob)
       u%owner = t%owner(lp%qglob)
       where (u%owner > 0) u%owner = nloc(u%owner)
@@ -228,7 +229,7 @@ contains
           nnz = nnz + count(nloc(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) > 0)
           u%pptr(k + 1) = nnz + 1
         end do
-        allocate(u%pnbr(nnz), u%pn(2, nnz))
+        allocate(u%pnbr(nnz), u%pn(t%dims%ndim, nnz))
         nnz = 0
         do k = 1, npl
           j = lp%nglob(k)

@@ -139,14 +139,14 @@ contains
     call kinematic_masks(deck, k, b, pres, vpres, err)
     if (allocated(err)) return
     call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
-      bs%velocity(1:2), pres, vpres, e2)
+      bs%velocity(1:b%ndim), pres, vpres, e2)
     if (allocated(e2)) then
       call set_error(err, where//": "//e2%message)
       return
     end if
     ! the foot-radius band of body_measures: one nominal spacing
-    s%spacing = minval(b%spacing(1:2))
-    if (deck%solver%skip_quiet) call solid_quiet_init(s, bs%velocity(1:2))
+    s%spacing = minval(b%spacing(1:b%ndim))
+    if (deck%solver%skip_quiet) call solid_quiet_init(s, bs%velocity(1:b%ndim))
     ! (read_deck refuses subcycle for anything but element meshes against rigid masters)
     s%sub%on = deck%solver%subcycle .and. s%t%interpolating
   end subroutine setup_solid
@@ -162,7 +162,7 @@ contains
     real(wp), allocatable, intent(out) :: vpres(:, :)
     type(error_t), allocatable, intent(inout) :: err
     integer :: j, i, c, nsel
-    allocate(pres(2, b%np), vpres(2, b%np))
+    allocate(pres(b%ndim, b%np), vpres(b%ndim, b%np))
     pres = .false.
     vpres = 0.0_wp
     do j = 1, deck%nbcs
@@ -170,8 +170,8 @@ contains
       c = deck%bcs(j)%component
       nsel = 0
       do i = 1, b%np
-        if (all(b%x(:, i) >= deck%bcs(j)%region_lo(1:2)) .and. &
-          all(b%x(:, i) <= deck%bcs(j)%region_hi(1:2))) then
+        if (all(b%x(:, i) >= deck%bcs(j)%region_lo(1:b%ndim)) .and. &
+          all(b%x(:, i) <= deck%bcs(j)%region_hi(1:b%ndim))) then
           pres(c, i) = .true.
           vpres(c, i) = merge(deck%bcs(j)%value, 0.0_wp, deck%bcs(j)%kind == 'velocity')
           nsel = nsel + 1

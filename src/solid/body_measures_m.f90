@@ -33,7 +33,7 @@ contains
     zmin = minval(s%x(2, :))
     m%length = maxval(s%x(2, :)) - zmin
     m%width = maxval(s%x(1, :)) - minval(s%x(1, :))
-    m%foot_radius = maxval(s%x(1, :), mask=s%x(2, :) <= zmin + s%spacing(2))
+    m%foot_radius = maxval(s%x(1, :), mask=s%x(2, :) <= zmin + s%spacing)
     m%max_epsbar = maxval(s%st%epsbar)
   end function body_measures
 
@@ -60,7 +60,7 @@ contains
     w = -huge(1.0_wp)
     do k = 1, size(s%part%own_n)
       x = solid_point_position(s, s%part%own_n(k))
-      if (x(2) <= zmin + s%spacing(2)) w(1) = max(w(1), x(1))
+      if (x(2) <= zmin + s%spacing) w(1) = max(w(1), x(1))
     end do
     call comm%max_real(w)
     m%length = v(2) - zmin

@@ -17,10 +17,12 @@
 module solid_m
   use omp_lib, only: omp_get_wtime
   use kinds_m, only: wp, i64
-  use errors_m, only: error_t
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa
   use material_m, only: material_t, material_state_t, material_params_t, make_material
+  use dims_m, only: dims_plane
   use solid_tables_m, only: solid_tables_t
-  use tl_kinematics_m, only: deformation_gradient, rate_of_deformation, piola_stress, &
+  use tl_kinematics_m, only: stretch2_min, f_identity, deformation_gradient, rate_of_deformation, piola_stress, &
     internal_force, physical_positions, jacobian, deformation_gradient_list, &
     rate_of_deformation_list, piola_stress_list, internal_force_list
   implicit none
@@ -144,17 +146,17 @@ module solid_m
   !! the material's state. The fields a restart needs are state_fields (solid_get_field,
   !! solid_put_field); the rest follows from them (solid_state_derived).
   type :: solid_state_t
-    real(wp), allocatable :: d(:, :), v(:, :), a(:, :)   !< (2, np) (m, m/s, m/s^2)
+    real(wp), allocatable :: d(:, :), v(:, :), a(:, :)   !< (ndim, np) (m, m/s, m/s^2)
     real(wp), allocatable :: d_old(:, :)         !< d at the start of the step
     real(wp), allocatable :: a_old(:, :)         !< a_n during the step
-    real(wp), allocatable :: freac(:, :), freac_old(:, :)  !< reactions (2, np) (N)
+    real(wp), allocatable :: freac(:, :), freac_old(:, :)  !< reactions (ndim, np) (N)
     !> the contact forces' impulse on the physical points since the last snapshot (N s),
     !! 1/2 dt fpoint per step as the history's f_contact (eq. 63), and the time it covers
     !! (s): /snapshots f_contact = impulse / time
     real(wp), allocatable :: ipoint(:, :)
     real(wp) :: ipoint_time = 0.0_wp
-    real(wp), allocatable :: f(:, :), f_old(:, :)        !< F (5, nq)
-    real(wp), allocatable :: p(:, :), p_old(:, :)        !< first Piola-Kirchhoff (5, nq) (Pa)
+    real(wp), allocatable :: f(:, :), f_old(:, :)        !< F (nf, nq)
+    real(wp), allocatable :: p(:, :), p_old(:, :)        !< first Piola-Kirchhoff (nf, nq) (Pa)
     type(material_state_t) :: st                 !< stresses, back stress, epsbar, its rate
   end type solid_state_t
 
@@ -180,27 +182,27 @@ module solid_m
 
   type :: solid_t
     character(len=64) :: name = ''
-    real(wp) :: spacing(2) = 0.0_wp              !< nominal node spacing (m), for measures
+    real(wp) :: spacing = 0.0_wp                 !< nominal node spacing (m), for measures
     integer :: np = 0                            !< nodes (RK particles or element nodes)
     integer :: nq = 0                            !< integration points
     type(solid_tables_t) :: t
     class(material_t), allocatable :: mat
     type(material_state_t) :: st
-    real(wp), allocatable :: x0(:, :)            !< reference positions (2, np) (m)
+    real(wp), allocatable :: x0(:, :)            !< reference positions (ndim, np) (m)
     type(solid_state_t) :: state                 !< what a step changes
     type(solid_options_t) :: opt                 !< set once by the run's set-up
     type(solid_accounts_t) :: acc                !< energies and work since t = 0
-    logical, allocatable :: pres(:, :)           !< prescribed velocity component (2, np)
+    logical, allocatable :: pres(:, :)           !< prescribed velocity component (ndim, np)
     real(wp), allocatable :: vpres(:, :)         !< its value (m/s)
     ! work space of a step, recomputed from the state
-    real(wp), allocatable :: fint(:, :), fext(:, :)      !< (2, np) (N)
+    real(wp), allocatable :: fint(:, :), fext(:, :)      !< (ndim, np) (N)
     real(wp), allocatable :: fcon(:, :)          !< contact forces on the coefficients (N)
     !> contact forces at the nodes' physical points this step, before eq. (98) spreads them
     !! (action and reaction of every pass; N)
     real(wp), allocatable :: fpoint(:, :)
-    real(wp), allocatable :: x(:, :)             !< physical positions (2, np) (m)
-    real(wp), allocatable :: dr(:, :), w12(:), dwp(:)    !< D (4, nq), W12, plastic work
-    real(wp), allocatable :: stab(:, :)          !< stabilization stresses (4, nq)
+    real(wp), allocatable :: x(:, :)             !< physical positions (ndim, np) (m)
+    real(wp), allocatable :: dr(:, :), w12(:), dwp(:)    !< D (ncomp, nq), W12, plastic work
+    real(wp), allocatable :: stab(:, :)          !< stabilization stresses (ncomp, nq)
     ! the critical-step estimate that follows the deformation (solid_step_estimate)
     real(wp), allocatable :: kap0(:)             !< kappa0_L of each point (1/m^2), step_metric
     real(wp) :: kappa0 = 0.0_wp                  !< largest kappa in the reference state (1/m^2)
@@ -227,37 +229,49 @@ contains
 
   !> A solid on the tables t (moved in: t is deallocated on return) with the material of
   !! params, the SCNI stabilization coefficient alpha (0: none; meaningful for RKPM tables
-  !! only), the initial velocity v0 (m/s) and the kinematic conditions pres/vpres (2, np).
-  !! Components on the symmetry axis (t%fix1) are held at zero in addition.
+  !! only), the initial velocity v0 (ndim) (m/s) and the kinematic conditions pres/vpres
+  !! (ndim, np). Components on the symmetry axis (t%fix1) are held at zero in addition.
+  !! The shapes of the state are those of the tables' geometry (t%dims).
   subroutine solid_init(s, name, t, x0, params, alpha, v0, pres, vpres, err)
     type(solid_t), intent(out) :: s
     character(len=*), intent(in) :: name
     type(solid_tables_t), intent(inout) :: t
     real(wp), intent(in) :: x0(:, :)
     type(material_params_t), intent(in) :: params
-    real(wp), intent(in) :: alpha, v0(2)
+    real(wp), intent(in) :: alpha, v0(:)
     logical, intent(in) :: pres(:, :)
     real(wp), intent(in) :: vpres(:, :)
     type(error_t), allocatable, intent(inout) :: err
-    integer :: i, np, nq
+    integer :: i, np, nq, nd, nf, nc
+    if (t%dims%ndim /= dims_plane%ndim .or. t%dims%nf /= dims_plane%nf .or. &
+        t%dims%ncomp /= dims_plane%ncomp) then
+      call set_error(err, "solid '"//trim(name)//"': no kernels for tables of dimension "// &
+        itoa(t%dims%ndim)//' (this build has the plane kernels, plane strain and '// &
+        'axisymmetry)')
+      return
+    end if
     call make_material(params, s%mat, err)
     if (allocated(err)) return
     s%name = name
     call move_tables(t, s%t)
     np = s%t%np
     nq = s%t%nq
+    nd = s%t%dims%ndim
+    nf = s%t%dims%nf
+    nc = s%t%dims%ncomp
     s%np = np
     s%nq = nq
     s%opt%stab_normal = alpha*(s%mat%lambda + 2.0_wp*s%mat%g)
     s%opt%stab_shear = alpha*s%mat%g
-    allocate(s%stab(4, nq))
+    allocate(s%stab(nc, nq))
     s%stab = 0.0_wp
     call s%st%init(nq)
     s%x0 = x0
     s%x = x0
-    allocate(s%state%d(2, np), s%state%v(2, np), s%state%a(2, np), s%state%d_old(2, np), &
-      s%state%a_old(2, np), s%state%freac(2, np), s%state%freac_old(2, np), &
-      s%state%ipoint(2, np), s%fint(2, np), s%fext(2, np), s%fcon(2, np), s%fpoint(2, np))
+    allocate(s%state%d(nd, np), s%state%v(nd, np), s%state%a(nd, np), &
+      s%state%d_old(nd, np), s%state%a_old(nd, np), s%state%freac(nd, np), &
+      s%state%freac_old(nd, np), s%state%ipoint(nd, np), s%fint(nd, np), s%fext(nd, np), &
+      s%fcon(nd, np), s%fpoint(nd, np))
     s%state%d = 0.0_wp
     s%state%d_old = 0.0_wp
     s%state%a = 0.0_wp
@@ -277,12 +291,11 @@ contains
     s%pres(1, :) = s%pres(1, :) .or. s%t%fix1
     where (s%t%fix1) s%vpres(1, :) = 0.0_wp
     where (s%pres) s%state%v = s%vpres
-    allocate(s%state%f(5, nq), s%state%f_old(5, nq), s%state%p(5, nq), s%state%p_old(5, nq), &
-      s%dr(4, nq), s%w12(nq), s%dwp(nq))
-    s%state%f = 0.0_wp
-    s%state%f(1, :) = 1.0_wp
-    s%state%f(4, :) = 1.0_wp
-    s%state%f(5, :) = 1.0_wp
+    allocate(s%state%f(nf, nq), s%state%f_old(nf, nq), s%state%p(nf, nq), &
+      s%state%p_old(nf, nq), s%dr(nc, nq), s%w12(nq), s%dwp(nq))
+    do i = 1, nq
+      s%state%f(:, i) = f_identity
+    end do
     s%state%f_old = s%state%f
     s%state%p = 0.0_wp
     s%state%p_old = 0.0_wp
@@ -310,13 +323,11 @@ contains
   subroutine step_metric(s)
     type(solid_t), intent(inout) :: s
     integer :: q, e
-    real(wp) :: g(4)
     allocate(s%kap0(s%nq))
     s%kap0 = 0.0_wp
     do q = 1, s%nq
       do e = s%t%ptr(q), s%t%ptr(q + 1) - 1
-        g = s%t%g(:, e)
-        s%kap0(q) = s%kap0(q) + sum(g**2)
+        s%kap0(q) = s%kap0(q) + sum(s%t%g(:, e)**2)
         if (s%t%axisym) s%kap0(q) = s%kap0(q) + s%t%h(e)**2
       end do
     end do
@@ -334,7 +345,7 @@ contains
   !! radial v0 is no rigid motion (it strains the hoop direction), so everything is active.
   subroutine solid_quiet_init(s, v0)
     type(solid_t), intent(inout) :: s
-    real(wp), intent(in) :: v0(2)
+    real(wp), intent(in) :: v0(:)
     integer :: i
     allocate(s%awake(s%np), s%qact(s%nq), s%bact((s%nq + material_block - 1)/material_block))
     s%qact = .false.
@@ -400,20 +411,6 @@ contains
     end do
   end subroutine solid_quiet_blocks
 
-  !> The square of the smallest principal stretch of f (5): the smaller eigenvalue of the
-  !! in-plane C = F^T F, or F33^2 if smaller.
-  pure real(wp) function stretch2_min(f) result(s2)
-    real(wp), intent(in) :: f(5)
-    real(wp) :: c11, c12, c22, tr, det, lmax
-    c11 = f(1)**2 + f(3)**2
-    c22 = f(2)**2 + f(4)**2
-    c12 = f(1)*f(2) + f(3)*f(4)
-    tr = c11 + c22
-    det = (f(1)*f(4) - f(2)*f(3))**2
-    lmax = 0.5_wp*(tr + sqrt(max((c11 - c22)**2 + 4.0_wp*c12**2, 0.0_wp)))
-    s2 = min(det/lmax, f(5)**2)
-  end function stretch2_min
-
   !> The critical step of the solid at its current state (s): dt_cal/sqrt(max_L kappa_L),
   !! with dt_cal = (2/omega_max) sqrt(max_L kappa_L) in the reference state, omega_max from
   !! the power iteration (stable_step_m). Current after solid_internal_force.
@@ -434,6 +431,7 @@ contains
     b%nq = a%nq
     b%scheme = a%scheme
     b%axisym = a%axisym
+    b%dims = a%dims
     b%interpolating = a%interpolating
     b%hmin = a%hmin
     b%total_mass = a%total_mass
@@ -463,7 +461,7 @@ contains
   !> 1/2 sum m |v|^2 (J; J/m in plane strain).
   pure real(wp) function solid_kinetic_energy(s) result(ke)
     type(solid_t), intent(in) :: s
-    ke = 0.5_wp*sum(s%t%mass*(s%state%v(1, :)**2 + s%state%v(2, :)**2))
+    ke = 0.5_wp*sum(s%t%mass*sum(s%state%v**2, dim=1))
   end function solid_kinetic_energy
 
   !> The state at t = 0: forces and accelerations at u = 0, prescribed components at rest.
@@ -837,7 +835,7 @@ contains
     if (.not. allocated(s%sub%node_rate)) then
       allocate(s%sub%node_rate(s%np), s%sub%point_rate(s%nq), s%sub%nlist(s%np), &
         s%sub%qlist(s%nq), s%sub%ilist(size(s%t%nbr)), s%sub%mark(s%np), &
-        s%sub%d_end(2, s%np), s%sub%nptr(0:32), s%sub%qptr(0:32), s%sub%iptr(0:32))
+        s%sub%d_end(s%t%dims%ndim, s%np), s%sub%nptr(0:32), s%sub%qptr(0:32), s%sub%iptr(0:32))
       s%sub%mark = -1
     end if
     s%sub%node_rate = max(0, levels - s%sub%lev_node)
@@ -1189,7 +1187,7 @@ contains
     real(wp), intent(out) :: ke
     integer, intent(in), optional :: list(:)
     integer :: i, k
-    real(wp) :: wbc, wc, du(2)
+    real(wp) :: wbc, wc, du(size(s%state%d, 1))
     logical :: listed
     listed = present(list)
     wbc = 0.0_wp
@@ -1222,7 +1220,7 @@ contains
     s%acc%w_contact = s%acc%w_contact + wc
   end subroutine advance_nodes
 
-  !> Physical positions of every node (2, np) at the start of the step or at the current
+  !> Physical positions of every node (ndim, np) at the start of the step or at the current
   !! (predicted, possibly corrected) coefficients (m).
   subroutine solid_positions(s, which, x)
     type(solid_t), intent(in) :: s
@@ -1241,7 +1239,7 @@ contains
     type(solid_t), intent(in) :: s
     integer, intent(in) :: j
     integer, intent(in), optional :: which
-    real(wp) :: x(2)
+    real(wp) :: x(size(s%x0, 1))
     if (present(which)) then
       if (which == at_step_start) then
         x = point_position(s, s%state%d_old, j)
@@ -1255,7 +1253,7 @@ contains
     type(solid_t), intent(in) :: s
     real(wp), intent(in) :: d(:, :)
     integer, intent(in) :: j
-    real(wp) :: x(2), u(2)
+    real(wp) :: x(size(s%x0, 1)), u(size(s%x0, 1))
     integer :: e
     if (s%t%interpolating) then
       x = s%x0(:, j) + d(:, j)
@@ -1366,7 +1364,7 @@ contains
         vmax = huge(1.0_wp)
         return
       end if
-      v2 = s%state%v(1, i)**2 + s%state%v(2, i)**2
+      v2 = sum(s%state%v(:, i)**2)
       if (v2 > v2max) then
         v2max = v2
         j = i

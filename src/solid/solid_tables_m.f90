@@ -11,6 +11,7 @@
 !! transpose that lets the internal force be gathered per node without write races.
 module solid_tables_m
   use kinds_m, only: wp
+  use dims_m, only: dims_t
   implicit none
   private
   public :: solid_tables_t, tables_transpose, tables_transpose_values
@@ -19,22 +20,25 @@ module solid_tables_m
     integer :: np = 0                    !< particles (coefficient pairs)
     integer :: nq = 0                    !< integration points
     integer :: scheme = 0                !< how the tables were built (builder-specific id)
+    !> the shapes of the geometry (dims_m), set by the builder: xq is (ndim, nq), g, gs
+    !! and tg (ngrad, nnz), ws (ndim, nq), pn (ndim, nnzp)
+    type(dims_t) :: dims
     logical :: axisym = .false.
     !> nodal interpolation (finite elements): the physical position of node J is X_J + d_J,
     !! the position table is the identity and point forces need no redistribution (eq. 99)
     logical :: interpolating = .false.
-    real(wp), allocatable :: xq(:, :)    !< integration points, reference (2, nq) (m)
+    real(wp), allocatable :: xq(:, :)    !< integration points, reference (m)
     integer, allocatable :: owner(:)     !< node whose cell holds point L (0: none, e.g. an element)
     real(wp), allocatable :: wgt(:)      !< W_L (m^3 axisymmetric, m^2 per unit thickness)
     real(wp), allocatable :: mass(:)     !< lumped mass (kg, or kg/m in plane strain)
     integer, allocatable :: ptr(:)       !< CSR pointer over points (nq + 1)
     integer, allocatable :: nbr(:)       !< particle of each entry
-    real(wp), allocatable :: g(:, :)     !< (4, nnz): dN^1/dX1, dN^1/dX2, dN^2/dX1, dN^2/dX2 (1/m)
+    real(wp), allocatable :: g(:, :)     !< dN^i/dX_j, in the plane dN^1/dX1, dN^1/dX2, ... (1/m)
     real(wp), allocatable :: h(:)        !< (nnz): hoop term of N^1 (1/m), 0 in plane strain
     !> SCNI sub-cell stabilization (nnz): the right half-cell's smoothed d/dX1 of N^1, N^2
     !! and the upper half-cell's d/dX2 of N^1, N^2, each minus the whole cell's (1/m)
     real(wp), allocatable :: gs(:, :)
-    real(wp), allocatable :: ws(:, :)    !< (2, nq) weights W_r (1 + W_r/W_l), W_u (1 + W_u/W_d)
+    real(wp), allocatable :: ws(:, :)    !< weights W_r (1 + W_r/W_l), W_u (1 + W_u/W_d)
     integer, allocatable :: tptr(:)      !< transpose pointer over particles (np + 1)
     integer, allocatable :: tent(:)      !< entries touching particle I
     integer, allocatable :: tq(:)        !< their integration points
@@ -43,7 +47,7 @@ module solid_tables_m
     real(wp), allocatable :: tg(:, :), th(:), tgs(:, :)
     integer, allocatable :: pptr(:)      !< position table pointer (np + 1)
     integer, allocatable :: pnbr(:)
-    real(wp), allocatable :: pn(:, :)    !< (2, nnzp): N^1_I(X_J), N^2_I(X_J)
+    real(wp), allocatable :: pn(:, :)    !< N^i_I(X_J), i = 1..ndim
     logical, allocatable :: fix1(:)      !< component 1 held at 0 (on the axis)
     real(wp) :: hmin = 0.0_wp            !< smallest particle spacing (m)
     real(wp) :: total_mass = 0.0_wp
@@ -93,8 +97,8 @@ contains
     nnz = size(t%tent)
     with_gs = allocated(t%gs)
     if (with_gs) with_gs = size(t%gs, 2) == size(t%g, 2)
-    allocate(t%tg(4, nnz), t%th(nnz))
-    if (with_gs) allocate(t%tgs(4, nnz))
+    allocate(t%tg(size(t%g, 1), nnz), t%th(nnz))
+    if (with_gs) allocate(t%tgs(size(t%gs, 1), nnz))
     do k = 1, nnz
       e = t%tent(k)
       t%tg(:, k) = t%g(:, e)

@@ -18,7 +18,7 @@ module stable_step_m
   use kinds_m, only: wp
   use strings_m, only: itoa, rtoa
   use solid_m, only: solid_t, solid_step_estimate
-  use tl_kinematics_m, only: deformation_gradient, internal_force, stabilization_force, &
+  use tl_kinematics_m, only: linear_elastic_piola, deformation_gradient, internal_force, stabilization_force, &
     jacobian
   implicit none
   private
@@ -66,13 +66,16 @@ contains
     type(solid_t), intent(in) :: tb
     real(wp) :: dt
     real(wp), allocatable :: x(:, :), y(:, :), f(:, :), p(:, :), sw(:, :)
-    real(wp) :: lam, mu, eps(4), tr, omega2, nrm, es
-    integer :: it, q, i
-    allocate(x(2, tb%np), y(2, tb%np), f(5, tb%nq), p(5, tb%nq), sw(4, tb%nq))
+    real(wp) :: lam, mu, omega2, nrm, es
+    integer :: it, q, i, c, nd
+    nd = tb%t%dims%ndim
+    allocate(x(nd, tb%np), y(nd, tb%np), f(tb%t%dims%nf, tb%nq), p(tb%t%dims%nf, tb%nq), &
+      sw(tb%t%dims%ncomp, tb%nq))
     lam = tb%mat%lambda
     mu = tb%mat%g
     do i = 1, tb%np
-      x(:, i) = real(1 - 2*mod(i, 2), wp)*[1.0_wp, -1.0_wp] + 0.1_wp*real(mod(i, 7), wp)
+      x(:, i) = real(1 - 2*mod(i, 2), wp)*[(real(1 - 2*mod(c + 1, 2), wp), c = 1, nd)] &
+        + 0.1_wp*real(mod(i, 7), wp)
     end do
     where (tb%pres) x = 0.0_wp
     omega2 = 0.0_wp
@@ -80,22 +83,20 @@ contains
     dt = huge(1.0_wp)
     if (all(tb%pres)) return
     do it = 1, 60
-      nrm = sqrt(sum(spread(tb%t%mass, 1, 2)*x*x))
+      nrm = sqrt(sum(spread(tb%t%mass, 1, nd)*x*x))
       x = x/nrm
       call deformation_gradient(tb%t, x, f)
       do q = 1, tb%nq
-        eps = [f(1, q) - 1.0_wp, f(4, q) - 1.0_wp, f(5, q) - 1.0_wp, 0.5_wp*(f(2, q) + f(3, q))]
-        tr = eps(1) + eps(2) + eps(3)
-        p(:, q) = [lam*tr + 2.0_wp*mu*eps(1), 2.0_wp*mu*eps(4), 2.0_wp*mu*eps(4), &
-          lam*tr + 2.0_wp*mu*eps(2), lam*tr + 2.0_wp*mu*eps(3)]
+        call linear_elastic_piola(lam, mu, f(:, q), p(:, q))
       end do
       call internal_force(tb%t, p, y)
       if (tb%opt%stab_normal > 0.0_wp) call stabilization_force(tb%t, x, tb%opt%stab_normal, &
         tb%opt%stab_shear, sw, y, es)
       where (tb%pres) y = 0.0_wp
       omega2 = sum(x*y)
-      x(1, :) = y(1, :)/tb%t%mass
-      x(2, :) = y(2, :)/tb%t%mass
+      do c = 1, nd
+        x(c, :) = y(c, :)/tb%t%mass
+      end do
     end do
     dt = 2.0_wp/sqrt(1.02_wp*omega2)
   end function critical_step

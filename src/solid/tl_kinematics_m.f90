@@ -1,4 +1,5 @@
-!> Hot kernels of the total-Lagrangian RKPM solver on the tables of rkpm_tl_m:
+!> Hot kernels of the total-Lagrangian solver in the plane (dims_plane of dims_m: plane
+!! strain and axisymmetry), on the tables of rkpm_tl_m and cst4_m:
 !! deformation gradients at the integration points, rate of deformation and spin between
 !! two configurations, first Piola-Kirchhoff stress from Kirchhoff stress, the internal force
 !! (eq. 72) gathered per particle, and physical positions x_J = X_J + sum_I N_I(X_J) d_I.
@@ -12,11 +13,41 @@ module tl_kinematics_m
   implicit none
   private
   public :: deformation_gradient, rate_of_deformation, piola_stress, internal_force
-  public :: physical_positions, jacobian, stabilization_force
+  public :: physical_positions, jacobian, stabilization_force, stretch2_min, f_identity, &
+    linear_elastic_piola
   public :: deformation_gradient_list, rate_of_deformation_list, piola_stress_list, &
     internal_force_list
 
+  !> F = I in the plane layout.
+  real(wp), parameter :: f_identity(5) = [1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp]
+
 contains
+
+  !> The square of the smallest principal stretch of f (5): the smaller eigenvalue of the
+  !! in-plane C = F^T F, or F33^2 if smaller.
+  pure real(wp) function stretch2_min(f) result(s2)
+    real(wp), intent(in) :: f(5)
+    real(wp) :: c11, c12, c22, tr, det, lmax
+    c11 = f(1)**2 + f(3)**2
+    c22 = f(2)**2 + f(4)**2
+    c12 = f(1)*f(2) + f(3)*f(4)
+    tr = c11 + c22
+    det = (f(1)*f(4) - f(2)*f(3))**2
+    lmax = 0.5_wp*(tr + sqrt(max((c11 - c22)**2 + 4.0_wp*c12**2, 0.0_wp)))
+    s2 = min(det/lmax, f(5)**2)
+  end function stretch2_min
+
+  !> P of the linear elastic law at the displacement gradient F - I (small strain, Lame
+  !! constants lam, mu; Pa): the operator K of the critical-step power iteration.
+  pure subroutine linear_elastic_piola(lam, mu, f, p)
+    real(wp), intent(in) :: lam, mu, f(5)
+    real(wp), intent(out) :: p(5)
+    real(wp) :: eps(4), tr
+    eps = [f(1) - 1.0_wp, f(4) - 1.0_wp, f(5) - 1.0_wp, 0.5_wp*(f(2) + f(3))]
+    tr = eps(1) + eps(2) + eps(3)
+    p = [lam*tr + 2.0_wp*mu*eps(1), 2.0_wp*mu*eps(4), 2.0_wp*mu*eps(4), &
+      lam*tr + 2.0_wp*mu*eps(2), lam*tr + 2.0_wp*mu*eps(3)]
+  end subroutine linear_elastic_piola
 
   !> F at every integration point from the coefficients d (2, np). With stab = [c_normal,
   !! c_shear] given, the same pass also forms the SCNI stabilization stresses s (4, nq) and

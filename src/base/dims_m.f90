@@ -1,0 +1,31 @@
+!> The shapes a solid's geometry gives its data, chosen once at set-up and carried by its
+!! tables (solid_tables_t%dims): nodal vectors are (ndim, np), F and P (nf, nq), the
+!! symmetric tensors (stresses, back stress, D) (ncomp, nq), the reference gradients of
+!! the shape functions (ngrad, nnz). Procedures that are not specialised for one geometry
+!! take every extent from here; the kernels that are (tl_kinematics_m, the materials'
+!! updates, the table builders) say which layout they serve and are chosen once.
+!!
+!! Layouts of the plane (plane strain and axisymmetry share them; the hoop terms vanish in
+!! plane strain):
+!!  F and P: 11, 12, 21, 22, 33 (33 the hoop stretch r/R in axisymmetry);
+!!  symmetric tensors: 11, 22, 33, 12 (tensor components);
+!!  gradients: dN^1/dX1, dN^1/dX2, dN^2/dX1, dN^2/dX2.
+module dims_m
+  implicit none
+  private
+  public :: dims_t, dims_plane, max_dim
+
+  type :: dims_t
+    integer :: ndim = 0    !< dimension of space
+    integer :: nf = 0      !< stored components of F and P
+    integer :: ncomp = 0   !< stored components of a symmetric tensor
+    integer :: ngrad = 0   !< reference gradient entries per (point, node): ndim x ndim
+  end type dims_t
+
+  !> Plane strain and axisymmetry (the paper's two geometries).
+  type(dims_t), parameter :: dims_plane = dims_t(ndim=2, nf=5, ncomp=4, ngrad=4)
+
+  !> The largest ndim of any geometry: the extent of small fixed-size work arrays, of
+  !! which a procedure uses the first ndim entries.
+  integer, parameter :: max_dim = 3
+end module dims_m
