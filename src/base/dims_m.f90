@@ -20,10 +20,14 @@ module dims_m
     integer :: nf = 0      !< stored components of F and P
     integer :: ncomp = 0   !< stored components of a symmetric tensor
     integer :: ngrad = 0   !< reference gradient entries per (point, node): ndim x ndim
+    !> the names of a symmetric tensor's stored components, in order (1:ncomp)
+    character(len=2) :: tensor_names(6) = ''
+    character(len=3) :: axes = ''  !< the coordinates' names in XDMF (GeometryType)
   end type dims_t
 
   !> Plane strain and axisymmetry (the paper's two geometries).
-  type(dims_t), parameter :: dims_plane = dims_t(ndim=2, nf=5, ncomp=4, ngrad=4)
+  type(dims_t), parameter :: dims_plane = dims_t(ndim=2, nf=5, ncomp=4, ngrad=4, &
+    tensor_names=['11', '22', '33', '12', '  ', '  '], axes='XY')
 
   !> The largest ndim of any geometry: the extent of small fixed-size work arrays, of
   !! which a procedure uses the first ndim entries.

@@ -93,7 +93,8 @@ contains
       s%listed = .true.
       s%list = ds%own
       s%nlist = size(ds%own)
-      allocate(ds%f(2, npart), ds%mptr(comm%nranks + 1), ds%nptr(comm%nranks + 1))
+      allocate(ds%f(size(s%x_pred, 1), npart), ds%mptr(comm%nranks + 1), &
+        ds%nptr(comm%nranks + 1))
       allocate(ds%sbuf(0), ds%rbuf(0))
       ! static partners: the ranks owning the first end of a segment whose second end is
       ! an own particle (they sum the segment's midpoint and reach)
@@ -569,7 +570,7 @@ contains
       if (p%self) call cloud_set_reference(b%cloud, b%x_ref(:, db%loc))
       call surface_subset(db%full, mask, b%surface)
       if (allocated(db%xl)) deallocate(db%xl)
-      allocate(db%xl(2, size(db%loc)))
+      allocate(db%xl(size(b%x_pred, 1), size(db%loc)))
       if (w < 0.0_wp) return
       db%width = w
       db%nrefresh = db%nrefresh + 1

@@ -354,9 +354,9 @@ contains
     s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:2)
     s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:2)
     call nts_build(s%buckets, s%surface)
-    allocate(s%x_old(2, b%np), s%x_pred(2, b%np), s%fphys(2, b%np), s%active(b%np), &
-      s%seg(b%np), s%xi(b%np), s%imass(b%np), s%gap(b%np), s%slip(b%np), s%nrm(2, b%np), &
-      s%tng(2, b%np), s%share(b%np))
+    allocate(s%x_old(b%ndim, b%np), s%x_pred(b%ndim, b%np), s%fphys(b%ndim, b%np), &
+      s%active(b%np), s%seg(b%np), s%xi(b%np), s%imass(b%np), s%gap(b%np), s%slip(b%np), &
+      s%nrm(b%ndim, b%np), s%tng(b%ndim, b%np), s%share(b%np))
     s%x_old = b%x
     s%x_pred = b%x
     allocate(s%near(b%np))
@@ -377,11 +377,11 @@ contains
     s%tng = 0.0_wp
     s%imass = 0.0_wp
     s%share = 0.0_wp
-    ! a node whose velocity is prescribed in both components does not yield to contact:
+    ! a node whose velocity is prescribed in every component does not yield to contact:
     ! infinite mass in eq. (93) (a driven plate), so the other side takes the whole gap
     if (isolid > 0) then
       s%imass = 1.0_wp/solids(isolid)%t%mass
-      where (solids(isolid)%pres(1, :) .and. solids(isolid)%pres(2, :)) s%imass = 0.0_wp
+      where (all(solids(isolid)%pres, dim=1)) s%imass = 0.0_wp
     end if
   end subroutine side_init
 
@@ -410,7 +410,7 @@ contains
     end associate
     s%skip_far = .true.
     s%travel = 0.0_wp
-    allocate(s%due(s%np), s%d_scr(2, s%np))
+    allocate(s%due(s%np), s%d_scr(size(solids(s%isolid)%state%d, 1), s%np))
     s%due = -1.0_wp
     s%d_scr = solids(s%isolid)%state%d
     s%near = .true.
@@ -731,7 +731,7 @@ contains
       s%x_ref = s%x_ref(:, nglob)
       s%vol = s%vol(nglob)
       s%imass = 1.0_wp/sol%t%mass
-      where (sol%pres(1, :) .and. sol%pres(2, :)) s%imass = 0.0_wp
+      where (all(sol%pres, dim=1)) s%imass = 0.0_wp
       if (allocated(s%due)) then
         s%due = s%due(nglob)
         s%d_scr = sol%state%d

@@ -3,6 +3,7 @@
 !! summary as attributes of /summary. Layout: doc/output.md.
 module dynamic_output_m
   use kinds_m, only: wp
+  use dims_m, only: dims_t
   use errors_m, only: error_t
   use strings_m, only: itoa
   use solid_m, only: solid_t, solid_positions, at_prediction
@@ -119,8 +120,9 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: g, gb
     real(wp), allocatable :: vphys(:, :), sig(:, :), eps(:), jj(:), w(:), fc(:, :)
-    integer :: k, q, np, e, i
+    integer :: k, q, np, e, i, nd
     real(wp) :: jq
+    character(len=:), allocatable :: vec, ten
     g = '/snapshots/'//label
     call h5_group(f, g, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'time', time, err)
@@ -129,9 +131,12 @@ contains
       if (allocated(err)) return
       associate (tb => solids(k))
         np = tb%np
+        nd = tb%t%dims%ndim
+        vec = ' ('//itoa(nd)//', np)'
+        ten = ' ('//itoa(tb%t%dims%ncomp)//', np)'
         gb = g//'/'//trim(tb%name)
         call solid_positions(tb, at_prediction, tb%x)
-        allocate(vphys(2, np), sig(4, np), eps(np), jj(np), w(np), fc(2, np))
+        allocate(vphys(nd, np), sig(tb%t%dims%ncomp, np), eps(np), jj(np), w(np), fc(nd, np))
         call physical_positions(tb%t, 0.0_wp*tb%x0, tb%state%v, vphys)
         sig = 0.0_wp
         eps = 0.0_wp
@@ -160,20 +165,20 @@ contains
         tb%state%ipoint_time = 0.0_wp
         call h5_group(f, gb, err)
         if (.not. allocated(err)) call h5_write(f, gb//'/x', tb%x, 'm', err, &
-          'physical particle positions (2, np)')
+          'physical particle positions'//vec)
         if (.not. allocated(err)) call h5_write(f, gb//'/u', tb%x - tb%x0, 'm', err, &
-          'particle displacements (2, np)')
+          'particle displacements'//vec)
         if (.not. allocated(err)) call h5_write(f, gb//'/v', vphys, 'm/s', err, &
-          'particle velocities (2, np)')
+          'particle velocities'//vec)
         if (.not. allocated(err)) call h5_write(f, gb//'/stress', sig, 'Pa', err, &
-          'Cauchy stress 11, 22, 33, 12 (33: hoop in axisymmetry) (4, np)')
+          'Cauchy stress '//tensor_list(tb%t%dims)//hoop_note(tb)//ten)
         if (.not. allocated(err)) call h5_write(f, gb//'/epsbar', eps, '1', err, &
           'effective plastic strain')
         if (.not. allocated(err)) call h5_write(f, gb//'/J', jj, '1', err, &
           'volume ratio det F')
         if (.not. allocated(err)) call h5_write(f, gb//'/f_contact', fc, &
           trim(merge('N  ', 'N/m', tb%t%axisym)), err, 'mean contact force on the particle''s '// &
-          'physical point since the previous snapshot (impulse / time) (2, np)')
+          'physical point since the previous snapshot (impulse / time)'//vec)
         if (tb%t%interpolating .and. .not. allocated(err)) call cell_fields(tb, gb)
         deallocate(vphys, sig, eps, jj, w, fc)
       end associate
@@ -194,19 +199,39 @@ contains
       character(len=*), intent(in) :: gb
       real(wp), allocatable :: sc(:, :), jc(:)
       integer :: qq
-      allocate(sc(4, s%nq), jc(s%nq))
+      allocate(sc(s%t%dims%ncomp, s%nq), jc(s%nq))
       do qq = 1, s%nq
         jc(qq) = jacobian(s%state%f(:, qq))
         sc(:, qq) = s%st%tau(:, qq)/jc(qq)
       end do
       call h5_write(f, gb//'/stress_cells', sc, 'Pa', err, &
-        'Cauchy stress 11, 22, 33, 12 of each element (4, ne)')
+        'Cauchy stress '//tensor_list(s%t%dims)//' of each element ('// &
+        itoa(s%t%dims%ncomp)//', ne)')
       if (.not. allocated(err)) call h5_write(f, gb//'/epsbar_cells', s%st%epsbar, '1', err, &
         'effective plastic strain of each element')
       if (.not. allocated(err)) call h5_write(f, gb//'/J_cells', jc, '1', err, &
         'volume ratio det F of each element')
     end subroutine cell_fields
   end subroutine snapshot_write
+
+  !> '11, 22, 33, 12': the stored components of a symmetric tensor in the layout of dims.
+  pure function tensor_list(dims) result(t)
+    type(dims_t), intent(in) :: dims
+    character(len=:), allocatable :: t
+    integer :: c
+    t = trim(dims%tensor_names(1))
+    do c = 2, dims%ncomp
+      t = t//', '//trim(dims%tensor_names(c))
+    end do
+  end function tensor_list
+
+  !> What the 33 component is in axisymmetry (the plane layout's third).
+  pure function hoop_note(s) result(t)
+    type(solid_t), intent(in) :: s
+    character(len=:), allocatable :: t
+    t = ''
+    if (s%t%dims%ndim == 2) t = ' (33: hoop in axisymmetry)'
+  end function hoop_note
 
   !> The XDMF companion of the HDF5 file: a temporal collection of grids, one per snapshot
   !! and body (polyvertex for particles, triangles for CST4 meshes, with element fields),
@@ -219,7 +244,7 @@ contains
     type(solid_t), intent(in) :: solids(:)
     type(xdmf_body_t), intent(in) :: rigid(:)
     integer :: u, s, k, np
-    character(len=:), allocatable :: g, nps, nes
+    character(len=:), allocatable :: g, nps, nes, nds
     open(newunit=u, file=path, status='replace', action='write')
     write(u, '(a)') '<?xml version="1.0" ?>'
     write(u, '(a)') '<Xdmf Version="3.0"><Domain>'
@@ -242,17 +267,20 @@ contains
         else
           write(u, '(a)') '<Topology TopologyType="Polyvertex" NumberOfElements="'//nps//'"/>'
         end if
-        write(u, '(a)') '<Geometry GeometryType="XY"><DataItem Dimensions="'//nps// &
-          ' 2" Format="HDF" NumberType="Float" Precision="8">'//g//'/x</DataItem></Geometry>'
-        call attr(u, 'u', 'Vector', nps//' 2', g//'/u')
-        call attr(u, 'v', 'Vector', nps//' 2', g//'/v')
-        call components(u, 'stress', np, g//'/stress', 'Node')
+        nds = itoa(solids(k)%t%dims%ndim)
+        write(u, '(a)') '<Geometry GeometryType="'//trim(solids(k)%t%dims%axes)// &
+          '"><DataItem Dimensions="'//nps//' '//nds//'" Format="HDF" NumberType="Float" '// &
+          'Precision="8">'//g//'/x</DataItem></Geometry>'
+        call attr(u, 'u', 'Vector', nps//' '//nds, g//'/u')
+        call attr(u, 'v', 'Vector', nps//' '//nds, g//'/v')
+        call components(u, 'stress', np, g//'/stress', 'Node', solids(k)%t%dims)
         call attr(u, 'epsbar', 'Scalar', nps, g//'/epsbar')
         call attr(u, 'J', 'Scalar', nps, g//'/J')
-        call attr(u, 'f_contact', 'Vector', nps//' 2', g//'/f_contact')
+        call attr(u, 'f_contact', 'Vector', nps//' '//nds, g//'/f_contact')
         if (solids(k)%t%interpolating) then
           call attr(u, 'epsbar_cells', 'Scalar', nes, g//'/epsbar_cells', 'Cell')
-          call components(u, 'stress_cells', solids(k)%nq, g//'/stress_cells', 'Cell')
+          call components(u, 'stress_cells', solids(k)%nq, g//'/stress_cells', 'Cell', &
+            solids(k)%t%dims)
           call attr(u, 'J_cells', 'Scalar', nes, g//'/J_cells', 'Cell')
         end if
         write(u, '(a)') '</Grid>'
@@ -290,22 +318,22 @@ contains
       write(unit, '(a)') '</Grid>'
     end subroutine rigid_grid
 
-    !> The 4 stress components (11, 22, 33, 12; axisymmetric: rr, zz, theta-theta, rz) of
-    !! the (n, 4) dataset item as 4 scalar attributes name_11, name_22, name_33, name_12,
+    !> The stress components of the (n, ncomp) dataset item (in the plane 11, 22, 33, 12;
+    !! axisymmetric: rr, zz, theta-theta, rz) as ncomp scalar attributes name_11, ...,
     !! each a HyperSlab of one column: VTK's XDMF readers take a 4-component 'Matrix' or
     !! 'Vector' attribute as one tuple or warn, while scalars read everywhere.
-    subroutine components(unit, name, n, item, center)
+    subroutine components(unit, name, n, item, center, dims)
       integer, intent(in) :: unit, n
       character(len=*), intent(in) :: name, item, center
-      character(len=2), parameter :: suffix(4) = ['11', '22', '33', '12']
+      type(dims_t), intent(in) :: dims
       integer :: c
-      do c = 1, 4
-        write(unit, '(a)') '<Attribute Name="'//name//'_'//suffix(c)//'" AttributeType='// &
-          '"Scalar" Center="'//center//'"><DataItem ItemType="HyperSlab" Dimensions="'// &
-          itoa(n)//' 1" Type="HyperSlab"><DataItem Dimensions="3 2" Format="XML">0 '// &
-          itoa(c - 1)//' 1 1 '//itoa(n)//' 1</DataItem><DataItem Dimensions="'//itoa(n)// &
-          ' 4" Format="HDF" NumberType="Float" Precision="8">'//item// &
-          '</DataItem></DataItem></Attribute>'
+      do c = 1, dims%ncomp
+        write(unit, '(a)') '<Attribute Name="'//name//'_'//dims%tensor_names(c)// &
+          '" AttributeType="Scalar" Center="'//center//'"><DataItem ItemType="HyperSlab" '// &
+          'Dimensions="'//itoa(n)//' 1" Type="HyperSlab"><DataItem Dimensions="3 2" '// &
+          'Format="XML">0 '//itoa(c - 1)//' 1 1 '//itoa(n)//' 1</DataItem><DataItem '// &
+          'Dimensions="'//itoa(n)//' '//itoa(dims%ncomp)//'" Format="HDF" NumberType='// &
+          '"Float" Precision="8">'//item//'</DataItem></DataItem></Attribute>'
       end do
     end subroutine components
 

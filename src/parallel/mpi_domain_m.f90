@@ -49,7 +49,7 @@ module mpi_domain_m
   !> A part's exchanges with its neighbour ranks (halo_m), as its solid calls them.
   type, extends(part_halo_t) :: mpi_halo_t
     type(halo_plan_t) :: plan
-    real(wp), allocatable :: w(:, :)   !< (4, local nodes): two nodal arrays in one message
+    real(wp), allocatable :: w(:, :)   !< (2 ndim, local nodes): two nodal arrays in one message
   contains
     procedure :: nodes => halo_node_array
     procedure :: nodes2 => halo_node_pair
@@ -219,13 +219,13 @@ contains
       kb = findloc(isolid, k, dim=1)
       associate (n => lp%nglob)
         call solid_init(p, g%name, lp%t, g%x0(:, n), &
-          deck%materials(deck%bodies(kb)%imat)%params, 0.0_wp, [0.0_wp, 0.0_wp], &
+          deck%materials(deck%bodies(kb)%imat)%params, 0.0_wp, 0.0_wp*g%x0(:, 1), &
           g%pres(:, n), g%vpres(:, n), err)
         if (allocated(err)) return
         call solid_set_owned(p, lp%own_point, lp%own_node)
-        ! RKPM's SCNI stabilization as the whole solid's (elements have none)
-        p%opt%stab_normal = g%opt%stab_normal
-        p%opt%stab_shear = g%opt%stab_shear
+        ! the whole solid's options: RKPM's SCNI stabilization (elements have none), the
+        ! health limits
+        p%opt = g%opt
         p%state%v = g%state%v(:, n)
         p%acc%ke0 = 0.0_wp
         do j = 1, size(p%part%own_n)
@@ -235,11 +235,7 @@ contains
         p%acc%ke = p%acc%ke0
         p%spacing = g%spacing
         p%dt_cal = g%dt_cal
-        p%opt%v_limit = g%opt%v_limit
-        p%opt%epsbar_limit = g%opt%epsbar_limit
-        p%opt%deps_limit = g%opt%deps_limit
-        p%opt%j_bounds = g%opt%j_bounds
-        allocate(h%w(4, p%np))
+        allocate(h%w(2*p%t%dims%ndim, p%np))
       end associate
     end associate
   end subroutine make_part
@@ -577,15 +573,17 @@ contains
     call halo_nodes(h%plan, x)
   end subroutine halo_node_array
 
-  !> Two nodal arrays x, y (2, local nodes) in one exchange.
+  !> Two nodal arrays x, y (ndim, local nodes) in one exchange.
   subroutine halo_node_pair(h, x, y)
     class(mpi_halo_t), intent(inout) :: h
     real(wp), intent(inout) :: x(:, :), y(:, :)
-    h%w(1:2, :) = x
-    h%w(3:4, :) = y
+    integer :: nd
+    nd = size(x, 1)
+    h%w(1:nd, :) = x
+    h%w(nd + 1:2*nd, :) = y
     call halo_nodes(h%plan, h%w)
-    x = h%w(1:2, :)
-    y = h%w(3:4, :)
+    x = h%w(1:nd, :)
+    y = h%w(nd + 1:2*nd, :)
   end subroutine halo_node_pair
 
   subroutine halo_point_array(h, x)
