@@ -89,7 +89,7 @@ contains
         return
       end if
       ds%full = s%surface
-      ds%rmax = s%cloud%rmax(1:2)
+      ds%rmax = s%cloud%rmax(1:size(s%lo))
       s%listed = .true.
       s%list = ds%own
       s%nlist = size(ds%own)
@@ -320,8 +320,8 @@ contains
       end if
       call surface_update(b%surface, b%x_pred, err, mlo, mhi, reach)
       if (allocated(err)) return
-      b%lo = glo - b%cloud%rmax(1:2)
-      b%hi = ghi + b%cloud%rmax(1:2)
+      b%lo = glo - b%cloud%rmax(1:size(glo))
+      b%hi = ghi + b%cloud%rmax(1:size(ghi))
       db%nghost_sum = db%nghost_sum + size(db%rids)
       db%npass = db%npass + 1
     end associate
@@ -565,7 +565,7 @@ contains
       call cloud_init(b%cloud, b%x_ref(:, db%loc), b%rho(:, db%loc), b%vol(db%loc), b%kid, &
         b%wshape, b%bid, b%h, err)
       if (allocated(err)) return
-      b%cloud%rmax(1:2) = db%rmax
+      b%cloud%rmax(1:size(db%rmax)) = db%rmax
       ! self-contact: det(M) without a point's reference neighbours (cloud_det_excluding)
       if (p%self) call cloud_set_reference(b%cloud, b%x_ref(:, db%loc))
       call surface_subset(db%full, mask, b%surface)

@@ -23,6 +23,7 @@
 !! inputs are plain parameters (contact_params_t) and bodies; the caller names the deck.
 module contact_pair_m
   use kinds_m, only: wp, i64
+  use dims_m, only: max_dim
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
   use body_m, only: body_t
@@ -70,7 +71,7 @@ module contact_pair_m
     logical :: compare = .false.         !< also run the other detector, for the counters
     logical :: skip_far = .true.         !< skip slave particles that cannot reach the master
     logical :: track_edge = .false.      !< report contact/separation of one slave node
-    real(wp) :: edge_point(2) = 0.0_wp   !< its reference position: the nearest node (m)
+    real(wp) :: edge_point(max_dim) = 0.0_wp   !< its reference position (m): the nearest node
     !> Effective mass of eq. (93) against a deformable master. .false. (the default): the
     !! reduced mass of the particle and its master point alone, as if no other particle
     !! pushed the same segment ends. .true.: each master node's mass shared among the
@@ -110,12 +111,12 @@ module contact_pair_m
     type(nts_buckets_t) :: buckets       !< its segments bucket-sorted (node-to-segment)
     real(wp) :: plateau = 0.0_wp, threshold = 0.0_wp
     real(wp) :: surface_det = 0.0_wp     !< median det(M) at the body's own boundary particles
-    real(wp) :: lo(2) = 0.0_wp, hi(2) = 0.0_wp   !< box grown by the largest support
-    real(wp), allocatable :: x_old(:, :), x_pred(:, :)  !< physical positions (2, np)
-    real(wp), allocatable :: rho(:, :)   !< supports (2, np): reach of the segment search
+    real(wp), allocatable :: lo(:), hi(:)   !< box grown by the largest support (ndim)
+    real(wp), allocatable :: x_old(:, :), x_pred(:, :)  !< physical positions (ndim, np)
+    real(wp), allocatable :: rho(:, :)   !< supports (ndim, np): reach of the segment search
     real(wp), allocatable :: x_ref(:, :), vol(:)   !< reference positions (m), volumes (m^2)
     integer :: kid = 0, wshape = 0, bid = 0
-    real(wp) :: h(2) = 1.0_wp
+    real(wp), allocatable :: h(:)        !< the cloud's basis scale (ndim)
     real(wp), allocatable :: fphys(:, :) !< contact forces at the particles this pass (N)
     logical, allocatable :: active(:)    !< particle carries a force this pass
     integer, allocatable :: seg(:)       !< the segment each penetrating particle hit
@@ -163,7 +164,7 @@ module contact_pair_m
     integer, allocatable :: own(:)       !< the particles this rank owns, ascending
     integer, allocatable :: gl(:)        !< each particle's node in the rank's part solid, or 0
     type(master_surface_t) :: full       !< the whole surface (its segments' ends)
-    real(wp) :: rmax(2) = 0.0_wp         !< the whole side's largest support (m)
+    real(wp), allocatable :: rmax(:)     !< the whole side's largest support (ndim) (m)
     !> static partners: for each own particle (own order, CSR pptr), the ranks owning the
     !! first end of a surface segment whose second end it is (they need its position)
     integer, allocatable :: pptr(:), prank(:)
@@ -324,8 +325,8 @@ contains
     if (prm%track_edge) then
       best = huge(1.0_wp)
       do j = 1, bs%np
-        if (norm2(bs%x(:, j) - prm%edge_point) < best) then
-          best = norm2(bs%x(:, j) - prm%edge_point)
+        if (norm2(bs%x(:, j) - prm%edge_point(1:bs%ndim)) < best) then
+          best = norm2(bs%x(:, j) - prm%edge_point(1:bs%ndim))
           p%edge = j
         end if
       end do
@@ -351,8 +352,8 @@ contains
     call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
       axis_fraction*minval(b%spacing(1:2)), err)
     if (allocated(err)) return
-    s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:2)
-    s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:2)
+    s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:b%ndim)
+    s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:b%ndim)
     call nts_build(s%buckets, s%surface)
     allocate(s%x_old(b%ndim, b%np), s%x_pred(b%ndim, b%np), s%fphys(b%ndim, b%np), &
       s%active(b%np), s%seg(b%np), s%xi(b%np), s%imass(b%np), s%gap(b%np), s%slip(b%np), &
@@ -367,7 +368,7 @@ contains
     s%kid = b%kid
     s%wshape = b%wshape
     s%bid = b%bid
-    s%h = b%h(1:2)
+    s%h = b%h(1:b%ndim)
     s%fphys = 0.0_wp
     s%active = .false.
     s%seg = 0
@@ -801,8 +802,8 @@ contains
     call surface_update(s%surface, s%x_pred, err)
     if (allocated(err)) return
     if (with_nts) call nts_update(s%buckets, s%surface)
-    s%lo = minval(s%x_pred, dim=2) - s%cloud%rmax(1:2)
-    s%hi = maxval(s%x_pred, dim=2) + s%cloud%rmax(1:2)
+    s%lo = minval(s%x_pred, dim=2) - s%cloud%rmax(1:size(s%lo))
+    s%hi = maxval(s%x_pred, dim=2) + s%cloud%rmax(1:size(s%hi))
   end subroutine side_positions
 
   !> Old and predicted physical positions of the particles of slave side s that could be in
@@ -817,7 +818,7 @@ contains
     integer(i64), intent(inout) :: nskip
     integer :: j, jj
     integer(i64) :: nfar
-    real(wp) :: r(2)
+    real(wp) :: r(size(s%x_pred, 1))
     call add_travel(s, sol, 1.0_wp)
     nfar = 0
     !$omp parallel do default(none) shared(s, sol, b) private(r, j) reduction(+: nfar) &

@@ -211,7 +211,7 @@ contains
         prm%self_contact = cs%imaster == cs%islave
         prm%self_radius = cs%self_radius
         prm%track_edge = cs%edge_point(1) > -huge(1.0_wp)
-        if (prm%track_edge) prm%edge_point = cs%edge_point(1:2)
+        if (prm%track_edge) prm%edge_point = cs%edge_point
         im = cs%imaster
         is = cs%islave
         call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
