@@ -343,7 +343,7 @@ contains
       !$omp parallel do default(none) shared(s, ds, sol) private(i) schedule(static)
       do k = 1, size(ds%own)
         i = ds%own(k)
-        s%x_old(:, i) = solid_point_position(sol, ds%gl(i), at_step_start)
+        call solid_point_position(sol, ds%gl(i), s%x_old(:, i), at_step_start)
       end do
       !$omp end parallel do
     else if (sol%t%interpolating .and. .not. some) then
@@ -361,7 +361,7 @@ contains
         if (some) then
           if (.not. s%active(i)) cycle
         end if
-        s%x_pred(:, i) = solid_point_position(sol, ds%gl(i))
+        call solid_point_position(sol, ds%gl(i), s%x_pred(:, i))
       end do
       !$omp end parallel do
     end if

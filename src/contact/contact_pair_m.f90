@@ -605,11 +605,11 @@ contains
     integer :: j, i0, i1
     do j = 1, a%np
       if (.not. a%active(j)) cycle
-      a%x_old(:, j) = solid_point_position(sol, j, at_step_start)
+      call solid_point_position(sol, j, a%x_old(:, j), at_step_start)
       i0 = b%surface%i0(a%seg(j))
       i1 = b%surface%i1(a%seg(j))
-      b%x_old(:, i0) = solid_point_position(sol, i0, at_step_start)
-      b%x_old(:, i1) = solid_point_position(sol, i1, at_step_start)
+      call solid_point_position(sol, i0, b%x_old(:, i0), at_step_start)
+      call solid_point_position(sol, i1, b%x_old(:, i1), at_step_start)
     end do
   end subroutine self_old_positions
 
@@ -830,8 +830,8 @@ contains
         nfar = nfar + 1
         cycle
       end if
-      s%x_pred(:, j) = solid_point_position(sol, j)
-      s%x_old(:, j) = solid_point_position(sol, j, at_step_start)
+      call solid_point_position(sol, j, s%x_pred(:, j))
+      call solid_point_position(sol, j, s%x_old(:, j), at_step_start)
       ! distance outside the box, less a relative 1e-9 for the rounding of the sums
       r = max(b%lo - s%x_pred(:, j), s%x_pred(:, j) - b%hi, 0.0_wp)
       s%due(j) = s%travel + (1.0_wp - skip_rounding)*norm2(r)
@@ -900,7 +900,7 @@ contains
     do jj = 1, a%nlist
       j = side_particle(a, jj)
       if (.not. a%active(j)) cycle
-      a%x_pred(:, j) = solid_point_position(solids(a%isolid), j)
+      call solid_point_position(solids(a%isolid), j, a%x_pred(:, j))
       if (p%self) then
         call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, &
           xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))

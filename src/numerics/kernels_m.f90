@@ -7,6 +7,7 @@
 !! The radial window uses r = |2 x/rho| (elliptic when rho differs per direction) and a
 !! constant c_n so that it also integrates to 1 in n dimensions.
 module kernels_m
+  use dims_m, only: max_dim
   use kinds_m, only: wp, pi
   implicit none
   private
@@ -127,14 +128,16 @@ contains
     real(wp), intent(in) :: d(ndim), rhoinv(ndim), cn
     real(wp), intent(out) :: phi
     real(wp), intent(out), optional :: dphi(ndim)
-    real(wp) :: s(ndim), w(ndim), dw(ndim), r, wr, dwr, scale
+    ! fixed-size work arrays, of which the first ndim are used: arrays of size ndim were
+    ! heap allocations at every call (three per neighbour of every det(M) evaluation)
+    real(wp) :: s(max_dim), w(max_dim), dw(max_dim), r, wr, dwr, scale
     integer :: i, j
-    s = 2.0_wp*d*rhoinv
+    s(:ndim) = 2.0_wp*d*rhoinv
     scale = product(2.0_wp*rhoinv)
     if (wshape == window_tensor) then
       if (present(dphi)) then
-        call window_1d_d(kid, s, w, dw)
-        phi = scale*product(w)
+        call window_1d_d(kid, s(:ndim), w(:ndim), dw(:ndim))
+        phi = scale*product(w(:ndim))
         do i = 1, ndim
           dphi(i) = scale*2.0_wp*rhoinv(i)*dw(i)
           do j = 1, ndim
@@ -142,16 +145,16 @@ contains
           end do
         end do
       else
-        w = window_1d(kid, s)
-        phi = scale*product(w)
+        w(:ndim) = window_1d(kid, s(:ndim))
+        phi = scale*product(w(:ndim))
       end if
     else
-      r = sqrt(sum(s*s))
+      r = sqrt(sum(s(:ndim)*s(:ndim)))
       if (present(dphi)) then
         call window_1d_d(kid, r, wr, dwr)
         phi = cn*scale*wr
         if (r > 0.0_wp) then
-          dphi = cn*scale*dwr*s*2.0_wp*rhoinv/r
+          dphi = cn*scale*dwr*s(:ndim)*2.0_wp*rhoinv/r
         else
           dphi = 0.0_wp
         end if

@@ -49,7 +49,7 @@ contains
     integer :: k
     v = -huge(1.0_wp)
     do k = 1, size(s%part%own_n)
-      x = solid_point_position(s, s%part%own_n(k))
+      call solid_point_position(s, s%part%own_n(k), x)
       v(1:4) = max(v(1:4), [-x(2), x(2), -x(1), x(1)])
     end do
     do k = 1, size(s%part%own_q)
@@ -59,7 +59,7 @@ contains
     zmin = -v(1)
     w = -huge(1.0_wp)
     do k = 1, size(s%part%own_n)
-      x = solid_point_position(s, s%part%own_n(k))
+      call solid_point_position(s, s%part%own_n(k), x)
       if (x(2) <= zmin + s%spacing) w(1) = max(w(1), x(1))
     end do
     call comm%max_real(w)

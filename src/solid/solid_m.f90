@@ -20,9 +20,9 @@ module solid_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
   use material_m, only: material_t, material_state_t, material_params_t, make_material
-  use dims_m, only: dims_plane
+  use dims_m, only: dims_plane, max_dim
   use solid_tables_m, only: solid_tables_t
-  use tl_kinematics_m, only: stretch2_min, f_identity, deformation_gradient, rate_of_deformation, piola_stress, &
+  use tl_kinematics_m, only: f_identity, deformation_gradient, rate_of_deformation, piola_stress, &
     internal_force, physical_positions, jacobian, deformation_gradient_list, &
     rate_of_deformation_list, piola_stress_list, internal_force_list
   implicit none
@@ -411,6 +411,23 @@ contains
     end do
   end subroutine solid_quiet_blocks
 
+  !> The square of the smallest principal stretch of f (5), in the plane layout (dims_plane):
+  !! the smaller eigenvalue of the in-plane C = F^T F, or F33^2 if smaller. Here and not
+  !! with the plane kernels of tl_kinematics_m because points_account calls it at every
+  !! point of every step: in this module it is inlined (a call per point cost 2% of the
+  !! FEM benchmark's time loop).
+  pure real(wp) function stretch2_min(f) result(s2)
+    real(wp), intent(in) :: f(5)
+    real(wp) :: c11, c12, c22, tr, det, lmax
+    c11 = f(1)**2 + f(3)**2
+    c22 = f(2)**2 + f(4)**2
+    c12 = f(1)*f(2) + f(3)*f(4)
+    tr = c11 + c22
+    det = (f(1)*f(4) - f(2)*f(3))**2
+    lmax = 0.5_wp*(tr + sqrt(max((c11 - c22)**2 + 4.0_wp*c12**2, 0.0_wp)))
+    s2 = min(det/lmax, f(5)**2)
+  end function stretch2_min
+
   !> The critical step of the solid at its current state (s): dt_cal/sqrt(max_L kappa_L),
   !! with dt_cal = (2/omega_max) sqrt(max_L kappa_L) in the reference state, omega_max from
   !! the power iteration (stable_step_m). Current after solid_internal_force.
@@ -486,10 +503,10 @@ contains
     real(wp) :: h
     !$omp parallel do default(none) shared(s, dt) private(h) schedule(static)
     do i = 1, s%np
-      where (s%pres(:, i))
-        s%state%v(:, i) = s%vpres(:, i)
-        s%state%a(:, i) = 0.0_wp
-      end where
+      ! two where statements: a where construct of two assignments kept its mask in a heap
+      ! temporary, one allocation per node and step
+      where (s%pres(:, i)) s%state%v(:, i) = s%vpres(:, i)
+      where (s%pres(:, i)) s%state%a(:, i) = 0.0_wp
       ! subcycling: the nodes of rate above 0 wait at d_n for their sub-steps
       h = dt
       if (s%sub%rate == 0) then
@@ -910,10 +927,8 @@ contains
     !$omp parallel do default(none) shared(s, h, r) private(i) schedule(static)
     do k = s%sub%nptr(r), s%sub%nptr(r + 1) - 1
       i = s%sub%nlist(k)
-      where (s%pres(:, i))
-        s%state%v(:, i) = s%vpres(:, i)
-        s%state%a(:, i) = 0.0_wp
-      end where
+      where (s%pres(:, i)) s%state%v(:, i) = s%vpres(:, i)   ! (not a construct: solid_predict)
+      where (s%pres(:, i)) s%state%a(:, i) = 0.0_wp
       s%state%d_old(:, i) = s%state%d(:, i)
       s%state%d(:, i) = s%state%d(:, i) + h*s%state%v(:, i) + 0.5_wp*h*h*s%state%a(:, i)   ! (64)
       s%state%a_old(:, i) = s%state%a(:, i)
@@ -1186,14 +1201,17 @@ contains
     integer, intent(in) :: n
     real(wp), intent(out) :: ke
     integer, intent(in), optional :: list(:)
-    integer :: i, k
-    real(wp) :: wbc, wc, du(size(s%state%d, 1))
+    integer :: i, k, nd
+    ! a fixed-size private du: one of the solid's dimension was a heap array per thread and
+    ! per call (1% of the FEM benchmark's time loop)
+    real(wp) :: wbc, wc, du(max_dim)
     logical :: listed
+    nd = size(s%state%d, 1)
     listed = present(list)
     wbc = 0.0_wp
     wc = 0.0_wp
     ke = 0.0_wp
-    !$omp parallel do default(none) shared(s, dt, n, list, listed) private(du, i) &
+    !$omp parallel do default(none) shared(s, dt, n, list, listed, nd) private(du, i) &
     !$omp reduction(+: wbc, wc, ke) schedule(static)
     do k = 1, n
       i = k
@@ -1204,14 +1222,14 @@ contains
       where (s%pres(:, i)) s%state%v(:, i) = s%vpres(:, i)
       ! kinematic conditions: reactions R = f_int - f_ext times the motion
       s%state%freac(:, i) = merge(s%fint(:, i) - s%fext(:, i), 0.0_wp, s%pres(:, i))
-      du = s%state%d(:, i) - s%state%d_old(:, i)
-      wbc = wbc + 0.5_wp*sum((s%state%freac_old(:, i) + s%state%freac(:, i))*du)
+      du(:nd) = s%state%d(:, i) - s%state%d_old(:, i)
+      wbc = wbc + 0.5_wp*sum((s%state%freac_old(:, i) + s%state%freac(:, i))*du(:nd))
       ! a contact force on a prescribed component is held by the condition: its reaction
       ! does the opposite work (a driven plate pushing a body supplies what contact
       ! delivers to the body; w_contact counts both and nets to ~0)
-      wbc = wbc - 0.5_wp*sum(merge(s%fcon(:, i), 0.0_wp, s%pres(:, i))*du)
+      wbc = wbc - 0.5_wp*sum(merge(s%fcon(:, i), 0.0_wp, s%pres(:, i))*du(:nd))
       s%state%freac_old(:, i) = s%state%freac(:, i)
-      wc = wc + 0.5_wp*sum(s%fcon(:, i)*du)
+      wc = wc + 0.5_wp*sum(s%fcon(:, i)*du(:nd))
       s%state%ipoint(:, i) = s%state%ipoint(:, i) + 0.5_wp*dt*s%fpoint(:, i)
       ke = ke + 0.5_wp*s%t%mass(i)*sum(s%state%v(:, i)**2)
     end do
@@ -1233,39 +1251,40 @@ contains
     end if
   end subroutine solid_positions
 
-  !> Physical position of node j from the current coefficients, or with which =
-  !! at_step_start from those at the start of the step (m).
-  pure function solid_point_position(s, j, which) result(x)
+  !> Physical position x (ndim) of node j from the current coefficients, or with which =
+  !! at_step_start from those at the start of the step (m). A subroutine: a function
+  !! result of the solid's dimension would be a heap temporary at every call.
+  pure subroutine solid_point_position(s, j, x, which)
     type(solid_t), intent(in) :: s
     integer, intent(in) :: j
+    real(wp), intent(out) :: x(:)
     integer, intent(in), optional :: which
-    real(wp) :: x(size(s%x0, 1))
     if (present(which)) then
       if (which == at_step_start) then
-        x = point_position(s, s%state%d_old, j)
+        call point_position(s, s%state%d_old, j, x)
         return
       end if
     end if
-    x = point_position(s, s%state%d, j)
-  end function solid_point_position
+    call point_position(s, s%state%d, j, x)
+  end subroutine solid_point_position
 
-  pure function point_position(s, d, j) result(x)
+  pure subroutine point_position(s, d, j, x)
     type(solid_t), intent(in) :: s
     real(wp), intent(in) :: d(:, :)
     integer, intent(in) :: j
-    real(wp) :: x(size(s%x0, 1)), u(size(s%x0, 1))
+    real(wp), intent(out) :: x(:)
     integer :: e
     if (s%t%interpolating) then
       x = s%x0(:, j) + d(:, j)
       return
     end if
     ! summed in the order of physical_positions, so both give the same bits
-    u = 0.0_wp
+    x = 0.0_wp
     do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
-      u = u + s%t%pn(:, e)*d(:, s%t%pnbr(e))
+      x = x + s%t%pn(:, e)*d(:, s%t%pnbr(e))
     end do
-    x = s%x0(:, j) + u
-  end function point_position
+    x = s%x0(:, j) + x
+  end subroutine point_position
 
   !> Contact forces of the step start at zero (solid_predict also clears them).
   subroutine solid_clear_contact(s)

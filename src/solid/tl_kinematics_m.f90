@@ -13,8 +13,7 @@ module tl_kinematics_m
   implicit none
   private
   public :: deformation_gradient, rate_of_deformation, piola_stress, internal_force
-  public :: physical_positions, jacobian, stabilization_force, stretch2_min, f_identity, &
-    linear_elastic_piola
+  public :: physical_positions, jacobian, stabilization_force, f_identity, linear_elastic_piola
   public :: deformation_gradient_list, rate_of_deformation_list, piola_stress_list, &
     internal_force_list
 
@@ -22,20 +21,6 @@ module tl_kinematics_m
   real(wp), parameter :: f_identity(5) = [1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp]
 
 contains
-
-  !> The square of the smallest principal stretch of f (5): the smaller eigenvalue of the
-  !! in-plane C = F^T F, or F33^2 if smaller.
-  pure real(wp) function stretch2_min(f) result(s2)
-    real(wp), intent(in) :: f(5)
-    real(wp) :: c11, c12, c22, tr, det, lmax
-    c11 = f(1)**2 + f(3)**2
-    c22 = f(2)**2 + f(4)**2
-    c12 = f(1)*f(2) + f(3)*f(4)
-    tr = c11 + c22
-    det = (f(1)*f(4) - f(2)*f(3))**2
-    lmax = 0.5_wp*(tr + sqrt(max((c11 - c22)**2 + 4.0_wp*c12**2, 0.0_wp)))
-    s2 = min(det/lmax, f(5)**2)
-  end function stretch2_min
 
   !> P of the linear elastic law at the displacement gradient F - I (small strain, Lame
   !! constants lam, mu; Pa): the operator K of the critical-step power iteration.
