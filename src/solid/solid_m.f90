@@ -414,8 +414,7 @@ contains
   !> The square of the smallest principal stretch of f (5), in the plane layout (dims_plane):
   !! the smaller eigenvalue of the in-plane C = F^T F, or F33^2 if smaller. Here and not
   !! with the plane kernels of tl_kinematics_m because points_account calls it at every
-  !! point of every step: in this module it is inlined (a call per point cost 2% of the
-  !! FEM benchmark's time loop).
+  !! point of every step and in this module it can be inlined.
   pure real(wp) function stretch2_min(f) result(s2)
     real(wp), intent(in) :: f(5)
     real(wp) :: c11, c12, c22, tr, det, lmax
