@@ -199,11 +199,12 @@ def main():
     progs = {}
     builds = (("ref", ref_src),) if a.ref_only else (("ref", ref_src), ("new", new_src))
     for tag, src in builds:
-        bdir = os.path.join(ROOT, "build-ref", f"{tag}-serial")
+        name = f"new-{a.new}" if tag == "new" and a.new else tag
+        bdir = os.path.join(ROOT, "build-ref", f"{name}-serial")
         build(src, bdir, False)
         progs[tag] = os.path.join(bdir, "bin", "mfcd")
         if a.mpi:
-            bdir = os.path.join(ROOT, "build-ref", f"{tag}-mpi")
+            bdir = os.path.join(ROOT, "build-ref", f"{name}-mpi")
             build(src, bdir, True)
             progs[tag + "_mpi"] = os.path.join(bdir, "bin", "mfcd_mpi")
     failures = 0
