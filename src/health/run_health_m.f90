@@ -136,10 +136,10 @@ contains
       case (health_stress)
         txt = 'non-finite stress (J = '//rtoa(bad_j)//'); '//fix_text(s)
       case (health_epsbar)
-        txt = 'effective plastic strain '//rtoa(s%st%epsbar(q))//' above the limit '// &
+        txt = 'effective plastic strain '//rtoa(s%state%st%epsbar(q))//' above the limit '// &
           rtoa(s%opt%epsbar_limit)//': runaway local plastic flow; '//fix_text(s)
       case default
-        txt = 'effective plastic strain rate '//rtoa(s%st%epsdot(q))//' /s: increment '// &
+        txt = 'effective plastic strain rate '//rtoa(s%state%st%epsdot(q))//' /s: increment '// &
           'in one step above '//rtoa(s%opt%deps_limit)//', the step does not resolve the '// &
           'motion; '//fix_text(s)
       end select

@@ -187,8 +187,8 @@ contains
   contains
     subroutine accumulate(i)
       integer, intent(in) :: i
-      sig(:, i) = sig(:, i) + solids(k)%t%wgt(q)*solids(k)%st%tau(:, q)/jq
-      eps(i) = eps(i) + solids(k)%t%wgt(q)*solids(k)%st%epsbar(q)
+      sig(:, i) = sig(:, i) + solids(k)%t%wgt(q)*solids(k)%state%st%tau(:, q)/jq
+      eps(i) = eps(i) + solids(k)%t%wgt(q)*solids(k)%state%st%epsbar(q)
       jj(i) = jj(i) + solids(k)%t%wgt(q)*jq
       w(i) = w(i) + solids(k)%t%wgt(q)
     end subroutine accumulate
@@ -202,12 +202,12 @@ contains
       allocate(sc(s%t%dims%ncomp, s%nq), jc(s%nq))
       do qq = 1, s%nq
         jc(qq) = jacobian(s%state%f(:, qq))
-        sc(:, qq) = s%st%tau(:, qq)/jc(qq)
+        sc(:, qq) = s%state%st%tau(:, qq)/jc(qq)
       end do
       call h5_write(f, gb//'/stress_cells', sc, 'Pa', err, &
         'Cauchy stress '//tensor_list(s%t%dims)//' of each element ('// &
         itoa(s%t%dims%ncomp)//', ne)')
-      if (.not. allocated(err)) call h5_write(f, gb//'/epsbar_cells', s%st%epsbar, '1', err, &
+      if (.not. allocated(err)) call h5_write(f, gb//'/epsbar_cells', s%state%st%epsbar, '1', err, &
         'effective plastic strain of each element')
       if (.not. allocated(err)) call h5_write(f, gb//'/J_cells', jc, '1', err, &
         'volume ratio det F of each element')

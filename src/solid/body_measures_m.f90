@@ -34,7 +34,7 @@ contains
     m%length = maxval(s%x(2, :)) - zmin
     m%width = maxval(s%x(1, :)) - minval(s%x(1, :))
     m%foot_radius = maxval(s%x(1, :), mask=s%x(2, :) <= zmin + s%spacing)
-    m%max_epsbar = maxval(s%st%epsbar)
+    m%max_epsbar = maxval(s%state%st%epsbar)
   end function body_measures
 
   !> Distributed memory: the measures of the whole solid whose rank's part s is (its own
@@ -53,7 +53,7 @@ contains
       v(1:4) = max(v(1:4), [-x(2), x(2), -x(1), x(1)])
     end do
     do k = 1, size(s%part%own_q)
-      v(5) = max(v(5), s%st%epsbar(s%part%own_q(k)))
+      v(5) = max(v(5), s%state%st%epsbar(s%part%own_q(k)))
     end do
     call comm%max_real(v)
     zmin = -v(1)

@@ -187,7 +187,6 @@ module solid_m
     integer :: nq = 0                            !< integration points
     type(solid_tables_t) :: t
     class(material_t), allocatable :: mat
-    type(material_state_t) :: st
     real(wp), allocatable :: x0(:, :)            !< reference positions (ndim, np) (m)
     type(solid_state_t) :: state                 !< what a step changes
     type(solid_options_t) :: opt                 !< set once by the run's set-up
@@ -265,7 +264,7 @@ contains
     s%opt%stab_shear = alpha*s%mat%g
     allocate(s%stab(nc, nq))
     s%stab = 0.0_wp
-    call s%st%init(nq)
+    call s%state%st%init(nq)
     s%x0 = x0
     s%x = x0
     allocate(s%state%d(nd, np), s%state%v(nd, np), s%state%a(nd, np), &
@@ -582,11 +581,11 @@ contains
       end if
       i0 = (blk - 1)*material_block + 1
       i1 = min(blk*material_block, s%nq)
-      call s%mat%update(dt, s%dr, s%w12, s%st, i0, i1, s%dwp)
+      call s%mat%update(dt, s%dr, s%w12, s%state%st, i0, i1, s%dwp)
     end do
     !$omp end parallel do
     t2 = omp_get_wtime()
-    call piola_stress(s%nq, s%state%f, s%st%tau, s%state%p)
+    call piola_stress(s%nq, s%state%f, s%state%st%tau, s%state%p)
     if (s%all_awake) then
       if (s%opt%stab_normal > 0.0_wp) then
         call internal_force(s%t, s%state%p, s%fint, s%stab)
@@ -774,13 +773,13 @@ contains
           if (list(k1 + 1) /= list(k1) + 1) exit
           k1 = k1 + 1
         end do
-        call s%mat%update(dt, s%dr, s%w12, s%st, list(k), list(k1), s%dwp)
+        call s%mat%update(dt, s%dr, s%w12, s%state%st, list(k), list(k1), s%dwp)
         k = k1 + 1
       end do
     end do
     !$omp end parallel do
     t2 = omp_get_wtime()
-    call piola_stress_list(s%state%f, s%st%tau, s%state%p, list, n)
+    call piola_stress_list(s%state%f, s%state%st%tau, s%state%p, list, n)
     call points_account(s, dt, bad_q, dw, dwp, kmax, kq, list, n)
     s%acc%w_int = s%acc%w_int + dw
     s%acc%w_plastic = s%acc%w_plastic + dwp
@@ -1060,97 +1059,66 @@ contains
     if (associated(s%part%halo)) call s%part%halo%nodes2(s%state%v, s%state%a)
   end subroutine solid_update
 
-  !> The rows of state field k (state_fields) of solid s: 2 for nodal vectors, the
-  !! component counts of F, P and the stresses, 1 for the scalars.
-  integer function solid_field_rows(s, k) result(n)
-    type(solid_t), intent(in) :: s
+  !> State field k (state_fields) of solid s as a (rows, entries) array: the nodal vectors
+  !! (ndim, np), F and P (nf, nq), the stresses (ncomp, nq), the scalars as one row. The
+  !! one place that names the arrays behind state_fields.
+  function state_field(s, k) result(p)
+    type(solid_t), intent(in), target :: s
     integer, intent(in) :: k
+    real(wp), pointer :: p(:, :)
     select case (k)
     case (1)
-      n = size(s%state%d, 1)
+      p => s%state%d
     case (2)
-      n = size(s%state%v, 1)
+      p => s%state%v
     case (3)
-      n = size(s%state%a, 1)
+      p => s%state%a
     case (4)
-      n = size(s%state%freac_old, 1)
+      p => s%state%freac_old
     case (5)
-      n = size(s%state%ipoint, 1)
+      p => s%state%ipoint
     case (6)
-      n = size(s%state%f, 1)
+      p => s%state%f
     case (7)
-      n = size(s%state%p, 1)
+      p => s%state%p
     case (8)
-      n = size(s%st%tau, 1)
+      p => s%state%st%tau
     case (9)
-      n = size(s%st%alpha, 1)
+      p => s%state%st%alpha
+    case (10)
+      p(1:1, 1:size(s%state%st%epsbar)) => s%state%st%epsbar
     case default
-      n = 1
+      p(1:1, 1:size(s%state%st%epsdot)) => s%state%st%epsdot
     end select
+  end function state_field
+
+  !> The rows of state field k (state_fields) of solid s.
+  integer function solid_field_rows(s, k) result(n)
+    type(solid_t), intent(in), target :: s
+    integer, intent(in) :: k
+    n = size(state_field(s, k), 1)
   end function solid_field_rows
 
   !> buf(:, j) = state field k of solid s at entry idx(j) (of its nodes or points).
   subroutine solid_get_field(s, k, buf, idx)
-    type(solid_t), intent(in) :: s
+    type(solid_t), intent(in), target :: s
     integer, intent(in) :: k
     real(wp), intent(out) :: buf(:, :)
     integer, intent(in) :: idx(:)
-    select case (k)
-    case (1)
-      buf = s%state%d(:, idx)
-    case (2)
-      buf = s%state%v(:, idx)
-    case (3)
-      buf = s%state%a(:, idx)
-    case (4)
-      buf = s%state%freac_old(:, idx)
-    case (5)
-      buf = s%state%ipoint(:, idx)
-    case (6)
-      buf = s%state%f(:, idx)
-    case (7)
-      buf = s%state%p(:, idx)
-    case (8)
-      buf = s%st%tau(:, idx)
-    case (9)
-      buf = s%st%alpha(:, idx)
-    case (10)
-      buf(1, :) = s%st%epsbar(idx)
-    case default
-      buf(1, :) = s%st%epsdot(idx)
-    end select
+    real(wp), pointer :: p(:, :)
+    p => state_field(s, k)
+    buf = p(:, idx)
   end subroutine solid_get_field
 
   !> State field k of solid s at entry idx(j) = buf(:, j).
   subroutine solid_put_field(s, k, buf, idx)
-    type(solid_t), intent(inout) :: s
+    type(solid_t), intent(inout), target :: s
     integer, intent(in) :: k
     real(wp), intent(in) :: buf(:, :)
     integer, intent(in) :: idx(:)
-    select case (k)
-    case (1)
-      s%state%d(:, idx) = buf
-    case (2)
-      s%state%v(:, idx) = buf
-    case (3)
-      s%state%a(:, idx) = buf
-    case (4)
-      s%state%freac_old(:, idx) = buf
-    case (5)
-      s%state%ipoint(:, idx) = buf
-    case (6)
-      s%state%f(:, idx) = buf
-    case (7)
-      s%state%p(:, idx) = buf
-    case (8)
-      s%st%tau(:, idx) = buf
-    case (9)
-      s%st%alpha(:, idx) = buf
-    case (10)
-      s%st%epsbar(idx) = buf(1, :)
-    case default
-      s%st%epsdot(idx) = buf(1, :)
-    end select
+    real(wp), pointer :: p(:, :)
+    p => state_field(s, k)
+    p(:, idx) = buf
   end subroutine solid_put_field
 
   !> What follows from the state fields once they are put back (a restart): the reactions
@@ -1356,11 +1324,11 @@ contains
     jq = jacobian(s%state%f(:, q))
     if (.not. (jq > s%opt%j_bounds(1) .and. jq < s%opt%j_bounds(2))) then
       code = health_j
-    else if (.not. all(abs(s%st%tau(:, q)) < huge(1.0_wp))) then
+    else if (.not. all(abs(s%state%st%tau(:, q)) < huge(1.0_wp))) then
       code = health_stress
-    else if (.not. (s%st%epsbar(q) <= s%opt%epsbar_limit)) then
+    else if (.not. (s%state%st%epsbar(q) <= s%opt%epsbar_limit)) then
       code = health_epsbar
-    else if (.not. (dt*s%st%epsdot(q) <= s%opt%deps_limit)) then
+    else if (.not. (dt*s%state%st%epsdot(q) <= s%opt%deps_limit)) then
       code = health_deps
     end if
   end function point_health
