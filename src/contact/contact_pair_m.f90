@@ -122,7 +122,7 @@ module contact_pair_m
     integer, allocatable :: seg(:)       !< the segment each penetrating particle hit
     real(wp), allocatable :: xi(:)       !< where on it
     real(wp), allocatable :: gap(:)      !< its gap (m, < 0)
-    real(wp), allocatable :: nrm(:, :), tng(:, :)  !< the segment's normal and tangent (2, np)
+    real(wp), allocatable :: nrm(:, :), tng(:, :)  !< the segment's normal, tangent (ndim, np)
     !> inverse particle masses (1/kg); 0 for a rigid side and for a node whose velocity is
     !! prescribed in both components
     real(wp), allocatable :: imass(:)
@@ -133,7 +133,7 @@ module contact_pair_m
     real(wp) :: travel = 0.0_wp          !< bound on any particle's motion since t = 0 (m)
     real(wp) :: lip = 0.0_wp             !< |x_j - x'_j| <= lip max_I |d_I - d'_I|
     real(wp), allocatable :: due(:)      !< travel at which a particle is screened again (m)
-    real(wp), allocatable :: d_scr(:, :) !< coefficients at the last screening (2, np) (m)
+    real(wp), allocatable :: d_scr(:, :) !< coefficients at the last screening (ndim, np) (m)
     !> positions computed this step (all, unless skip_far): a particle not near is not
     !! screened; its x_pred, x_old are stale
     logical, allocatable :: near(:)
@@ -350,7 +350,7 @@ contains
     s%threshold = detection_threshold(eps_cr, eps_rel, s%plateau)
     s%surface_det = surface_det_median(b, s%cloud)
     call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
-      axis_fraction*minval(b%spacing(1:2)), err)
+      axis_fraction*minval(b%spacing(1:b%ndim)), err)
     if (allocated(err)) return
     s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:b%ndim)
     s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:b%ndim)
@@ -393,20 +393,22 @@ contains
   subroutine skip_far_init(s, solids)
     type(side_t), intent(inout) :: s
     type(solid_t), intent(in) :: solids(:)
-    integer :: j
-    real(wp) :: l(2), lj(2)
+    integer :: j, c, nd
+    real(wp) :: l(max_dim), lj
     if (s%isolid == 0) return
     associate (t => solids(s%isolid)%t)
       if (t%interpolating) then
         s%lip = 1.0_wp
       else
+        nd = size(t%pn, 1)
         l = 0.0_wp
         do j = 1, s%np
-          lj(1) = sum(abs(t%pn(1, t%pptr(j):t%pptr(j + 1) - 1)))
-          lj(2) = sum(abs(t%pn(2, t%pptr(j):t%pptr(j + 1) - 1)))
-          l = max(l, lj)
+          do c = 1, nd
+            lj = sum(abs(t%pn(c, t%pptr(j):t%pptr(j + 1) - 1)))
+            l(c) = max(l(c), lj)
+          end do
         end do
-        s%lip = norm2(l)
+        s%lip = norm2(l(:nd))
       end if
     end associate
     s%skip_far = .true.

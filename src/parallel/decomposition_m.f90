@@ -48,7 +48,7 @@ module decomposition_m
 
 contains
 
-  !> The bisection of the points x (2, n) into nparts parts: at each level the box is cut
+  !> The bisection of the points x (ndim, n) into nparts parts: at each level the box is cut
   !! across its longest extent, at the coordinate that leaves floor(nparts/2)/nparts of its
   !! points below (points on the cut go above, so a lattice row is never split and the
   !! parts differ by up to a row).
@@ -75,7 +75,7 @@ contains
       integer, intent(in) :: k, set(:), np
       integer, allocatable :: order(:)
       real(wp), allocatable :: key(:)
-      real(wp) :: ext(2)
+      real(wp) :: ext(size(x, 1))
       integer :: ax, nlo, plo
       if (np == 1) then
         tree%part(k) = next_part
@@ -84,7 +84,7 @@ contains
       end if
       ext = 0.0_wp
       if (size(set) > 0) ext = maxval(x(:, set), dim=2) - minval(x(:, set), dim=2)
-      ax = merge(1, 2, ext(1) >= ext(2))
+      ax = maxloc(ext, dim=1)   ! the longest, the first of equal ones
       plo = np/2
       key = x(ax, set)
       allocate(order(size(set)))
@@ -111,7 +111,7 @@ contains
   !> The part of the tree's box that holds point xp.
   pure integer function rcb_part(tree, xp) result(p)
     type(rcb_tree_t), intent(in) :: tree
-    real(wp), intent(in) :: xp(2)
+    real(wp), intent(in) :: xp(:)
     integer :: k
     k = 1
     do while (tree%part(k) == 0)
