@@ -16,8 +16,8 @@
 !! in the same order as the serial run, and the force gather at one of its nodes (eq. 72,
 !! over the transpose) visits the same points in the same order: the forces at owned nodes
 !! equal the serial ones to the bit, whatever the number of ranks (checked by
-!! tests/unit/parallel/test_decomposition.pf on emulated ranks). A ghost point's row keeps only the
-!! entries of its local nodes: it is never evaluated locally.
+!! tests/unit/partition/test_decomposition.pf on emulated ranks). A ghost point's row keeps
+!! only the entries of its local nodes: it is never evaluated locally.
 module decomposition_m
   use kinds_m, only: wp
   use sorting_m, only: sort_index
