@@ -21,7 +21,7 @@
 module decomposition_m
   use kinds_m, only: wp
   use sorting_m, only: sort_index
-  use solid_tables_m, only: solid_tables_t, tables_transpose
+  use solid_tables_m, only: solid_tables_t, tables_transpose, tables_copy_scalars
   implicit none
   private
   public :: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
@@ -186,15 +186,9 @@ contains
     with_gs = allocated(t%gs)
     if (with_gs) with_gs = size(t%gs, 2) == size(t%g, 2)
     associate (u => lp%t)
+      call tables_copy_scalars(t, u)
       u%np = npl
       u%nq = nql
-      u%scheme = t%scheme
-      u%axisym = t%axisym
-      u%dims = t%dims
-      u%interpolating = t%interpolating
-      u%hmin = t%hmin
-      u%total_mass = t%total_mass
-      u%total_volume = t%total_volume
       allocate(u%ptr(nql + 1), u%nbr(nnz), u%g(t%dims%ngrad, nnz), u%h(nnz))
       if (with_gs) allocate(u%gs(t%dims%ngrad, nnz))
       u%xq = t%xq(:, lp%qglob)

@@ -21,7 +21,7 @@ module solid_m
   use strings_m, only: itoa
   use material_m, only: material_t, material_state_t, material_params_t, make_material
   use dims_m, only: dims_plane, max_dim
-  use solid_tables_m, only: solid_tables_t
+  use solid_tables_m, only: solid_tables_t, tables_move
   use tl_kinematics_m, only: f_identity, deformation_gradient, rate_of_deformation, piola_stress, &
     internal_force, physical_positions, jacobian, deformation_gradient_list, &
     rate_of_deformation_list, piola_stress_list, internal_force_list
@@ -252,7 +252,7 @@ contains
     call make_material(params, s%mat, err)
     if (allocated(err)) return
     s%name = name
-    call move_tables(t, s%t)
+    call tables_move(t, s%t)
     np = s%t%np
     nq = s%t%nq
     nd = s%t%dims%ndim
@@ -439,40 +439,6 @@ contains
   end function solid_step_estimate
 
   !> The tables moved component by component (no copy of the large arrays).
-  subroutine move_tables(a, b)
-    type(solid_tables_t), intent(inout) :: a
-    type(solid_tables_t), intent(out) :: b
-    b%np = a%np
-    b%nq = a%nq
-    b%scheme = a%scheme
-    b%axisym = a%axisym
-    b%dims = a%dims
-    b%interpolating = a%interpolating
-    b%hmin = a%hmin
-    b%total_mass = a%total_mass
-    b%total_volume = a%total_volume
-    call move_alloc(a%xq, b%xq)
-    call move_alloc(a%owner, b%owner)
-    call move_alloc(a%wgt, b%wgt)
-    call move_alloc(a%mass, b%mass)
-    call move_alloc(a%ptr, b%ptr)
-    call move_alloc(a%nbr, b%nbr)
-    call move_alloc(a%g, b%g)
-    call move_alloc(a%h, b%h)
-    call move_alloc(a%gs, b%gs)
-    call move_alloc(a%ws, b%ws)
-    call move_alloc(a%tptr, b%tptr)
-    call move_alloc(a%tent, b%tent)
-    call move_alloc(a%tq, b%tq)
-    call move_alloc(a%tg, b%tg)
-    call move_alloc(a%th, b%th)
-    call move_alloc(a%tgs, b%tgs)
-    call move_alloc(a%pptr, b%pptr)
-    call move_alloc(a%pnbr, b%pnbr)
-    call move_alloc(a%pn, b%pn)
-    call move_alloc(a%fix1, b%fix1)
-  end subroutine move_tables
-
   !> 1/2 sum m |v|^2 (J; J/m in plane strain).
   pure real(wp) function solid_kinetic_energy(s) result(ke)
     type(solid_t), intent(in) :: s

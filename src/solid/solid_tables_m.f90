@@ -14,7 +14,8 @@ module solid_tables_m
   use dims_m, only: dims_t
   implicit none
   private
-  public :: solid_tables_t, tables_transpose, tables_transpose_values
+  public :: solid_tables_t, tables_transpose, tables_transpose_values, tables_move, &
+    tables_copy_scalars
 
   type :: solid_tables_t
     integer :: np = 0                    !< particles (coefficient pairs)
@@ -55,6 +56,50 @@ module solid_tables_m
   end type solid_tables_t
 
 contains
+
+  !> The tables' scalars (counts, geometry, totals) from a to b: the one list of them, used
+  !! by tables_move and by a rank's part (decomposition_m), which then sets its own counts.
+  subroutine tables_copy_scalars(a, b)
+    type(solid_tables_t), intent(in) :: a
+    type(solid_tables_t), intent(inout) :: b
+    b%np = a%np
+    b%nq = a%nq
+    b%scheme = a%scheme
+    b%dims = a%dims
+    b%axisym = a%axisym
+    b%interpolating = a%interpolating
+    b%hmin = a%hmin
+    b%total_mass = a%total_mass
+    b%total_volume = a%total_volume
+  end subroutine tables_copy_scalars
+
+  !> a's tables moved into b without a copy of the arrays (a is left empty): the one list of
+  !! the type's arrays. A component added to solid_tables_t is added here.
+  subroutine tables_move(a, b)
+    type(solid_tables_t), intent(inout) :: a
+    type(solid_tables_t), intent(out) :: b
+    call tables_copy_scalars(a, b)
+    call move_alloc(a%xq, b%xq)
+    call move_alloc(a%owner, b%owner)
+    call move_alloc(a%wgt, b%wgt)
+    call move_alloc(a%mass, b%mass)
+    call move_alloc(a%ptr, b%ptr)
+    call move_alloc(a%nbr, b%nbr)
+    call move_alloc(a%g, b%g)
+    call move_alloc(a%h, b%h)
+    call move_alloc(a%gs, b%gs)
+    call move_alloc(a%ws, b%ws)
+    call move_alloc(a%tptr, b%tptr)
+    call move_alloc(a%tent, b%tent)
+    call move_alloc(a%tq, b%tq)
+    call move_alloc(a%tg, b%tg)
+    call move_alloc(a%th, b%th)
+    call move_alloc(a%tgs, b%tgs)
+    call move_alloc(a%pptr, b%pptr)
+    call move_alloc(a%pnbr, b%pnbr)
+    call move_alloc(a%pn, b%pn)
+    call move_alloc(a%fix1, b%fix1)
+  end subroutine tables_move
 
   !> For each particle, the entries (and their points) that involve it, and the values of
   !! the entries in that order. Called once g, h and gs are final.
