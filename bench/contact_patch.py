@@ -284,7 +284,7 @@ def patch_study(work):
     results = {}
     for nu in (0.0, 0.3):
         for shared in (False, True):
-            tag = f"nu = {nu}, " + ("shared_mass" if shared else "segment gap, default mass")
+            tag = f"nu = {nu}, " + ("shared_mass" if shared else "segment gap, own mass")
             emit(f"\n### Patch test, {tag}\n")
             emit("Pressure errors relative to p = rho c v_rel/2 over the interface particles "
                  "(the two corner particles apart: last column), gap of the slave's particles "
@@ -404,7 +404,7 @@ def figures(patch, hertz):
                         label=f"master, m = {m}")
             ax.axhline(1.0, color="k", lw=0.8)
             ax.set_xlabel("x (mm)")
-            ax.set_title("default effective mass" if not shared else "shared_mass = .true.")
+            ax.set_title("own effective mass (shared_mass = .false.)" if not shared else "shared_mass = .true.")
             ax.legend(ncol=2)
         axs[0].set_ylabel("p / (rho c v_rel / 2)")
         axs[0].set_ylim(-0.05, 1.5)

@@ -41,8 +41,6 @@ contains
     else if (p%detector /= detector_det_m .or. p%compare) then
       call set_error(err, what//"detector: a deforming master is distributed with "// &
         "detector = 'det_m' only (and compare_detectors = .false.)")
-    else if (p%shared_mass) then
-      call set_error(err, what//"shared_mass is not yet distributed; give .false.")
     end if
     if (allocated(err)) return
     allocate(p%dist)
@@ -187,6 +185,7 @@ contains
       p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
       ! (the positions at the step start, self_old_positions' in the serial pass, are there:
       ! the own particles' from dist_correct, the ghosts' from their owners)
+      if (p%shared_mass) call route_shares(p, ia, ib)
       call pass_forces(p, a, b, dt, count_stats, neval, ndet, ncon)
       ! no contact on any rank: nothing to correct (as the serial pass)
       v = real(ncon, wp)
@@ -467,6 +466,103 @@ contains
       end if
     end function seg_end
   end subroutine route_reactions
+
+  !> The shared effective mass (pass_forces): for each master particle of the rank's cloud
+  !! (own and ghosts), the sum S_i of the weights (1 - xi or xi) with which the active
+  !! slave particles of every rank load it. Each rank sends the records (master particle,
+  !! slave particle, weight) of its own active slave particles to the owners of the
+  !! segment ends, the owner sums them in the order of the slave particles (as the serial
+  !! pass does: the same bits), and sends the sums of its own particles along the ghost
+  !! plan to the ranks that hold them as ghosts. Collective.
+  subroutine route_shares(p, ia, ib)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ia, ib
+    integer :: jj, j, e, i, q, k, n, nloc, m, nl
+    integer :: slot(0:p%dist%comm%nranks - 1), cnt(size(p%dist%side(ib)%from))
+    real(wp) :: w
+    real(wp), allocatable :: rec(:, :), key(:)
+    integer, allocatable :: idx(:)
+    associate (a => p%side(ia), b => p%side(ib), db => p%dist%side(ib), &
+      me => p%dist%comm%me)
+      slot = 0
+      do k = 1, size(db%from)
+        slot(db%from(k)) = k
+      end do
+      cnt = 0
+      nloc = 0
+      do jj = 1, a%nlist
+        j = a%list(jj)
+        if (.not. a%active(j)) cycle
+        do e = 0, 1
+          q = db%owner(end_of(j, e))
+          if (q == me) then
+            nloc = nloc + 1
+          else
+            cnt(slot(q)) = cnt(slot(q)) + 1
+          end if
+        end do
+      end do
+      db%mptr(1) = 1
+      do k = 1, size(db%from)
+        db%mptr(k + 1) = db%mptr(k) + 3*cnt(k)
+      end do
+      call ensure(db%sbuf, db%mptr(size(db%from) + 1) - 1 + 3*nloc)
+      n = db%mptr(size(db%from) + 1)
+      cnt = 0
+      do jj = 1, a%nlist
+        j = a%list(jj)
+        if (.not. a%active(j)) cycle
+        do e = 0, 1
+          i = end_of(j, e)
+          w = a%xi(j)
+          if (e == 0) w = 1.0_wp - a%xi(j)
+          q = db%owner(i)
+          if (q == me) then
+            db%sbuf(n:n + 2) = [real(i, wp), real(j, wp), w]
+            n = n + 3
+          else
+            k = slot(q)
+            db%sbuf(db%mptr(k) + 3*cnt(k):db%mptr(k) + 3*cnt(k) + 2) = [real(i, wp), &
+              real(j, wp), w]
+            cnt(k) = cnt(k) + 1
+          end if
+        end do
+      end do
+      call p%dist%comm%sparse_exchange(db%from, db%mptr(1:size(db%from) + 1), db%sbuf, &
+        db%to, db%nptr(1:size(db%to) + 1), db%rbuf)
+      ! the owner's sums, in the order of the slave particles
+      nl = (n - db%mptr(size(db%from) + 1))/3
+      m = (db%nptr(size(db%to) + 1) - 1)/3
+      allocate(rec(3, nl + m), key(nl + m), idx(nl + m))
+      rec(:, 1:nl) = reshape(db%sbuf(db%mptr(size(db%from) + 1):n - 1), [3, nl])
+      rec(:, nl + 1:) = reshape(db%rbuf(1:3*m), [3, m])
+      key = rec(2, :)
+      call sort_index(key, idx)
+      b%share(db%own) = 0.0_wp
+      do k = 1, size(idx)
+        i = nint(rec(1, idx(k)))
+        b%share(i) = b%share(i) + rec(3, idx(k))
+      end do
+      ! the ghosts' sums from their owners
+      call ensure(db%sbuf, size(db%sids))
+      db%sbuf(1:size(db%sids)) = b%share(db%sids)
+      call p%dist%comm%sparse_exchange(db%to, db%sptr, db%sbuf(1:size(db%sids)), db%from, &
+        db%nptr(1:size(db%from) + 1), db%rbuf)
+      b%share(db%rids) = db%rbuf(1:size(db%rids))
+    end associate
+
+  contains
+
+    !> End e (0: first, 1: second) of the master segment slave particle j hit.
+    integer function end_of(j, e) result(i)
+      integer, intent(in) :: j, e
+      if (e == 0) then
+        i = p%side(ib)%surface%i0(p%side(ia)%seg(j))
+      else
+        i = p%side(ib)%surface%i1(p%side(ia)%seg(j))
+      end if
+    end function end_of
+  end subroutine route_shares
 
   !> The records (master particle, slave particle, force) of rl and rr subtracted into
   !! ds%f in the order of the slave particles (per master particle the serial order).

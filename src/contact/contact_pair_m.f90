@@ -72,12 +72,13 @@ module contact_pair_m
     logical :: skip_far = .true.         !< skip slave particles that cannot reach the master
     logical :: track_edge = .false.      !< report contact/separation of one slave node
     real(wp) :: edge_point(max_dim) = 0.0_wp   !< its reference position (m): the nearest node
-    !> Effective mass of eq. (93) against a deformable master. .false. (the default): the
-    !! reduced mass of the particle and its master point alone, as if no other particle
-    !! pushed the same segment ends. .true.: each master node's mass shared among the
-    !! particles that push it (the row sum of the constraint's mass matrix), so they do not
-    !! each claim its whole mobility and over-correct together (doc/contact.md).
-    logical :: shared_mass = .false.
+    !> Effective mass of eq. (93) against a deformable master. .true. (the default): each
+    !! master node's mass shared among the particles that push it (the row sum of the
+    !! constraint's mass matrix), so they do not each claim its whole mobility and
+    !! over-correct together (doc/contact.md). .false.: the reduced mass of the particle
+    !! and its master point alone, as if no other particle pushed the same segment ends
+    !! (their forces then alternate from step to step where the spacings do not match).
+    logical :: shared_mass = .true.
     !> Self-contact, where slave and master are the same body (Sections 1 and 7). A point's
     !! neighbours in the reference configuration, the particles within self_radius times
     !! its largest support of it there, take no part in its det(M) and their segments none
@@ -935,8 +936,9 @@ contains
     pen = 0.0_wp
     rad = 0.0_wp
     fnsum = 0.0_wp
-    ! shared effective mass: how much of each master node the particles load together
-    if (p%shared_mass .and. b%isolid > 0) then
+    ! shared effective mass: how much of each master node the particles load together (on
+    ! ranks, route_shares has summed them over the ranks' slave particles)
+    if (p%shared_mass .and. b%isolid > 0 .and. .not. allocated(p%dist)) then
       b%share = 0.0_wp
       do j = 1, a%np
         if (.not. a%active(j)) cycle

@@ -131,11 +131,6 @@ contains
             "detector = 'det_m' (and compare_detectors = .false.); run mfcd for the others")
           return
         end if
-        if (c%shared_mass) then
-          call set_error(err, what//deck%path//"', group &contact, variable shared_mass: "// &
-            "not yet with MPI; give .false. or run mfcd")
-          return
-        end if
       end associate
     end do
   end subroutine mpi_scene_check

@@ -2,8 +2,9 @@
 """Contact patch test, dynamic form (issue 9, item 4): two elastic blocks with non-matching
 spacings (14 and 9 cells across) meet at v_rel = 1 m/s; the interface must carry the
 uniform pressure p = rho c v_rel / 2 (equal impedances, nu = 0: c = sqrt(E/rho)) with no
-gap. Run twice: the deck as it is (default effective mass of eq. 93) and with
-&contact shared_mass = .true.
+gap. Run twice: the deck as it is (shared_mass = .false.: each particle's own reduced mass
+in eq. 93, the default until issue 22) and with &contact shared_mass = .true. (the default
+since).
 
 The tolerances come from the convergence study at four spacings (bench/contact_patch.py,
 doc/contact.md "Patch test and Hertz line contact"); this deck is its coarsest, m = 2:
@@ -13,7 +14,7 @@ doc/contact.md "Patch test and Hertz line contact"); this deck is its coarsest, 
 - action = reaction to 1e-12 (the whole bodies' sums): the forces are applied pairwise, so
   the sums differ only by round-off (2e-16 measured);
 - RMS of p_j/p - 1 over the slave's particles (corners apart) below 0.17: measured 0.148
-  (default) and 0.138 (shared) here, falling as h^0.4 with refinement; 0.17 flags a
+  (own) and 0.138 (shared) here, falling as h^0.4 with refinement; 0.17 flags a
   worse distribution by a sixth;
 - largest p_j/p - 1 on the central half of the interface below 0.07: measured 0.050 and
   0.027 here (the particle-to-particle oscillation of node-to-segment contact, which does
@@ -87,8 +88,8 @@ def run_case(tag, text, work):
 def main():
     work = tempfile.mkdtemp(prefix="mfcd_patch_")
     text = open(DECK).read()
-    check("deck uses the default effective mass", "shared_mass = .false." in text)
-    run_case("default", text, work)
+    check("deck gives the particle's own effective mass", "shared_mass = .false." in text)
+    run_case("own", text, work)
     run_case("shared", text.replace("shared_mass = .false.", "shared_mass = .true."), work)
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if all(results) else 1)
