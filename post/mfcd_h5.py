@@ -687,18 +687,34 @@ class MfcdFile:
         g = self.h5["snapshots"][label or labels[0]]
         return [n for n in g.keys() if isinstance(g[n], h5py.Group) and "det_self" in g[n]]
 
-    def history(self) -> Dict[str, np.ndarray]:
-        """/history columns as arrays (time in s, energies in J or J/m); {} if none."""
+    def _history_datasets(self) -> Dict[str, "h5py.Dataset"]:
+        """Every /history dataset by its path below /history: the run's columns ('ke',
+        ...) and each deformable body's ('bodies/<name>/ke', ...)."""
         if "history" not in self.h5:
             return {}
-        return {k: np.asarray(v[()]) for k, v in self.h5["history"].items()}
+        out: Dict[str, h5py.Dataset] = {}
+        self.h5["history"].visititems(
+            lambda n, o: out.__setitem__(n, o) if isinstance(o, h5py.Dataset) else None)
+        return out
+
+    def history(self) -> Dict[str, np.ndarray]:
+        """/history columns as arrays (time in s, energies in J or J/m), the bodies' as
+        'bodies/<name>/<column>' (body_history); {} if none."""
+        return {k: np.asarray(v[()]) for k, v in self._history_datasets().items()}
+
+    def body_history(self, body: str) -> Dict[str, np.ndarray]:
+        """/history/bodies/<body>: the body's kinetic energy 'ke', momentum ('momentum_x',
+        'momentum_y'; axisymmetry 'momentum_z') and, in plane strain, 'angular_momentum'
+        about its centre of mass, one value per history row; {} if the file has none."""
+        h = self.h5.get("history/bodies/" + body)
+        if h is None:
+            return {}
+        return {k: np.asarray(v[()]) for k, v in h.items()}
 
     def history_units(self) -> Dict[str, str]:
         """{column: unit} of the /history columns that carry a units attribute (all of
         them in mfcd's output; a column without one is left out)."""
-        if "history" not in self.h5:
-            return {}
-        return {k: str(decode(v.attrs["units"])) for k, v in self.h5["history"].items()
+        return {k: str(decode(v.attrs["units"])) for k, v in self._history_datasets().items()
                 if "units" in v.attrs}
 
     @property

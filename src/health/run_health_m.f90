@@ -196,10 +196,32 @@ contains
       reason = 'step '//itoa(n)//': energy residual '//rtoa(en%residual)//' exceeds '// &
         'energy_tol x energy scale = '//rtoa(tol*en%scale)//' ('//itoa(over)// &
         ' steps in a row; the limit is '//itoa(energy_window)//' steps, or '// &
-        itoa(nint(energy_burst))//' x at once); '//fastest_node(solids)//'; '// &
-        fix_text_all(solids)
+        itoa(nint(energy_burst))//' x at once); '//energy_parts(en)//'; '// &
+        fastest_node(solids)//'; '//fix_text_all(solids)
     end if
   end subroutine check_energy
+
+  !> The residual's two parts, ke + w_int - ke(0) - w_ext (the bodies' own balance) and
+  !! w_contact, and which of them broke it: contact when w_contact is at least half the
+  !! residual (a balance that closes without contact, with contact work that does not
+  !! match it), else the bodies' own motion.
+  function energy_parts(en) result(msg)
+    type(energies_t), intent(in) :: en
+    character(len=:), allocatable :: msg
+    real(wp) :: own
+    own = en%ke + en%w_int - en%ke0 - en%w_ext
+    msg = 'of it ke + w_int - ke(0) - w_ext = '//rtoa(own)//' and w_contact = '// &
+      rtoa(en%w_contact)
+    if (en%w_contact /= 0.0_wp .and. abs(en%w_contact) >= 0.5_wp*abs(en%residual)) then
+      msg = msg//': the contact work broke the balance (contact can only take energy '// &
+        'out, through inelastic stops and friction; w_contact > 0 means its corrections '// &
+        'pushed bodies apart): check the &contact pairs (against a deformable master keep '// &
+        'shared_mass = .true., the default, and slave and master spacings within a '// &
+        'factor of about two), then the step below'
+    else
+      msg = msg//': the bodies'' own motion broke the balance'
+    end if
+  end function energy_parts
 
   !> The likely fixes of a local failure of solid s.
   pure function fix_text(s) result(txt)

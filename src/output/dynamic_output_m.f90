@@ -13,7 +13,7 @@ module dynamic_output_m
   implicit none
   private
   public :: history_t, history_names, snapshot_write, history_create, history_flush
-  public :: history_push, xdmf_write, xdmf_body_t
+  public :: history_push, xdmf_write, xdmf_body_t, history_width, body_columns
 
   !> A rigid body as the XDMF file shows it: the same grid at every time step, on the
   !! reference positions /bodies/<name>/x (rigid bodies do not move and have no snapshots).
@@ -47,34 +47,97 @@ module dynamic_output_m
     'largest x1 (r) of the first deformable body within one spacing of its lowest x2', &
     'normal contact impulse since t = 0, the sum of f_contact dt over every step']
 
-  !> History rows kept in memory until flushed to the file.
+  !> Columns of /history/bodies/<name>/ for each deformable body: in plane strain the
+  !! kinetic energy, the momentum sum_I M_I v_I and the angular momentum about the body's
+  !! centre of mass, sum_I M_I (x_I - x_c) x (v_I - v_c) (x_I = X_I + d_I; with the
+  !! coefficients of eqs. (65)-(67) the internal forces of the total-Lagrangian solid
+  !! exert no net force or moment, so a free body keeps both); in axisymmetry the kinetic
+  !! energy and the axial momentum.
+  character(len=*), parameter :: body_plane_names(4) = [character(len=16) :: 'ke', &
+    'momentum_x', 'momentum_y', 'angular_momentum']
+  character(len=*), parameter :: body_axi_names(2) = [character(len=16) :: 'ke', &
+    'momentum_z']
+  character(len=*), parameter :: body_plane_units(4) = [character(len=4) :: 'J', 'N s', &
+    'N s', 'J s']
+  character(len=*), parameter :: body_axi_units(2) = [character(len=4) :: 'J', 'N s']
+  character(len=*), parameter :: body_plane_descr(4) = [character(len=96) :: &
+    'kinetic energy of the body', 'momentum of the body, x', 'momentum of the body, y', &
+    'angular momentum of the body about its centre of mass (out of the plane)']
+  character(len=*), parameter :: body_axi_descr(2) = [character(len=96) :: &
+    'kinetic energy of the body', 'momentum of the body along the axis']
+
+  !> History rows kept in memory until flushed to the file: the run's columns
+  !! (history_names), then those of each deformable body (body_columns).
   type :: history_t
-    real(wp), allocatable :: rows(:, :)   !< (10, capacity)
+    real(wp), allocatable :: rows(:, :)   !< (columns, capacity)
     integer :: n = 0                      !< rows held
     integer :: nflushed = 0               !< rows already in the file
+    character(len=:), allocatable :: paths(:)   !< each column's dataset
   end type history_t
 
 contains
 
-  !> Create /history with one extendible dataset per column.
-  subroutine history_create(f, h, plane, err)
+  !> Columns of one deformable body in /history/bodies/<name>/ (plane: plane strain).
+  pure integer function body_columns(plane) result(n)
+    logical, intent(in) :: plane
+    n = size(body_axi_names)
+    if (plane) n = size(body_plane_names)
+  end function body_columns
+
+  !> Columns of a history row with nbodies deformable bodies.
+  pure integer function history_width(nbodies, plane) result(n)
+    integer, intent(in) :: nbodies
+    logical, intent(in) :: plane
+    n = size(history_names) + nbodies*body_columns(plane)
+  end function history_width
+
+  !> Create /history with one extendible dataset per column, and /history/bodies/<name>/
+  !! with those of each deformable body (names, in the order of the solids).
+  subroutine history_create(f, h, names, plane, err)
     type(h5file_t), intent(in) :: f
     type(history_t), intent(out) :: h
+    character(len=*), intent(in) :: names(:)
     logical, intent(in) :: plane
     type(error_t), allocatable, intent(inout) :: err
-    integer :: k
-    character(len=:), allocatable :: u
-    allocate(h%rows(size(history_names), 1024))
+    integer :: k, b, c, nc
+    nc = history_width(size(names), plane)
+    allocate(h%rows(nc, 1024))
+    allocate(character(len=len('/history/bodies//') + len(names) + 16) :: h%paths(nc))
     call h5_group(f, '/history', err)
     do k = 1, size(history_names)
       if (allocated(err)) return
-      u = trim(history_units(k))
-      if (plane .and. u == 'J') u = 'J/m'
-      if (plane .and. u == 'N') u = 'N/m'
-      if (plane .and. u == 'N s') u = 'N s/m'
-      call h5_series_create(f, '/history/'//trim(history_names(k)), u, err, &
+      h%paths(k) = '/history/'//trim(history_names(k))
+      call h5_series_create(f, trim(h%paths(k)), plane_units(history_units(k)), err, &
         trim(history_descr(k)))
     end do
+    if (size(names) > 0 .and. .not. allocated(err)) call h5_group(f, '/history/bodies', err)
+    k = size(history_names)
+    do b = 1, size(names)
+      if (.not. allocated(err)) call h5_group(f, '/history/bodies/'//trim(names(b)), err)
+      do c = 1, body_columns(plane)
+        if (allocated(err)) return
+        k = k + 1
+        if (plane) then
+          h%paths(k) = '/history/bodies/'//trim(names(b))//'/'//trim(body_plane_names(c))
+          call h5_series_create(f, trim(h%paths(k)), plane_units(body_plane_units(c)), err, &
+            trim(body_plane_descr(c)))
+        else
+          h%paths(k) = '/history/bodies/'//trim(names(b))//'/'//trim(body_axi_names(c))
+          call h5_series_create(f, trim(h%paths(k)), trim(body_axi_units(c)), err, &
+            trim(body_axi_descr(c)))
+        end if
+      end do
+    end do
+
+  contains
+
+    !> Units per unit thickness in plane strain.
+    function plane_units(unit) result(u)
+      character(len=*), intent(in) :: unit
+      character(len=:), allocatable :: u
+      u = trim(unit)
+      if (plane .and. u /= '1' .and. u /= 's' .and. u /= 'm') u = u//'/m'
+    end function plane_units
   end subroutine history_create
 
   !> Keep one row.
@@ -97,10 +160,9 @@ contains
     type(history_t), intent(inout) :: h
     type(error_t), allocatable, intent(inout) :: err
     integer :: k
-    do k = 1, size(history_names)
+    do k = 1, size(h%paths)
       if (allocated(err)) return
-      call h5_series_append(f, '/history/'//trim(history_names(k)), &
-        h%rows(k, h%nflushed + 1:h%n), err)
+      call h5_series_append(f, trim(h%paths(k)), h%rows(k, h%nflushed + 1:h%n), err)
     end do
     h%nflushed = h%n
     call h5_flush(f)

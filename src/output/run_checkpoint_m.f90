@@ -35,7 +35,7 @@ module run_checkpoint_m
     solid_get_field, solid_put_field, solid_state_derived, solid_energies, solid_set_energies
   use contact_pair_m, only: contact_pair_t
   use run_report_m, only: run_record_t
-  use dynamic_output_m, only: history_t, history_names
+  use dynamic_output_m, only: history_t, history_width
   use run_output_m, only: timestamp
   use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text, &
     h5_open_read, h5_has, h5_has_attr, h5_shape, h5_read, h5_read_attr, h5_read_text
@@ -136,7 +136,7 @@ contains
     if (.not. allocated(err)) call h5_write(f, '/output/history', hist%rows(:, 1:hist%n), &
       'as /history', err, 'every /history row so far (columns: attribute history_columns)')
     if (.not. allocated(err)) call h5_attr(f, '/output/history', 'history_columns', &
-      join_names(history_names), err)
+      join_names(hist%paths), err)
     call h5_close(f, e2)
     if (allocated(e2) .and. .not. allocated(err)) call move_alloc(e2, err)
   end subroutine checkpoint_write
@@ -449,7 +449,7 @@ contains
     integer, allocatable :: dims(:)
     integer(i64) :: counts(4), more(7), nskip(1)
     real(wp) :: bgap(2), tdet(1), travel(1), tpair(1)
-    integer :: k
+    integer :: k, ncol
     nsnap_done = 0
     allocate(snap_times(0))
     call open_checked(path, deck, bodies, f, info, err)
@@ -519,7 +519,15 @@ contains
     end if
     if (.not. allocated(err)) call h5_shape(f, '/output/history', dims, err)
     if (.not. allocated(err)) then
-      allocate(hist%rows(size(history_names), max(dims(2), 1024)))
+      ! the run's columns and those of each deformable body (history_create)
+      ncol = history_width(count(deck%bodies(1:deck%nbodies)%role /= 'rigid'), &
+        deck%run%geometry /= 'axisymmetric')
+      if (dims(1) /= ncol) call set_error(err, 'its history rows have '//itoa(dims(1))// &
+        ' columns, this run writes '//itoa(ncol)//' (a checkpoint of an mfcd before '// &
+        'the per-body history?): run the deck from t = 0')
+    end if
+    if (.not. allocated(err)) then
+      allocate(hist%rows(dims(1), max(dims(2), 1024)))
       hist%n = dims(2)
       call h5_read(f, '/output/history', hist%rows(:, 1:hist%n), err)
     end if

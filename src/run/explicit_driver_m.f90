@@ -16,11 +16,12 @@
 module explicit_driver_m
   use omp_lib, only: omp_get_wtime
   use kinds_m, only: wp
+  use dims_m, only: max_dim
   use errors_m, only: error_t, set_error
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, &
-    solid_update, solid_share_corrections
+    solid_update, solid_share_corrections, solid_body_sums
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t
   use body_measures_m, only: measures_t
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
@@ -28,7 +29,8 @@ module explicit_driver_m
   use stable_step_m, only: step_control_next, step_control_update, landing_slack
   use subcycle_m, only: subcycle_next, subcycle_rates, subcycle_end
   use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
-  use dynamic_output_m, only: history_t, history_push, history_flush
+  use dynamic_output_m, only: history_t, history_push, history_flush, history_width, &
+    history_names
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, &
     history_row_measured, report_summary
   use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
@@ -72,7 +74,7 @@ contains
     type(contact_stats_t) :: cstep
     type(history_t) :: hist0
     type(measures_t) :: hm
-    real(wp), allocatable :: snap_times0(:)
+    real(wp), allocatable :: snap_times0(:), row(:)
     integer :: k, k_bad, log_every, hist_every, bad_q, nsnap0, ckpt_every, nbefore
     real(wp) :: tw, t_loop0, bad_j
     call run_take_setup(deck, su, solids, isolid, pairs, r)
@@ -86,6 +88,7 @@ contains
     if (dom%any_error(err)) return
     ckpt_every = deck%output%checkpoint_every
     call output_intervals(deck, r%nsteps_est, log_every, hist_every)
+    allocate(row(history_width(size(solids), .not. solids(1)%t%axisym)))
     if (dom%root) call run_files_open(deck, bodies, out, err, restart)
     if (dom%any_error(err)) return
     whole => dom%whole(solids, .false.)
@@ -107,8 +110,8 @@ contains
         if (dom%root) call run_files_close(out, r, whole, err)
         return
       end if
-      hm = dom%measures(solids(1))
-      if (dom%root) call history_push(out%hist, history_row_measured(r, en, hm))
+      call history_row_now(dom, solids, r, en, row)
+      if (dom%root) call history_push(out%hist, row)
     end if
     if (dom%root) then
       call log_header()
@@ -155,8 +158,8 @@ contains
       ! only: a history row's measures are maxima over the ranks)
       if (r%failed .or. snapshot_near(deck, r)) whole => dom%whole(solids, .false.)
       if (mod(r%n, hist_every) == 0 .or. r%failed) then
-        hm = dom%measures(solids(1))
-        if (dom%root) call history_push(out%hist, history_row_measured(r, en, hm))
+        call history_row_now(dom, solids, r, en, row)
+        if (dom%root) call history_push(out%hist, row)
       end if
       if (dom%root .and. (mod(r%n, log_every) == 0 .or. r%failed)) call log_line(r, en)
       if (r%failed) exit
@@ -180,12 +183,13 @@ contains
     whole => dom%whole(solids, .false.)
     call dom%counters(pairs, .false.)
     call dom%finish(solids, pairs, r)
-    if (.not. r%failed .and. mod(r%n, hist_every) /= 0) hm = dom%measures(solids(1))
+    if (.not. r%failed .and. mod(r%n, hist_every) /= 0) &
+      call history_row_now(dom, solids, r, en, row)
     if (dom%root) then
       if (r%failed) then
         call failure_snapshot(out, r, whole, err)
       else if (mod(r%n, hist_every) /= 0) then
-        call history_push(out%hist, history_row_measured(r, en, hm))
+        call history_push(out%hist, row)
       end if
       if (.not. allocated(err)) call history_flush(out%f, out%hist, err)
       if (.not. allocated(err)) call report_summary(out%f, r, en, pairs, whole, &
@@ -282,6 +286,47 @@ contains
     en%scale = max(en%ke0, en%ke, abs(en%w_int), abs(en%w_ext), abs(en%w_contact), &
       tiny(1.0_wp))
   end subroutine energies
+
+  !> The history row of the step (collective): the run's columns (history_row_measured,
+  !! with the measures of the first solid) and, for each solid, its kinetic energy and
+  !! momentum, and in plane strain its angular momentum about its centre of mass,
+  !! L_o - x_c x P with L_o about the origin and x_c = sum M x / M (sums over the ranks'
+  !! parts).
+  subroutine history_row_now(dom, solids, r, en, row)
+    class(run_domain_t), intent(inout) :: dom
+    type(solid_t), intent(inout) :: solids(:)
+    type(run_record_t), intent(in) :: r
+    type(energies_t), intent(in) :: en
+    real(wp), intent(inout) :: row(:)
+    type(measures_t) :: hm
+    integer :: k, nd, nv, c, o
+    ! per solid (solid_body_sums): ke, M, P(nd), sum M x (nd), L_o
+    real(wp) :: v((3 + 2*size(solids(1)%state%d, 1))*size(solids)), xc(max_dim)
+    hm = dom%measures(solids(1))
+    row(1:size(history_names)) = history_row_measured(r, en, hm)
+    nd = size(solids(1)%state%d, 1)
+    nv = 3 + 2*nd
+    do k = 1, size(solids)
+      call solid_body_sums(solids(k), v((k - 1)*nv + 1:k*nv))
+    end do
+    if (dom%comm%nranks > 1) call dom%comm%sum_real(v)
+    c = size(history_names)
+    do k = 1, size(solids)
+      o = (k - 1)*nv
+      if (solids(1)%t%axisym) then
+        ! the kinetic energy and the momentum along the axis (x2)
+        row(c + 1:c + 2) = [v(o + 1), v(o + 2 + nd)]
+        c = c + 2
+      else
+        ! the plane kernel (dims_plane): L_cm = L_o - x_c x P, x_c = sum M x / M
+        xc(:nd) = v(o + 3 + nd:o + 2 + 2*nd)/max(v(o + 2), tiny(1.0_wp))
+        row(c + 1) = v(o + 1)
+        row(c + 2:c + 1 + nd) = v(o + 3:o + 2 + nd)
+        row(c + 2 + nd) = v(o + nv) - (xc(1)*v(o + 4) - xc(2)*v(o + 3))
+        c = c + 2 + nd
+      end if
+    end do
+  end subroutine history_row_now
 
   !> Every solid's largest kappa over the ranks: the same step everywhere.
   subroutine kappa_max(dom, solids)

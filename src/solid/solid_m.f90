@@ -29,7 +29,7 @@ module solid_m
   private
   public :: solid_t, solid_sub_t, solid_part_t, solid_state_t, solid_options_t, &
     solid_accounts_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
-  public :: solid_kinetic_energy, solid_positions, solid_point_position
+  public :: solid_kinetic_energy, solid_positions, solid_point_position, solid_body_sums
   public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_quiet_init, &
     solid_quiet_blocks
   public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node
@@ -1176,6 +1176,34 @@ contains
     s%acc%w_bc = s%acc%w_bc + wbc
     s%acc%w_contact = s%acc%w_contact + wc
   end subroutine advance_nodes
+
+  !> Sums over the solid's nodes (a rank's part: its owned nodes) for the history, from
+  !! the coefficients of eqs. (65)-(67) with the lumped masses: v(1) the kinetic energy,
+  !! v(2) the mass, v(3:2+nd) the momentum sum M v, v(3+nd:2+2nd) sum M x with x = X + d,
+  !! and v(3+2nd) the angular momentum about the origin, sum M (x1 v2 - x2 v1) (plane).
+  !! size(v) = 3 + 2 ndim. Sums, so that the ranks' parts add up to the whole.
+  subroutine solid_body_sums(s, v)
+    type(solid_t), intent(in) :: s
+    real(wp), intent(out) :: v(:)
+    integer :: k, i, n, nd
+    real(wp) :: m, x(max_dim)
+    nd = s%t%dims%ndim
+    v = 0.0_wp
+    n = s%np
+    if (s%part%on) n = size(s%part%own_n)
+    do k = 1, n
+      i = k
+      if (s%part%on) i = s%part%own_n(k)
+      m = s%t%mass(i)
+      x(:nd) = s%x0(:, i) + s%state%d(:, i)
+      v(1) = v(1) + 0.5_wp*m*sum(s%state%v(:, i)**2)
+      v(2) = v(2) + m
+      v(3:2 + nd) = v(3:2 + nd) + m*s%state%v(:, i)
+      v(3 + nd:2 + 2*nd) = v(3 + nd:2 + 2*nd) + m*x(:nd)
+      if (nd == dims_plane%ndim) v(3 + 2*nd) = v(3 + 2*nd) + &
+        m*(x(1)*s%state%v(2, i) - x(2)*s%state%v(1, i))
+    end do
+  end subroutine solid_body_sums
 
   !> Physical positions of every node (ndim, np) at the start of the step or at the current
   !! (predicted, possibly corrected) coefficients (m).
