@@ -687,6 +687,15 @@ class MfcdFile:
         g = self.h5["snapshots"][label or labels[0]]
         return [n for n in g.keys() if isinstance(g[n], h5py.Group) and "det_self" in g[n]]
 
+    def materials(self) -> Dict[str, Dict[str, object]]:
+        """/materials/<name>: {name: {'model', 'preset', each constant the model uses (SI),
+        '<constant>_source' ('given', 'preset' or 'default')}}; {} for files written before
+        mfcd kept them."""
+        g = self.h5.get("materials")
+        if g is None:
+            return {}
+        return {n: decode_attrs(g[n]) for n in g}
+
     def _history_datasets(self) -> Dict[str, "h5py.Dataset"]:
         """Every /history dataset by its path below /history: the run's columns ('ke',
         ...) and each deformable body's ('bodies/<name>/ke', ...)."""

@@ -5,9 +5,9 @@
 
 A bar whose end is pushed at velocity v from t = 0 carries a step front at c0 = sqrt(E/rho)
 (plane strain with nu = 0 makes it one-dimensional), with sigma_xx = -rho c0 v and particle
-velocity v behind it, nothing ahead. E and rho are read from the deck stored in the file
-(/deck: the body's &material, defaults of src/material/material_m.f90 where the deck leaves them
-out), v and the loaded end from the body's &bc with kind = 'velocity' on component 1. With
+velocity v behind it, nothing ahead. E and rho are read from the file
+(/materials, the constants the run used; for a file written before mfcd kept them, the deck
+stored in /deck), v and the loaded end from the body's &bc with kind = 'velocity' on component 1. With
 nu /= 0 the long-wave bar speed sqrt(E/((1 - nu^2) rho)) of a plane-strain strip is used
 instead (noted in the figure).
 
@@ -37,7 +37,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mfcd_h5 import MfcdFile, deck_default, deck_group, parse_deck  # noqa: E402
 
-# the material constants the wave speed needs; a deck that leaves one out has its default
+# the material constants the wave speed needs (every model uses them)
 MATERIAL_CONSTANTS = ("density", "youngs_modulus", "poisson_ratio")
 
 
@@ -46,7 +46,9 @@ def wave_parameters(f: MfcdFile, body: str) -> dict:
     spec = deck_group(f.deck, "body", name=body)
     if spec is None:
         raise SystemExit(f"plot_wave: no &body name = '{body}' in the deck stored in {f.path}")
-    mat = deck_group(f.deck, "material", name=spec.get("material", "")) or {}
+    # the constants in use (/materials); a file written before mfcd kept them: the deck's
+    mat = f.materials().get(spec.get("material", "")) or \
+        deck_group(f.deck, "material", name=spec.get("material", "")) or {}
     prm = {k: float(mat.get(k, deck_default("material", k))) for k in MATERIAL_CONSTANTS}
     bc = None
     for g, vals in parse_deck(f.deck):

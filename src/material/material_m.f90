@@ -28,6 +28,9 @@ module material_m
   public :: ncomp, material_names
   public :: material_params_t, material_state_t, material_t
   public :: make_material, check_material_params, jaumann_rotate, elastic_rate
+  public :: material_constant_names, material_constant_units, material_constant_meaning, &
+    model_uses, model_default, &
+    material_constant, set_material_constant, material_presets
 
   !> stored tensor components (11, 22, 33, 12): the updates are the plane kernels
   integer, parameter :: ncomp = dims_plane%ncomp
@@ -39,6 +42,30 @@ module material_m
   !> Material parameters as read from the deck, SI units. Defaults: the paper's steel
   !! (Table 1 with E = 211 GPa, doc/materials.md: the printed 2110 MPa contradicts
   !! eps0 = sigma0/E = 460 MPa / 2.18e-3).
+  !> The constants of a material, in this order everywhere (deck, log, output); a model
+  !! uses some of them (model_uses).
+  character(len=*), parameter :: material_constant_names(13) = [character(len=17) :: &
+    'density', 'youngs_modulus', 'poisson_ratio', 'sigma0', 'hardening_n', 'rate_m', &
+    'eps0', 'eps1', 'epsdot0', 'back_stress_b', 'theta', 'yield_stress', &
+    'hardening_modulus']
+  character(len=*), parameter :: material_constant_units(13) = [character(len=6) :: &
+    'kg/m^3', 'Pa', '-', 'Pa', '-', '-', '-', '-', '1/s', 'Pa', '-', 'Pa', 'Pa']
+  !> What each constant is, for the messages that ask for one.
+  character(len=*), parameter :: material_constant_meaning(13) = [character(len=128) :: &
+    'the reference density', 'Young''s modulus (Pa, not MPa or GPa)', &
+    'Poisson''s ratio', 'sigma_0 of the flow stress g, eq. (80)', &
+    'N, the hardening exponent of eq. (80)', 'm, the rate sensitivity of eq. (79)', &
+    'eps0 of eq. (80), often sigma0/E', &
+    'eps1, the softening strain of eq. (80): g falls as 1/(1 + (epsbar/eps1)^2); '// &
+    'a large value turns softening off', &
+    'the reference strain rate of eq. (79)', 'b, the back-stress modulus of eq. (81)', &
+    'theta of the rate tangent, eq. (86)', 'the initial yield stress', &
+    'H, the linear hardening modulus (0: perfectly plastic)']
+
+  !> Named sets of constants a deck may ask for (&material preset): 'paper_steel' is the
+  !! paper's steel (Table 1 and Section 6), material_params_t's initial values.
+  character(len=*), parameter :: material_presets(1) = [character(len=11) :: 'paper_steel']
+
   type :: material_params_t
     character(len=32) :: model = 'viscoplastic'  !< one of material_names
     real(wp) :: density = 7800.0_wp         !< rho0 (kg/m^3)
@@ -259,5 +286,101 @@ contains
         ' '//fix)
     end subroutine bad
   end subroutine check_material_params
+
+  !> Does model use constant k of material_constant_names? elastic: rho, E, nu;
+  !! j2_plastic: those and yield_stress, hardening_modulus; viscoplastic: those of eqs.
+  !! (79)-(81) and (86) (rho, E, nu, sigma0, N, m, eps0, eps1, epsdot0, b, theta).
+  pure logical function model_uses(model, k)
+    character(len=*), intent(in) :: model
+    integer, intent(in) :: k
+    select case (trim(model))
+    case ('elastic')
+      model_uses = k <= 3
+    case ('j2_plastic')
+      model_uses = k <= 3 .or. k >= 12
+    case ('viscoplastic')
+      model_uses = k <= 11
+    case default
+      model_uses = .false.
+    end select
+  end function model_uses
+
+  !> May constant k take material_params_t's value when a deck leaves it out? Only the
+  !! back stress modulus b (0: no kinematic hardening, Table 1 gives none) and theta (the
+  !! integration parameter of eq. 86, 0.5: the paper's). Every physical constant of the
+  !! model is given, or comes from a preset the deck names.
+  pure logical function model_default(k)
+    integer, intent(in) :: k
+    model_default = k == 10 .or. k == 11
+  end function model_default
+
+  !> Constant k (material_constant_names) of p.
+  pure real(wp) function material_constant(p, k) result(v)
+    type(material_params_t), intent(in) :: p
+    integer, intent(in) :: k
+    select case (k)
+    case (1)
+      v = p%density
+    case (2)
+      v = p%youngs_modulus
+    case (3)
+      v = p%poisson_ratio
+    case (4)
+      v = p%sigma0
+    case (5)
+      v = p%hardening_n
+    case (6)
+      v = p%rate_m
+    case (7)
+      v = p%eps0
+    case (8)
+      v = p%eps1
+    case (9)
+      v = p%epsdot0
+    case (10)
+      v = p%back_stress_b
+    case (11)
+      v = p%theta
+    case (12)
+      v = p%yield_stress
+    case default
+      v = p%hardening_modulus
+    end select
+  end function material_constant
+
+  !> Set constant k (material_constant_names) of p to v.
+  pure subroutine set_material_constant(p, k, v)
+    type(material_params_t), intent(inout) :: p
+    integer, intent(in) :: k
+    real(wp), intent(in) :: v
+    select case (k)
+    case (1)
+      p%density = v
+    case (2)
+      p%youngs_modulus = v
+    case (3)
+      p%poisson_ratio = v
+    case (4)
+      p%sigma0 = v
+    case (5)
+      p%hardening_n = v
+    case (6)
+      p%rate_m = v
+    case (7)
+      p%eps0 = v
+    case (8)
+      p%eps1 = v
+    case (9)
+      p%epsdot0 = v
+    case (10)
+      p%back_stress_b = v
+    case (11)
+      p%theta = v
+    case (12)
+      p%yield_stress = v
+    case default
+      p%hardening_modulus = v
+    end select
+  end subroutine set_material_constant
 
 end module material_m

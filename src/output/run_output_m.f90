@@ -8,6 +8,7 @@ module run_output_m
   use body_m, only: body_t
   use kernels_m, only: kernel_names, window_shape_names
   use hdf5_io_m, only: h5file_t, h5_group, h5_write, h5_attr, h5_text
+  use material_m, only: material_constant_names, material_constant
   implicit none
   private
   public :: write_header, write_bodies, timestamp
@@ -41,7 +42,36 @@ contains
     if (.not. allocated(err)) call h5_attr(f, '/', 'geometry', trim(deck%run%geometry), err)
     if (.not. allocated(err)) call h5_attr(f, '/', 'units', 'SI (m, kg, s, Pa)', err)
     if (.not. allocated(err)) call h5_text(f, '/deck', deck%text, err)
+    if (.not. allocated(err)) call write_materials(f, deck, err)
   end subroutine write_header
+
+  !> /materials/<name>: the model, the preset the deck named, and every constant the model
+  !! uses as an attribute, each with <constant>_source: 'given', 'preset' or 'default'.
+  subroutine write_materials(f, deck, err)
+    type(h5file_t), intent(in) :: f
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, j
+    character(len=:), allocatable :: g
+    if (deck%nmaterials == 0) return
+    call h5_group(f, '/materials', err)
+    do k = 1, deck%nmaterials
+      associate (m => deck%materials(k))
+        g = '/materials/'//trim(m%name)
+        if (.not. allocated(err)) call h5_group(f, g, err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'model', trim(m%params%model), err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'preset', trim(m%preset), err)
+        do j = 1, size(material_constant_names)
+          if (allocated(err)) return
+          if (len_trim(m%source(j)) == 0) cycle
+          call h5_attr(f, g, trim(material_constant_names(j)), &
+            material_constant(m%params, j), err)
+          if (.not. allocated(err)) call h5_attr(f, g, trim(material_constant_names(j))// &
+            '_source', trim(m%source(j)), err)
+        end do
+      end associate
+    end do
+  end subroutine write_materials
 
   !> /bodies/<name>: reference positions, volumes, supports, boundary and polylines.
   subroutine write_bodies(f, bodies, deck, err)

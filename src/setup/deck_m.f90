@@ -8,7 +8,10 @@ module deck_m
   use errors_m, only: error_t, set_error
   use kernels_m, only: kernel_id, kernel_names, window_shape_id, window_shape_names
   use basis_m, only: basis_id, basis_names, basis_order
-  use material_m, only: material_params_t, check_material_params
+  use material_m, only: material_params_t, check_material_params, material_names, &
+    material_constant_names, material_constant_units, material_constant_meaning, &
+    model_uses, model_default, &
+    material_constant, set_material_constant, material_presets
   use geometry_m, only: polygon_crossing
   use generators_m, only: max_perturbation
   use file_system_m, only: read_plain_file, is_dir
@@ -139,6 +142,10 @@ module deck_m
   type :: material_spec_t
     character(len=material_name_len) :: name = ''
     type(material_params_t) :: params
+    character(len=16) :: preset = ''    !< the preset the group named (material_presets)
+    !> where each constant (material_constant_names) came from: 'given', 'preset',
+    !! 'default' (b and theta only), '' (not a constant of the model)
+    character(len=7) :: source(size(material_constant_names)) = ''
   end type material_spec_t
 
   !> Time integration and run control (&solver).
@@ -1445,21 +1452,12 @@ contains
       end do
       tmp(k)%name = name
       tmp(k)%params%model = lower(model)
-      tmp(k)%params%density = density
-      tmp(k)%params%youngs_modulus = youngs_modulus
-      tmp(k)%params%poisson_ratio = poisson_ratio
-      tmp(k)%params%sigma0 = sigma0
-      tmp(k)%params%hardening_n = hardening_n
-      tmp(k)%params%rate_m = rate_m
-      tmp(k)%params%eps0 = eps0
-      ! eps1 defaults to 100 eps0 (Table 1)
-      if (eps1 == unset) eps1 = 100.0_wp*eps0
-      tmp(k)%params%eps1 = eps1
-      tmp(k)%params%epsdot0 = epsdot0
-      tmp(k)%params%back_stress_b = back_stress_b
-      tmp(k)%params%theta = theta
-      tmp(k)%params%yield_stress = yield_stress
-      tmp(k)%params%hardening_modulus = hardening_modulus
+      tmp(k)%preset = lower(preset)
+      ! the group's constants in the order of material_constant_names
+      call material_constants(deck, k, tmp(k), [density, youngs_modulus, poisson_ratio, &
+        sigma0, hardening_n, rate_m, eps0, eps1, epsdot0, back_stress_b, theta, &
+        yield_stress, hardening_modulus], err)
+      if (allocated(err)) return
       call check_material_params(tmp(k)%params, e2)
       if (allocated(e2)) then
         call set_error(err, "deck '"//deck%path//"', group &material (material "//itoa(k)// &
@@ -1470,6 +1468,64 @@ contains
     deck%nmaterials = k
     deck%materials = tmp(1:k)
   end subroutine read_materials
+
+  !> Material k's constants from the values its group gave (given(j) = unset: left out),
+  !! in the order of material_constant_names: a constant of the model is the group's, or
+  !! the preset's when the group names one, or, for b and theta only (model_default),
+  !! material_params_t's; any other constant the model uses is missing (an error naming
+  !! it), and a constant the model does not use is an error too. m%source records where
+  !! each came from (the log and /materials show it).
+  subroutine material_constants(deck, k, m, given, err)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    type(material_spec_t), intent(inout) :: m
+    real(wp), intent(in) :: given(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(material_params_t) :: ref
+    character(len=:), allocatable :: grp, model, uses, c, ut
+    integer :: j
+    grp = "material (material "//itoa(k)//", '"//trim(m%name)//"')"
+    model = trim(m%params%model)
+    if (len_trim(m%preset) > 0 .and. .not. any(material_presets == m%preset)) then
+      call bad(deck, grp, 'preset', "'"//trim(m%preset)//"'", 'use one of: '// &
+        join_names(material_presets)//' (or give every constant of the model)', err)
+      return
+    end if
+    if (.not. any(material_names == model)) return   ! check_material_params says so
+    uses = join_names(pack(material_constant_names, [(model_uses(model, j), j = 1, &
+      size(material_constant_names))]))
+    m%source = ''
+    do j = 1, size(material_constant_names)
+      if (model_uses(model, j) .or. given(j) == unset) cycle
+      call bad(deck, grp, trim(material_constant_names(j)), rtoa(given(j)), &
+        "not a constant of model '"//model//"' (its constants: "//uses//"); remove it, "// &
+        "or choose the model it belongs to (doc/materials.md)", err)
+      return
+    end do
+    do j = 1, size(material_constant_names)
+      c = trim(material_constant_names(j))
+      if (.not. model_uses(model, j)) then
+        cycle
+      else if (given(j) /= unset) then
+        call set_material_constant(m%params, j, given(j))
+        m%source(j) = 'given'
+      else if (len_trim(m%preset) > 0) then
+        call set_material_constant(m%params, j, material_constant(ref, j))
+        m%source(j) = 'preset'
+      else if (model_default(j)) then
+        call set_material_constant(m%params, j, material_constant(ref, j))
+        m%source(j) = 'default'
+      else
+        ut = ''
+        if (material_constant_units(j) /= '-') ut = ', in '//trim(material_constant_units(j))
+        call bad(deck, grp, c, '(missing)', "model '"//model//"' needs it ("// &
+          trim(material_constant_meaning(j))//ut//"); give it, or preset = 'paper_steel' "// &
+          "for the paper's steel ("//c//' = '//rtoa(material_constant(ref, j))// &
+          '); every constant of the model is given or preset, none is assumed', err)
+        return
+      end if
+    end do
+  end subroutine material_constants
 
   subroutine read_solver(u, deck, err)
     integer, intent(in) :: u

@@ -15,6 +15,7 @@ module dynamic_setup_m
   use rkpm_tl_m, only: tl_build, scheme_id
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use solid_m, only: solid_t, solid_init, solid_quiet_init
+  use material_m, only: material_constant_names, material_constant
   use stable_step_m, only: step_control_t, step_control_calibrate, spacing_step
   use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init, &
     detector_det_m, detector_nts, detector_name
@@ -43,10 +44,36 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: quiet
     su%wall0 = omp_get_wtime()
+    if (.not. present(quiet)) then
+      call log_materials(deck)
+    else if (.not. quiet) then
+      call log_materials(deck)
+    end if
     call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet)
     if (.not. allocated(err)) call setup_contacts(deck, bodies, su%solids, su%isolid, &
       su%pairs, err, quiet)
   end subroutine setup_dynamic
+
+  !> Every constant of every material as the run uses it, and where it came from: the deck
+  !! ('given'), its preset, or the model's default (b and theta only).
+  subroutine log_materials(deck)
+    type(deck_t), intent(in) :: deck
+    integer :: k, j
+    character(len=:), allocatable :: line
+    do k = 1, deck%nmaterials
+      associate (m => deck%materials(k))
+        line = 'material '''//trim(m%name)//''' ('//trim(m%params%model)
+        if (len_trim(m%preset) > 0) line = line//', preset '''//trim(m%preset)//''''
+        line = line//'):'
+        do j = 1, size(material_constant_names)
+          if (len_trim(m%source(j)) == 0) cycle
+          line = line//' '//trim(material_constant_names(j))//' '// &
+            rtoa(material_constant(m%params, j))//' ('//trim(m%source(j))//')'
+        end do
+        write(output_unit, '(a)') line
+      end associate
+    end do
+  end subroutine log_materials
 
   !> The solids of the deck's deformable bodies, in deck order; isolid(k) is body k's solid
   !! (0 for a rigid body). quiet: no log lines (a set-up made only for its checks).
