@@ -52,7 +52,67 @@ contains
     call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet)
     if (.not. allocated(err)) call setup_contacts(deck, bodies, su%solids, su%isolid, &
       su%pairs, err, quiet)
+    if (allocated(err)) return
+    if (.not. present(quiet)) then
+      call scale_warnings(deck, bodies, su%solids, su%isolid)
+    else if (.not. quiet) then
+      call scale_warnings(deck, bodies, su%solids, su%isolid)
+    end if
   end subroutine setup_dynamic
+
+  !> Warnings (not errors) of a likely unit mistake, with the mistake named: a material's
+  !! dilatational wave speed outside 100-20,000 m/s (solids: rubber-like to beryllium; E
+  !! in MPa or GPa gives 30-1000 times less, a density in g/cm^3 thirty times more), a
+  !! body smaller than 1 um or larger than 100 m across (lengths in mm or um), a run that
+  !! ends in fewer than 10 steps (t_end in us, or lengths in mm that make every step 1000
+  !! times longer). The step count is estimated from the smallest h_min/c_d times cfl
+  !! (or the deck's fixed dt); the power iteration of the run is not made for --check.
+  subroutine scale_warnings(deck, bodies, solids, isolid)
+    type(deck_t), intent(in) :: deck
+    type(body_t), intent(in) :: bodies(:)
+    type(solid_t), intent(in) :: solids(:)
+    integer, intent(in) :: isolid(:)
+    real(wp), parameter :: c_low = 100.0_wp, c_high = 2.0e4_wp   ! m/s
+    real(wp), parameter :: size_low = 1.0e-6_wp, size_high = 100.0_wp   ! m
+    integer, parameter :: steps_low = 10
+    real(wp) :: c, ext, dt, nsteps
+    integer :: k
+    dt = huge(1.0_wp)
+    do k = 1, size(bodies)
+      ext = maxval(maxval(bodies(k)%x, dim=2) - minval(bodies(k)%x, dim=2))
+      if (ext > size_high) call warn("body '"//trim(bodies(k)%name)//"' is "// &
+        rtoa(ext)//' m across, outside 1 um - 100 m: lengths are in m (a length in mm '// &
+        'is 1000 times too large, in um 1e6 times)')
+      if (ext < size_low) call warn("body '"//trim(bodies(k)%name)//"' is "// &
+        rtoa(ext)//' m across, outside 1 um - 100 m: lengths are in m (an exponent '// &
+        'slipped: e-9 for e-3, or a length in km)')
+      if (isolid(k) == 0) cycle
+      associate (s => solids(isolid(k)))
+        c = s%mat%dilatational_speed()
+        if (c < c_low) call warn("body '"//trim(bodies(k)%name)//"': material wave "// &
+          'speed c_d = '//rtoa(c)//' m/s is below 100 m/s: youngs_modulus is in Pa (E '// &
+          'in MPa gives 1/30 of the speed, in GPa 1/1000), density in kg/m^3')
+        if (c > c_high) call warn("body '"//trim(bodies(k)%name)//"': material wave "// &
+          'speed c_d = '//rtoa(c)//' m/s is above 20,000 m/s: density is in kg/m^3 (a '// &
+          'density in g/cm^3 gives 30 times the speed), youngs_modulus in Pa')
+        dt = min(dt, s%t%hmin/c)
+      end associate
+    end do
+    dt = deck%solver%cfl*dt
+    if (deck%solver%dt > 0.0_wp) dt = deck%solver%dt
+    nsteps = deck%solver%t_end/dt
+    if (nsteps < real(steps_low, wp)) call warn('the run ends in about '// &
+      rtoa(nsteps)//' steps of '//rtoa(dt)//' s (fewer than 10): t_end = '// &
+      rtoa(deck%solver%t_end)//' s is in s (1 us = 1e-6), lengths in m (lengths in mm '// &
+      'make every step 1000 times longer)')
+
+  contains
+
+    subroutine warn(text)
+      character(len=*), intent(in) :: text
+      write(output_unit, '(a)') 'warning: '//text
+    end subroutine warn
+  end subroutine scale_warnings
 
   !> Every constant of every material as the run uses it, and where it came from: the deck
   !! ('given'), its preset, or the model's default (b and theta only).
