@@ -48,7 +48,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mfcd_style import figure_style  # noqa: E402
-from mfcd_h5 import MfcdFile, deck_group  # noqa: E402
+from mfcd_h5 import negative_values, MfcdFile, deck_group  # noqa: E402
 
 PROG = "compare_taylor"
 NA = "n/a"
@@ -360,7 +360,7 @@ def main(argv=None) -> int:
     ap.add_argument("--format", default="png", help="image format (default png)")
     ap.add_argument("--name", default="taylor_rkpm_vs_fem",
                     help="figure file name without extension (default taylor_rkpm_vs_fem)")
-    a = ap.parse_args(argv)
+    a = ap.parse_args(negative_values(argv))
     plt.rcParams.update(figure_style())
     out = a.out or os.path.dirname(os.path.abspath(a.fem))
     try:

@@ -64,6 +64,7 @@ from __future__ import annotations
 
 import os
 import re
+import sys
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
 
@@ -461,6 +462,26 @@ def parse_deck(text: str) -> List[tuple]:
             store()
         groups.append((name, vals))
     return groups
+
+
+def negative_values(argv: Optional[List[str]] = None) -> List[str]:
+    """argv (default sys.argv[1:]) with each option's value that begins with '-' and a
+    digit or '.' joined to it ('--window', '-0.006,0.006' -> '--window=-0.006,0.006'):
+    argparse takes a comma list of numbers that begins with a minus for an option and
+    refuses it (it accepts a lone negative number only)."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    out: List[str] = []
+    i = 0
+    while i < len(args):
+        a = args[i]
+        if (a.startswith("--") and "=" not in a and i + 1 < len(args)
+                and re.match(r"-[0-9.]", args[i + 1])):
+            out.append(a + "=" + args[i + 1])
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
 
 
 def deck_default(group: str, name: str):

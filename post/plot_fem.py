@@ -52,7 +52,7 @@ from matplotlib.tri import Triangulation  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mfcd_style import figure_style  # noqa: E402
-from mfcd_h5 import (CELL_FIELDS, FIELDS, MfcdFile, cell_field_values,  # noqa: E402
+from mfcd_h5 import (CELL_FIELDS, FIELDS, MfcdFile, cell_field_values, negative_values,  # noqa: E402
                      deck_group)
 
 C_RIGID = "0.65"
@@ -368,7 +368,7 @@ def main(argv=None) -> int:
                          "figure's length unit (mm for the Taylor bar; default 0.6 x the "
                          "foot's widest radius)")
     ap.add_argument("--format", default="png", help="image format (default png)")
-    a = ap.parse_args(argv)
+    a = ap.parse_args(negative_values(argv))
     plt.rcParams.update(figure_style(savefig_dpi=130))
     out = a.out or os.path.dirname(os.path.abspath(a.file))
     try:

@@ -64,7 +64,7 @@ from matplotlib.tri import Triangulation  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mfcd_style import figure_style  # noqa: E402
-from mfcd_h5 import MfcdFile  # noqa: E402
+from mfcd_h5 import negative_values, MfcdFile  # noqa: E402
 from self_overlap import overlap  # noqa: E402
 
 PROG = "plot_self_contact"
@@ -537,7 +537,7 @@ def main(argv=None) -> int:
                     help="overlap raster step as a fraction of the body's spacing "
                          "(default 0.05, as post/self_overlap.py)")
     ap.add_argument("--format", default="png", help="image format (default png)")
-    a = ap.parse_args(argv)
+    a = ap.parse_args(negative_values(argv))
     plt.rcParams.update(figure_style(savefig_dpi=130))
     out = a.out or os.path.dirname(os.path.abspath(a.with_file))
     name = a.name or os.path.splitext(os.path.basename(a.with_file))[0]

@@ -48,7 +48,7 @@ from matplotlib.tri import Triangulation  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mfcd_style import figure_style  # noqa: E402
-from mfcd_h5 import FIELDS, MfcdFile, deck_group, field_values  # noqa: E402
+from mfcd_h5 import negative_values, FIELDS, MfcdFile, deck_group, field_values  # noqa: E402
 
 C_OTHER = "0.6"        # bodies without the field
 C_RIGID = "0.45"       # rigid bodies not in the snapshots
@@ -360,7 +360,7 @@ def main(argv=None) -> int:
                     help="x0,x1,y0,y1 (m): zoom to this window, e.g. the Taylor bar's foot")
     ap.add_argument("--suffix", default="", help="added to the figure's file name")
     ap.add_argument("--format", default="png", help="image format (default png)")
-    a = ap.parse_args(argv)
+    a = ap.parse_args(negative_values(argv))
     plt.rcParams.update(figure_style())
     out = a.out or os.path.dirname(os.path.abspath(a.file))
     ok = True

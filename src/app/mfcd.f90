@@ -13,6 +13,7 @@ program mfcd
   use setup_memory_m, only: check_memory
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
+  use file_system_m, only: same_out_err
   use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t
   use log_m, only: log_print, log_flush
   use detect_run_m, only: run_detect
@@ -146,17 +147,22 @@ contains
   end subroutine check_restart
 
   !> Stop with the error: on stderr after every log line before it, then the log's last
-  !! line saying how the run ended, so a log file read alone tells it too.
+  !! line saying how the run ended, so a log file read alone tells it too. Where the log
+  !! and stderr are one file (a terminal, a batch log taking both), the message is not
+  !! repeated: the last line points at it.
   subroutine fail(e)
     type(error_t), intent(in) :: e
+    character(len=:), allocatable :: what
     call log_flush()
     write(error_unit, '(a)') 'mfcd: error: '//e%message
     flush(error_unit)
+    what = ': '//e%message
+    if (same_out_err()) what = ' (the error above)'
     if (e%code == exit_bad_input) then
-      call log_print('mfcd: bad input (exit 2), nothing written: '//e%message)
+      call log_print('mfcd: bad input (exit 2), nothing written'//what)
       stop exit_bad_input, quiet=.true.
     end if
-    call log_print('mfcd: failed (exit 1): '//e%message)
+    call log_print('mfcd: failed (exit 1)'//what)
     stop 1, quiet=.true.
   end subroutine fail
 

@@ -107,3 +107,12 @@ int mfcd_fs_refuses(const char *path)
   if (statvfs(path, &v) == 0 && (v.f_flag & ST_RDONLY)) return 1;
   return 0;
 }
+
+/* 1 when standard output and standard error are the same file (a terminal, or a batch
+ * log that takes both), so a message written to both would be read twice; 0 otherwise. */
+int mfcd_same_out_err(void)
+{
+    struct stat a, b;
+    if (fstat(1, &a) != 0 || fstat(2, &b) != 0) return 0;
+    return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}

@@ -9,7 +9,7 @@ module file_system_m
   implicit none
   private
   public :: make_dirs, is_dir, writable_dir, path_exists, real_path, rename_file, &
-    link_file, remove_file, process_id, read_plain_file, fs_refusal
+    link_file, remove_file, process_id, read_plain_file, fs_refusal, same_out_err
 
   integer(c_int), parameter :: f_ok = 0, w_ok = 2, x_ok = 1   !< access(2) modes (POSIX)
   !> Permissions of a new directory before the umask: rwx for all, as mkdir(1) gives.
@@ -78,6 +78,10 @@ module file_system_m
       character(kind=c_char), intent(in) :: path(*)
       integer(c_int) :: rc
     end function c_fs_refuses
+    function c_same_out_err() bind(c, name='mfcd_same_out_err') result(rc)
+      import :: c_int
+      integer(c_int) :: rc
+    end function c_same_out_err
     function c_close(fd) bind(c, name='close') result(rc)
       import :: c_int
       integer(c_int), value :: fd
@@ -248,4 +252,9 @@ contains
   integer function process_id()
     process_id = int(c_getpid())
   end function process_id
+  !> Are standard output and standard error the same file (a terminal, or one log for
+  !! both)? Then a message written to both is read twice.
+  logical function same_out_err()
+    same_out_err = c_same_out_err() /= 0
+  end function same_out_err
 end module file_system_m

@@ -188,6 +188,8 @@ contains
       if (.not. allocated(err)) call h5_attr(f, g, 'step_point_min', c%point_min, err)
       if (.not. allocated(err)) call h5_attr(f, g, 'step_dt_min_max_t', &
         [c%dt_min, c%dt_max, c%t_dt_min], err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'step_dt_min_taken', &
+        [c%dt_min_taken, c%t_dt_min_taken], err)
       if (.not. allocated(err)) call h5_attr(f, g, 'step_dtc_min', c%dtc_min, err)
       if (.not. allocated(err)) call h5_attr(f, g, 'step_n_over', c%n_over, err)
     end associate
@@ -609,6 +611,14 @@ contains
       c%dt_min = v3(1)
       c%dt_max = v3(2)
       c%t_dt_min = v3(3)
+      ! (absent from checkpoints written before it: the steps since are still counted)
+      if (.not. allocated(err)) then
+        if (h5_has_attr(f, g, 'step_dt_min_taken')) then
+          call h5_read_attr(f, g, 'step_dt_min_taken', v3(1:2), err)
+          c%dt_min_taken = v3(1)
+          c%t_dt_min_taken = v3(2)
+        end if
+      end if
       if (.not. allocated(err)) call h5_read_attr(f, g, 'step_dtc_min', c%dtc_min, err)
       if (.not. allocated(err)) call h5_read_attr(f, g, 'step_n_over', c%n_over, err)
     end associate

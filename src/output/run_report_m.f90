@@ -16,7 +16,7 @@ module run_report_m
     detector_det_m
   use hdf5_io_m, only: h5file_t, h5_group, h5_attr, h5_write
   use dynamic_output_m, only: history_names
-  use stable_step_m, only: step_control_t, step_limit_text
+  use stable_step_m, only: step_control_t, step_limit_text, step_smallest
   use subcycle_m, only: subcycle_record_t
   implicit none
   private
@@ -220,7 +220,8 @@ contains
     character(len=*), intent(in) :: files
     type(error_t), allocatable, intent(inout) :: err
     integer :: k
-    real(wp) :: wall, rate, sh(3), tl
+    real(wp) :: wall, rate, sh(3), tl, dts, ts
+    logical :: landed
     type(measures_t) :: m
     character(len=:), allocatable :: g, units, eunit
     ! energies per unit thickness in plane strain, of the whole revolution in axisymmetry
@@ -242,9 +243,10 @@ contains
     call put_i('steps', r%n, '1')
     call put_r('time', r%t, 's')
     call put_r('dt', r%dt, 's')
-    call put_r('dt_min', r%step%dt_min, 's')
+    call step_smallest(r%step, dts, ts, landed)
+    call put_r('dt_min', dts, 's')
     call put_r('dt_max', r%step%dt_max, 's')
-    call put_r('dt_min_time', r%step%t_dt_min, 's')
+    call put_r('dt_min_time', ts, 's')
     call put_i('dt_adaptive', merge(1, 0, r%step%adaptive), '1')
     call put_r('dt_critical', r%step%dtc0, 's')
     call put_r('dt_critical_min', r%step%dtc_min, 's')
@@ -366,6 +368,8 @@ contains
     real(wp), intent(in) :: wall, rate, sh(3), tl
     integer :: k
     type(measures_t) :: m
+    real(wp) :: dts, ts
+    logical :: landed
     write(output_unit, '(a,i0,a,es12.5,a,f9.2,a,f7.2,a,es10.3,a,es10.3,a)') 'summary: ', &
       r%n, ' steps to t = ', r%t, ' s in ', wall, ' s wall (set-up ', wall - r%t_loop, &
       ' s), ', rate, ' particle-steps/s (nodes), ', real(r%point_steps + r%sub%fine_evals, &
@@ -375,9 +379,11 @@ contains
       'most ', r%sub%m_max, '); the fine points'' updates in them cost ', 100.0_wp* &
       real(r%sub%fine_evals, wp)/real(max(r%sub%uniform_evals, 1_i64), wp), &
       '% of whole-body sub-steps'
+    call step_smallest(r%step, dts, ts, landed)
     write(output_unit, '(a,es10.3,a,es10.3,a,es10.3,a,es10.3,a,es10.3,a)') 'summary: dt ', &
-      r%step%dt_min, ' to ', r%step%dt_max, ' s (smallest at t = ', r%step%t_dt_min, &
-      ' s); critical step ', r%step%dtc0, ' s at t = 0, smallest ', r%step%dtc_min, &
+      dts, ' to ', r%step%dt_max, ' s (smallest at t = ', ts, ' s'//trim(merge( &
+      ', every step landed on an output time', '                                     ', &
+      landed))//'); critical step ', r%step%dtc0, ' s at t = 0, smallest ', r%step%dtc_min, &
       ' s, set by '//step_limit_text(r%step, solids, .true.)// &
       merge(' (dt followed it)', ' (dt fixed)      ', r%step%adaptive)
     if (r%step%n_over > 0) write(output_unit, '(a,i0,a)') 'summary: warning: the fixed '// &

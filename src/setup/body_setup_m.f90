@@ -432,6 +432,9 @@ contains
     real(wp) :: mm(mmax, mmax)
     integer :: i, ncover, bad_i, bad_n
     logical :: ok
+    real(wp) :: f
+    !> multiples of the present supports tried when enough particles cover a singular point
+    real(wp), parameter :: trial(6) = [1.1_wp, 1.25_wp, 1.5_wp, 1.75_wp, 2.0_wp, 2.5_wp]
     call body_cloud(b, c, err)
     if (allocated(err)) return
     bad_i = 0
@@ -455,13 +458,60 @@ contains
         trim(s%basis)//''' needs at least '//itoa(basis_size(b%bid))//' (Theorem 3.1); '// &
         'increase support_factor')
     else
-      call set_error(err, where//', variable '//body_count_var(s%shape)//': moment matrix '// &
-        'singular at particle '//itoa(bad_i)//' although '//itoa(bad_n)//' particles '// &
-        'cover it (the basis '''//trim(s%basis)//''' needs '//itoa(basis_size(b%bid))// &
-        '): they lie in a degenerate layout, e.g. all on one line, which a larger support '// &
-        'does not mend; check the particle positions (a body needs particles spread in '// &
-        'every direction)')
+      ! enough particles, in a layout this support cannot span (a staircase of lattice
+      ! points along a curved edge, or all on one line): does a larger support mend it?
+      f = mending_factor()
+      if (f > 0.0_wp) then
+        call set_error(err, where//', variable support_factor = '// &
+          rtoa(minval(s%support_factor(1:b%ndim)))//': moment matrix singular at '// &
+          'particle '//itoa(bad_i)//' although '//itoa(bad_n)//' particles cover it: '// &
+          'their layout there is too narrow for this support (e.g. the staircase of '// &
+          'lattice points along a curved edge); support_factor = '// &
+          rtoa(f*minval(s%support_factor(1:b%ndim)))//' makes M regular at every '// &
+          'particle of the body (checked), or give the body a finer spacing')
+      else
+        call set_error(err, where//', variable '//body_count_var(s%shape)//': moment '// &
+          'matrix singular at particle '//itoa(bad_i)//' although '//itoa(bad_n)// &
+          ' particles cover it (the basis '''//trim(s%basis)//''' needs '// &
+          itoa(basis_size(b%bid))//'): they lie in a degenerate layout, e.g. all on one '// &
+          'line, which no support up to '//rtoa(maxval(trial))//' times the present '// &
+          'one mends (checked); check the particle positions (a body needs particles '// &
+          'spread in every direction)')
+      end if
     end if
+
+  contains
+
+    !> The smallest of the trial multiples of the supports with which M is regular at
+    !! every particle (0: none).
+    real(wp) function mending_factor() result(fbest)
+      type(body_t) :: bb
+      type(rk_cloud_t) :: cc
+      type(error_t), allocatable :: e2
+      integer :: k, j, nc
+      logical :: good, okj
+      real(wp) :: m2(mmax, mmax)
+      fbest = 0.0_wp
+      do k = 1, size(trial)
+        bb = b
+        bb%rho = trial(k)*b%rho
+        call body_cloud(bb, cc, e2)
+        if (allocated(e2)) return
+        good = .true.
+        !$omp parallel do default(none) shared(bb, cc) private(m2, nc, okj) &
+        !$omp reduction(.and.: good)
+        do j = 1, bb%np
+          call cloud_moment(cc, bb%x(:, j), m2, nc)
+          call chol_small(cc%m, m2, okj, pivot_tol)
+          good = good .and. okj
+        end do
+        !$omp end parallel do
+        if (good) then
+          fbest = trial(k)
+          return
+        end if
+      end do
+    end function mending_factor
   end subroutine check_particles
 
   !> True when M is non-singular at every probe of a lattice patch with these supports.

@@ -1568,15 +1568,25 @@ contains
     else if (dt > t_end) then
       call bad(deck, 'solver', 'dt', rtoa(dt), 'give 0 (automatic: cfl x critical step) '// &
         'or a fixed step in (0, t_end] s', err)
-    else if (any(snapshot_times(1:sv%nsnap) == unset) .or. &
-      any(snapshot_times(1:sv%nsnap) > t_end)) then
-      call bad(deck, 'solver', 'snapshot_times', itoa(sv%nsnap)//' values', &
-        'give snapshot times in [0, t_end] s, one after another', err)
-    end if
-    if (sv%nsnap > 1) then
-      if (any(sv%snapshot_times(2:sv%nsnap) <= sv%snapshot_times(1:sv%nsnap - 1))) &
-        call bad(deck, 'solver', 'snapshot_times', 'not increasing', &
-        'give the snapshot times in increasing order', err)
+    else
+      ! the first entry that is missing (a gap in the list), outside [0, t_end] or not
+      ! after the one before, by its number and value
+      do j = 1, sv%nsnap
+        if (snapshot_times(j) == unset) then
+          call bad(deck, 'solver', 'snapshot_times', 'entry '//itoa(j)//' missing', &
+            'give snapshot times in [0, t_end] s, one after another, without gaps', err)
+        else if (snapshot_times(j) < 0.0_wp .or. snapshot_times(j) > t_end) then
+          call bad(deck, 'solver', 'snapshot_times', 'entry '//itoa(j)//' = '// &
+            rtoa(snapshot_times(j)), 'give snapshot times in [0, t_end] s (t_end = '// &
+            rtoa(t_end)//' s)', err)
+        else if (j > 1) then
+          if (snapshot_times(j) <= snapshot_times(j - 1)) call bad(deck, 'solver', &
+            'snapshot_times', 'entry '//itoa(j)//' = '//rtoa(snapshot_times(j))// &
+            ' after entry '//itoa(j - 1)//' = '//rtoa(snapshot_times(j - 1)), &
+            'give the snapshot times in increasing order', err)
+        end if
+        if (allocated(err)) exit
+      end do
     end if
     deck%solver = sv
   end subroutine read_solver

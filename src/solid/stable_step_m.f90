@@ -24,7 +24,7 @@ module stable_step_m
   private
   public :: critical_step, spacing_step
   public :: step_control_t, step_control_calibrate, step_control_update, step_control_next
-  public :: step_limit_text
+  public :: step_limit_text, step_smallest
 
   !> A run whose critical step falls below this fraction of its initial value is stopped:
   !! some cell or element is collapsing (J -> 0 or a sliver), and stepping on would take
@@ -45,6 +45,9 @@ module stable_step_m
     integer :: solid = 0, point = 0       !< where the current estimate is set
     real(wp) :: dt_min = huge(1.0_wp), dt_max = 0.0_wp   !< steps taken (s)
     real(wp) :: t_dt_min = 0.0_wp         !< time at the end of the smallest step (s)
+    !> the smallest step taken, landing steps included, and the time at its end (s): what
+    !! the record reports when every step was shortened to land on an output time
+    real(wp) :: dt_min_taken = huge(1.0_wp), t_dt_min_taken = 0.0_wp
     real(wp) :: dtc_min = huge(1.0_wp)    !< smallest critical step estimate (s)
     integer :: solid_min = 0, point_min = 0   !< where it was set
     integer :: n_over = 0                 !< steps where a fixed dt exceeded the estimate
@@ -165,7 +168,24 @@ contains
       c%dt_min = dt
       c%t_dt_min = t + dt
     end if
+    if (dt < c%dt_min_taken) then
+      c%dt_min_taken = dt
+      c%t_dt_min_taken = t + dt
+    end if
   end function step_control_next
+
+  !> The smallest step of the record and the time at its end (s): the smallest step not
+  !! shortened to land on an output time, or, when every step was (output times closer
+  !! than two steps), the smallest step taken; landed: it is the latter.
+  pure subroutine step_smallest(c, dt, t, landed)
+    type(step_control_t), intent(in) :: c
+    real(wp), intent(out) :: dt, t
+    logical, intent(out) :: landed
+    landed = .not. (c%dt_min < huge(1.0_wp))
+    dt = merge(c%dt_min_taken, c%dt_min, landed)
+    t = merge(c%t_dt_min_taken, c%t_dt_min, landed)
+    if (.not. (dt < huge(1.0_wp))) dt = 0.0_wp
+  end subroutine step_smallest
 
   !> 'body 'B', integration point L (particle I), J = .., min stretch ..': where the critical
   !! step estimate (current, or the smallest when smallest) is set.

@@ -281,10 +281,16 @@ def failed_run_keeps_result(root):
     i_err = next((i for i, l in enumerate(lines) if l.startswith("mfcd: error:")), -1)
     check("stdout and stderr in one file: the error comes after the log lines it follows",
           0 <= i_fail < i_sum < i_err, (i_fail, i_sum, i_err, lines[-6:]))
-    check("last line: failed (exit 1), the reason, the failed files, the kept result",
-          lines[-1].startswith("mfcd: failed (exit 1): run failed at step") and
-          "out/wave.failed.h5" in lines[-1] and "out/wave.h5 is untouched" in lines[-1],
-          lines[-1])
+    err_line = lines[i_err] if i_err >= 0 else ""
+    check("the error line: the reason, the failed files, the kept result",
+          err_line.startswith("mfcd: error: run failed at step") and
+          "out/wave.failed.h5" in err_line and "out/wave.h5 is untouched" in err_line,
+          err_line)
+    # one file for both streams: the message once (issue 22: every error was printed twice),
+    # the last line saying how the run ended and pointing at it
+    check("last line: failed (exit 1), pointing at the error above, not repeating it",
+          lines[-1] == "mfcd: failed (exit 1) (the error above)" and
+          sum("run failed at step" in ln for ln in lines) == 1, lines[-2:])
     # a second good run replaces the result (overwrite = .true., the default) and leaves
     # no temporary file either
     rc, so, se = run([good], d)
