@@ -26,7 +26,7 @@ module mpi_domain_m
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_init, solid_set_owned, part_halo_t, state_fields, &
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
-    solid_energies, solid_set_energies
+    solid_energies, solid_set_energies, solid_set_gravity
   use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
   use rank_comm_m, only: rank_comm_t
@@ -221,6 +221,7 @@ contains
         ! the whole solid's options: RKPM's SCNI stabilization (elements have none), the
         ! health limits
         p%opt = g%opt
+        call solid_set_gravity(p, p%opt%gravity)
         p%state%v = g%state%v(:, n)
         p%acc%ke0 = 0.0_wp
         do j = 1, size(p%part%own_n)

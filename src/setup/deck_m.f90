@@ -94,6 +94,7 @@ module deck_m
     character(len=run_mode_len) :: mode
     integer :: ndim
     character(len=run_geometry_len) :: geometry
+    real(wp) :: gravity(3) = 0.0_wp   !< uniform body force per unit mass (m/s^2)
   end type run_params_t
 
   type :: body_spec_t
@@ -127,6 +128,9 @@ module deck_m
     character(len=body_role_len) :: role
     character(len=body_material_len) :: material
     real(wp) :: velocity(3)   !< initial velocity (m/s)
+    !> initial angular velocity about the body's centre of mass, out of the plane,
+    !! counter-clockwise (rad/s); plane strain only
+    real(wp) :: angular_velocity = 0.0_wp
     character(len=body_integration_len) :: integration
     real(wp) :: stabilization   !< SCNI sub-cell stabilization alpha (0: off)
     !> 'rkpm' (particles) or 'fem' (CST4 elements on the n(1) x n(2) lattice's boxes)
@@ -882,10 +886,17 @@ contains
     if (geometry == 'axisymmetric' .and. ndim /= 2) then
       call bad(deck, 'run', 'geometry', "'axisymmetric'", 'axisymmetric runs need ndim = 2', err)
     end if
+    if (.not. allocated(err) .and. geometry == 'axisymmetric' .and. gravity(1) /= 0.0_wp) &
+      call bad(deck, 'run', 'gravity', rtoa(gravity(1))//' (radial)', 'in axisymmetry '// &
+      'gravity lies along the axis: give gravity = 0, g_z', err)
+    if (.not. allocated(err) .and. any(gravity(ndim + 1:) /= 0.0_wp)) &
+      call bad(deck, 'run', 'gravity', 'component '//itoa(ndim + 1), 'give ndim = '// &
+      itoa(ndim)//' components', err)
     deck%run%title = title
     deck%run%mode = mode
     deck%run%ndim = ndim
     deck%run%geometry = geometry
+    deck%run%gravity = gravity
   end subroutine read_run
 
   subroutine read_bodies(u, deck, err)
@@ -937,6 +948,7 @@ contains
       s%role = lower(role)
       s%material = material
       s%velocity = velocity
+      s%angular_velocity = angular_velocity
       s%integration = lower(integration)
       s%stabilization = stabilization
       s%discretization = lower(discretization)
@@ -980,6 +992,13 @@ contains
       end if
     end do
     ! (each value given is of its type and in its range already: check_value)
+    if (s%angular_velocity /= 0.0_wp .and. (nd /= 2 .or. &
+      deck%run%geometry /= 'plane' .or. s%role == 'rigid')) then
+      call bad(deck, grp, 'angular_velocity', rtoa(s%angular_velocity), 'an initial '// &
+        'spin is for a deformable body in plane strain (ndim = 2, geometry = ''plane''); '// &
+        'give 0', err)
+      return
+    end if
     if (len_trim(s%shape) == 0) then
       call bad(deck, grp, 'shape', "''", 'give the shape, one of: '// &
         choices_text('body', 'shape'), err)

@@ -14,7 +14,7 @@ module dynamic_setup_m
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
   use cst4_m, only: cst4_mesh_t, cst4_tables
-  use solid_m, only: solid_t, solid_init, solid_quiet_init
+  use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin
   use material_m, only: material_constant_names, material_constant
   use stable_step_m, only: step_control_t, step_control_calibrate, spacing_step
   use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init, &
@@ -233,7 +233,19 @@ contains
     end if
     ! the foot-radius band of body_measures: one nominal spacing
     s%spacing = minval(b%spacing(1:b%ndim))
-    if (deck%solver%skip_quiet) call solid_quiet_init(s, bs%velocity(1:b%ndim))
+    call solid_set_gravity(s, deck%run%gravity(1:b%ndim))
+    if (bs%angular_velocity /= 0.0_wp) call solid_add_spin(s, bs%angular_velocity)
+    if (deck%solver%skip_quiet) then
+      call solid_quiet_init(s, bs%velocity(1:b%ndim))
+      ! quiet points are those still in the uniform initial motion: under gravity or a
+      ! spin no point is (a free fall strains nothing, but the skipping does not know it)
+      if (any(deck%run%gravity /= 0.0_wp) .or. bs%angular_velocity /= 0.0_wp) then
+        s%quiet_on = .false.
+        s%all_awake = .true.
+        s%awake = .true.
+        s%qact = .true.
+      end if
+    end if
     ! (read_deck refuses subcycle for anything but element meshes against rigid masters)
     s%sub%on = deck%solver%subcycle .and. s%t%interpolating
   end subroutine setup_solid

@@ -30,6 +30,7 @@ module solid_m
   public :: solid_t, solid_sub_t, solid_part_t, solid_state_t, solid_options_t, &
     solid_accounts_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
   public :: solid_kinetic_energy, solid_positions, solid_point_position, solid_body_sums
+  public :: solid_set_gravity, solid_add_spin
   public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_quiet_init, &
     solid_quiet_blocks
   public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node
@@ -168,6 +169,7 @@ module solid_m
     real(wp) :: epsbar_limit = huge(1.0_wp)      !< effective plastic strain limit (-)
     real(wp) :: deps_limit = huge(1.0_wp)        !< its increment in one step (-)
     real(wp) :: j_bounds(2) = [0.0_wp, huge(1.0_wp)]   !< J must stay inside (-)
+    real(wp) :: gravity(max_dim) = 0.0_wp        !< body force per unit mass (m/s^2)
   end type solid_options_t
 
   !> What a solid has received and spent since t = 0: the energy accounts (J, or J/m in
@@ -1137,15 +1139,16 @@ contains
     integer :: i, k, nd
     ! a fixed-size private du: one of the solid's dimension was a heap array per thread and
     ! per call (1% of the FEM benchmark's time loop)
-    real(wp) :: wbc, wc, du(max_dim)
+    real(wp) :: wbc, wc, wext, du(max_dim)
     logical :: listed
     nd = size(s%state%d, 1)
     listed = present(list)
     wbc = 0.0_wp
     wc = 0.0_wp
+    wext = 0.0_wp
     ke = 0.0_wp
     !$omp parallel do default(none) shared(s, dt, n, list, listed, nd) private(du, i) &
-    !$omp reduction(+: wbc, wc, ke) schedule(static)
+    !$omp reduction(+: wbc, wc, wext, ke) schedule(static)
     do k = 1, n
       i = k
       if (listed) i = list(k)
@@ -1169,13 +1172,57 @@ contains
       ! delivers to the body; w_contact counts both and nets to ~0)
       wbc = wbc - 0.5_wp*sum(merge(s%fcon(:, i), 0.0_wp, s%pres(:, i))*du(:nd))
       s%state%freac_old(:, i) = s%state%freac(:, i)
+      ! the body force (gravity), constant: its work is f_ext . du exactly (on a prescribed
+      ! component the reaction, which holds f_ext too, returns it in w_bc)
+      wext = wext + sum(s%fext(:, i)*du(:nd))
       s%state%ipoint(:, i) = s%state%ipoint(:, i) + 0.5_wp*dt*s%fpoint(:, i)
       ke = ke + 0.5_wp*s%t%mass(i)*sum(s%state%v(:, i)**2)
     end do
     !$omp end parallel do
     s%acc%w_bc = s%acc%w_bc + wbc
     s%acc%w_contact = s%acc%w_contact + wc
+    s%acc%w_ext = s%acc%w_ext + wext
   end subroutine advance_nodes
+
+  !> A uniform body force per unit mass g (gravity, m/s^2): f_ext = M_I g at every node
+  !! with the lumped masses (eq. 70), the same force a consistent mass would give for a
+  !! uniform field, since the lumped masses are its row sums. Kept in the options, so that
+  !! a rank's part sets its own from the whole solid's.
+  subroutine solid_set_gravity(s, g)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: g(:)
+    integer :: i, nd
+    nd = s%t%dims%ndim
+    s%opt%gravity = 0.0_wp
+    s%opt%gravity(1:nd) = g(1:nd)
+    do i = 1, s%np
+      s%fext(:, i) = s%t%mass(i)*s%opt%gravity(1:nd)
+    end do
+  end subroutine solid_set_gravity
+
+  !> An initial spin omega (rad/s, counter-clockwise, plane) about the centre of mass x_c
+  !! = sum M X / M: v_I += omega e3 x (X_I - x_c) on the components not prescribed. RK
+  !! shape functions reproduce linear fields, so the physical velocity is the rigid
+  !! rotation exactly; the kinetic energy at t = 0 is taken again.
+  subroutine solid_add_spin(s, omega)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: omega
+    real(wp) :: xc(max_dim), r(max_dim), w(max_dim)
+    integer :: i, nd
+    nd = s%t%dims%ndim
+    xc = 0.0_wp
+    do i = 1, s%np
+      xc(:nd) = xc(:nd) + s%t%mass(i)*s%x0(:, i)
+    end do
+    xc(:nd) = xc(:nd)/sum(s%t%mass)
+    do i = 1, s%np
+      r(:nd) = s%x0(:, i) - xc(:nd)
+      w(:nd) = omega*[-r(2), r(1)]   ! e3 x r: the plane (the deck allows a spin there only)
+      where (.not. s%pres(:, i)) s%state%v(:, i) = s%state%v(:, i) + w(:nd)
+    end do
+    s%acc%ke0 = solid_kinetic_energy(s)
+    s%acc%ke = s%acc%ke0
+  end subroutine solid_add_spin
 
   !> Sums over the solid's nodes (a rank's part: its owned nodes) for the history, from
   !! the coefficients of eqs. (65)-(67) with the lumped masses: v(1) the kinetic energy,
