@@ -1192,9 +1192,12 @@ contains
     type(solid_t), intent(inout) :: s
     real(wp), intent(in) :: g(:)
     integer :: i, nd
+    real(wp) :: gv(max_dim)
     nd = s%t%dims%ndim
-    s%opt%gravity = 0.0_wp
-    s%opt%gravity(1:nd) = g(1:nd)
+    ! (through a copy: a rank's part passes its own s%opt%gravity)
+    gv = 0.0_wp
+    gv(1:nd) = g(1:nd)
+    s%opt%gravity = gv
     do i = 1, s%np
       s%fext(:, i) = s%t%mass(i)*s%opt%gravity(1:nd)
     end do
