@@ -393,12 +393,95 @@ contains
   subroutine route_reactions(p, ia, ib)
     type(contact_pair_t), intent(inout), target :: p
     integer, intent(in) :: ia, ib
-    integer :: jj, j, e, i, q, k, n, nloc
+    integer :: nl, n0, n
+    call route_to_owners(p, ia, ib, 4, reaction, n0, n)
+    associate (db => p%dist%side(ib))
+      nl = db%nptr(size(db%to) + 1) - 1
+      db%f = 0.0_wp
+      call sum_records(db, db%sbuf(n0:n - 1), db%rbuf(1:nl))
+    end associate
+
+  contains
+
+    !> (master particle, slave particle, its share of the force) for end e of j's segment.
+    subroutine reaction(j, e, i, rec)
+      integer, intent(in) :: j, e, i
+      real(wp), intent(out) :: rec(:)
+      real(wp) :: w
+      w = p%side(ia)%xi(j)
+      if (e == 0) w = 1.0_wp - w
+      rec = [real(i, wp), real(j, wp), w*p%side(ia)%fphys(:, j)]
+    end subroutine reaction
+  end subroutine route_reactions
+
+  !> The shared effective mass (pass_forces): for each master particle of the rank's cloud
+  !! (own and ghosts), the sum S_i of the weights (1 - xi or xi) with which the active
+  !! slave particles of every rank load it. The records (master particle, slave particle,
+  !! weight) go to the owners of the segment ends, which sum them in the order of the
+  !! slave particles (as the serial pass does: the same bits) and send the sums of their
+  !! own particles along the ghost plan to the ranks that hold them as ghosts. Collective.
+  subroutine route_shares(p, ia, ib)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ia, ib
+    integer :: k, i, m, nl, n0, n
+    real(wp), allocatable :: rec(:, :), key(:)
+    integer, allocatable :: idx(:)
+    call route_to_owners(p, ia, ib, 3, share, n0, n)
+    associate (b => p%side(ib), db => p%dist%side(ib))
+      ! the owner's sums, in the order of the slave particles
+      nl = (n - n0)/3
+      m = (db%nptr(size(db%to) + 1) - 1)/3
+      allocate(rec(3, nl + m), key(nl + m), idx(nl + m))
+      rec(:, 1:nl) = reshape(db%sbuf(n0:n - 1), [3, nl])
+      rec(:, nl + 1:) = reshape(db%rbuf(1:3*m), [3, m])
+      key = rec(2, :)
+      call sort_index(key, idx)
+      b%share(db%own) = 0.0_wp
+      do k = 1, size(idx)
+        i = nint(rec(1, idx(k)))
+        b%share(i) = b%share(i) + rec(3, idx(k))
+      end do
+      ! the ghosts' sums from their owners
+      call ensure(db%sbuf, size(db%sids))
+      db%sbuf(1:size(db%sids)) = b%share(db%sids)
+      call p%dist%comm%sparse_exchange(db%to, db%sptr, db%sbuf(1:size(db%sids)), db%from, &
+        db%nptr(1:size(db%from) + 1), db%rbuf)
+      b%share(db%rids) = db%rbuf(1:size(db%rids))
+    end associate
+
+  contains
+
+    !> (master particle, slave particle, weight) for end e of j's segment.
+    subroutine share(j, e, i, rec)
+      integer, intent(in) :: j, e, i
+      real(wp), intent(out) :: rec(:)
+      real(wp) :: w
+      w = p%side(ia)%xi(j)
+      if (e == 0) w = 1.0_wp - w
+      rec = [real(i, wp), real(j, wp), w]
+    end subroutine share
+  end subroutine route_shares
+
+  !> Records of width nw about the two segment ends of each own active particle of side ia
+  !! (make(j, e, i, rec): end e, 0 or 1, master particle i), each sent to the owner of its
+  !! master particle (back along the ghost plan, to the ranks the ghosts came from). On
+  !! return the records this rank owns are db%sbuf(n0:n-1) (its own, in the order of its
+  !! slave particles) and db%rbuf(1:db%nptr(size(db%to)+1)-1) (the other ranks'). Collective.
+  subroutine route_to_owners(p, ia, ib, nw, make, n0, n)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ia, ib, nw
+    interface
+      subroutine make(j, e, i, rec)
+        import :: wp
+        integer, intent(in) :: j, e, i
+        real(wp), intent(out) :: rec(:)
+      end subroutine make
+    end interface
+    integer, intent(out) :: n0, n
+    integer :: jj, j, e, i, q, k, nloc
     integer :: slot(0:p%dist%comm%nranks - 1), cnt(size(p%dist%side(ib)%from))
-    real(wp) :: c(2)
-    associate (a => p%side(ia), b => p%side(ib), db => p%dist%side(ib), &
-      me => p%dist%comm%me)
-      ! the messages go back along the ghost plan: to the ranks the ghosts came from
+    real(wp) :: rec(nw)
+    associate (a => p%side(ia), db => p%dist%side(ib), me => p%dist%comm%me)
       slot = 0
       do k = 1, size(db%from)
         slot(db%from(k)) = k
@@ -419,39 +502,32 @@ contains
       end do
       db%mptr(1) = 1
       do k = 1, size(db%from)
-        db%mptr(k + 1) = db%mptr(k) + 4*cnt(k)
+        db%mptr(k + 1) = db%mptr(k) + nw*cnt(k)
       end do
-      call ensure(db%sbuf, db%mptr(size(db%from) + 1) - 1 + 4*nloc)
+      call ensure(db%sbuf, db%mptr(size(db%from) + 1) - 1 + nw*nloc)
       ! own master particles' records after the messages, in the same buffer
-      n = db%mptr(size(db%from) + 1)
+      n0 = db%mptr(size(db%from) + 1)
+      n = n0
       cnt = 0
       do jj = 1, a%nlist
         j = a%list(jj)
         if (.not. a%active(j)) cycle
         do e = 0, 1
           i = seg_end(j, e)
-          if (e == 0) then
-            c = (1.0_wp - a%xi(j))*a%fphys(:, j)
-          else
-            c = a%xi(j)*a%fphys(:, j)
-          end if
+          call make(j, e, i, rec)
           q = db%owner(i)
           if (q == me) then
-            db%sbuf(n:n + 3) = [real(i, wp), real(j, wp), c]
-            n = n + 4
+            db%sbuf(n:n + nw - 1) = rec
+            n = n + nw
           else
             k = slot(q)
-            db%sbuf(db%mptr(k) + 4*cnt(k):db%mptr(k) + 4*cnt(k) + 3) = [real(i, wp), &
-              real(j, wp), c]
+            db%sbuf(db%mptr(k) + nw*cnt(k):db%mptr(k) + nw*cnt(k) + nw - 1) = rec
             cnt(k) = cnt(k) + 1
           end if
         end do
       end do
       call p%dist%comm%sparse_exchange(db%from, db%mptr(1:size(db%from) + 1), db%sbuf, &
         db%to, db%nptr(1:size(db%to) + 1), db%rbuf)
-      db%f = 0.0_wp
-      call sum_records(db, db%sbuf(db%mptr(size(db%from) + 1):n - 1), &
-        db%rbuf(1:db%nptr(size(db%to) + 1) - 1))
     end associate
 
   contains
@@ -465,104 +541,7 @@ contains
         i = p%side(ib)%surface%i1(p%side(ia)%seg(j))
       end if
     end function seg_end
-  end subroutine route_reactions
-
-  !> The shared effective mass (pass_forces): for each master particle of the rank's cloud
-  !! (own and ghosts), the sum S_i of the weights (1 - xi or xi) with which the active
-  !! slave particles of every rank load it. Each rank sends the records (master particle,
-  !! slave particle, weight) of its own active slave particles to the owners of the
-  !! segment ends, the owner sums them in the order of the slave particles (as the serial
-  !! pass does: the same bits), and sends the sums of its own particles along the ghost
-  !! plan to the ranks that hold them as ghosts. Collective.
-  subroutine route_shares(p, ia, ib)
-    type(contact_pair_t), intent(inout), target :: p
-    integer, intent(in) :: ia, ib
-    integer :: jj, j, e, i, q, k, n, nloc, m, nl
-    integer :: slot(0:p%dist%comm%nranks - 1), cnt(size(p%dist%side(ib)%from))
-    real(wp) :: w
-    real(wp), allocatable :: rec(:, :), key(:)
-    integer, allocatable :: idx(:)
-    associate (a => p%side(ia), b => p%side(ib), db => p%dist%side(ib), &
-      me => p%dist%comm%me)
-      slot = 0
-      do k = 1, size(db%from)
-        slot(db%from(k)) = k
-      end do
-      cnt = 0
-      nloc = 0
-      do jj = 1, a%nlist
-        j = a%list(jj)
-        if (.not. a%active(j)) cycle
-        do e = 0, 1
-          q = db%owner(end_of(j, e))
-          if (q == me) then
-            nloc = nloc + 1
-          else
-            cnt(slot(q)) = cnt(slot(q)) + 1
-          end if
-        end do
-      end do
-      db%mptr(1) = 1
-      do k = 1, size(db%from)
-        db%mptr(k + 1) = db%mptr(k) + 3*cnt(k)
-      end do
-      call ensure(db%sbuf, db%mptr(size(db%from) + 1) - 1 + 3*nloc)
-      n = db%mptr(size(db%from) + 1)
-      cnt = 0
-      do jj = 1, a%nlist
-        j = a%list(jj)
-        if (.not. a%active(j)) cycle
-        do e = 0, 1
-          i = end_of(j, e)
-          w = a%xi(j)
-          if (e == 0) w = 1.0_wp - a%xi(j)
-          q = db%owner(i)
-          if (q == me) then
-            db%sbuf(n:n + 2) = [real(i, wp), real(j, wp), w]
-            n = n + 3
-          else
-            k = slot(q)
-            db%sbuf(db%mptr(k) + 3*cnt(k):db%mptr(k) + 3*cnt(k) + 2) = [real(i, wp), &
-              real(j, wp), w]
-            cnt(k) = cnt(k) + 1
-          end if
-        end do
-      end do
-      call p%dist%comm%sparse_exchange(db%from, db%mptr(1:size(db%from) + 1), db%sbuf, &
-        db%to, db%nptr(1:size(db%to) + 1), db%rbuf)
-      ! the owner's sums, in the order of the slave particles
-      nl = (n - db%mptr(size(db%from) + 1))/3
-      m = (db%nptr(size(db%to) + 1) - 1)/3
-      allocate(rec(3, nl + m), key(nl + m), idx(nl + m))
-      rec(:, 1:nl) = reshape(db%sbuf(db%mptr(size(db%from) + 1):n - 1), [3, nl])
-      rec(:, nl + 1:) = reshape(db%rbuf(1:3*m), [3, m])
-      key = rec(2, :)
-      call sort_index(key, idx)
-      b%share(db%own) = 0.0_wp
-      do k = 1, size(idx)
-        i = nint(rec(1, idx(k)))
-        b%share(i) = b%share(i) + rec(3, idx(k))
-      end do
-      ! the ghosts' sums from their owners
-      call ensure(db%sbuf, size(db%sids))
-      db%sbuf(1:size(db%sids)) = b%share(db%sids)
-      call p%dist%comm%sparse_exchange(db%to, db%sptr, db%sbuf(1:size(db%sids)), db%from, &
-        db%nptr(1:size(db%from) + 1), db%rbuf)
-      b%share(db%rids) = db%rbuf(1:size(db%rids))
-    end associate
-
-  contains
-
-    !> End e (0: first, 1: second) of the master segment slave particle j hit.
-    integer function end_of(j, e) result(i)
-      integer, intent(in) :: j, e
-      if (e == 0) then
-        i = p%side(ib)%surface%i0(p%side(ia)%seg(j))
-      else
-        i = p%side(ib)%surface%i1(p%side(ia)%seg(j))
-      end if
-    end function end_of
-  end subroutine route_shares
+  end subroutine route_to_owners
 
   !> The records (master particle, slave particle, force) of rl and rr subtracted into
   !! ds%f in the order of the slave particles (per master particle the serial order).
