@@ -96,6 +96,13 @@ module contact_pair_m
     !! eq. (93) forces, since a force added to a_n gives the velocity the impulse dt/2 f
     !! (eq. 63) and is absent at n+1.
     real(wp) :: force_normal = 0.0_wp
+    !> the same for the friction forces of eqs. (94)-(96): half the sum of their
+    !! magnitudes (N, N/m)
+    real(wp) :: force_tangential = 0.0_wp
+    !> the resultant contact force on the slave body over the step (N, N/m), half the sum
+    !! of the slave particles' forces and of the opposites of the master particles' (the
+    !! second condition of eq. 28), in x, y (plane) or r, z: the force the pair transmits
+    real(wp) :: force_slave(2) = 0.0_wp
     real(wp) :: radius = 0.0_wp         !< largest x1 of a contacting particle (m)
     real(wp) :: pen_before = 0.0_wp     !< deepest predicted penetration (m, >= 0)
     real(wp) :: pen_after = 0.0_wp      !< deepest penetration left after the correction (m)
@@ -929,13 +936,19 @@ contains
     integer(i64), intent(out) :: ncon
     integer :: j, jj, i0, i1
     real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
-    real(wp) :: dxb(2)
+    real(wp) :: dxb(2), ftsum, fx, fy, sgn
     logical :: stick
     ! forces (eqs. 93-96) at the penetrating particles, whichever detector found them
     ncon = 0
     pen = 0.0_wp
     rad = 0.0_wp
     fnsum = 0.0_wp
+    ftsum = 0.0_wp
+    fx = 0.0_wp
+    fy = 0.0_wp
+    ! the step's first pass pushes the slave's particles, the second the master's (their
+    ! forces act on the slave with the opposite sign)
+    sgn = merge(1.0_wp, -1.0_wp, count_stats)
     ! shared effective mass: how much of each master node the particles load together (on
     ! ranks, route_shares has summed them over the ranks' slave particles)
     if (p%shared_mass .and. b%isolid > 0 .and. .not. allocated(p%dist)) then
@@ -948,9 +961,9 @@ contains
         b%share(i1) = b%share(i1) + a%xi(j)
       end do
     end if
-    !$omp parallel do default(none) shared(a, b, dt, p) &
+    !$omp parallel do default(none) shared(a, b, dt, p, sgn) &
     !$omp private(j, g, nrm, tng, slip, fj, stick, xi, i0, i1, invmb, meff, dxb) &
-    !$omp reduction(+: ncon, fnsum) reduction(max: pen, rad) schedule(static)
+    !$omp reduction(+: ncon, fnsum, ftsum, fx, fy) reduction(max: pen, rad) schedule(static)
     do jj = 1, a%nlist
       j = side_particle(a, jj)
       a%fphys(:, j) = 0.0_wp
@@ -983,6 +996,9 @@ contains
       a%fphys(:, j) = fj
       ncon = ncon + 1
       fnsum = fnsum + dot_product(fj, a%nrm(:, j))
+      ftsum = ftsum + abs(dot_product(fj, a%tng(:, j)))
+      fx = fx + sgn*fj(1)
+      fy = fy + sgn*fj(2)
       pen = max(pen, -a%gap(j))
       rad = max(rad, a%x_pred(1, j))
     end do
@@ -995,6 +1011,8 @@ contains
       p%step%n_contact = int(ncon)
       p%step%n_flagged = int(ndet)
       p%step%force_normal = 0.5_wp*fnsum
+      p%step%force_tangential = 0.5_wp*ftsum
+      p%step%force_slave = 0.5_wp*[fx, fy]
       p%step%radius = rad
       p%step%pen_before = pen
       if (p%edge > 0) p%step%edge_in_contact = a%active(p%edge)
@@ -1002,6 +1020,8 @@ contains
       p%step%n_contact = p%step%n_contact + int(ncon)
       p%step%n_flagged = p%step%n_flagged + int(ndet)
       p%step%force_normal = p%step%force_normal + 0.5_wp*fnsum
+      p%step%force_tangential = p%step%force_tangential + 0.5_wp*ftsum
+      p%step%force_slave = p%step%force_slave + 0.5_wp*[fx, fy]
       p%step%radius = max(p%step%radius, rad)
       p%step%pen_before = max(p%step%pen_before, pen)
     end if

@@ -66,6 +66,20 @@ module dynamic_output_m
   character(len=*), parameter :: body_axi_descr(2) = [character(len=96) :: &
     'kinetic energy of the body', 'momentum of the body along the axis']
 
+  !> Columns of /history/contacts/contact<k>/ for each &contact pair k (in deck order): the
+  !! mean normal and friction forces of the step (half the sums of the eq. (93) and
+  !! (94)-(96) magnitudes: the impulse dt/2 f each gives, over dt) and the resultant force on
+  !! the slave body, in x, y (r, z in axisymmetry).
+  character(len=*), parameter :: pair_plane_names(4) = [character(len=16) :: &
+    'force_normal', 'force_tangential', 'force_x', 'force_y']
+  character(len=*), parameter :: pair_axi_names(4) = [character(len=16) :: &
+    'force_normal', 'force_tangential', 'force_r', 'force_z']
+  character(len=*), parameter :: pair_descr(4) = [character(len=96) :: &
+    'mean normal contact force of the step (half the sum of the eq. 93 forces)', &
+    'mean friction force of the step (half the sum of the eq. 94-96 magnitudes)', &
+    'resultant contact force on the slave body, first component', &
+    'resultant contact force on the slave body, second component']
+
   !> History rows kept in memory until flushed to the file: the run's columns
   !! (history_names), then those of each deformable body (body_columns).
   type :: history_t
@@ -84,25 +98,30 @@ contains
     if (plane) n = size(body_plane_names)
   end function body_columns
 
-  !> Columns of a history row with nbodies deformable bodies.
-  pure integer function history_width(nbodies, plane) result(n)
-    integer, intent(in) :: nbodies
+  !> Columns of a history row with nbodies deformable bodies, npairs contact pairs and nbcs
+  !! &bc groups.
+  pure integer function history_width(nbodies, npairs, nbcs, plane) result(n)
+    integer, intent(in) :: nbodies, npairs, nbcs
     logical, intent(in) :: plane
-    n = size(history_names) + nbodies*body_columns(plane)
+    n = size(history_names) + nbodies*body_columns(plane) + npairs*size(pair_plane_names) + &
+      nbcs
   end function history_width
 
   !> Create /history with one extendible dataset per column, and /history/bodies/<name>/
   !! with those of each deformable body (names, in the order of the solids).
-  subroutine history_create(f, h, names, plane, err)
+  subroutine history_create(f, h, names, npairs, nbcs, plane, err)
     type(h5file_t), intent(in) :: f
     type(history_t), intent(out) :: h
     character(len=*), intent(in) :: names(:)
+    integer, intent(in) :: npairs, nbcs
     logical, intent(in) :: plane
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, b, c, nc
-    nc = history_width(size(names), plane)
+    character(len=:), allocatable :: g
+    nc = history_width(size(names), npairs, nbcs, plane)
     allocate(h%rows(nc, 1024))
-    allocate(character(len=len('/history/bodies//') + len(names) + 16) :: h%paths(nc))
+    allocate(character(len=max(len('/history/bodies//') + len(names), 40) + 16) :: &
+      h%paths(nc))
     call h5_group(f, '/history', err)
     do k = 1, size(history_names)
       if (allocated(err)) return
@@ -127,6 +146,31 @@ contains
             trim(body_axi_descr(c)))
         end if
       end do
+    end do
+    if (npairs > 0 .and. .not. allocated(err)) call h5_group(f, '/history/contacts', err)
+    do b = 1, npairs
+      g = '/history/contacts/contact'//itoa(b)
+      if (.not. allocated(err)) call h5_group(f, g, err)
+      do c = 1, size(pair_plane_names)
+        if (allocated(err)) return
+        k = k + 1
+        h%paths(k) = g//'/'//trim(merge(pair_plane_names(c), pair_axi_names(c), plane))
+        call h5_series_create(f, trim(h%paths(k)), plane_units('N'), err, &
+          trim(pair_descr(c)))
+      end do
+    end do
+    ! /history/bcs/bc<k>/reaction: the force the k-th &bc group exerts on its body, in its
+    ! component (R = f_int - f_ext summed over the nodes it holds)
+    if (nbcs > 0 .and. .not. allocated(err)) call h5_group(f, '/history/bcs', err)
+    do b = 1, nbcs
+      if (allocated(err)) return
+      g = '/history/bcs/bc'//itoa(b)
+      call h5_group(f, g, err)
+      k = k + 1
+      h%paths(k) = g//'/reaction'
+      if (.not. allocated(err)) call h5_series_create(f, trim(h%paths(k)), &
+        plane_units('N'), err, 'force the &bc group exerts on its body, in its component '// &
+        '(sum of f_int - f_ext over the components it holds)')
     end do
 
   contains

@@ -523,10 +523,10 @@ contains
     if (.not. allocated(err)) then
       ! the run's columns and those of each deformable body (history_create)
       ncol = history_width(count(deck%bodies(1:deck%nbodies)%role /= 'rigid'), &
-        deck%run%geometry /= 'axisymmetric')
+        deck%ncontacts, deck%nbcs, deck%run%geometry /= 'axisymmetric')
       if (dims(1) /= ncol) call set_error(err, 'its history rows have '//itoa(dims(1))// &
         ' columns, this run writes '//itoa(ncol)//' (a checkpoint of an mfcd before '// &
-        'the per-body history?): run the deck from t = 0')
+        'the per-body and per-pair history?): run the deck from t = 0')
     end if
     if (.not. allocated(err)) then
       allocate(hist%rows(dims(1), max(dims(2), 1024)))

@@ -69,7 +69,7 @@ contains
     if (.not. allocated(err)) call h5_group(out%f, '/snapshots', err)
     if (.not. allocated(err)) call history_create(out%f, out%hist, &
       pack(deck%bodies(1:deck%nbodies)%name, deck%bodies(1:deck%nbodies)%role /= 'rigid'), &
-      deck%run%geometry /= 'axisymmetric', err)
+      deck%ncontacts, deck%nbcs, deck%run%geometry /= 'axisymmetric', err)
     if (allocated(err)) call abandon(out, err)
   end subroutine run_files_open
 

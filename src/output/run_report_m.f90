@@ -428,9 +428,17 @@ contains
       ' s (-1: never)'
     do k = 1, size(solids)
       m = body_measures(solids(k))
-      write(output_unit, '(a,es12.5,a,es12.5,a,es12.5,a,f8.4)') 'summary: body '''// &
-        trim(solids(k)%name)//''': length ', m%length, ' m, width ', m%width, &
-        ' m, foot radius ', m%foot_radius, ' m, max epsbar ', m%max_epsbar
+      if (solids(k)%t%axisym) then
+        ! a body of revolution: the Taylor bar's measures (length along the axis, the
+        ! largest radius, the foot's radius within one spacing of its lowest point)
+        write(output_unit, '(a,es12.5,a,es12.5,a,es12.5,a,f8.4)') 'summary: body '''// &
+          trim(solids(k)%name)//''': length (z extent) ', m%length, ' m, width (r extent) ', &
+          m%width, ' m, foot radius ', m%foot_radius, ' m, max epsbar ', m%max_epsbar
+      else
+        write(output_unit, '(a,es12.5,a,es12.5,a,f8.4)') 'summary: body '''// &
+          trim(solids(k)%name)//''': extent ', m%width, ' m in x, ', m%length, &
+          ' m in y, max epsbar ', m%max_epsbar
+      end if
     end do
     write(output_unit, '(a,f8.2,a,6(a,f5.1,a))') 'summary: time loop ', r%t_loop, ' s: ', &
       'kinematics ', 100.0_wp*sh(1), '%, ', 'material ', 100.0_wp*sh(2), '%, ', &

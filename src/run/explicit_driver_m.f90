@@ -21,7 +21,7 @@ module explicit_driver_m
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, &
-    solid_update, solid_share_corrections, solid_body_sums
+    solid_update, solid_share_corrections, solid_body_sums, solid_bc_reactions
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t
   use body_measures_m, only: measures_t
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
@@ -88,7 +88,8 @@ contains
     if (dom%any_error(err)) return
     ckpt_every = deck%output%checkpoint_every
     call output_intervals(deck, r%nsteps_est, log_every, hist_every)
-    allocate(row(history_width(size(solids), .not. solids(1)%t%axisym)))
+    allocate(row(history_width(size(solids), size(pairs), deck%nbcs, &
+      .not. solids(1)%t%axisym)))
     if (dom%root) call run_files_open(deck, bodies, out, err, restart)
     if (dom%any_error(err)) return
     whole => dom%whole(solids, .false.)
@@ -110,7 +111,7 @@ contains
         if (dom%root) call run_files_close(out, r, whole, err)
         return
       end if
-      call history_row_now(dom, solids, r, en, row)
+      call history_row_now(dom, solids, pairs, r, en, row)
       if (dom%root) call history_push(out%hist, row)
     end if
     if (dom%root) then
@@ -158,7 +159,7 @@ contains
       ! only: a history row's measures are maxima over the ranks)
       if (r%failed .or. snapshot_near(deck, r)) whole => dom%whole(solids, .false.)
       if (mod(r%n, hist_every) == 0 .or. r%failed) then
-        call history_row_now(dom, solids, r, en, row)
+        call history_row_now(dom, solids, pairs, r, en, row)
         if (dom%root) call history_push(out%hist, row)
       end if
       if (dom%root .and. (mod(r%n, log_every) == 0 .or. r%failed)) call log_line(r, en)
@@ -184,7 +185,7 @@ contains
     call dom%counters(pairs, .false.)
     call dom%finish(solids, pairs, r)
     if (.not. r%failed .and. mod(r%n, hist_every) /= 0) &
-      call history_row_now(dom, solids, r, en, row)
+      call history_row_now(dom, solids, pairs, r, en, row)
     if (dom%root) then
       if (r%failed) then
         call failure_snapshot(out, r, whole, err)
@@ -292,9 +293,10 @@ contains
   !! momentum, and in plane strain its angular momentum about its centre of mass,
   !! L_o - x_c x P with L_o about the origin and x_c = sum M x / M (sums over the ranks'
   !! parts).
-  subroutine history_row_now(dom, solids, r, en, row)
+  subroutine history_row_now(dom, solids, pairs, r, en, row)
     class(run_domain_t), intent(inout) :: dom
     type(solid_t), intent(inout) :: solids(:)
+    type(contact_pair_t), intent(in) :: pairs(:)
     type(run_record_t), intent(in) :: r
     type(energies_t), intent(in) :: en
     real(wp), intent(inout) :: row(:)
@@ -326,6 +328,20 @@ contains
         c = c + 2 + nd
       end if
     end do
+    ! each pair's forces of the step (on ranks summed by dom%contact_stats)
+    do k = 1, size(pairs)
+      row(c + 1:c + 4) = [pairs(k)%step%force_normal, pairs(k)%step%force_tangential, &
+        pairs(k)%step%force_slave]
+      c = c + 4
+    end do
+    ! each &bc group's reaction force, summed over the solids (and the ranks)
+    if (c < size(row)) then
+      row(c + 1:) = 0.0_wp
+      do k = 1, size(solids)
+        call solid_bc_reactions(solids(k), row(c + 1:))
+      end do
+      if (dom%comm%nranks > 1) call dom%comm%sum_real(row(c + 1:))
+    end if
   end subroutine history_row_now
 
   !> Every solid's largest kappa over the ranks: the same step everywhere.

@@ -204,6 +204,7 @@ contains
     type(error_t), allocatable :: e2
     logical, allocatable :: pres(:, :)
     real(wp), allocatable :: vpres(:, :)
+    integer, allocatable :: bc_of(:, :)
     character(len=:), allocatable :: where
     type(cst4_mesh_t) :: mesh
     real(wp) :: alpha
@@ -223,7 +224,7 @@ contains
       call set_error(err, where//": "//e2%message)
       return
     end if
-    call kinematic_masks(deck, k, b, pres, vpres, err)
+    call kinematic_masks(deck, k, b, pres, vpres, bc_of, err)
     if (allocated(err)) return
     call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
       bs%velocity(1:b%ndim), pres, vpres, e2)
@@ -231,6 +232,7 @@ contains
       call set_error(err, where//": "//e2%message)
       return
     end if
+    call move_alloc(bc_of, s%bc_of)
     ! the foot-radius band of body_measures: one nominal spacing
     s%spacing = minval(b%spacing(1:b%ndim))
     call solid_set_gravity(s, deck%run%gravity(1:b%ndim))
@@ -253,17 +255,19 @@ contains
   !> The deck's &bc groups of body k as masks over the nodes' reference positions: a node
   !! inside a group's box has that component prescribed (held at 0 for 'fixed', moved at
   !! the given velocity for 'velocity').
-  subroutine kinematic_masks(deck, k, b, pres, vpres, err)
+  subroutine kinematic_masks(deck, k, b, pres, vpres, bc_of, err)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
     type(body_t), intent(in) :: b
     logical, allocatable, intent(out) :: pres(:, :)
     real(wp), allocatable, intent(out) :: vpres(:, :)
+    integer, allocatable, intent(out) :: bc_of(:, :)   !< the group of each (the last)
     type(error_t), allocatable, intent(inout) :: err
     integer :: j, i, c, nsel
-    allocate(pres(b%ndim, b%np), vpres(b%ndim, b%np))
+    allocate(pres(b%ndim, b%np), vpres(b%ndim, b%np), bc_of(b%ndim, b%np))
     pres = .false.
     vpres = 0.0_wp
+    bc_of = 0
     do j = 1, deck%nbcs
       if (deck%bcs(j)%ibody /= k) cycle
       c = deck%bcs(j)%component
@@ -273,6 +277,7 @@ contains
           all(b%x(:, i) <= deck%bcs(j)%region_hi(1:b%ndim))) then
           pres(c, i) = .true.
           vpres(c, i) = merge(deck%bcs(j)%value, 0.0_wp, deck%bcs(j)%kind == 'velocity')
+          bc_of(c, i) = j
           nsel = nsel + 1
         end if
       end do

@@ -30,7 +30,7 @@ module solid_m
   public :: solid_t, solid_sub_t, solid_part_t, solid_state_t, solid_options_t, &
     solid_accounts_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
   public :: solid_kinetic_energy, solid_positions, solid_point_position, solid_body_sums
-  public :: solid_set_gravity, solid_add_spin
+  public :: solid_set_gravity, solid_add_spin, solid_bc_reactions
   public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_quiet_init, &
     solid_quiet_blocks
   public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node
@@ -197,6 +197,9 @@ module solid_m
     real(wp), allocatable :: vpres(:, :)         !< its value (m/s)
     ! work space of a step, recomputed from the state
     real(wp), allocatable :: fint(:, :), fext(:, :)      !< (ndim, np) (N)
+    !> the deck's &bc group that prescribes each component (ndim, np), 0 for none (or the
+    !! symmetry axis): whose reaction force it is (solid_bc_reactions)
+    integer, allocatable :: bc_of(:, :)
     real(wp), allocatable :: fcon(:, :)          !< contact forces on the coefficients (N)
     !> contact forces at the nodes' physical points this step, before eq. (98) spreads them
     !! (action and reaction of every pass; N)
@@ -1226,6 +1229,26 @@ contains
     s%acc%ke0 = solid_kinetic_energy(s)
     s%acc%ke = s%acc%ke0
   end subroutine solid_add_spin
+
+  !> The reaction force of each &bc group on the solid (N, or N/m in plane strain), summed
+  !! into v(k) for group k over the solid's nodes (a rank's part: its owned nodes): the
+  !! force the condition exerts on the body to hold its components, R = f_int - f_ext at
+  !! the end of the step (the contact forces of the step act at n only and are not in it).
+  subroutine solid_bc_reactions(s, v)
+    type(solid_t), intent(in) :: s
+    real(wp), intent(inout) :: v(:)
+    integer :: k, i, n, c
+    if (.not. allocated(s%bc_of)) return
+    n = s%np
+    if (s%part%on) n = size(s%part%own_n)
+    do k = 1, n
+      i = k
+      if (s%part%on) i = s%part%own_n(k)
+      do c = 1, size(s%bc_of, 1)
+        if (s%bc_of(c, i) > 0) v(s%bc_of(c, i)) = v(s%bc_of(c, i)) + s%state%freac(c, i)
+      end do
+    end do
+  end subroutine solid_bc_reactions
 
   !> Sums over the solid's nodes (a rank's part: its owned nodes) for the history, from
   !! the coefficients of eqs. (65)-(67) with the lumped masses: v(1) the kinetic energy,

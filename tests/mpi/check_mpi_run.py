@@ -138,6 +138,19 @@ def compare(tag, ref, new, record=True, continued=False):
     for c in ha:
         if c not in hb or ha[c].shape != hb[c].shape:
             exact.append(c)
+        elif c.startswith("bcs/"):
+            # each &bc group's reaction: sums over the ranks' nodes
+            bscale = max([np.max(np.abs(ha[k])) for k in ha if k.startswith("bcs/")]
+                         + [1e-300])
+            if not np.all(np.abs(ha[c] - hb[c]) <= 1e-12 * bscale):
+                close.append((c, float(np.max(np.abs(ha[c] - hb[c]))) / bscale))
+        elif c.startswith("contacts/"):
+            # each pair's forces: sums over the ranks' particles, against the run's
+            # largest pair force
+            fscale = max([np.max(np.abs(ha[k])) for k in ha if k.startswith("contacts/")]
+                         + [1e-300])
+            if not np.all(np.abs(ha[c] - hb[c]) <= 1e-12 * fscale):
+                close.append((c, float(np.max(np.abs(ha[c] - hb[c]))) / fscale))
         elif c.startswith("bodies/"):
             ref_scale = scale if c.endswith("/ke") else pscale * (
                 xmax if c.endswith("angular_momentum") else 1.0)
@@ -152,7 +165,7 @@ def compare(tag, ref, new, record=True, continued=False):
             exact.append(c)
     check(f"{tag}: /history columns from the state equal, bit for bit ({len(ha)} columns, "
           f"{len(ha['time'])} rows)", not exact, exact)
-    check(f"{tag}: /history energies, contact force and body momenta within 1e-12 of "
+    check(f"{tag}: /history energies, contact forces and body momenta within 1e-12 of "
           "their scale",
           not close, close)
     check(f"{tag}: /summary status {sb['status']}, {sb['steps']} steps, as the serial run",

@@ -24,7 +24,9 @@ Checks, each independent of the contact work w_contact except the first:
   - free plate: the momentum of disk plus plate (/history/bodies) constant to 1e-10 of the
     initial (internal forces have no resultant and contact forces act in pairs; the sums
     of 1000 steps of round-off stay near 1e-14: 1e-10 flags any force without its
-    reaction);
+    reaction); the pair's resultant force on the disk (/history/contacts, every step)
+    times dt sums to the disk's momentum change, and its friction impulse stays within mu
+    times its normal impulse (none with mu = 0);
   - held plate, the full 40 us: the disk separates, its normal restitution e = v_y,out /
     86.6 m/s in (0, 1) (measured 0.25 by both plates), its tangential speed in (0, 50] m/s
     (friction and plowing slow it, nothing pushes it forward), its spin clockwise (the
@@ -32,7 +34,9 @@ Checks, each independent of the contact work w_contact except the first:
     |L| <= mu R |dp_y| (the spin's impulse R f_t cannot exceed mu times the normal
     impulse; measured 0.67 of the bound);
   - the RKPM and CST4 plates give the same rebound within 2% (measured 0.8%);
-  - the penetration left after each correction below 1% of the disk's spacing.
+  - the penetration left after each correction below 1% of the disk's spacing;
+  - held plate, every step: its &bc reactions' impulse plus the contact impulse on it is
+    its momentum change (/history/bcs; to round-off).
 Exit 77 (skipped) when the build has no gmsh (the disk is meshed from the .geo).
 
 Usage: check_disk_plate.py MFCD ROOT
@@ -66,7 +70,8 @@ def variant(text, free=False, mu=None, t_end=None, disk_fem=False):
         text = re.sub(r"(?m)^(\s*mu\s*=\s*)[0-9.eE+-]+", rf"\g<1>{mu}", text)
     if t_end is not None:
         text = re.sub(r"(?m)^(\s*t_end\s*=\s*)[0-9.eE+-]+", rf"\g<1>{t_end}", text)
-        text = re.sub(r"(?m)^\s*snapshot_times\s*=.*\n", "", text)
+        # a history row every step: the pair's forces times dt sum to its impulse
+        text = re.sub(r"(?m)^\s*snapshot_times\s*=.*\n", "  history_every = 1\n", text)
     if disk_fem:
         text = re.sub(r"(?s)(name = 'disk'.*?discretization = )'rkpm'", r"\1'fem'", text)
     return text
@@ -96,6 +101,51 @@ def common(tag, path):
     pen = np.max(h["penetration"]) / H
     check(f"{tag}: penetration left {pen:.2%} of the spacing < 1%", pen < 0.01, pen)
     return disk, plate
+
+
+def pair_impulse(tag, path, mu):
+    """/history/contacts/contact1 (every step): the resultant force on the disk times dt
+    sums to the disk's momentum change (its only force; exact: the force is defined as the
+    impulse dt/2 f the velocity update gives, over dt), and the friction impulse stays
+    within mu times the normal impulse (Coulomb, eq. 95, summed)."""
+    with MfcdFile(path) as f:
+        h = f.history()
+        disk = f.body_history("disk")
+    dt = h["dt"][1:]
+    for c in ("x", "y"):
+        imp = np.sum(h["contacts/contact1/force_" + c][1:] * dt)
+        dp = disk["momentum_" + c][-1] - disk["momentum_" + c][0]
+        err = abs(imp - dp) / np.hypot(disk["momentum_x"][0], disk["momentum_y"][0])
+        check(f"{tag}: pair force {c} x dt = the disk's momentum change ({err:.1e} < 1e-12)",
+              err < 1e-12, (imp, dp))
+    jn = np.sum(h["contacts/contact1/force_normal"][1:] * dt)
+    jt = np.sum(h["contacts/contact1/force_tangential"][1:] * dt)
+    if mu > 0:
+        check(f"{tag}: friction impulse {jt / (mu * jn):.2f} of mu x normal impulse (<= 1)",
+              jt <= mu * jn * (1 + 1e-12), (jt, jn))
+    else:
+        # (f = f_n n, so f . t is the round-off of n . t)
+        check(f"{tag}: no friction force with mu = 0 ({jt / jn:.1e} of the normal impulse)",
+              jt <= 1e-12 * jn, jt)
+
+
+def held_balance(tag, path):
+    """The held plate's momentum balance (every step): the impulse of its &bc reactions
+    (/history/bcs, the trapezoid dt (R_n + R_n+1)/2 the velocity update gives them) plus
+    that of the contact forces on it (minus the pair's resultant on the disk) is the
+    plate's momentum change, to round-off."""
+    with MfcdFile(path) as f:
+        h = f.history()
+        plate = f.body_history("plate")
+    dt = h["dt"][1:]
+    for c, bc in (("x", "bcs/bc1/reaction"), ("y", "bcs/bc2/reaction")):
+        r = h[bc]
+        jr = np.sum(dt * 0.5 * (r[:-1] + r[1:]))
+        jc = -np.sum(dt * h["contacts/contact1/force_" + c][1:])
+        dp = plate["momentum_" + c][-1] - plate["momentum_" + c][0]
+        err = abs(jr + jc - dp) / abs(jc)
+        check(f"{tag}: &bc reaction + contact impulse = the plate's momentum change, {c} "
+              f"({err:.1e} < 1e-12)", err < 1e-12, (jr, jc, dp))
 
 
 def free_momentum(tag, disk, plate):
@@ -136,15 +186,17 @@ def main():
     if len(e) == 2:
         d = abs(e["rkpm"] / e["fem"] - 1)
         check(f"RKPM and CST4 plates: the same rebound ({d:.2%} < 2%)", d < 0.02, e)
-    for tag, text in (("rkpm_free", variant(rk, free=True, mu=0.0, t_end=20.0e-6)),
-                      ("fem_free", variant(fe, free=True, t_end=20.0e-6))):
+    for tag, text, mu in (("rkpm_free", variant(rk, free=True, mu=0.0, t_end=20.0e-6), 0.0),
+                          ("fem_free", variant(fe, free=True, t_end=20.0e-6), MU)):
         path = run(tag, text, work)
         if path:
             disk, plate = common(tag, path)
             free_momentum(tag, disk, plate)
+            pair_impulse(tag, path, mu)
     path = run("fem_disk", variant(rk, t_end=20.0e-6, disk_fem=True), work)
     if path:
         common("fem_disk", path)
+        held_balance("fem_disk", path)
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if all(results) else 1)
 
