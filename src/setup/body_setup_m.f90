@@ -20,7 +20,7 @@ module body_setup_m
   use hdf5_io_m, only: read_particle_file_h5, h5file_t, h5_open_read, h5_close, h5_has, &
     h5_shape, h5_read
   use detection_m, only: body_cloud, body_plateau
-  use geometry_m, only: geom_none, signed_distance
+  use geometry_m, only: geom_none, geom_segment, geom_polygon, geom_annulus, signed_distance
   use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
   use rk_cloud_m, only: cloud_det
   use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_annulus
@@ -302,6 +302,10 @@ contains
     end if
     ! the deck allows a perturbation on RKPM rectangles and polygons only (deck_m)
     if (s%perturbation > 0.0_wp) call perturb_interior(b, s%perturbation, s%perturbation_seed)
+    if (s%rotate /= 0.0_wp .or. any(s%translate(1:nd) /= 0.0_wp)) then
+      call place_body(b, s, deck%run%mode == 'dynamic', where, err)
+      if (allocated(err)) return
+    end if
     if (b%ndim > 1 .and. flat_layout(b%x)) then
       call set_error(err, where//', variable '//body_make_vars(s%shape)//': the '//itoa(b%np)// &
         ' particles lie on one '//trim(merge('line ', 'plane', b%ndim == 2))//', a '// &
@@ -311,6 +315,83 @@ contains
     end if
     call check_particles(b, s, where, err)
   end subroutine build_body
+
+  !> The body turned by s%rotate degrees counter-clockwise about its centroid (the volume-
+  !! weighted mean of its particles), then moved by s%translate: every position it carries
+  !! (particles, explicit cells, merged cell centres, the exact geometry the cells are
+  !! clipped by). A translation applies to every shape. A rotation needs cells that turn
+  !! with the body: meshes and files with cells, element meshes, annulus sectors, rigid
+  !! bodies and detection runs; the lattice cells of a deformable RKPM rectangle or polygon
+  !! are axis-aligned boxes (the SCNI smoothing domains), so their rotation is refused.
+  subroutine place_body(b, s, dynamic, where, err)
+    type(body_t), intent(inout) :: b
+    type(body_spec_t), intent(in) :: s
+    logical, intent(in) :: dynamic
+    character(len=*), intent(in) :: where
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: c(2), rot(2, 2), th
+    integer :: nd, i
+    nd = b%ndim
+    if (s%rotate /= 0.0_wp) then
+      if (dynamic .and. s%role == 'deformable' .and. .not. allocated(b%cells) .and. &
+        .not. allocated(b%cell_ptr) .and. any(s%shape == ['rectangle', 'polygon  '])) then
+        call set_error(err, where//', variable rotate = '//rtoa(s%rotate)//': an RKPM '// &
+          trim(s%shape)//' integrates over its lattice cells, boxes along x and y that '// &
+          'do not turn; give the turned outline as a polygon''s vertices, or mesh it '// &
+          '(shape = ''geo''), or make it of elements (discretization = ''fem'')')
+        return
+      end if
+      th = s%rotate*pi/180.0_wp
+      rot = reshape([cos(th), sin(th), -sin(th), cos(th)], [2, 2])
+      c = matmul(b%x, b%vol)/sum(b%vol)
+      do i = 1, b%np
+        b%x(:, i) = c + matmul(rot, b%x(:, i) - c)
+      end do
+      if (allocated(b%cell_centre)) then
+        do i = 1, size(b%cell_centre, 2)
+          b%cell_centre(:, i) = c + matmul(rot, b%cell_centre(:, i) - c)
+        end do
+      end if
+      if (allocated(b%merged_centre)) then
+        do i = 1, size(b%merged_centre, 2)
+          b%merged_centre(:, i) = c + matmul(rot, b%merged_centre(:, i) - c)
+        end do
+      end if
+      if (allocated(b%cell_xy)) then
+        do i = 1, size(b%cell_xy, 2)
+          b%cell_xy(:, i) = c + matmul(rot, b%cell_xy(:, i) - c)
+        end do
+      end if
+      select case (b%geom%kind)
+      case (geom_polygon)
+        do i = 1, size(b%geom%v, 2)
+          b%geom%v(:, i) = c + matmul(rot, b%geom%v(:, i) - c)
+        end do
+      case (geom_annulus)
+        b%geom%center = c + matmul(rot, b%geom%center - c)
+        b%geom%t0 = b%geom%t0 + th
+        b%geom%t1 = b%geom%t1 + th
+      end select
+    end if
+    do i = 1, b%np
+      b%x(:, i) = b%x(:, i) + s%translate(1:nd)
+    end do
+    if (allocated(b%cell_centre)) b%cell_centre = b%cell_centre + &
+      spread(s%translate(1:nd), 2, size(b%cell_centre, 2))
+    if (allocated(b%merged_centre)) b%merged_centre = b%merged_centre + &
+      spread(s%translate(1:nd), 2, size(b%merged_centre, 2))
+    if (allocated(b%cell_xy)) b%cell_xy = b%cell_xy + &
+      spread(s%translate(1:nd), 2, size(b%cell_xy, 2))
+    select case (b%geom%kind)
+    case (geom_segment)
+      b%geom%a = b%geom%a + s%translate(1)
+      b%geom%b = b%geom%b + s%translate(1)
+    case (geom_polygon)
+      b%geom%v = b%geom%v + spread(s%translate(1:2), 2, size(b%geom%v, 2))
+    case (geom_annulus)
+      b%geom%center = b%geom%center + s%translate(1:2)
+    end select
+  end subroutine place_body
 
   !> True when the points x(ndim, np) lie on one line (2D) or plane (3D): the determinant of
   !! their covariance vanishes next to the cube (square) of its trace.

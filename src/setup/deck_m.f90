@@ -131,6 +131,10 @@ module deck_m
     !> initial angular velocity about the body's centre of mass, out of the plane,
     !! counter-clockwise (rad/s); plane strain only
     real(wp) :: angular_velocity = 0.0_wp
+    !> placement: the body as built (generated, meshed or read) turned by rotate degrees
+    !! counter-clockwise about its centroid, then moved by translate (m)
+    real(wp) :: translate(3) = 0.0_wp
+    real(wp) :: rotate = 0.0_wp
     character(len=body_integration_len) :: integration
     real(wp) :: stabilization   !< SCNI sub-cell stabilization alpha (0: off)
     !> 'rkpm' (particles) or 'fem' (CST4 elements on the n(1) x n(2) lattice's boxes)
@@ -949,6 +953,8 @@ contains
       s%material = material
       s%velocity = velocity
       s%angular_velocity = angular_velocity
+      s%translate = translate
+      s%rotate = rotate
       s%integration = lower(integration)
       s%stabilization = stabilization
       s%discretization = lower(discretization)
@@ -997,6 +1003,26 @@ contains
       call bad(deck, grp, 'angular_velocity', rtoa(s%angular_velocity), 'an initial '// &
         'spin is for a deformable body in plane strain (ndim = 2, geometry = ''plane''); '// &
         'give 0', err)
+      return
+    end if
+    if (s%rotate /= 0.0_wp .and. nd /= 2) then
+      call bad(deck, grp, 'rotate', rtoa(s%rotate), 'a rotation is in the plane (ndim = '// &
+        '2); give 0', err)
+      return
+    end if
+    if (s%rotate /= 0.0_wp .and. deck%run%geometry == 'axisymmetric') then
+      call bad(deck, grp, 'rotate', rtoa(s%rotate), 'a body of revolution keeps its axis: '// &
+        'give 0 (translate moves it along the axis)', err)
+      return
+    end if
+    if (deck%run%geometry == 'axisymmetric' .and. s%translate(1) /= 0.0_wp) then
+      call bad(deck, grp, 'translate', rtoa(s%translate(1))//' (radial)', 'a body of '// &
+        'revolution stays on its axis: give translate = 0, dz', err)
+      return
+    end if
+    if (any(s%translate(nd + 1:) /= 0.0_wp)) then
+      call bad(deck, grp, 'translate', 'component '//itoa(nd + 1), 'give ndim = '// &
+        itoa(nd)//' components', err)
       return
     end if
     if (len_trim(s%shape) == 0) then
