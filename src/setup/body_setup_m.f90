@@ -344,29 +344,13 @@ contains
       th = s%rotate*pi/180.0_wp
       rot = reshape([cos(th), sin(th), -sin(th), cos(th)], [2, 2])
       c = matmul(b%x, b%vol)/sum(b%vol)
-      do i = 1, b%np
-        b%x(:, i) = c + matmul(rot, b%x(:, i) - c)
-      end do
-      if (allocated(b%cell_centre)) then
-        do i = 1, size(b%cell_centre, 2)
-          b%cell_centre(:, i) = c + matmul(rot, b%cell_centre(:, i) - c)
-        end do
-      end if
-      if (allocated(b%merged_centre)) then
-        do i = 1, size(b%merged_centre, 2)
-          b%merged_centre(:, i) = c + matmul(rot, b%merged_centre(:, i) - c)
-        end do
-      end if
-      if (allocated(b%cell_xy)) then
-        do i = 1, size(b%cell_xy, 2)
-          b%cell_xy(:, i) = c + matmul(rot, b%cell_xy(:, i) - c)
-        end do
-      end if
+      call turn(b%x)
+      if (allocated(b%cell_centre)) call turn(b%cell_centre)
+      if (allocated(b%merged_centre)) call turn(b%merged_centre)
+      if (allocated(b%cell_xy)) call turn(b%cell_xy)
       select case (b%geom%kind)
       case (geom_polygon)
-        do i = 1, size(b%geom%v, 2)
-          b%geom%v(:, i) = c + matmul(rot, b%geom%v(:, i) - c)
-        end do
+        call turn(b%geom%v)
       case (geom_annulus)
         b%geom%center = c + matmul(rot, b%geom%center - c)
         b%geom%t0 = b%geom%t0 + th
@@ -391,6 +375,17 @@ contains
     case (geom_annulus)
       b%geom%center = b%geom%center + s%translate(1:2)
     end select
+
+  contains
+
+    !> Points a(2, n) turned by rot about c.
+    subroutine turn(a)
+      real(wp), intent(inout) :: a(:, :)
+      integer :: j
+      do j = 1, size(a, 2)
+        a(:, j) = c + matmul(rot, a(:, j) - c)
+      end do
+    end subroutine turn
   end subroutine place_body
 
   !> True when the points x(ndim, np) lie on one line (2D) or plane (3D): the determinant of
