@@ -5,7 +5,9 @@ build/bin/mfcd linked to the ones under test; output/ its own), each exiting 0. 
 commands (`bash tools/...`) are the harness's own; a command marked `# long` runs only with
 --all (without it, later commands leave out the files it would have written). Then the numbers the tutorial quotes for the first run are those the run gives:
 restitution 0.250 and the spin at -0.67 of the Coulomb bound (to the printed digits; any
-change of the physics moves them, and the tutorial is then to be updated with it).
+change of the physics moves them, and the tutorial is then to be updated with it), and
+the held decks pass check_disk_plate.py's checks (held_checks: residual, ke + w_int,
+penetration, restitution, tangential speed, the Coulomb bound, RKPM against CST4).
 Exit 77 (skipped) when the build has no gmsh (the disk is meshed from its .geo).
 
 Usage: check_tutorial.py [--all] MFCD ROOT
@@ -72,6 +74,12 @@ def main():
             check(f"$ {cmd}", p.returncode == 0, p.stdout[-800:] + p.stderr[-800:])
             outputs.setdefault(cmd, p.stdout)
         check(f"the tutorial has commands to run ({n})", n >= 6, n)
+        # the held decks' physics checks (check_disk_plate.py) on the tutorial's own runs
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import check_disk_plate as cdp
+        cdp.held_checks({"rkpm": os.path.join(work, "output", "disk_plate.h5"),
+                         "fem": os.path.join(work, "output", "disk_plate_fem.h5")})
+        results.extend(cdp.results)
     first = next((o for c, o in outputs.items() if c.startswith(
         ".venv/bin/python post/disk_plate.py output/disk_plate.h5")), "")
     e = re.search(r"restitution e = ([0-9.]+)", first)
