@@ -269,6 +269,9 @@ class Snapshot:
     bodies: Dict[str, SnapshotBody] = field(default_factory=dict)
     #: det(M) fields by contact pair k (&output det_fields = .true.); {} without them
     det: Dict[int, DetField] = field(default_factory=dict)
+    #: the rigid bodies that move (a ram: &body velocity of a rigid body), where the snapshot
+    #: has them: x, u, v only; {} when none moves (the fixed ones are only in /bodies)
+    rigid: Dict[str, SnapshotBody] = field(default_factory=dict)
 
 
 #: Fields that plot_snapshots.py can colour by: name -> (label, unit, scale to the unit).
@@ -586,6 +589,15 @@ class MfcdFile:
         return np.asarray(g["triangles"][()], dtype=int).reshape(-1, 3) \
             if "triangles" in g else None
 
+    def is_rigid(self, name: str) -> bool:
+        """Whether body `name` is rigid (the group attribute role; from the deck when the
+        file predates it)."""
+        role = self.h5["bodies"][name].attrs.get("role")
+        if role is None:
+            spec = deck_group(self.deck, "body", name=name) or {}
+            role = spec.get("role", "deformable")
+        return str(decode(role)).strip().lower() == "rigid"
+
     def discretization(self, name: str) -> str:
         """'fem' or 'rkpm' (the group attribute; 'rkpm' when the file predates it)."""
         g = self.h5["bodies"][name]
@@ -651,10 +663,11 @@ class MfcdFile:
         return float(decode(self.h5["snapshots"][label].attrs["time"]))
 
     def snapshot_body_names(self, label: str) -> List[str]:
-        """The bodies in snapshot `label` (the deformable ones: groups with x), without
-        reading their arrays."""
+        """The deformable bodies in snapshot `label` (groups with x that are not a moving
+        rigid body's), without reading their arrays."""
         g = self.h5["snapshots"][label]
-        return [n for n in g.keys() if isinstance(g[n], h5py.Group) and "x" in g[n]]
+        return [n for n in g.keys() if isinstance(g[n], h5py.Group) and "x" in g[n]
+                and not (n in self.body_names() and self.is_rigid(n))]
 
     def snapshot(self, label: str) -> Snapshot:
         """/snapshots/<label> with every body in it, arrays as (np, 2) / (np, 4) / (np,),
@@ -673,6 +686,10 @@ class MfcdFile:
                 a = np.asarray(gb[key][()], dtype=float)
                 return a.reshape(-1, cols) if cols else a
 
+            if name in self.body_names() and self.is_rigid(name):
+                snap.rigid[name] = SnapshotBody(name=name, x=arr("x", 2), u=arr("u", 2),
+                                                v=arr("v", 2))
+                continue
             snap.bodies[name] = SnapshotBody(
                 name=name, x=arr("x", 2), u=arr("u", 2), v=arr("v", 2),
                 stress=arr("stress", 4), epsbar=arr("epsbar"), J=arr("J"),

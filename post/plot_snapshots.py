@@ -48,7 +48,7 @@ from matplotlib.tri import Triangulation  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mfcd_style import figure_style  # noqa: E402
-from mfcd_h5 import negative_values, FIELDS, MfcdFile, deck_group, field_values  # noqa: E402
+from mfcd_h5 import negative_values, FIELDS, MfcdFile, field_values  # noqa: E402
 
 C_OTHER = "0.6"        # bodies without the field
 C_RIGID = "0.45"       # rigid bodies not in the snapshots
@@ -85,14 +85,11 @@ def pick_labels(f: MfcdFile, wanted: str | None) -> list:
 
 
 def rigid_extras(f: MfcdFile, snap_bodies) -> list:
-    """(name, x (np, 2)) of deck bodies with role 'rigid' that the snapshots lack, at their
-    reference positions (the solver does not move rigid bodies in this version)."""
+    """(name, x (np, 2)) of the rigid bodies, at their reference positions (a moving one is
+    drawn where each snapshot has it: Snapshot.rigid)."""
     out = []
     for name in f.body_names():
-        if name in snap_bodies:
-            continue
-        spec = deck_group(f.deck, "body", name=name) or {}
-        if str(spec.get("role", "deformable")).lower() != "rigid":
+        if name in snap_bodies or not f.is_rigid(name):
             continue
         out.append((name, f.body(name).x[:, :2]))
     return out
@@ -171,6 +168,8 @@ def draw_snapshots(f: MfcdFile, field: str, labels: list, mirror: bool, out: str
         for n, x0 in extras:
             if n not in tris:
                 tris[n] = reference_triangles(f, n, x0.shape[0])
+            if n in s.rigid:   # a moving rigid body (a ram) where this snapshot has it
+                x0 = s.rigid[n].x
             items.append((n + " (rigid)", x0.copy(), None,
                           np.full(x0.shape[0], spacing.get(n, 0.0)), tris[n]))
         if mirror:

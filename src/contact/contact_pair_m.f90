@@ -85,6 +85,9 @@ module contact_pair_m
     !! in its gap.
     logical :: self_contact = .false.
     real(wp) :: self_radius = 2.0_wp
+    !> a rigid master's prescribed velocity (m/s; its &body velocity): it moves by
+    !! master_velocity x t from its reference position (a ram, a die)
+    real(wp) :: master_velocity(max_dim) = 0.0_wp
   end type contact_params_t
 
   !> What one step's contact did (for the log, history and summary).
@@ -125,6 +128,11 @@ module contact_pair_m
     real(wp), allocatable :: x_ref(:, :), vol(:)   !< reference positions (m), volumes (m^2)
     integer :: kid = 0, wshape = 0, bid = 0
     real(wp), allocatable :: h(:)        !< the cloud's basis scale (ndim)
+    !> a rigid side that moves (a ram): its velocity (m/s) and its displacement at the
+    !! prediction (m); its cloud, bins, surface and box stay at the reference positions and
+    !! a point x is looked up at x - shift. Zero for every other side.
+    logical :: moving = .false.
+    real(wp), allocatable :: vel(:), shift(:)
     real(wp), allocatable :: fphys(:, :) !< contact forces at the particles this pass (N)
     logical, allocatable :: active(:)    !< particle carries a force this pass
     integer, allocatable :: seg(:)       !< the segment each penetrating particle hit
@@ -300,6 +308,10 @@ contains
     if (allocated(err)) return
     call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
     if (allocated(err)) return
+    if (isolid_m == 0 .and. any(prm%master_velocity(1:bm%ndim) /= 0.0_wp)) then
+      p%side(2)%moving = .true.
+      p%side(2)%vel = prm%master_velocity(1:bm%ndim)
+    end if
     if (p%self) then
       ! either side is the master in turn: det(M) of the non-neighbours needs the
       ! reference positions, the slave pass its candidates and their exclusion radii
@@ -377,6 +389,9 @@ contains
     s%wshape = b%wshape
     s%bid = b%bid
     s%h = b%h(1:b%ndim)
+    allocate(s%vel(b%ndim), s%shift(b%ndim))
+    s%vel = 0.0_wp
+    s%shift = 0.0_wp
     s%fphys = 0.0_wp
     s%active = .false.
     s%seg = 0
@@ -679,19 +694,22 @@ contains
     end select
   end function detector_name
 
-  !> The contact corrections of every pair for the step dt, between the prediction (64) and
-  !! the forces (62), and what they did together: contacts, flags and mean normal force summed,
-  !! radius and remaining penetration the largest, the tracked edge in contact in any pair.
-  subroutine contact_step(pairs, solids, dt, total, err)
+  !> The contact corrections of every pair for the step dt ending at time t1 (s), between
+  !! the prediction (64) and the forces (62), and what they did together: contacts, flags
+  !! and mean normal force summed, radius and remaining penetration the largest, the
+  !! tracked edge in contact in any pair.
+  subroutine contact_step(pairs, solids, dt, t1, total, err)
     type(contact_pair_t), intent(inout) :: pairs(:)
     type(solid_t), intent(inout) :: solids(:)
-    real(wp), intent(in) :: dt
+    real(wp), intent(in) :: dt, t1
     type(contact_stats_t), intent(out) :: total
     type(error_t), allocatable, intent(inout) :: err
     integer :: k
     real(wp) :: t0
     do k = 1, size(pairs)
       t0 = omp_get_wtime()
+      ! a moving rigid master at the prediction's time
+      if (pairs(k)%side(2)%moving) pairs(k)%side(2)%shift = pairs(k)%side(2)%vel*t1
       call contact_correct(pairs(k), solids, dt, err)
       pairs(k)%count%t_pair = pairs(k)%count%t_pair + (omp_get_wtime() - t0)
       if (allocated(err)) return
@@ -820,7 +838,8 @@ contains
   !! master b's grown box (b rigid); the others keep stale positions outside the box and are
   !! counted in nskip. Exact: a particle last found at distance r outside the box moved at
   !! most lip max_I |d_I - d'_I| per step (d' the coefficients at the step before), so it
-  !! is screened again once those bounds, summed (travel), reach r.
+  !! is screened again once those bounds, summed (travel), reach r. A moving rigid master's
+  !! box moves too: its own travel |v| t1 (the length of its shift) is added.
   subroutine side_near_positions(s, sol, b, nskip)
     type(side_t), intent(inout) :: s
     type(solid_t), intent(in) :: sol
@@ -828,14 +847,16 @@ contains
     integer(i64), intent(inout) :: nskip
     integer :: j, jj
     integer(i64) :: nfar
-    real(wp) :: r(size(s%x_pred, 1))
+    real(wp) :: r(size(s%x_pred, 1)), travel
     call add_travel(s, sol, 1.0_wp)
+    travel = s%travel
+    if (b%moving) travel = travel + norm2(b%shift)
     nfar = 0
-    !$omp parallel do default(none) shared(s, sol, b) private(r, j) reduction(+: nfar) &
-    !$omp schedule(static)
+    !$omp parallel do default(none) shared(s, sol, b, travel) private(r, j) &
+    !$omp reduction(+: nfar) schedule(static)
     do jj = 1, s%nlist
       j = side_particle(s, jj)
-      s%near(j) = s%travel >= s%due(j)
+      s%near(j) = travel >= s%due(j)
       if (.not. s%near(j)) then
         nfar = nfar + 1
         cycle
@@ -843,8 +864,8 @@ contains
       call solid_point_position(sol, j, s%x_pred(:, j))
       call solid_point_position(sol, j, s%x_old(:, j), at_step_start)
       ! distance outside the box, less a relative 1e-9 for the rounding of the sums
-      r = max(b%lo - s%x_pred(:, j), s%x_pred(:, j) - b%hi, 0.0_wp)
-      s%due(j) = s%travel + (1.0_wp - skip_rounding)*norm2(r)
+      r = max(b%lo + b%shift - s%x_pred(:, j), s%x_pred(:, j) - b%hi - b%shift, 0.0_wp)
+      s%due(j) = travel + (1.0_wp - skip_rounding)*norm2(r)
     end do
     !$omp end parallel do
     nskip = nskip + nfar
@@ -915,10 +936,10 @@ contains
         call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, &
           xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))
       else if (p%detector == detector_nts) then
-        call nts_gap(b%buckets, b%surface, a%x_pred(:, j), b%buckets%capture, found, g, &
-          nrm, tng)
+        call nts_gap(b%buckets, b%surface, a%x_pred(:, j) - b%shift, b%buckets%capture, &
+          found, g, nrm, tng)
       else
-        call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
+        call surface_gap(b%surface, a%x_pred(:, j) - b%shift, a%rho(:, j), found, g, nrm, tng)
       end if
       if (found) p%step%pen_after = max(p%step%pen_after, -g)
     end do
@@ -977,6 +998,7 @@ contains
       i1 = b%surface%i1(a%seg(j))
       dxb = (1.0_wp - xi)*(b%x_pred(:, i0) - b%x_old(:, i0)) + xi*(b%x_pred(:, i1) - &
         b%x_old(:, i1))
+      if (b%moving) dxb = b%vel*dt   ! a moving rigid master (its x_pred, x_old stay)
       ! the master point's inverse mass (0 when rigid): alone, (1-xi)^2/m0 + xi^2/m1; shared,
       ! the row sum (1-xi) S0/m0 + xi S1/m1 with S the nodes' total loading weights
       invmb = 0.0_wp
@@ -1036,23 +1058,25 @@ contains
     type(side_t), intent(in) :: b
     integer(i64), intent(out) :: neval, ndet
     integer :: j, jj, jseg
-    real(wp) :: det, g, nrm(2), tng(2), xi
+    real(wp) :: det, g, nrm(2), tng(2), xi, xq(2)
     logical :: found
     neval = 0
     ndet = 0
     !$omp parallel do default(none) shared(a, b) &
-    !$omp private(j, det, found, g, nrm, tng, jseg, xi) reduction(+: neval, ndet) &
+    !$omp private(j, det, found, g, nrm, tng, jseg, xi, xq) reduction(+: neval, ndet) &
     !$omp schedule(static)
     do jj = 1, a%nlist
       j = side_particle(a, jj)
       a%active(j) = .false.
       if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
-      if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
+      ! (in b's reference frame when b is a moving rigid body; shift 0 otherwise)
+      xq = a%x_pred(:, j) - b%shift
+      if (any(xq < b%lo) .or. any(xq > b%hi)) cycle
       neval = neval + 1
-      det = cloud_det(b%cloud, a%x_pred(:, j))
+      det = cloud_det(b%cloud, xq)
       if (.not. (det > b%threshold)) cycle
       ndet = ndet + 1
-      call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, jseg, xi)
+      call surface_gap(b%surface, xq, a%rho(:, j), found, g, nrm, tng, jseg, xi)
       if (.not. found .or. .not. (g < 0.0_wp)) cycle
       call mark_active(a, j, g, nrm, tng, jseg, xi)
     end do
@@ -1145,20 +1169,21 @@ contains
     type(side_t), intent(in) :: b
     integer(i64), intent(out) :: neval, ndet
     integer :: j, jj, jseg
-    real(wp) :: g, nrm(2), tng(2), xi
+    real(wp) :: g, nrm(2), tng(2), xi, xq(2)
     logical :: found
     neval = 0
     ndet = 0
-    !$omp parallel do default(none) shared(a, b) private(j, found, g, nrm, tng, jseg, xi) &
-    !$omp reduction(+: neval, ndet) schedule(static)
+    !$omp parallel do default(none) shared(a, b) &
+    !$omp private(j, found, g, nrm, tng, jseg, xi, xq) reduction(+: neval, ndet) &
+    !$omp schedule(static)
     do jj = 1, a%nlist
       j = side_particle(a, jj)
       a%active(j) = .false.
       if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
-      if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
+      xq = a%x_pred(:, j) - b%shift   ! (b's reference frame)
+      if (any(xq < b%lo) .or. any(xq > b%hi)) cycle
       neval = neval + 1
-      call nts_gap(b%buckets, b%surface, a%x_pred(:, j), b%buckets%capture, found, g, nrm, &
-        tng, jseg, xi)
+      call nts_gap(b%buckets, b%surface, xq, b%buckets%capture, found, g, nrm, tng, jseg, xi)
       if (.not. found .or. .not. (g < 0.0_wp)) cycle
       ndet = ndet + 1
       call mark_active(a, j, g, nrm, tng, jseg, xi)
@@ -1187,7 +1212,7 @@ contains
     type(side_t), intent(in) :: a, b
     integer :: j
     integer(i64) :: nd, ng, nbuf, nmiss
-    real(wp) :: det, g, nrm(2), tng(2), gsum, gmax
+    real(wp) :: det, g, nrm(2), tng(2), gsum, gmax, xq(2)
     logical :: found, fd, fg
     nd = 0
     ng = 0
@@ -1195,13 +1220,15 @@ contains
     nmiss = 0
     gsum = 0.0_wp
     gmax = 0.0_wp
-    !$omp parallel do default(none) shared(a, b) private(det, found, g, nrm, tng, fd, fg) &
+    !$omp parallel do default(none) shared(a, b) &
+    !$omp private(det, found, g, nrm, tng, fd, fg, xq) &
     !$omp reduction(+: nd, ng, nbuf, nmiss, gsum) reduction(max: gmax) schedule(static)
     do j = 1, a%np
       if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
-      if (any(a%x_pred(:, j) < b%lo) .or. any(a%x_pred(:, j) > b%hi)) cycle
-      det = cloud_det(b%cloud, a%x_pred(:, j))
-      call nts_gap(b%buckets, b%surface, a%x_pred(:, j), huge(1.0_wp), found, g, nrm, tng)
+      xq = a%x_pred(:, j) - b%shift   ! (b's reference frame)
+      if (any(xq < b%lo) .or. any(xq > b%hi)) cycle
+      det = cloud_det(b%cloud, xq)
+      call nts_gap(b%buckets, b%surface, xq, huge(1.0_wp), found, g, nrm, tng)
       fd = det > b%threshold
       fg = found .and. g < 0.0_wp
       if (fd) nd = nd + 1
@@ -1262,8 +1289,15 @@ contains
       type(rk_cloud_t), intent(out) :: c
       real(wp), allocatable, intent(out), optional :: xc(:, :)
       real(wp), allocatable :: x(:, :)
+      integer :: i
       x = s%x_ref
       if (s%isolid > 0) call solid_positions(solids(s%isolid), at_prediction, x)
+      ! a moving rigid master where its last step put it
+      if (s%moving) then
+        do i = 1, size(x, 2)
+          x(:, i) = x(:, i) + s%shift
+        end do
+      end if
       call cloud_init(c, x, s%rho, s%vol, s%kid, s%wshape, s%bid, s%h, err)
       if (present(xc)) call move_alloc(x, xc)
     end subroutine current_cloud

@@ -213,9 +213,10 @@ contains
     msg = 'of it ke + w_int - ke(0) - w_ext = '//rtoa(own)//' and w_contact = '// &
       rtoa(en%w_contact)
     if (en%w_contact /= 0.0_wp .and. abs(en%w_contact) >= 0.5_wp*abs(en%residual)) then
-      msg = msg//': the contact work broke the balance (contact can only take energy '// &
-        'out, through inelastic stops and friction; w_contact > 0 means its corrections '// &
-        'pushed bodies apart): check the &contact pairs (against a deformable master keep '// &
+      msg = msg//': the contact work broke the balance (against fixed or deformable '// &
+        'masters contact can only take energy out, through inelastic stops and friction; '// &
+        'w_contact > 0 there means its corrections pushed bodies apart; a moving rigid '// &
+        'master puts in its own work): check the &contact pairs (against a deformable master keep '// &
         'shared_mass = .true., the default, and slave and master spacings within a '// &
         'factor of about two), then the step below'
     else

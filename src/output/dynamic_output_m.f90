@@ -14,14 +14,19 @@ module dynamic_output_m
   private
   public :: history_t, history_names, snapshot_write, history_create, history_flush
   public :: history_push, xdmf_write, xdmf_body_t, history_width, body_columns
+  public :: rigid_snapshot_write
 
-  !> A rigid body as the XDMF file shows it: the same grid at every time step, on the
-  !! reference positions /bodies/<name>/x (rigid bodies do not move and have no snapshots).
+  !> A rigid body as the output shows it: a fixed one on its reference positions
+  !! /bodies/<name>/x at every time step (no snapshot data); a moving one (a ram: its &body
+  !! velocity, prescribed) at x + vel t, written in each snapshot (rigid_snapshot_write).
   type :: xdmf_body_t
     character(len=64) :: name = ''
     integer :: np = 0          !< particles (nodes)
     integer :: ne = 0          !< CST4 triangles (/bodies/<name>/triangles); 0: particles
     integer :: ndim = 2
+    logical :: moving = .false.
+    real(wp) :: vel(3) = 0.0_wp          !< its prescribed velocity (m/s)
+    real(wp), allocatable :: x(:, :)     !< reference positions (ndim, np) (m), if moving
   end type xdmf_body_t
 
   !> Columns of /history, one row per history step.
@@ -320,6 +325,41 @@ contains
     end subroutine cell_fields
   end subroutine snapshot_write
 
+  !> The moving rigid bodies of rigid in snapshot label at time (s): positions x + vel t,
+  !! displacements and velocities, as a deformable body's (without its fields).
+  subroutine rigid_snapshot_write(f, label, time, rigid, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: label
+    real(wp), intent(in) :: time
+    type(xdmf_body_t), intent(in) :: rigid(:)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: gb, vec
+    real(wp), allocatable :: u(:, :)
+    integer :: k, i
+    do k = 1, size(rigid)
+      if (allocated(err)) return
+      if (.not. rigid(k)%moving) cycle
+      associate (b => rigid(k))
+        gb = '/snapshots/'//label//'/'//trim(b%name)
+        vec = ' ('//itoa(b%ndim)//', np)'
+        allocate(u(b%ndim, b%np))
+        do i = 1, b%np
+          u(:, i) = b%vel(1:b%ndim)*time
+        end do
+        call h5_group(f, gb, err)
+        if (.not. allocated(err)) call h5_write(f, gb//'/x', b%x + u, 'm', err, &
+          'physical particle positions of the rigid body moving at its prescribed '// &
+          'velocity'//vec)
+        if (.not. allocated(err)) call h5_write(f, gb//'/u', u, 'm', err, &
+          'particle displacements (velocity x t)'//vec)
+        u = spread(b%vel(1:b%ndim), 2, b%np)
+        if (.not. allocated(err)) call h5_write(f, gb//'/v', u, 'm/s', err, &
+          'particle velocities (the prescribed velocity)'//vec)
+        deallocate(u)
+      end associate
+    end do
+  end subroutine rigid_snapshot_write
+
   !> '11, 22, 33, 12': the stored components of a symmetric tensor in the layout of dims.
   pure function tensor_list(dims) result(t)
     type(dims_t), intent(in) :: dims
@@ -392,20 +432,23 @@ contains
         write(u, '(a)') '</Grid>'
       end do
       do k = 1, size(rigid)
-        call rigid_grid(u, rigid(k))
+        call rigid_grid(u, rigid(k), trim(labels(s)))
       end do
       write(u, '(a)') '</Grid>'
     end do
     write(u, '(a)') '</Grid></Domain></Xdmf>'
     close(u)
   contains
-    !> Rigid body b at its reference positions: a Polyvertex grid over its particles, or
-    !! a Triangle grid on its CST4 elements.
-    subroutine rigid_grid(unit, b)
+    !> Rigid body b at its reference positions (or, moving, where snapshot label has it): a
+    !! Polyvertex grid over its particles, or a Triangle grid on its CST4 elements.
+    subroutine rigid_grid(unit, b, label)
       integer, intent(in) :: unit
       type(xdmf_body_t), intent(in) :: b
-      character(len=:), allocatable :: gb, nps, nes, geo
+      character(len=*), intent(in) :: label
+      character(len=:), allocatable :: gb, nps, nes, geo, gx
       gb = h5name//':/bodies/'//trim(b%name)
+      gx = gb
+      if (b%moving) gx = h5name//':/snapshots/'//label//'/'//trim(b%name)
       nps = itoa(b%np)
       write(unit, '(a)') '<Grid Name="'//trim(b%name)//'" GridType="Uniform">'
       if (b%ne > 0) then
@@ -419,8 +462,12 @@ contains
       geo = 'XY'
       if (b%ndim == 3) geo = 'XYZ'
       write(unit, '(a)') '<Geometry GeometryType="'//geo//'"><DataItem Dimensions="'//nps// &
-        ' '//itoa(b%ndim)//'" Format="HDF" NumberType="Float" Precision="8">'//gb// &
+        ' '//itoa(b%ndim)//'" Format="HDF" NumberType="Float" Precision="8">'//gx// &
         '/x</DataItem></Geometry>'
+      if (b%moving) then
+        call attr(unit, 'u', 'Vector', nps//' '//itoa(b%ndim), gx//'/u')
+        call attr(unit, 'v', 'Vector', nps//' '//itoa(b%ndim), gx//'/v')
+      end if
       write(unit, '(a)') '</Grid>'
     end subroutine rigid_grid
 

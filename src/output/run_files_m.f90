@@ -19,7 +19,7 @@ module run_files_m
     base_name, checkpoint_commit
   use run_checkpoint_m, only: checkpoint_write
   use dynamic_output_m, only: history_t, history_create, history_flush, snapshot_write, &
-    xdmf_write, xdmf_body_t
+    xdmf_write, xdmf_body_t, rigid_snapshot_write
   use run_report_m, only: run_record_t, det_fields_out, self_det_out
   use log_m, only: log_print
   use file_system_m, only: remove_file
@@ -60,7 +60,13 @@ contains
       if (deck%bodies(k)%role /= 'rigid') cycle
       out%rigid = [out%rigid, xdmf_body_t(name=bodies(k)%name, np=bodies(k)%np, &
         ne=0, ndim=bodies(k)%ndim)]
-      if (allocated(bodies(k)%cells)) out%rigid(size(out%rigid))%ne = size(bodies(k)%cells, 2)
+      associate (rb => out%rigid(size(out%rigid)))
+        if (allocated(bodies(k)%cells)) rb%ne = size(bodies(k)%cells, 2)
+        ! a ram: moves at its prescribed velocity, written in every snapshot
+        rb%vel = deck%bodies(k)%velocity
+        rb%moving = any(rb%vel(1:rb%ndim) /= 0.0_wp)
+        if (rb%moving) rb%x = bodies(k)%x
+      end associate
     end do
     call output_open(deck, .true., out%path, out%f, err, restart)
     if (allocated(err)) return
@@ -162,6 +168,7 @@ contains
       out%nsnap_done = out%nsnap_done + 1
       write(lab, '(i4.4)') out%nsnap_done
       call snapshot_write(out%f, trim(lab), r%t, r%n, solids, err)
+      if (.not. allocated(err)) call rigid_snapshot_write(out%f, trim(lab), r%t, out%rigid, err)
       if (.not. allocated(err)) call self_det_out(out%f, trim(lab), pairs, solids, err)
       if (allocated(err)) return
       if (deck%output%det_fields) call det_fields_out(out%f, trim(lab), pairs, solids, &
@@ -186,6 +193,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     call log_print('dynamic: FAILED at '//r%reason)
     call snapshot_write(out%f, 'failure', r%t, r%n, solids, err)
+    if (.not. allocated(err)) call rigid_snapshot_write(out%f, 'failure', r%t, out%rigid, err)
     out%labels = [character(len=8) :: out%labels, 'failure']
     out%times = [out%times, r%t]
     call xdmf_write(out%path%tmp_xdmf, base_name(out%path%tmp_h5), out%labels, out%times, &

@@ -119,6 +119,9 @@ contains
           b%support_factor(1:nd), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'basis_scale', b%h(1:nd), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'np', b%np, err)
+        if (.not. allocated(err)) call h5_attr(f, g, 'role', trim(deck%bodies(k)%role), err)
+        if (deck%bodies(k)%role == 'rigid' .and. .not. allocated(err)) call h5_attr(f, g, &
+          'velocity', deck%bodies(k)%velocity(1:nd), err)
       end associate
     end do
   end subroutine write_bodies

@@ -127,7 +127,7 @@ contains
         call solid_predict(solids(k), r%dt)                                     ! (64)
       end do
       tw = omp_get_wtime()
-      call contact_step(pairs, solids, r%dt, cstep, err)                        ! (93)-(98)
+      call contact_step(pairs, solids, r%dt, r%t + r%dt, cstep, err)           ! (93)-(98)
       if (dom%any_error(err)) exit
       call dom%contact_stats(cstep, pairs)
       do k = 1, size(solids)
@@ -135,7 +135,7 @@ contains
       end do
       r%t_contact = r%t_contact + (omp_get_wtime() - tw)
       ! (subcycling: the rates' own steps inside this one; k_bad > 0 if one of them broke)
-      call subcycle_rates(pairs, solids, r%dt, cstep, r%sub, r%t_contact, k_bad, bad_q, &
+      call subcycle_rates(pairs, solids, r%t, r%dt, cstep, r%sub, r%t_contact, k_bad, bad_q, &
         bad_j, err)
       ! (no collective here: subcycling runs on one rank only, mpi_scene_check)
       if (allocated(err)) exit

@@ -1005,6 +1005,12 @@ contains
         'give 0', err)
       return
     end if
+    if (s%role == 'rigid' .and. deck%run%geometry == 'axisymmetric' .and. &
+      s%velocity(1) /= 0.0_wp) then
+      call bad(deck, grp, 'velocity', rtoa(s%velocity(1))//' (radial)', 'a rigid body of '// &
+        'revolution moves along its axis only: give velocity = 0, vz', err)
+      return
+    end if
     if (s%rotate /= 0.0_wp .and. nd /= 2) then
       call bad(deck, grp, 'rotate', rtoa(s%rotate), 'a rotation is in the plane (ndim = '// &
         '2); give 0', err)

@@ -318,6 +318,9 @@ contains
         if (prm%track_edge) prm%edge_point = cs%edge_point
         im = cs%imaster
         is = cs%islave
+        ! a rigid master moves at its &body velocity (a ram, a die)
+        prm%master_velocity = 0.0_wp
+        if (isolid(im) == 0) prm%master_velocity = deck%bodies(im)%velocity
         call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
           isolid(im), solids, deck%run%geometry == 'axisymmetric', e2)
         if (allocated(e2)) then

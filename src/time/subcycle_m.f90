@@ -152,12 +152,12 @@ contains
   !! at k dt/2^L update their points, forces and velocities. cstep: the step's contact
   !! statistics, to which the rates' are added (the largest counts and values over each
   !! rate's steps, the mean normal force over the step). A health problem ends the step
-  !! early with bad_q > 0 in solid k_bad (0: none).
-  subroutine subcycle_rates(pairs, solids, dt, cstep, rec, t_contact, k_bad, bad_q, bad_j, &
-    err)
+  !! early with bad_q > 0 in solid k_bad (0: none). t: the time at the step's start (s).
+  subroutine subcycle_rates(pairs, solids, t, dt, cstep, rec, t_contact, k_bad, bad_q, &
+    bad_j, err)
     type(contact_pair_t), intent(inout) :: pairs(:)
     type(solid_t), intent(inout) :: solids(:)
-    real(wp), intent(in) :: dt
+    real(wp), intent(in) :: t, dt
     type(contact_stats_t), intent(inout) :: cstep
     type(subcycle_record_t), intent(inout) :: rec
     real(wp), intent(inout) :: t_contact   !< wall time in contact (s), added to
@@ -192,7 +192,9 @@ contains
         end do
         if (any_nodes) then
           t0 = omp_get_wtime()
-          call contact_step(pairs, solids, dt/2.0_wp**r, cs, err)
+          ! (the sub-step of rate r from (k - 1) dt/2^L to that + dt/2^r)
+          call contact_step(pairs, solids, dt/2.0_wp**r, t + real(k - 1, wp)*dt/2.0_wp**lv + &
+            dt/2.0_wp**r, cs, err)
           t_contact = t_contact + (omp_get_wtime() - t0)
           if (allocated(err)) return
           call stats_max(acc(r), cs, 2.0_wp**(-r))

@@ -11,7 +11,8 @@ and 0 with it off (so the test fails if the skip silently stopped skipping).
 - &contact skip_far: the coarse RKPM Taylor bar (axisymmetric, viscoplastic, friction,
   rigid target), shortened to 6 us, and the coarse FEM elastic bar on a rigid wall; and
   the self-contact of the C-shape (input/c_shape_fold.nml), where it skips the surface
-  particles that no non-neighbour can have reached.
+  particles that no non-neighbour can have reached; and a rigid ram moving at a prescribed
+  velocity onto a bar at rest (input/ram_push.nml), whose box moves towards the particles.
 - &solver skip_quiet: the elastic wave (a bar pushed at one end) bit for bit; the elastic
   RKPM bar on a rigid wall to a relative 1e-9 of each dataset's largest value. A quiet
   point keeps F = I exactly where the full computation gives I + O(1e-16) (the gradients
@@ -23,7 +24,7 @@ and 0 with it off (so the test fails if the skip silently stopped skipping).
 
 Usage: check_skip_work.py /path/to/mfcd input/taylor_bar_rkpm_coarse.nml
        input/bar_impact_elastic_fem_coarse.nml input/elastic_wave.nml
-       input/bar_impact_elastic_coarse.nml input/c_shape_fold.nml
+       input/bar_impact_elastic_coarse.nml input/c_shape_fold.nml input/ram_push.nml
 """
 import os
 import re
@@ -38,7 +39,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from mfcd_h5 import MfcdFile, is_timing  # noqa: E402
 
 MFCD = os.path.abspath(sys.argv[1])
-TAYLOR, FEM_BAR, WAVE, RKPM_BAR, C_SHAPE = (os.path.abspath(p) for p in sys.argv[2:7])
+TAYLOR, FEM_BAR, WAVE, RKPM_BAR, C_SHAPE, RAM = (os.path.abspath(p) for p in sys.argv[2:8])
 RTOL_QUIET = 1e-9   # round-off seeds carried by an elastic run: measured <= 2e-11
 results = []
 
@@ -121,7 +122,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         taylor = [("t_end", "t_end = 6.0e-6"), ("snapshot_times", "snapshot_times = 0.0, 6.0e-6")]
         for name, src, edits in [("taylor_rkpm", TAYLOR, taylor), ("bar_fem", FEM_BAR, []),
-                                 ("c_shape_self", C_SHAPE, [])]:
+                                 ("c_shape_self", C_SHAPE, []), ("ram", RAM, [])]:
             on, _ = run(tmp, src, name + "_far_on", edits)
             off, _ = run(tmp, src, name + "_far_off",
                          edits + [("&contact", "skip_far = .false.")])
