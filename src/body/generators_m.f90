@@ -1,18 +1,21 @@
 !> Particle-body generators: segment (1D), rectangle and polygon (2D lattices, e.g. the L- or
-!! C-shaped concave domain of Figs. 6-7), annulus sector (polar lattice), and bodies given
-!! as arrays (read from a particle file). Each particle gets its volume (its lattice cell
+!! C-shaped concave domain of Figs. 6-7), annulus sector (polar lattice), solid disk
+!! (concentric rings with explicit cells), and bodies given as arrays (read from a particle
+!! file). Each particle gets its volume (its lattice cell
 !! clipped by the exact shape), its support rho = support_factor x spacing per direction,
 !! a boundary flag, and the ordered, counter-clockwise boundary polylines.
 module generators_m
   use kinds_m, only: wp, pi, i64
   use errors_m, only: error_t, set_error
-  use body_m, only: body_t
+  use body_m, only: body_t, max_cell_vertices
   use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, &
     signed_distance, polygon_area, clip_polygon_box, segment_distance, full_turn_tol
   use sorting_m, only: sort_index
+  use strings_m, only: itoa, rtoa
   implicit none
   private
   public :: make_segment, make_rectangle, make_polygon, make_annulus, make_from_arrays
+  public :: make_disk, disk_ring_count
   public :: set_supports, perturb_interior, max_perturbation
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
@@ -399,6 +402,233 @@ contains
       idx = ir + (jt - 1)*nr
     end function idx
   end subroutine make_annulus
+
+  !> Particles of ring k (k >= 1) of a disk: the nearest whole number to its circumference
+  !! over the spacing, 2 pi k, so that neighbours on a ring are about one spacing apart.
+  pure integer function disk_ring_count(k) result(n)
+    integer, intent(in) :: k
+    n = max(6, nint(2.0_wp*pi*real(k, wp)))
+  end function disk_ring_count
+
+  !> A solid disk of the given radius about center: a particle at the centre and nr =
+  !! max(2, nint(radius/dx)) concentric rings at radii k h (h = radius/nr), ring k holding
+  !! disk_ring_count(k) particles evenly spaced (odd rings turned by half a step, so that
+  !! neighbouring rings do not line up), the last ring on the circle itself: the surface is
+  !! smooth (its polyline is inscribed in the circle, its particles on it), unlike a lattice
+  !! polygon's staircase.
+  !!
+  !! Integration cells, explicit (cell_ptr, cell_xy): ring k's particle j owns the annular
+  !! sector between the circles of radii (k - 1/2) h and (k + 1/2) h (R for the last ring)
+  !! and the angles half a step either side of it; the centre particle the disk of radius h/2.
+  !! Each circle is drawn as one polygon through every break point of the rings on either
+  !! side of it (and through the last ring's particles on the outer circle), and every cell
+  !! takes its arcs from that polygon, vertex for vertex, so the cells tile the body with
+  !! shared edges (what SCNI's divergence consistency needs) and their areas are the
+  !! volumes. The same construction gives a sphere (shells of cells) and a cylinder (a disk
+  !! in layers) in 3D.
+  subroutine make_disk(b, center, radius, dx, err)
+    type(body_t), intent(out) :: b
+    real(wp), intent(in) :: center(2), radius, dx
+    type(error_t), allocatable, intent(inout) :: err
+    !> two break angles closer than this (rad) are one vertex: far below any spacing of
+    !! angles (2 pi / n_k, n_k < 1e9), far above the rounding of 2 pi (j + c)/n
+    real(wp), parameter :: angle_tol = 1.0e-12_wp
+    integer :: nr, k, j, np, c, nv, i0, i1, m, p, nvmax, nw, nxy
+    integer(i64) :: ntot
+    real(wp) :: h, rc, a
+    integer, allocatable :: nk(:), first(:), cptr(:), idx_in(:, :), idx_out(:, :)
+    real(wp), allocatable :: ang(:), ca(:, :), work(:), poly(:, :)
+    integer, allocatable :: cnt(:)
+    if (.not. (radius > 0.0_wp .and. dx > 0.0_wp)) then
+      call set_error(err, 'a disk needs radius > 0 and spacing > 0')
+      return
+    end if
+    if (radius/dx > 2.0e4_wp) then
+      call set_error(err, 'a disk of radius '//rtoa(radius)//' m at spacing '// &
+        rtoa(dx)//' m would have more than about 1.3e9 particles; give a coarser spacing')
+      return
+    end if
+    nr = max(2, nint(radius/dx))
+    h = radius/real(nr, wp)
+    allocate(nk(0:nr), first(0:nr))
+    nk(0) = 1
+    first(0) = 1
+    do k = 1, nr
+      nk(k) = disk_ring_count(k)
+      first(k) = first(k - 1) + nk(k - 1)
+    end do
+    ntot = sum(int(nk, i64))
+    np = int(ntot)
+    b%ndim = 2
+    b%np = np
+    allocate(b%x(2, np), b%vol(np), b%boundary(np))
+    b%x(:, 1) = center
+    do k = 1, nr
+      do j = 1, nk(k)
+        a = ring_angle(k, j, 0.0_wp)
+        b%x(:, first(k) + j - 1) = center + real(k, wp)*h*[cos(a), sin(a)]
+      end do
+    end do
+    b%boundary = .false.
+    b%boundary(first(nr):np) = .true.
+    ! circle c (1 .. nr) is the inner side of ring c, at (c - 1/2) h; circle nr + 1 is R.
+    ! cptr(c) .. cptr(c+1)-1 index its vertices (angles ang, ascending in [0, 2 pi)); the
+    ! break angles of ring k are idx_in(:, k) on circle k and idx_out(:, k) on circle k+1
+    allocate(cnt(nr + 1), cptr(nr + 2), idx_in(maxval(nk), nr), idx_out(maxval(nk), nr))
+    ! (at most the break angles of the two rings beside each circle, and the last ring's
+    ! particles)
+    allocate(ang(2*np + nk(nr)), ca(2, 2*np + nk(nr)), work(2*maxval(nk)))
+    cptr(1) = 1
+    do c = 1, nr + 1
+      ! this circle's break angles: ring c - 1's outer side, ring c's inner side, and on the
+      ! outer circle ring nr's particles (relative to the centre)
+      nw = 0
+      if (c >= 2) call add_angles(c - 1, -0.5_wp)
+      if (c <= nr) call add_angles(c, -0.5_wp)
+      if (c == nr + 1) call add_angles(nr, 0.0_wp)
+      call sort_unique(work(1:nw), angle_tol, m)
+      rc = (real(c, wp) - 0.5_wp)*h
+      if (c == nr + 1) rc = radius
+      do j = 1, m
+        ang(cptr(c) + j - 1) = work(j)
+        ca(:, cptr(c) + j - 1) = rc*[cos(work(j)), sin(work(j))]
+      end do
+      cptr(c + 1) = cptr(c) + m
+      cnt(c) = m
+    end do
+    do k = 1, nr
+      do j = 1, nk(k)
+        idx_in(j, k) = find_angle(k, ring_angle(k, j, -0.5_wp))
+        idx_out(j, k) = find_angle(k + 1, ring_angle(k, j, -0.5_wp))
+      end do
+    end do
+    ! the cells, counter-clockwise (a circle's vertex is a corner of at most two cells on
+    ! either side of it)
+    nvmax = 2*maxval(cnt) + 4
+    allocate(poly(2, nvmax), b%cell_ptr(np + 1), b%cell_xy(2, 4*(cptr(nr + 2) - 1)))
+    nxy = 0
+    b%cell_ptr(1) = 1
+    ! the centre: circle 1 whole
+    nv = cnt(1)
+    poly(:, 1:nv) = ca(:, cptr(1):cptr(2) - 1)
+    call add_cell(1)
+    do k = 1, nr
+      do j = 1, nk(k)
+        nv = 0
+        ! outer arc from this cell's first break angle to the next (ascending, cyclic),
+        ! then the inner arc back (descending): counter-clockwise
+        i0 = idx_out(j, k)
+        i1 = idx_out(merge(1, j + 1, j == nk(k)), k)
+        p = i0
+        do
+          nv = nv + 1
+          poly(:, nv) = ca(:, cptr(k + 1) + p - 1)
+          if (p == i1) exit
+          p = merge(1, p + 1, p == cnt(k + 1))
+        end do
+        i0 = idx_in(merge(1, j + 1, j == nk(k)), k)
+        i1 = idx_in(j, k)
+        p = i0
+        do
+          nv = nv + 1
+          poly(:, nv) = ca(:, cptr(k) + p - 1)
+          if (p == i1) exit
+          p = merge(cnt(k), p - 1, p == 1)
+        end do
+        call add_cell(first(k) + j - 1)
+      end do
+    end do
+    b%cell_xy = b%cell_xy(:, 1:nxy)
+    if (maxval(b%cell_ptr(2:) - b%cell_ptr(:np)) > max_cell_vertices) then
+      call set_error(err, 'a disk cell has more than '//itoa(max_cell_vertices)//' vertices')
+      return
+    end if
+    b%spacing = 0.0_wp
+    b%spacing(1:2) = h
+    b%geom%kind = geom_annulus
+    b%geom%center = center
+    b%geom%r0 = 0.0_wp
+    b%geom%r1 = radius
+    b%geom%t0 = 0.0_wp
+    b%geom%t1 = 2.0_wp*pi
+    b%nloops = 1
+    b%loop_ptr = [1, nk(nr) + 1]
+    b%loop_idx = [(first(nr) + j - 1, j = 1, nk(nr))]
+    b%loop_closed = [.true.]
+  contains
+    !> The angle of ring k's particle j shifted by off steps, in [0, 2 pi).
+    pure real(wp) function ring_angle(kk, jj, off) result(t)
+      integer, intent(in) :: kk, jj
+      real(wp), intent(in) :: off
+      t = modulo(2.0_wp*pi*(real(jj - 1, wp) + 0.5_wp*real(mod(kk, 2), wp) + off)/ &
+        real(nk(kk), wp), 2.0_wp*pi)
+    end function ring_angle
+
+    !> The vertex of circle cc at angle t (within angle_tol, cyclic).
+    integer function find_angle(cc, t) result(i)
+      integer, intent(in) :: cc
+      real(wp), intent(in) :: t
+      real(wp) :: d, best
+      integer :: q
+      best = huge(1.0_wp)
+      i = 1
+      do q = 1, cnt(cc)
+        d = abs(ang(cptr(cc) + q - 1) - t)
+        d = min(d, 2.0_wp*pi - d)
+        if (d < best) then
+          best = d
+          i = q
+        end if
+      end do
+    end function find_angle
+
+    !> Ring kk's break angles (off = -1/2) or particle angles (off = 0) onto work.
+    subroutine add_angles(kk, off)
+      integer, intent(in) :: kk
+      real(wp), intent(in) :: off
+      integer :: q
+      do q = 1, nk(kk)
+        nw = nw + 1
+        work(nw) = ring_angle(kk, q, off)
+      end do
+    end subroutine add_angles
+
+    !> Cell i is poly(:, 1:nv) (relative to the centre): its area, its vertices placed.
+    subroutine add_cell(i)
+      integer, intent(in) :: i
+      integer :: q
+      b%vol(i) = polygon_area(poly, nv)
+      do q = 1, nv
+        b%cell_xy(:, nxy + q) = center + poly(:, q)
+      end do
+      nxy = nxy + nv
+      b%cell_ptr(i + 1) = b%cell_ptr(i) + nv
+    end subroutine add_cell
+  end subroutine make_disk
+
+  !> Sort a ascending and drop values within tol of the previous one (cyclic over 2 pi at
+  !! the end); the m distinct values are a(1:m).
+  subroutine sort_unique(a, tol, m)
+    real(wp), intent(inout) :: a(:)
+    real(wp), intent(in) :: tol
+    integer, intent(out) :: m
+    integer, allocatable :: order(:)
+    real(wp), allocatable :: s(:)
+    integer :: i
+    m = 0
+    if (size(a) == 0) return
+    allocate(order(size(a)))
+    call sort_index(a, order)
+    s = a(order)
+    m = 1
+    a(1) = s(1)
+    do i = 2, size(s)
+      if (s(i) - a(m) <= tol) cycle
+      m = m + 1
+      a(m) = s(i)
+    end do
+    if (m > 1 .and. a(1) + 2.0_wp*pi - a(m) <= tol) m = m - 1
+  end subroutine sort_unique
 
   !> A body from arrays (particle file): x(ndim, np), vol(np), loop(np) (0 = interior,
   !! k > 0 = on boundary loop k) and order(np) (position along that loop).

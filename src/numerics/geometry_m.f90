@@ -88,7 +88,9 @@ contains
     d = huge(1.0_wp)
     ! distance to the two arcs
     if (in_angle) then
-      d = min(abs(r - g%r0), abs(r - g%r1))
+      d = abs(r - g%r1)
+      ! (a solid disk, r0 = 0, has no inner arc)
+      if (g%r0 > 0.0_wp) d = min(d, abs(r - g%r0))
     else
       d = min(norm2(q - g%r0*e0), norm2(q - g%r1*e0), norm2(q - g%r0*e1), norm2(q - g%r1*e1))
     end if

@@ -12,7 +12,7 @@ module body_setup_m
   use body_m, only: body_t, max_cell_vertices
   use deck_m, only: deck_t, body_spec_t, body_count_var, body_place_var, body_make_vars
   use basis_m, only: mmax, basis_size
-  use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, &
+  use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, make_disk, &
     make_from_arrays, set_supports, perturb_interior
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
@@ -211,6 +211,8 @@ contains
         call make_annulus(b, s%center, s%r_inner, s%r_outer, s%theta_start*pi/180.0_wp, &
           s%theta_end*pi/180.0_wp, s%n(1), s%n(2), e2)
       end if
+    case ('disk')
+      call make_disk(b, s%center, s%radius, s%spacing(1), e2)
     case ('file', 'geo')
       ! a gmsh script gives in memory what tools/mesh_body.py writes into a particle file:
       ! from here on the two are one path

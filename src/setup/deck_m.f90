@@ -108,6 +108,7 @@ module deck_m
     real(wp) :: origin(2)
     real(wp) :: center(2)
     real(wp) :: r_inner, r_outer
+    real(wp) :: radius      !< shape 'disk': its radius (m), about center
     real(wp) :: theta_start, theta_end   !< degrees in the deck
     character(len=body_file_len) :: file
     !> shape 'geo': the gmsh parser numbers set before the .geo script is read, as names
@@ -942,6 +943,7 @@ contains
       s%center = center
       s%r_inner = r_inner
       s%r_outer = r_outer
+      s%radius = radius
       s%theta_start = theta_start
       s%theta_end = theta_end
       s%file = file
@@ -1117,13 +1119,13 @@ contains
       ! what the RKPM tables would refuse at set-up (rkpm_tl_m), named here
       ! (a 'file' body brings its cells, or the body set-up says it has none)
       if (s%integration /= 'direct' .and. s%shape /= 'rectangle' .and. s%shape /= 'polygon' &
-        .and. s%shape /= 'file' .and. s%shape /= 'geo') then
+        .and. s%shape /= 'disk' .and. s%shape /= 'file' .and. s%shape /= 'geo') then
         call bad(deck, grp, 'integration', "'"//trim(s%integration)//"'", trim(s%integration)// &
-          " integrates over the cells of a 'rectangle' or 'polygon' body, of a gmsh mesh "// &
-          "(shape = 'geo') or of a particle file that carries them (/cells, "// &
+          " integrates over the cells of a 'rectangle', 'polygon' or 'disk' body, of a "// &
+          "gmsh mesh (shape = 'geo') or of a particle file that carries them (/cells, "// &
           "tools/mesh_body.py), and shape '"//trim(s%shape)//"' has none; use shape = "// &
-          "'rectangle', 'polygon', 'geo' or 'file' (or integration = 'direct', a negative "// &
-          "control, in plane strain)", err)
+          "'rectangle', 'polygon', 'disk', 'geo' or 'file' (or integration = 'direct', a "// &
+          "negative control, in plane strain)", err)
         return
       end if
       if (s%integration == 'direct' .and. deck%run%geometry == 'axisymmetric') then
@@ -1214,7 +1216,7 @@ contains
         call bad(deck, grp, 'r_inner', '0', 'the polar lattice would put all n_angular '// &
           'particles of its first ring on the centre, one on top of the other; give a '// &
           "small hole (r_inner > 0, e.g. half the radial spacing), or make a full disc "// &
-          "with shape = 'polygon'", err)
+          "with shape = 'disk' (center, radius, spacing)", err)
       else if (.not. (s%theta_end > s%theta_start .and. &
         s%theta_end - s%theta_start <= 360.0_wp)) then
         call bad(deck, grp, 'theta_start/theta_end', rtoa(s%theta_start)//', '// &
@@ -1222,6 +1224,20 @@ contains
       else if (any(s%n(1:2) < 2) .or. int(s%n(1), i64)*s%n(2) > max_lattice) then
         call bad(deck, grp, 'n', itoa(s%n(1))//', '//itoa(s%n(2)), &
           'give n = n_radial, n_angular, both >= 2 (at most 5e7 particles)', err)
+      end if
+    case ('disk')
+      if (.not. (s%radius > 0.0_wp)) then
+        call bad(deck, grp, 'radius', rtoa(s%radius), 'give the disk''s radius > 0 (m), '// &
+          'about center', err)
+      else if (s%spacing(1) == unset .or. .not. (s%spacing(1) > 0.0_wp)) then
+        call bad(deck, grp, 'spacing', 'missing or <= 0', 'give spacing = h > 0 (m): the '// &
+          'distance between the rings of particles (and along each ring)', err)
+      else if (s%radius/s%spacing(1) > 2.0e4_wp) then
+        call bad(deck, grp, 'spacing', rtoa(s%spacing(1)), 'the disk would have more than '// &
+          'about 1.3e9 particles; give a coarser spacing', err)
+      else if (any(s%spacing(2:) /= unset)) then
+        call bad(deck, grp, 'spacing', 'more than one value', 'a disk has one spacing '// &
+          '(rings and particles along them alike): give spacing = h', err)
       end if
     case ('file', 'geo')
       do j = 2, 3
@@ -1912,7 +1928,7 @@ contains
     character(len=*), intent(in) :: shape
     character(len=:), allocatable :: v
     select case (shape)
-    case ('polygon')
+    case ('polygon', 'disk')
       v = 'spacing'
     case ('file', 'geo')
       v = 'file'
@@ -1930,7 +1946,7 @@ contains
       v = 'lo/hi'
     case ('polygon')
       v = 'vertices'
-    case ('annulus_sector')
+    case ('annulus_sector', 'disk')
       v = 'center'
     case default
       v = 'file'
@@ -1948,6 +1964,8 @@ contains
       v = 'vertices/spacing'
     case ('annulus_sector')
       v = 'r_inner/r_outer/n'
+    case ('disk')
+      v = 'radius/spacing'
     case default
       v = 'file'
     end select
@@ -1959,7 +1977,7 @@ contains
     select case (shape)
     case ('segment')
       shape_ndim = 1
-    case ('rectangle', 'polygon', 'annulus_sector', 'geo')
+    case ('rectangle', 'polygon', 'annulus_sector', 'disk', 'geo')
       shape_ndim = 2
     case default
       shape_ndim = 0
