@@ -63,6 +63,9 @@ module contact_m
     !> wall time in the pair's whole correction (positions, re-binning, detection, forces,
     !! spreading; s): its cost against the rest of the step
     real(wp) :: t_pair = 0.0_wp
+    !> the pair's friction work since t = 0 (J, J/m in plane strain; <= 0: dissipated):
+    !! the sum of the steps' contact_stats_t%w_friction (this rank's particles on ranks)
+    real(wp) :: w_friction = 0.0_wp
   end type contact_counters_t
 
   !> Two segments nearer a point than this fraction of the largest segment extent differ by

@@ -106,6 +106,12 @@ module contact_pair_m
     !! of the slave particles' forces and of the opposites of the master particles' (the
     !! second condition of eq. 28), in x, y (plane) or r, z: the force the pair transmits
     real(wp) :: force_slave(2) = 0.0_wp
+    !> the work of the friction forces of eqs. (94)-(96) over the step on the relative
+    !! tangential motion (J, J/m; <= 0): per particle 1/2 f_t s_c, the mean force of the
+    !! step (as force_tangential) times the slip s_c left after the correction, s_c = s +
+    !! dt^2/2 f_t/m (s the predicted slip of eq. 90, m the eq. 93 mass): 0 where a particle
+    !! sticks, -1/2 mu |f_n| |s_c| where it slides
+    real(wp) :: w_friction = 0.0_wp
     real(wp) :: radius = 0.0_wp         !< largest x1 of a contacting particle (m)
     real(wp) :: pen_before = 0.0_wp     !< deepest predicted penetration (m, >= 0)
     real(wp) :: pen_after = 0.0_wp      !< deepest penetration left after the correction (m)
@@ -712,6 +718,8 @@ contains
       if (pairs(k)%side(2)%moving) pairs(k)%side(2)%shift = pairs(k)%side(2)%vel*t1
       call contact_correct(pairs(k), solids, dt, err)
       pairs(k)%count%t_pair = pairs(k)%count%t_pair + (omp_get_wtime() - t0)
+      ! (every call: the sub-steps of subcycling too; on ranks this rank's particles)
+      pairs(k)%count%w_friction = pairs(k)%count%w_friction + pairs(k)%step%w_friction
       if (allocated(err)) return
       total%n_contact = total%n_contact + pairs(k)%step%n_contact
       total%n_flagged = total%n_flagged + pairs(k)%step%n_flagged
@@ -957,7 +965,7 @@ contains
     integer(i64), intent(out) :: ncon
     integer :: j, jj, i0, i1
     real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
-    real(wp) :: dxb(2), ftsum, fx, fy, sgn
+    real(wp) :: dxb(2), ftsum, fx, fy, sgn, wfr, ft
     logical :: stick
     ! forces (eqs. 93-96) at the penetrating particles, whichever detector found them
     ncon = 0
@@ -967,6 +975,7 @@ contains
     ftsum = 0.0_wp
     fx = 0.0_wp
     fy = 0.0_wp
+    wfr = 0.0_wp
     ! the step's first pass pushes the slave's particles, the second the master's (their
     ! forces act on the slave with the opposite sign)
     sgn = merge(1.0_wp, -1.0_wp, count_stats)
@@ -983,8 +992,9 @@ contains
       end do
     end if
     !$omp parallel do default(none) shared(a, b, dt, p, sgn) &
-    !$omp private(j, g, nrm, tng, slip, fj, stick, xi, i0, i1, invmb, meff, dxb) &
-    !$omp reduction(+: ncon, fnsum, ftsum, fx, fy) reduction(max: pen, rad) schedule(static)
+    !$omp private(j, g, nrm, tng, slip, fj, stick, xi, i0, i1, invmb, meff, dxb, ft) &
+    !$omp reduction(+: ncon, fnsum, ftsum, fx, fy, wfr) reduction(max: pen, rad) &
+    !$omp schedule(static)
     do jj = 1, a%nlist
       j = side_particle(a, jj)
       a%fphys(:, j) = 0.0_wp
@@ -1018,7 +1028,10 @@ contains
       a%fphys(:, j) = fj
       ncon = ncon + 1
       fnsum = fnsum + dot_product(fj, a%nrm(:, j))
-      ftsum = ftsum + abs(dot_product(fj, a%tng(:, j)))
+      ft = dot_product(fj, a%tng(:, j))
+      ftsum = ftsum + abs(ft)
+      ! friction work on the slip left after the correction (0 when it sticks)
+      if (meff > 0.0_wp) wfr = wfr + 0.5_wp*ft*(slip + 0.5_wp*dt*dt*ft/meff)
       fx = fx + sgn*fj(1)
       fy = fy + sgn*fj(2)
       pen = max(pen, -a%gap(j))
@@ -1035,6 +1048,7 @@ contains
       p%step%force_normal = 0.5_wp*fnsum
       p%step%force_tangential = 0.5_wp*ftsum
       p%step%force_slave = 0.5_wp*[fx, fy]
+      p%step%w_friction = wfr
       p%step%radius = rad
       p%step%pen_before = pen
       if (p%edge > 0) p%step%edge_in_contact = a%active(p%edge)
@@ -1044,6 +1058,7 @@ contains
       p%step%force_normal = p%step%force_normal + 0.5_wp*fnsum
       p%step%force_tangential = p%step%force_tangential + 0.5_wp*ftsum
       p%step%force_slave = p%step%force_slave + 0.5_wp*[fx, fy]
+      p%step%w_friction = p%step%w_friction + wfr
       p%step%radius = max(p%step%radius, rad)
       p%step%pen_before = max(p%step%pen_before, pen)
     end if

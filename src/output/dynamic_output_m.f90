@@ -58,32 +58,43 @@ module dynamic_output_m
   !! coefficients of eqs. (65)-(67) the internal forces of the total-Lagrangian solid
   !! exert no net force or moment, so a free body keeps both); in axisymmetry the kinetic
   !! energy and the axial momentum.
-  character(len=*), parameter :: body_plane_names(4) = [character(len=16) :: 'ke', &
-    'momentum_x', 'momentum_y', 'angular_momentum']
-  character(len=*), parameter :: body_axi_names(2) = [character(len=16) :: 'ke', &
-    'momentum_z']
-  character(len=*), parameter :: body_plane_units(4) = [character(len=4) :: 'J', 'N s', &
-    'N s', 'J s']
-  character(len=*), parameter :: body_axi_units(2) = [character(len=4) :: 'J', 'N s']
-  character(len=*), parameter :: body_plane_descr(4) = [character(len=96) :: &
+  character(len=*), parameter :: body_plane_names(7) = [character(len=16) :: 'ke', &
+    'momentum_x', 'momentum_y', 'angular_momentum', 'extent_x', 'extent_y', 'max_epsbar']
+  character(len=*), parameter :: body_axi_names(6) = [character(len=16) :: 'ke', &
+    'momentum_z', 'length', 'radius', 'foot_radius', 'max_epsbar']
+  character(len=*), parameter :: body_plane_units(7) = [character(len=4) :: 'J', 'N s', &
+    'N s', 'J s', 'm', 'm', '1']
+  character(len=*), parameter :: body_axi_units(6) = [character(len=4) :: 'J', 'N s', 'm', &
+    'm', 'm', '1']
+  character(len=*), parameter :: body_plane_descr(7) = [character(len=96) :: &
     'kinetic energy of the body', 'momentum of the body, x', 'momentum of the body, y', &
-    'angular momentum of the body about its centre of mass (out of the plane)']
-  character(len=*), parameter :: body_axi_descr(2) = [character(len=96) :: &
-    'kinetic energy of the body', 'momentum of the body along the axis']
+    'angular momentum of the body about its centre of mass (out of the plane)', &
+    'extent of the body in x (its physical nodes)', &
+    'extent of the body in y (its physical nodes)', &
+    'largest effective plastic strain in the body']
+  character(len=*), parameter :: body_axi_descr(6) = [character(len=96) :: &
+    'kinetic energy of the body', 'momentum of the body along the axis', &
+    'extent of the body along the axis z (a Taylor bar''s length)', &
+    'extent of the body in r (its radius when it reaches the axis)', &
+    'largest r within one spacing of the body''s lowest z (a Taylor bar''s foot radius)', &
+    'largest effective plastic strain in the body']
 
   !> Columns of /history/contacts/contact<k>/ for each &contact pair k (in deck order): the
   !! mean normal and friction forces of the step (half the sums of the eq. (93) and
-  !! (94)-(96) magnitudes: the impulse dt/2 f each gives, over dt) and the resultant force on
-  !! the slave body, in x, y (r, z in axisymmetry).
-  character(len=*), parameter :: pair_plane_names(4) = [character(len=16) :: &
-    'force_normal', 'force_tangential', 'force_x', 'force_y']
-  character(len=*), parameter :: pair_axi_names(4) = [character(len=16) :: &
-    'force_normal', 'force_tangential', 'force_r', 'force_z']
-  character(len=*), parameter :: pair_descr(4) = [character(len=96) :: &
+  !! (94)-(96) magnitudes: the impulse dt/2 f each gives, over dt), the resultant force on
+  !! the slave body, in x, y (r, z in axisymmetry), and the friction work since t = 0.
+  character(len=*), parameter :: pair_plane_names(5) = [character(len=16) :: &
+    'force_normal', 'force_tangential', 'force_x', 'force_y', 'w_friction']
+  character(len=*), parameter :: pair_axi_names(5) = [character(len=16) :: &
+    'force_normal', 'force_tangential', 'force_r', 'force_z', 'w_friction']
+  character(len=*), parameter :: pair_units(5) = [character(len=4) :: 'N', 'N', 'N', 'N', &
+    'J']
+  character(len=*), parameter :: pair_descr(5) = [character(len=96) :: &
     'mean normal contact force of the step (half the sum of the eq. 93 forces)', &
     'mean friction force of the step (half the sum of the eq. 94-96 magnitudes)', &
     'resultant contact force on the slave body, first component', &
-    'resultant contact force on the slave body, second component']
+    'resultant contact force on the slave body, second component', &
+    'friction work since t = 0 on the slip left after each correction (<= 0: dissipated)']
 
   !> History rows kept in memory until flushed to the file: the run's columns
   !! (history_names), then those of each deformable body (body_columns).
@@ -160,7 +171,7 @@ contains
         if (allocated(err)) return
         k = k + 1
         h%paths(k) = g//'/'//trim(merge(pair_plane_names(c), pair_axi_names(c), plane))
-        call h5_series_create(f, trim(h%paths(k)), plane_units('N'), err, &
+        call h5_series_create(f, trim(h%paths(k)), plane_units(pair_units(c)), err, &
           trim(pair_descr(c)))
       end do
     end do

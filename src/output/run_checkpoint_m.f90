@@ -114,6 +114,8 @@ contains
         if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
           '_pair_time', [c%t_pair], 's', err, 'wall time in the pair''s correction since '// &
           't = 0')
+        if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+          '_w_friction', [c%w_friction], 'J', err, 'friction work since t = 0')
       end associate
       ! skip_far's state, so that a restarted run skips what the uninterrupted one skips
       associate (s => pairs(k)%side(1))
@@ -510,6 +512,11 @@ contains
       if (h5_has(f, '/contacts/contact'//itoa(k)//'_pair_time')) then
         call h5_read(f, '/contacts/contact'//itoa(k)//'_pair_time', tpair, err)
         if (.not. allocated(err)) pairs(k)%count%t_pair = tpair(1)
+      end if
+      ! its friction work (absent from checkpoints written before it)
+      if (h5_has(f, '/contacts/contact'//itoa(k)//'_w_friction')) then
+        call h5_read(f, '/contacts/contact'//itoa(k)//'_w_friction', tpair, err)
+        if (.not. allocated(err)) pairs(k)%count%w_friction = tpair(1)
       end if
     end do
     if (.not. allocated(err)) call h5_read_attr(f, '/output', 'nsnap_done', nsnap_done, err)

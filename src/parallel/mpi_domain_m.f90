@@ -443,9 +443,13 @@ contains
     type(contact_counters_t), allocatable :: keep(:)
     integer :: k
     integer(i64) :: a(5), b(5)
+    real(wp) :: w(1), wt(1)
     if (restore) allocate(keep(size(pairs)), source=[(pairs(k)%count, k = 1, size(pairs))])
     do k = 1, size(pairs)
       associate (c => pairs(k)%count)
+        w = c%w_friction
+        call MPI_Allreduce(w, wt, 1, MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
+        c%w_friction = wt(1)
         a = [c%screened, c%evaluated, c%detected, c%contacts, c%skipped]
         call MPI_Allreduce(a, b, 5, MPI_INTEGER8, MPI_SUM, dom%mcomm)
         c%screened = b(1)

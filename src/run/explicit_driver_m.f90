@@ -300,10 +300,11 @@ contains
     type(run_record_t), intent(in) :: r
     type(energies_t), intent(in) :: en
     real(wp), intent(inout) :: row(:)
-    type(measures_t) :: hm
+    type(measures_t) :: hm, bm
     integer :: k, nd, nv, c, o
     ! per solid (solid_body_sums): ke, M, P(nd), sum M x (nd), L_o
     real(wp) :: v((3 + 2*size(solids(1)%state%d, 1))*size(solids)), xc(max_dim)
+    real(wp) :: wf(size(pairs))
     hm = dom%measures(solids(1))
     row(1:size(history_names)) = history_row_measured(r, en, hm)
     nd = size(solids(1)%state%d, 1)
@@ -315,25 +316,39 @@ contains
     c = size(history_names)
     do k = 1, size(solids)
       o = (k - 1)*nv
+      ! the body's measures (the first solid's are the run's: hm; collective on ranks)
+      if (k > 1) bm = dom%measures(solids(k))
+      if (k == 1) bm = hm
       if (solids(1)%t%axisym) then
-        ! the kinetic energy and the momentum along the axis (x2)
-        row(c + 1:c + 2) = [v(o + 1), v(o + 2 + nd)]
-        c = c + 2
+        ! the kinetic energy and the momentum along the axis (x2); the Taylor measures
+        row(c + 1:c + 6) = [v(o + 1), v(o + 2 + nd), bm%length, bm%width, bm%foot_radius, &
+          bm%max_epsbar]
+        c = c + 6
       else
         ! the plane kernel (dims_plane): L_cm = L_o - x_c x P, x_c = sum M x / M
         xc(:nd) = v(o + 3 + nd:o + 2 + 2*nd)/max(v(o + 2), tiny(1.0_wp))
         row(c + 1) = v(o + 1)
         row(c + 2:c + 1 + nd) = v(o + 3:o + 2 + nd)
         row(c + 2 + nd) = v(o + nv) - (xc(1)*v(o + 4) - xc(2)*v(o + 3))
-        c = c + 2 + nd
+        row(c + 3 + nd:c + 5 + nd) = [bm%width, bm%length, bm%max_epsbar]
+        c = c + 5 + nd
       end if
     end do
-    ! each pair's forces of the step (on ranks summed by dom%contact_stats)
+    ! each pair's forces of the step (on ranks summed by dom%contact_stats) and friction
+    ! work so far (each rank's own particles', summed here)
+    o = c
     do k = 1, size(pairs)
-      row(c + 1:c + 4) = [pairs(k)%step%force_normal, pairs(k)%step%force_tangential, &
-        pairs(k)%step%force_slave]
-      c = c + 4
+      row(c + 1:c + 5) = [pairs(k)%step%force_normal, pairs(k)%step%force_tangential, &
+        pairs(k)%step%force_slave, pairs(k)%count%w_friction]
+      c = c + 5
     end do
+    if (dom%comm%nranks > 1 .and. size(pairs) > 0) then
+      wf = [(row(o + 5*k), k = 1, size(pairs))]
+      call dom%comm%sum_real(wf)
+      do k = 1, size(pairs)
+        row(o + 5*k) = wf(k)
+      end do
+    end if
     ! each &bc group's reaction force, summed over the solids (and the ranks)
     if (c < size(row)) then
       row(c + 1:) = 0.0_wp

@@ -20,6 +20,18 @@ their annular-sector cells), no contact, no condition:
   particles sit on the circle with the mass of the half ring inside it, so the lumped
   second moment is high by O(h/R) (measured +1.21% at h/R = 0.1); the
   momentum 0 to 1e-12 of M omega a, and the energy residual below 1e-6 of ke(0);
+- sliding with Coulomb friction (the block at 3 m/s along a rigid floor under gravity
+  g = 1e5 m/s^2, mu = 0.3; issue 22, item 5): while every contact particle slides, each
+  friction force is mu times its normal force, so p_x + mu p_y = M v0 - mu M g t exactly
+  (the vertical momentum takes the normal impulse beyond M g t: the block rocks on the
+  floor), checked to 1e-12 of M v0 over the first 50 us (local sticking starts at about
+  65 us); the block stops near v0/(mu g) = 100 us (within 15%: it rocks, and its last
+  particles stick); the pair's friction work /history/contacts/contact1/w_friction is
+  negative, within 10% of -M v0^2/2 at the end (what it dissipates; the rest of the
+  kinetic energy goes into vibration and the normal stops) and within 6% of -int F_t v dt
+  (the mean friction force times the body's velocity: the bottom particles slip a little
+  slower than the centre of mass as the block pitches); with mu = 0 the friction work is
+  0 and p_x stays M v0 to round-off;
 - a spin in axisymmetry, or on a rigid body, is refused (exit 2) naming angular_velocity;
   a radial gravity in axisymmetry is refused naming gravity.
 
@@ -133,6 +145,92 @@ def free_fall(work, disc):
           bal < 1e-9 and res < 1e-9, (bal, res))
 
 
+SLIDE_G, SLIDE_MU, SLIDE_V0, SLIDE_T = 1.0e5, 0.3, 3.0, 120.0e-6
+
+
+def slide_deck(mu):
+    return f"""&run
+  mode = 'dynamic'
+  ndim = 2
+  geometry = 'plane'
+  gravity = 0.0, {-SLIDE_G}
+/
+&material
+  name = 'steel'
+  model = 'elastic'
+  density = {RHO}
+  youngs_modulus = 200.0e9
+  poisson_ratio = 0.3
+/
+&body
+  name = 'block'
+  shape = 'rectangle'
+  lo = 0.0, 0.0
+  hi = {A / 2}, {B / 2}
+  n = 21, 11
+  material = 'steel'
+  velocity = {SLIDE_V0}, 0.0
+/
+&body
+  name = 'floor'
+  role = 'rigid'
+  shape = 'rectangle'
+  lo = -0.005, -0.003
+  hi = 0.05, 0.0
+  n = 111, 7
+/
+&contact
+  master = 'floor'
+  slave = 'block'
+  mu = {mu}
+/
+&solver
+  t_end = {SLIDE_T}
+  history_every = 1
+/
+&output
+  file = 'out.h5'
+/
+"""
+
+
+def slide(work):
+    m = RHO * (A / 2) * (B / 2)
+    path, p = run(work, "slide", slide_deck(SLIDE_MU))
+    if not p.returncode:
+        with MfcdFile(path) as f:
+            h, body = f.history(), f.body_history("block")
+        t, px, py = h["time"], body["momentum_x"], body["momentum_y"]
+        wf = h["contacts/contact1/w_friction"]
+        early = t <= 50e-6
+        ident = np.max(np.abs(px + SLIDE_MU * py - (m * SLIDE_V0 - SLIDE_MU * m * SLIDE_G * t))[
+            early]) / (m * SLIDE_V0)
+        check(f"slide: p_x + mu p_y = M v0 - mu M g t while sliding ({ident:.1e} < 1e-12)",
+              ident < 1e-12, ident)
+        vx = px / m
+        stop = t[np.argmax(vx < 0.02 * SLIDE_V0)] if np.any(vx < 0.02 * SLIDE_V0) else np.inf
+        t_s = SLIDE_V0 / (SLIDE_MU * SLIDE_G)
+        check(f"slide: stops at {stop * 1e6:.1f} us, v0/(mu g) = {t_s * 1e6:.1f} us "
+              "(within 15%)", abs(stop / t_s - 1) < 0.15, stop)
+        ke0 = 0.5 * m * SLIDE_V0**2
+        check(f"slide: friction work {wf[-1]:.4f} J/m within 10% of -M v0^2/2 = {-ke0:.4f}",
+              wf[-1] < 0 and abs(wf[-1] / -ke0 - 1) < 0.10, wf[-1])
+        check("slide: friction work never grows", np.all(np.diff(wf) <= 1e-12 * ke0),
+              np.max(np.diff(wf)))
+        ft = h["contacts/contact1/force_tangential"]
+        approx = -np.sum(ft[1:] * 0.5 * (vx[1:] + vx[:-1]) * np.diff(t))
+        check(f"slide: friction work within 6% of -int F_t v dt = {approx:.4f}",
+              abs(wf[-1] / approx - 1) < 0.06, wf[-1] / approx)
+    path, p = run(work, "slide_mu0", slide_deck(0.0))
+    if not p.returncode:
+        with MfcdFile(path) as f:
+            h, body = f.history(), f.body_history("block")
+        wf = h["contacts/contact1/w_friction"]
+        dp = np.max(np.abs(body["momentum_x"] - m * SLIDE_V0)) / (m * SLIDE_V0)
+        check(f"slide_mu0: no friction work, p_x = M v0 ({dp:.1e})",
+              np.all(wf == 0.0) and dp < 1e-12, (wf[-1], dp))
+
+
 def mass(path, disc):
     """The body's mass: rho A B for the block, rho x the disk's cell areas (the inscribed
     polygon's), which must be within 0.2% of pi R^2 at this spacing."""
@@ -173,6 +271,7 @@ def main():
         for disc in ("rkpm", "fem", "disk"):
             free_fall(work, disc)
             spin(work, disc)
+        slide(work)
         _, p = run(work, "spin_axisymmetric", deck("fem", spin=OMEGA,
                                                     geometry="axisymmetric"), code=2)
         check("spin in axisymmetry: names angular_velocity",
