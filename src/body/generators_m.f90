@@ -15,7 +15,7 @@ module generators_m
   implicit none
   private
   public :: make_segment, make_rectangle, make_polygon, make_annulus, make_from_arrays
-  public :: make_disk, disk_ring_count
+  public :: make_disk, disk_ring_count, lattice_cells_explicit
   public :: set_supports, perturb_interior, max_perturbation
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
@@ -605,6 +605,42 @@ contains
       b%cell_ptr(i + 1) = b%cell_ptr(i) + nv
     end subroutine add_cell
   end subroutine make_disk
+
+  !> A lattice body's integration cells made explicit (cell_ptr, cell_xy): each particle's
+  !! lattice cell (a box of the spacing about its lattice point) clipped by the body's
+  !! polygon, the cell the SCNI and Gauss tables integrate over, so that the cells can turn
+  !! with the body (&body rotate). ok is .false. (and nothing changes) when cells of lattice
+  !! points outside a polygon were merged into particle cells (make_polygon): a particle's
+  !! cell is then several pieces, which an explicit cell (one polygon) cannot hold.
+  subroutine lattice_cells_explicit(b, ok)
+    type(body_t), intent(inout) :: b
+    logical, intent(out) :: ok
+    real(wp) :: half(2), o(2), cv(2, max_cell_vertices)
+    real(wp), allocatable :: xy(:, :)
+    integer :: i, ncv, n
+    ok = .false.
+    if (b%geom%kind /= geom_polygon .or. allocated(b%cell_ptr)) return
+    if (allocated(b%merged_ptr)) then
+      if (b%merged_ptr(b%np + 1) > b%merged_ptr(1)) return
+    end if
+    half = 0.5_wp*b%spacing(1:2)
+    allocate(b%cell_ptr(b%np + 1), xy(2, max_cell_vertices*b%np))
+    b%cell_ptr(1) = 1
+    n = 0
+    do i = 1, b%np
+      o = b%x(1:2, i)
+      if (allocated(b%cell_centre)) o = b%cell_centre(1:2, i)
+      call clip_polygon_box(b%geom%v, o - half, o + half, cv, ncv)
+      xy(:, n + 1:n + ncv) = cv(:, 1:ncv)
+      n = n + ncv
+      b%cell_ptr(i + 1) = n + 1
+    end do
+    b%cell_xy = xy(:, 1:n)
+    if (allocated(b%cell_centre)) deallocate(b%cell_centre)
+    if (allocated(b%merged_ptr)) deallocate(b%merged_ptr)
+    if (allocated(b%merged_centre)) deallocate(b%merged_centre)
+    ok = .true.
+  end subroutine lattice_cells_explicit
 
   !> Sort a ascending and drop values within tol of the previous one (cyclic over 2 pi at
   !! the end); the m distinct values are a(1:m).

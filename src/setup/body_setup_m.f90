@@ -13,6 +13,7 @@ module body_setup_m
   use deck_m, only: deck_t, body_spec_t, body_count_var, body_place_var, body_make_vars
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, make_disk, &
+    lattice_cells_explicit, &
     make_from_arrays, set_supports, perturb_interior
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
@@ -322,9 +323,11 @@ contains
   !! weighted mean of its particles), then moved by s%translate: every position it carries
   !! (particles, explicit cells, merged cell centres, the exact geometry the cells are
   !! clipped by). A translation applies to every shape. A rotation needs cells that turn
-  !! with the body: meshes and files with cells, element meshes, annulus sectors, rigid
-  !! bodies and detection runs; the lattice cells of a deformable RKPM rectangle or polygon
-  !! are axis-aligned boxes (the SCNI smoothing domains), so their rotation is refused.
+  !! with the body: meshes and files with cells, element meshes, annulus sectors, disks,
+  !! rigid bodies and detection runs have them; a deformable RKPM rectangle or polygon
+  !! integrates over lattice cells computed from its lattice points, so they are first made
+  !! explicit polygons (lattice_cells_explicit) that turn with it. A polygon whose outside
+  !! lattice cells were merged into particle cells (several pieces a cell) is refused.
   subroutine place_body(b, s, dynamic, where, err)
     type(body_t), intent(inout) :: b
     type(body_spec_t), intent(in) :: s
@@ -333,15 +336,20 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp) :: c(2), rot(2, 2), th
     integer :: nd, i
+    logical :: ok
     nd = b%ndim
     if (s%rotate /= 0.0_wp) then
       if (dynamic .and. s%role == 'deformable' .and. .not. allocated(b%cells) .and. &
         .not. allocated(b%cell_ptr) .and. any(s%shape == ['rectangle', 'polygon  '])) then
-        call set_error(err, where//', variable rotate = '//rtoa(s%rotate)//': an RKPM '// &
-          trim(s%shape)//' integrates over its lattice cells, boxes along x and y that '// &
-          'do not turn; give the turned outline as a polygon''s vertices, or mesh it '// &
-          '(shape = ''geo''), or make it of elements (discretization = ''fem'')')
-        return
+        call lattice_cells_explicit(b, ok)
+        if (.not. ok) then
+          call set_error(err, where//', variable rotate = '//rtoa(s%rotate)//': this '// &
+            'RKPM polygon''s cells include lattice cells merged from outside it (several '// &
+            'pieces a particle), which cannot turn as one cell; give the turned outline as '// &
+            'the polygon''s vertices (its lattice then stays along x and y), or mesh it '// &
+            '(shape = ''geo''), or make it of elements (discretization = ''fem'')')
+          return
+        end if
       end if
       th = s%rotate*pi/180.0_wp
       rot = reshape([cos(th), sin(th), -sin(th), cos(th)], [2, 2])
