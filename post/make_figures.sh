@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Draw the figures of doc/examples.md: Example 2.1 (Figs. 2-3) and Example 2.2, convex and
-# concave (Figs. 4-7, 11), and of doc/verification.md: the elastic stress wave's profiles
+# concave (Figs. 4-7, 11), their 3D counterparts (a box and a C-shaped block), and of doc/verification.md: the elastic stress wave's profiles
 # against the closed form and its energy history, from output/*.h5 into output/figures/
 # (git-ignored; bash tools/doc_figures.sh copies them into doc/figures/).
 #
@@ -19,7 +19,7 @@ cd "$root"
 PYTHON="${PYTHON:-.venv/bin/python}"
 MFCD="${MFCD:-build/bin/mfcd}"
 OUT="${OUT:-output/figures}"
-examples=(example_2_1 example_2_2 example_2_2_concave)
+examples=(example_2_1 example_2_2 example_2_2_concave example_3d_box example_3d_l_block)
 dynamic=(elastic_wave)
 
 if ! command -v "$PYTHON" >/dev/null 2>&1 && [ ! -x "$PYTHON" ]; then

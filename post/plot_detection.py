@@ -16,8 +16,11 @@ What is drawn depends on the dimension and on the query sets the deck asked for:
     <stem>_buffer_zone   0 < distance < rho_buffer shaded, det = threshold, body  [grid]
                          outline, max_outside_inside vs rho_buffer (Fig. 11)
     <stem>_det_line      det(M) along the query line, linear and logarithmic      [line]
-  3D
-    <stem>_det_line      only, when the deck has a query line
+  3D (the box and the C-shaped block of input/example_3d_*.nml)
+    <stem>_det_plane     det(M) filled contours on a plane grid (grid_n = 1 in one     [grid]
+                         direction), det = threshold, the exact section of the body,
+                         the particles within half a spacing of the plane
+    <stem>_det_line      det(M) along the query line                               [line]
 
 Several files may be given. Exit status: 0 when every figure was written, 1 otherwise.
 File layout: doc/output.md; reader: post/mfcd_h5.py.
@@ -477,6 +480,59 @@ def fig_buffer_zone(f, body, grid):
     return fig
 
 
+def fig_det_plane_3d(f, body, grid):
+    """det(M) on a 3D grid that is a plane (one direction with a single point)."""
+    names = ["x", "y", "z"]
+    flat = [k for k, a in enumerate(grid.axes) if a.size == 1]
+    if len(flat) != 1:
+        return None
+    k0 = flat[0]
+    ka, kb = [k for k in range(3) if k != k0]
+    D = np.squeeze(grid.as_grid(grid.det))          # (n_kb, n_ka): the later axis first
+    A, B = np.meshgrid(grid.axes[ka], grid.axes[kb])
+    det = f.detection
+    thr = float(det["threshold"])
+    at = float(grid.axes[k0][0])
+    w = 8.6
+    ext_a = grid.axes[ka][-1] - grid.axes[ka][0]
+    ext_b = grid.axes[kb][-1] - grid.axes[kb][0]
+    h = max(3.0, min(9.0, (w - 1.6) * ext_b / ext_a)) + 1.0
+    fig, ax = plt.subplots(figsize=(w, h))
+    scale, zlab = det_scale(float(D.max()))
+    levels = MaxNLocator(nbins=20).tick_values(0.0, float(D.max()) / scale)
+    if levels[-1] < D.max() / scale:
+        levels = np.append(levels, 2 * levels[-1] - levels[-2])
+    cf = ax.contourf(A, B, D / scale, levels=levels, cmap="viridis")
+    cb = fig.colorbar(cf, ax=ax, shrink=0.9)
+    cb.set_label(zlab)
+    ax.contour(A, B, D, levels=[thr], colors=C_THR, linewidths=1.6)
+    handles = [Line2D([], [], color=C_THR, lw=1.6, label=f"det(M) = threshold = {fmt(thr)}")]
+    if grid.distance is not None:
+        dist = np.squeeze(grid.as_grid(grid.distance))
+        ax.contour(A, B, dist, levels=[0.0], colors="white", linewidths=1.3, linestyles="--")
+        handles.append(Line2D([], [], color="white", lw=1.3, ls="--",
+                              label="exact section of the body (distance = 0)"))
+    sp = body.spacing
+    near = np.abs(body.x[:, k0] - at) <= 0.5 * (sp[k0] if sp is not None else 0.0)
+    ax.plot(body.x[near, ka], body.x[near, kb], ".", ms=1.5, color="0.85", zorder=3)
+    handles.append(Line2D([], [], ls="", marker=".", color="0.85",
+                          label=f"particles within half a spacing of {names[k0]} = {fmt(at)}"))
+    ax.set_xlim(grid.axes[ka][0], grid.axes[ka][-1])
+    ax.set_ylim(grid.axes[kb][0], grid.axes[kb][-1])
+    ax.set_aspect("equal")
+    ax.set_xlabel(f"{names[ka]} [m]")
+    ax.set_ylabel(f"{names[kb]} [m]")
+    ax.set_facecolor("0.35")
+    leg = ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12),
+                    ncol=2, framealpha=1.0, facecolor="0.35", labelcolor="white")
+    leg.get_frame().set_edgecolor("0.35")
+    ax.set_title(f"{run_name(f)}\ndet(M) on the plane {names[k0]} = {fmt(at)} m; interior "
+                 f"plateau {fmt(float(det['plateau']))}; inside = det(M) > {fmt(thr)} "
+                 f"({int(grid.inside.sum())} of {grid.n} points)", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
 # --------------------------------------------------------------------------- driver
 def plot_file(path, out, ext, dpi):
     stem = os.path.splitext(os.path.basename(path))[0]
@@ -520,13 +576,19 @@ def plot_file(path, out, ext, dpi):
                                                  f"{run_name(f)}: det(M) along the query line"),
                                     out, stem, "det_line", ext, dpi))
         else:
+            if grid is not None:
+                fig = fig_det_plane_3d(f, body, grid)
+                if fig is not None:
+                    written.append(save(fig, out, stem, "det_plane", ext, dpi))
+                else:
+                    print(f"{path}: the 3D grid is not a plane (grid_n = 1 in one direction): "
+                          "det_plane skipped", file=sys.stderr)
             if line is not None:
                 written.append(save(draw_profile(f, line, points,
                                                  f"{run_name(f)}: det(M) along the query line"),
                                     out, stem, "det_line", ext, dpi))
-            else:
-                print(f"{path}: ndim = {nd}: only a query line can be drawn, and there is none",
-                      file=sys.stderr)
+            elif grid is None:
+                print(f"{path}: ndim = {nd}: no query line or plane to draw", file=sys.stderr)
     return written
 
 

@@ -8,14 +8,14 @@ module generators_m
   use kinds_m, only: wp, pi, i64
   use errors_m, only: error_t, set_error
   use body_m, only: body_t, max_cell_vertices
-  use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, &
+  use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, geom_prism, &
     signed_distance, polygon_area, clip_polygon_box, segment_distance, full_turn_tol
   use sorting_m, only: sort_index
   use strings_m, only: itoa, rtoa
   implicit none
   private
   public :: make_segment, make_rectangle, make_polygon, make_annulus, make_from_arrays
-  public :: make_disk, disk_ring_count, lattice_cells_explicit
+  public :: make_disk, disk_ring_count, lattice_cells_explicit, extrude_body
   public :: set_supports, perturb_interior, max_perturbation
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
@@ -605,6 +605,61 @@ contains
       b%cell_ptr(i + 1) = b%cell_ptr(i) + nv
     end subroutine add_cell
   end subroutine make_disk
+
+  !> A 3D body from a 2D lattice body b2 (a rectangle or polygon) extruded along z: nz
+  !! layers of its particles from z0 to z1 (spacing dz = (z1 - z0)/(nz - 1)), each with the
+  !! volume of its 2D cell times its slab (dz, half at the two ends); a boundary particle is
+  !! one on the 2D boundary or in an end layer. A box is an extruded rectangle, the 3D
+  !! L-shaped or notched block an extruded polygon. Layer by layer: particle (i, k) is
+  !! i + (k - 1) np2. No boundary polylines (a 3D surface is facets).
+  subroutine extrude_body(b2, z0, z1, nz, b, err)
+    type(body_t), intent(in) :: b2
+    real(wp), intent(in) :: z0, z1
+    integer, intent(in) :: nz
+    type(body_t), intent(out) :: b
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, n2, i, q
+    real(wp) :: dz, slab
+    if (nz < 2 .or. .not. (z1 > z0)) then
+      call set_error(err, 'an extruded body needs at least 2 layers and z1 > z0')
+      return
+    end if
+    if (b2%geom%kind /= geom_polygon) then
+      call set_error(err, 'only a rectangle or a polygon is extruded')
+      return
+    end if
+    n2 = b2%np
+    if (int(n2, i64)*nz > int(huge(1), i64)) then
+      call set_error(err, 'the extruded body would have more than 2**31 - 1 particles')
+      return
+    end if
+    dz = (z1 - z0)/real(nz - 1, wp)
+    b%ndim = 3
+    b%np = n2*nz
+    allocate(b%x(3, b%np), b%vol(b%np), b%boundary(b%np))
+    do k = 1, nz
+      slab = dz
+      if (k == 1 .or. k == nz) slab = 0.5_wp*dz
+      do i = 1, n2
+        q = i + (k - 1)*n2
+        b%x(1:2, q) = b2%x(1:2, i)
+        b%x(3, q) = z0 + real(k - 1, wp)*dz
+        if (k == nz) b%x(3, q) = z1
+        b%vol(q) = b2%vol(i)*slab
+        b%boundary(q) = b2%boundary(i) .or. k == 1 .or. k == nz
+      end do
+    end do
+    b%spacing = 0.0_wp
+    b%spacing(1:2) = b2%spacing(1:2)
+    b%spacing(3) = dz
+    b%nloops = 0
+    allocate(b%loop_ptr(1), b%loop_idx(0), b%loop_closed(0))
+    b%loop_ptr = 1
+    b%geom%kind = geom_prism
+    b%geom%v = b2%geom%v
+    b%geom%z0 = z0
+    b%geom%z1 = z1
+  end subroutine extrude_body
 
   !> A lattice body's integration cells made explicit (cell_ptr, cell_xy): each particle's
   !! lattice cell (a box of the spacing about its lattice point) clipped by the body's

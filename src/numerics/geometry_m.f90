@@ -1,15 +1,17 @@
 !> Exact geometry of generated bodies: signed distance (negative inside) for a segment, a
-!! polygon (rectangles are polygons) and an annulus sector. Used to classify query points
+!! polygon (rectangles are polygons), an annulus sector, and in 3D a prism (a polygon in
+!! x-y extruded along z; boxes are prisms). Used to classify query points
 !! against the truth (buffer zone of eq. (50), detection accuracy) and never by the solver.
 module geometry_m
   use kinds_m, only: wp, pi
   implicit none
   private
-  public :: geometry_t, geom_none, geom_segment, geom_polygon, geom_annulus
+  public :: geometry_t, geom_none, geom_segment, geom_polygon, geom_annulus, geom_prism
   public :: signed_distance, polygon_area, clip_polygon_box, segment_distance
   public :: polygon_crossing, full_turn_tol
 
   integer, parameter :: geom_none = 0, geom_segment = 1, geom_polygon = 2, geom_annulus = 3
+  integer, parameter :: geom_prism = 4
 
   !> An angular span within this of 2 pi (rad) is a full turn: the decks give whole
   !! degrees, converted with one rounding (about 1e-16 relative), and no sector an
@@ -23,6 +25,7 @@ module geometry_m
     real(wp) :: center(2) = 0.0_wp              !< annulus centre (m)
     real(wp) :: r0 = 0.0_wp, r1 = 0.0_wp        !< inner, outer radius (m)
     real(wp) :: t0 = 0.0_wp, t1 = 0.0_wp        !< start, end angle (rad), t1 > t0
+    real(wp) :: z0 = 0.0_wp, z1 = 0.0_wp        !< prism: the polygon v from z0 to z1 (m)
   end type geometry_t
 
 contains
@@ -38,6 +41,8 @@ contains
       sd = polygon_sd(g%v, p(1:2))
     case (geom_annulus)
       sd = annulus_sd(g, p(1:2))
+    case (geom_prism)
+      sd = prism_sd(g, p(1:3))
     case default
       sd = huge(1.0_wp)
     end select
@@ -72,6 +77,22 @@ contains
     end do
     if (inside) sd = -sd
   end function polygon_sd
+
+  !> A prism's signed distance: the polygon's in x-y (s) and the slab's along z (t) are
+  !! orthogonal, so outside it is sqrt(max(s, 0)^2 + max(t, 0)^2) and inside the nearer
+  !! face's, max(s, t).
+  pure real(wp) function prism_sd(g, p) result(sd)
+    type(geometry_t), intent(in) :: g
+    real(wp), intent(in) :: p(3)
+    real(wp) :: s, t
+    s = polygon_sd(g%v, p(1:2))
+    t = max(g%z0 - p(3), p(3) - g%z1)
+    if (s <= 0.0_wp .and. t <= 0.0_wp) then
+      sd = max(s, t)
+    else
+      sd = sqrt(max(s, 0.0_wp)**2 + max(t, 0.0_wp)**2)
+    end if
+  end function prism_sd
 
   pure real(wp) function annulus_sd(g, p) result(sd)
     type(geometry_t), intent(in) :: g

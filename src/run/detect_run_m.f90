@@ -163,7 +163,7 @@ contains
     real(wp) :: v(n)
     integer :: i
     do i = 1, n
-      v(i) = a + (z - a)*real(i - 1, wp)/real(n - 1, wp)
+      v(i) = a + (z - a)*real(i - 1, wp)/real(max(n - 1, 1), wp)
     end do
   end function axis
 

@@ -13,7 +13,7 @@ module body_setup_m
   use deck_m, only: deck_t, body_spec_t, body_count_var, body_place_var, body_make_vars
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, make_disk, &
-    lattice_cells_explicit, &
+    lattice_cells_explicit, extrude_body, &
     make_from_arrays, set_supports, perturb_interior
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
@@ -185,6 +185,7 @@ contains
     logical :: has_tri, has_cells
     type(error_t), allocatable :: e2
     type(cst4_mesh_t) :: mesh
+    type(body_t) :: b2
     nd = deck%run%ndim
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(s%name)//"')"
     select case (s%shape)
@@ -201,7 +202,18 @@ contains
         call make_rectangle(b, s%lo(1:2), s%hi(1:2), s%n(1:2), e2)
       end if
     case ('polygon')
-      call make_polygon(b, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
+      if (nd == 3) then
+        ! the polygon in x-y, extruded along z (the 3D L-shaped or notched block)
+        call make_polygon(b2, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
+        if (.not. allocated(e2)) call extrude_body(b2, s%extrude(1), s%extrude(2), &
+          max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2)
+      else
+        call make_polygon(b, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
+      end if
+    case ('box')
+      ! a rectangle in x-y extruded along z: n(1) x n(2) x n(3) lattice points
+      call make_rectangle(b2, s%lo(1:2), s%hi(1:2), s%n(1:2), e2)
+      if (.not. allocated(e2)) call extrude_body(b2, s%lo(3), s%hi(3), s%n(3), b, e2)
     case ('annulus_sector')
       if (s%discretization == 'fem') then
         ! CST4 elements on the polar boxes of the annulus lattice
@@ -288,7 +300,7 @@ contains
       call set_supports(b, s%support_factor)
     end if
     ! Theorem 3.1 on the generating lattice: name the smallest support factor that works.
-    if (any(s%shape == ['segment  ', 'rectangle', 'polygon  ']) .and. &
+    if (any(s%shape == ['segment  ', 'rectangle', 'polygon  ', 'box      ']) .and. &
       .not. allocated(b%cells)) then
       if (.not. lattice_admissible(b%kid, b%wshape, b%bid, nd, b%spacing(1:nd), &
         s%support_factor(1:nd))) then

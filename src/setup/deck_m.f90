@@ -70,7 +70,7 @@ module deck_m
     integer :: size
     integer :: length
     character(len=8) :: unit
-    character(len=80) :: valid
+    character(len=96) :: valid
     character(len=192) :: hint
   end type deck_var_t
 
@@ -109,6 +109,7 @@ module deck_m
     real(wp) :: center(2)
     real(wp) :: r_inner, r_outer
     real(wp) :: radius      !< shape 'disk': its radius (m), about center
+    real(wp) :: extrude(2)  !< shape 'polygon' in 3D: the z range it is extruded over (m)
     real(wp) :: theta_start, theta_end   !< degrees in the deck
     character(len=body_file_len) :: file
     !> shape 'geo': the gmsh parser numbers set before the .geo script is read, as names
@@ -891,6 +892,9 @@ contains
     if (geometry == 'axisymmetric' .and. ndim /= 2) then
       call bad(deck, 'run', 'geometry', "'axisymmetric'", 'axisymmetric runs need ndim = 2', err)
     end if
+    if (.not. allocated(err) .and. mode == 'dynamic' .and. ndim == 3) call bad(deck, 'run', &
+      'ndim', '3', "three-dimensional dynamic runs (the 3D solid and contact) are not in "// &
+      "this version: det(M) in 3D runs with mode = 'detect'; a dynamic run needs ndim = 2", err)
     if (.not. allocated(err) .and. geometry == 'axisymmetric' .and. gravity(1) /= 0.0_wp) &
       call bad(deck, 'run', 'gravity', rtoa(gravity(1))//' (radial)', 'in axisymmetry '// &
       'gravity lies along the axis: give gravity = 0, g_z', err)
@@ -944,6 +948,7 @@ contains
       s%r_inner = r_inner
       s%r_outer = r_outer
       s%radius = radius
+      s%extrude = extrude
       s%theta_start = theta_start
       s%theta_end = theta_end
       s%file = file
@@ -1106,7 +1111,7 @@ contains
         trim(s%shape)//"'", err)
       return
     end if
-    if (s%perturbation > 0.0_wp .and. (s%discretization /= 'rkpm' .or. &
+    if (s%perturbation > 0.0_wp .and. (s%discretization /= 'rkpm' .or. nd /= 2 .or. &
       (s%shape /= 'rectangle' .and. s%shape /= 'polygon'))) then
       call bad(deck, grp, 'perturbation', rtoa(s%perturbation), "particles are moved off "// &
         "the lattice of an RKPM 'rectangle' or 'polygon' body only (this body: shape '"// &
@@ -1170,6 +1175,15 @@ contains
       else if (s%n(1) < 2 .or. s%n(1) > 10000000) then
         call bad(deck, grp, 'n', itoa(s%n(1)), 'give n = number of particles, 2 .. 1e7', err)
       end if
+    case ('box')
+      if (any(s%lo(1:3) == unset) .or. any(s%hi(1:3) == unset) .or. &
+        any(.not. s%hi(1:3) > s%lo(1:3))) then
+        call bad(deck, grp, 'lo/hi', 'missing or hi <= lo', 'give lo = x0, y0, z0 and '// &
+          'hi = x1, y1, z1 with x1 > x0, y1 > y0 and z1 > z0', err)
+      else if (any(s%n(1:3) < 2) .or. int(s%n(1), i64)*s%n(2)*s%n(3) > max_lattice) then
+        call bad(deck, grp, 'n', itoa(s%n(1))//', '//itoa(s%n(2))//', '//itoa(s%n(3)), &
+          'give n = nx, ny, nz with each >= 2 (at most 5e7 particles)', err)
+      end if
     case ('rectangle')
       if (any(s%lo(1:2) == unset) .or. any(s%hi(1:2) == unset) .or. &
         any(.not. s%hi(1:2) > s%lo(1:2))) then
@@ -1180,11 +1194,23 @@ contains
           'give n = nx, ny with nx, ny >= 2 (at most 5e7 particles)', err)
       end if
     case ('polygon')
-      if (s%nvert < 3) then
+      if (nd /= 2 .and. nd /= 3) then
+        call bad(deck, grp, 'shape', "'polygon'", "a polygon needs &run ndim = 2 (or 3, "// &
+          "extruded along z); use shape = 'file' for other dimensions", err)
+      else if (nd == 3 .and. (any(s%extrude == unset) .or. .not. s%extrude(2) > &
+        s%extrude(1))) then
+        call bad(deck, grp, 'extrude', 'missing or z1 <= z0', 'in 3D a polygon (in x, y) '// &
+          'is extruded along z: give extrude = z0, z1 with z1 > z0 (m) and spacing = dx, '// &
+          'dy, dz', err)
+      else if (nd == 2 .and. any(s%extrude /= unset)) then
+        call bad(deck, grp, 'extrude', 'given in 2D', 'extrude is for a 3D polygon '// &
+          '(ndim = 3); leave it out', err)
+      else if (s%nvert < 3) then
         call bad(deck, grp, 'vertices', itoa(s%nvert)//' vertices', &
           'give at least 3 vertices: vertices = x1, y1, x2, y2, x3, y3, ...', err)
-      else if (any(s%spacing(1:2) == unset) .or. any(s%spacing(1:2) <= 0.0_wp)) then
-        call bad(deck, grp, 'spacing', 'missing or <= 0', 'give spacing = dx, dy > 0 (m)', err)
+      else if (any(s%spacing(1:nd) == unset) .or. any(s%spacing(1:nd) <= 0.0_wp)) then
+        call bad(deck, grp, 'spacing', 'missing or <= 0', 'give spacing = dx, dy'// &
+          trim(merge(', dz', '    ', nd == 3))//' > 0 (m)', err)
       else if (any(s%vertices(:, 1:s%nvert) == unset)) then
         call bad(deck, grp, 'vertices', itoa(count(s%vertices(:, 1:s%nvert) /= unset))// &
           ' values', 'give every vertex both coordinates, in order: vertices = x1, y1, '// &
@@ -1200,7 +1226,8 @@ contains
             'the outline crosses or touches itself (edge k joins vertex k to k + 1); give '// &
             'the vertices of one simple polygon in order around it', err)
         else if (product((maxval(s%vertices(:, 1:s%nvert), dim=2) - &
-          minval(s%vertices(:, 1:s%nvert), dim=2))/s%spacing(1:2) + 1.0_wp) > &
+          minval(s%vertices(:, 1:s%nvert), dim=2))/s%spacing(1:2) + 1.0_wp)* &
+          merge((s%extrude(2) - s%extrude(1))/s%spacing(3) + 1.0_wp, 1.0_wp, nd == 3) > &
           real(max_lattice, wp)) then
           call bad(deck, grp, 'spacing', rtoa(s%spacing(1))//', '//rtoa(s%spacing(2)), &
             'the lattice over the polygon would have more than 5e7 points; give a '// &
@@ -1467,13 +1494,19 @@ contains
       any(line_to(1:nd) == unset))) then
       call bad(deck, 'detection', 'line_n/line_from/line_to', itoa(line_n), &
         'give line_n >= 2 and both end points (ndim coordinates each), or line_n = 0', err)
-    else if (any(grid_n(1:nd) /= 0) .and. (any(grid_n(1:nd) < 2) .or. &
+    else if (any(grid_n(1:nd) /= 0) .and. (any(grid_n(1:nd) < 1) .or. &
+      count(grid_n(1:nd) >= 2) < min(2, nd) .or. &
       any(grid_lo(1:nd) == unset) .or. any(grid_hi(1:nd) == unset))) then
       call bad(deck, 'detection', 'grid_n/grid_lo/grid_hi', itoa(grid_n(1)), &
-        'give grid_n >= 2 in every direction with grid_lo and grid_hi, or leave grid_n = 0', err)
-    else if (any(grid_n(1:nd) /= 0) .and. any(.not. grid_hi(1:nd) > grid_lo(1:nd))) then
+        'give grid_n >= 2 in every direction (or 1 in one direction of a 3D grid, a plane '// &
+        'where grid_lo = grid_hi) with grid_lo and grid_hi, or leave grid_n = 0', err)
+    else if (any(grid_n(1:nd) /= 0) .and. any(grid_n(1:nd) >= 2 .and. &
+      .not. grid_hi(1:nd) > grid_lo(1:nd))) then
       call bad(deck, 'detection', 'grid_hi', 'not above grid_lo', &
-        'give grid_hi > grid_lo in every direction', err)
+        'give grid_hi > grid_lo in every direction with grid_n >= 2', err)
+    else if (any(grid_n(1:nd) == 1 .and. grid_hi(1:nd) /= grid_lo(1:nd))) then
+      call bad(deck, 'detection', 'grid_hi', 'differs from grid_lo where grid_n = 1', &
+        'a direction with one grid point is a plane: give grid_lo = grid_hi there', err)
     else if (product(int(max(grid_n(1:nd), 1), i64)) > max_queries) then
       call bad(deck, 'detection', 'grid_n', 'more than 1e8 points', &
         'use a coarser grid (memory)', err)
@@ -1930,6 +1963,8 @@ contains
     select case (shape)
     case ('polygon', 'disk')
       v = 'spacing'
+    case ('box')
+      v = 'n'
     case ('file', 'geo')
       v = 'file'
     case default
@@ -1942,7 +1977,7 @@ contains
     character(len=*), intent(in) :: shape
     character(len=:), allocatable :: v
     select case (shape)
-    case ('rectangle', 'segment')
+    case ('rectangle', 'segment', 'box')
       v = 'lo/hi'
     case ('polygon')
       v = 'vertices'
@@ -1958,7 +1993,7 @@ contains
     character(len=*), intent(in) :: shape
     character(len=:), allocatable :: v
     select case (shape)
-    case ('segment', 'rectangle')
+    case ('segment', 'rectangle', 'box')
       v = 'lo/hi/n'
     case ('polygon')
       v = 'vertices/spacing'
@@ -1977,8 +2012,10 @@ contains
     select case (shape)
     case ('segment')
       shape_ndim = 1
-    case ('rectangle', 'polygon', 'annulus_sector', 'disk', 'geo')
+    case ('rectangle', 'annulus_sector', 'disk', 'geo')
       shape_ndim = 2
+    case ('box')
+      shape_ndim = 3
     case default
       shape_ndim = 0
     end select
