@@ -14,6 +14,13 @@
 !! plus 2 rho: points inside the body classified outside (must be 0), and the widest
 !! outside point classified inside against rho_buffer = sqrt(rho_x^2 + rho_y^2) (eq. 50).
 !!
+!! Part C, 3D throughput (issue 23): det(M) of a box of particles (the
+!! Taylor bar's 10 x 10 x 60 mm bounding box, 16 x 16 x 91 at 2/3 mm), linear
+!! basis, cubic tensor window, rho = 2.24 dx, at 10^6 random points in its bounding box, on
+!! 1 and 2 threads: the library path (det_at_points -> cloud_det -> det_3d_linear_tensor)
+!! against the plain compiled loop of the same arithmetic (det_variants_m's det_plain_3d)
+!! in the same run, and the generic path (cloud_moment + chol_small).
+!!
 !! Output: 'RESULT key=value ...' lines for scripts, and human tables.
 program bench_detect
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
@@ -21,16 +28,17 @@ program bench_detect
   use kinds_m, only: wp, pi
   use errors_m, only: error_t
   use body_m, only: body_t
-  use generators_m, only: make_rectangle, make_polygon, make_annulus, set_supports
+  use generators_m, only: make_rectangle, make_polygon, make_annulus, set_supports, &
+    extrude_body
   use detection_m, only: body_cloud
   use kernels_m, only: kernel_cubic, window_tensor
-  use basis_m, only: basis_bilinear, mmax
+  use basis_m, only: basis_bilinear, basis_linear_3d, mmax
   use rk_cloud_m, only: rk_cloud_t, cloud_moment
   use moment_matrix_m, only: chol_small, chol_det, singular_pivot
   use detection_m, only: det_at_points, body_plateau, classify, buffer_stats, buffer_stats_t
   use sorting_m, only: sort_index
   use det_variants_m, only: soa_cloud_t, soa_build, fine_cloud, det_copy, det_inline, &
-    det_branchless, det_soa
+    det_branchless, det_soa, det_plain_3d
   implicit none
 
   interface
@@ -47,7 +55,7 @@ program bench_detect
   !> Kernels: the library's det_at_points (specialised path), the generic assembly with
   !! chol_small or dpotrf, and the experiments of det_variants_m.
   integer, parameter :: k_lib = 1, k_generic = 2, k_lapack = 3, k_copy = 4, k_inline = 5, &
-    k_branchless = 6, k_soa = 7
+    k_branchless = 6, k_soa = 7, k_plain3d = 8
   !> Variants timed: a kernel, on the cloud as cloud_init built it (vcell = 0) or repacked
   !! on bins of cells rmax/vcell, with the queries in random or in cell order (sorted).
   !! Names starting 'x_' are experiments, not library code.
@@ -71,13 +79,14 @@ program bench_detect
   real(wp), parameter :: agree_tol = 1.0e-10_wp   !< relative det difference allowed
   real(wp), parameter :: det_floor = 1.0e-20_wp   !< compare det only above this
   integer :: nround
-  logical :: do_throughput, do_accuracy
+  logical :: do_throughput, do_accuracy, do_3d
 
   write(output_unit, '(a)') '# bench_detect: meshfree contact detection (Li et al. 2001)'
   write(output_unit, '(a,i0)') '# OpenMP max threads: ', omp_get_max_threads()
-  call read_args(nround, do_throughput, do_accuracy)
+  call read_args(nround, do_throughput, do_accuracy, do_3d)
   if (do_throughput) call throughput(nround)
   if (do_accuracy) call accuracy()
+  if (do_3d) call throughput_3d(nround)
 
 contains
 
@@ -346,8 +355,95 @@ contains
         det(i) = det_soa(c, s, p(:, i))
       end do
       !$omp end parallel do
+    case (k_plain3d)
+      !$omp parallel do default(none) shared(c, p, det) schedule(static, 256)
+      do i = 1, size(p, 2)
+        det(i) = det_plain_3d(c, p(:, i))
+      end do
+      !$omp end parallel do
     end select
   end subroutine det_experiment
+
+  !> Part C: 3D throughput, the library path against the plain loop in the same run.
+  subroutine throughput_3d(nround)
+    integer, intent(in) :: nround
+    type(body_t) :: b2, b
+    type(rk_cloud_t) :: c
+    type(soa_cloud_t) :: s
+    type(error_t), allocatable :: err
+    real(wp), allocatable :: p(:, :), d_lib(:), d(:)
+    real(wp) :: qps(3, 2), t, dmax, dref
+    integer :: round, nt, v, i
+    integer, parameter :: kern(3) = [k_lib, k_plain3d, k_generic]
+    character(len=*), parameter :: name3(3) = [character(len=11) :: 'library', 'plain_loop', &
+      'generic']
+    ! the Taylor bar's bounding box in 3D, 10 x 10 x 60 mm at 2/3 mm: 16 x 16 x 91
+    call make_rectangle(b2, [0.0_wp, 0.0_wp], [10.0_wp*mm_, 10.0_wp*mm_], [16, 16], err)
+    call check(err)
+    call extrude_body(b2, 0.0_wp, 60.0_wp*mm_, 91, b, err)
+    call check(err)
+    call set_supports(b, [support_factor, support_factor, support_factor])
+    b%kid = kernel_cubic
+    b%wshape = window_tensor
+    b%bid = basis_linear_3d
+    call body_cloud(b, c, err)
+    call check(err)
+    write(output_unit, '(/,a)') '## C. Throughput in 3D: a 10 x 10 x 60 mm box, linear basis'
+    write(output_unit, '(a,i0,a,es10.3,a,i0,a)') '# particles ', b%np, ', dx = ', &
+      b%spacing(1), ' m, rho = 2.24 dx; ', nquery, ' queries in the bounding box, best of 5'
+    allocate(p(3, nquery), d_lib(nquery), d(nquery))
+    call random_points3(minval(b%x, dim=2), maxval(b%x, dim=2), 4242, p)
+    qps = 0.0_wp
+    do round = 1, nround
+      do nt = 1, 2
+        do v = 1, 3
+          t = best_time(kern(v), c, s, p, d, nt)
+          qps(v, nt) = max(qps(v, nt), real(nquery, wp)/t)
+          if (round == 1 .and. nt == 1 .and. v == 1) d_lib = d
+          if (round == 1 .and. nt == 1 .and. v > 1) then
+            dmax = 0.0_wp
+            dref = maxval(d_lib)
+            do i = 1, nquery
+              dmax = max(dmax, abs(d(i) - d_lib(i)))
+            end do
+            write(output_unit, '(a,a,a,es10.3)') '# ', trim(name3(v)), &
+              ': largest |det - library det| / largest det = ', dmax/dref
+          end if
+        end do
+      end do
+    end do
+    write(output_unit, '(a)') '| path | 1 thread (M/s) | 2 threads (M/s) | speed-up |'
+    write(output_unit, '(a)') '|---|---|---|---|'
+    do v = 1, 3
+      write(output_unit, '(a,a,a,f6.3,a,f6.3,a,f5.2,a)') '| ', trim(name3(v)), ' | ', &
+        qps(v, 1)*1.0e-6_wp, ' | ', qps(v, 2)*1.0e-6_wp, ' | ', qps(v, 2)/qps(v, 1), ' |'
+      do nt = 1, 2
+        write(output_unit, '(a,a,a,i0,a,es12.5)') 'RESULT bench=throughput3d variant=', &
+          trim(name3(v)), ' threads=', nt, ' qps=', qps(v, nt)
+      end do
+    end do
+    do nt = 1, 2
+      write(output_unit, '(a,i0,a,f5.3)') 'RESULT bench=throughput3d ratio=library/plain '// &
+        'threads=', nt, ' value=', qps(1, nt)/qps(2, nt)
+    end do
+  end subroutine throughput_3d
+
+  !> n random points in the box [lo, hi] (3D), reproducible from seed.
+  subroutine random_points3(lo, hi, seed, p)
+    real(wp), intent(in) :: lo(3), hi(3)
+    integer, intent(in) :: seed
+    real(wp), intent(out) :: p(:, :)
+    integer :: n
+    integer, allocatable :: sd(:)
+    call random_seed(size=n)
+    allocate(sd(n))
+    sd = seed
+    call random_seed(put=sd)
+    call random_number(p)
+    do n = 1, size(p, 2)
+      p(:, n) = lo + (hi - lo)*p(:, n)
+    end do
+  end subroutine random_points3
 
   !> Print how far variant v's det departs from the specialised path's. Relative differences
   !! are reported where det > 1e-20, 1e-15 and eps_cr (where the classification is decided),
@@ -669,15 +765,16 @@ contains
       .and. width < rbuf)
   end subroutine classify_case
 
-  !> Command line: [--rounds N] (default 1) [--no-throughput] [--no-accuracy].
-  subroutine read_args(nround, do_throughput, do_accuracy)
+  !> Command line: [--rounds N] (default 1) [--no-throughput] [--no-accuracy] [--no-3d].
+  subroutine read_args(nround, do_throughput, do_accuracy, do_3d)
     integer, intent(out) :: nround
-    logical, intent(out) :: do_throughput, do_accuracy
+    logical, intent(out) :: do_throughput, do_accuracy, do_3d
     integer :: i, ios
     character(len=64) :: arg
     nround = 1
     do_throughput = .true.
     do_accuracy = .true.
+    do_3d = .true.
     i = 1
     do while (i <= command_argument_count())
       call get_command_argument(i, arg)
@@ -694,9 +791,15 @@ contains
         do_throughput = .false.
       case ('--no-accuracy')
         do_accuracy = .false.
+      case ('--no-3d')
+        do_3d = .false.
+      case ('--only-3d')
+        do_throughput = .false.
+        do_accuracy = .false.
       case default
         write(error_unit, '(a)') 'bench_detect: unknown argument '''//trim(arg)// &
-          '''; usage: bench_detect [--rounds N] [--no-throughput] [--no-accuracy]'
+          '''; usage: bench_detect [--rounds N] [--no-throughput] [--no-accuracy] '// &
+          '[--no-3d] [--only-3d]'
         error stop 2
       end select
       i = i + 1
