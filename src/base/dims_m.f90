@@ -13,7 +13,7 @@
 module dims_m
   implicit none
   private
-  public :: dims_t, dims_plane, max_dim
+  public :: dims_t, dims_plane, dims_3d, max_dim
 
   type :: dims_t
     integer :: ndim = 0    !< dimension of space
@@ -28,6 +28,12 @@ module dims_m
   !> Plane strain and axisymmetry (the paper's two geometries).
   type(dims_t), parameter :: dims_plane = dims_t(ndim=2, nf=5, ncomp=4, ngrad=4, &
     tensor_names=['11', '22', '33', '12', '  ', '  '], axes='XY')
+
+  !> Three dimensions (issue 23): F and P 11, 12, 13, 21, ..., 33 (row by row); symmetric
+  !! tensors 11, 22, 33, 23, 13, 12 (Voigt's order); gradients dN^c/dX_j, j fastest, for
+  !! c = 1, 2, 3 (the components share one shape function: no axis to fold).
+  type(dims_t), parameter :: dims_3d = dims_t(ndim=3, nf=9, ncomp=6, ngrad=9, &
+    tensor_names=['11', '22', '33', '23', '13', '12'], axes='XYZ')
 
   !> The largest ndim of any geometry: the extent of small fixed-size work arrays, of
   !! which a procedure uses the first ndim entries.

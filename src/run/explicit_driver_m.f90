@@ -182,10 +182,12 @@ contains
     ! a restarted run adds the loop time of the runs before it (from the checkpoint)
     r%t_loop = r%t_loop + (omp_get_wtime() - t_loop0)
     whole => dom%whole(solids, .false.)
-    call dom%counters(pairs, .false.)
-    call dom%finish(solids, pairs, r)
+    ! (the last row before the counters are summed over the ranks: its friction work sums
+    ! each rank's own)
     if (.not. r%failed .and. mod(r%n, hist_every) /= 0) &
       call history_row_now(dom, solids, pairs, r, en, row)
+    call dom%counters(pairs, .false.)
+    call dom%finish(solids, pairs, r)
     if (dom%root) then
       if (r%failed) then
         call failure_snapshot(out, r, whole, err)
