@@ -19,7 +19,7 @@ cd "$root"
 PYTHON="${PYTHON:-.venv/bin/python}"
 MFCD="${MFCD:-build/bin/mfcd}"
 OUT="${OUT:-output/figures}"
-examples=(example_2_1 example_2_2 example_2_2_concave example_3d_box example_3d_l_block)
+examples=(example_2_1 example_2_2 example_2_2_concave example_3d_box example_3d_l_block example_3d_cylinder)
 dynamic=(elastic_wave)
 
 if ! command -v "$PYTHON" >/dev/null 2>&1 && [ ! -x "$PYTHON" ]; then

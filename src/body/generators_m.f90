@@ -9,6 +9,7 @@ module generators_m
   use errors_m, only: error_t, set_error
   use body_m, only: body_t, max_cell_vertices
   use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, geom_prism, &
+    geom_cylinder, &
     signed_distance, polygon_area, clip_polygon_box, segment_distance, full_turn_tol
   use sorting_m, only: sort_index
   use strings_m, only: itoa, rtoa
@@ -606,11 +607,12 @@ contains
     end subroutine add_cell
   end subroutine make_disk
 
-  !> A 3D body from a 2D lattice body b2 (a rectangle or polygon) extruded along z: nz
+  !> A 3D body from a 2D body b2 (a rectangle, a polygon or a disk) extruded along z: nz
   !! layers of its particles from z0 to z1 (spacing dz = (z1 - z0)/(nz - 1)), each with the
   !! volume of its 2D cell times its slab (dz, half at the two ends); a boundary particle is
   !! one on the 2D boundary or in an end layer. A box is an extruded rectangle, the 3D
-  !! L-shaped or notched block an extruded polygon. Layer by layer: particle (i, k) is
+  !! L-shaped or notched block an extruded polygon, a cylinder an extruded disk (its x-y
+  !! cells, explicit polygons, kept for every layer). Layer by layer: particle (i, k) is
   !! i + (k - 1) np2. No boundary polylines (a 3D surface is facets).
   subroutine extrude_body(b2, z0, z1, nz, b, err)
     type(body_t), intent(in) :: b2
@@ -618,14 +620,15 @@ contains
     integer, intent(in) :: nz
     type(body_t), intent(out) :: b
     type(error_t), allocatable, intent(inout) :: err
-    integer :: k, n2, i, q
+    integer :: k, n2, i, q, n
     real(wp) :: dz, slab
     if (nz < 2 .or. .not. (z1 > z0)) then
       call set_error(err, 'an extruded body needs at least 2 layers and z1 > z0')
       return
     end if
-    if (b2%geom%kind /= geom_polygon) then
-      call set_error(err, 'only a rectangle or a polygon is extruded')
+    if (b2%geom%kind /= geom_polygon .and. .not. (b2%geom%kind == geom_annulus .and. &
+      b2%geom%r0 == 0.0_wp .and. allocated(b2%cell_ptr))) then
+      call set_error(err, 'only a rectangle, a polygon or a disk is extruded')
       return
     end if
     n2 = b2%np
@@ -655,10 +658,29 @@ contains
     b%nloops = 0
     allocate(b%loop_ptr(1), b%loop_idx(0), b%loop_closed(0))
     b%loop_ptr = 1
-    b%geom%kind = geom_prism
-    b%geom%v = b2%geom%v
+    if (b2%geom%kind == geom_polygon) then
+      b%geom%kind = geom_prism
+      b%geom%v = b2%geom%v
+    else
+      b%geom%kind = geom_cylinder
+      b%geom%center = b2%geom%center
+      b%geom%r1 = b2%geom%r1
+    end if
     b%geom%z0 = z0
     b%geom%z1 = z1
+    if (allocated(b2%cell_ptr)) then
+      ! the x-y cells, the same polygon for each layer of a particle
+      n = b2%cell_ptr(n2 + 1) - 1
+      allocate(b%cell_ptr(b%np + 1), b%cell_xy(2, n*nz))
+      b%cell_ptr(1) = 1
+      do k = 1, nz
+        b%cell_xy(:, (k - 1)*n + 1:k*n) = b2%cell_xy(:, 1:n)
+        do i = 1, n2
+          q = i + (k - 1)*n2
+          b%cell_ptr(q + 1) = (k - 1)*n + b2%cell_ptr(i + 1)
+        end do
+      end do
+    end if
   end subroutine extrude_body
 
   !> A lattice body's integration cells made explicit (cell_ptr, cell_xy): each particle's

@@ -2,10 +2,10 @@
 !! dimension; issue 23): stabilized conforming nodal integration (SCNI) over the particles'
 !! lattice cells, computed once from the reference configuration.
 !!
-!! A 3D lattice body (a box, or a polygon extruded along z: generators_m extrude_body) gives
-!! each particle the cell of its lattice point, a box of the spacing clipped by the body: a
-!! right prism over its x-y cell (the lattice square clipped by the polygon) between two z
-!! levels. One integration point per particle, with
+!! A 3D body extruded along z (generators_m extrude_body: a box, a polygon, a cylinder) gives
+!! each particle a right prism over its x-y cell between two z levels (its layer's slab,
+!! half at the ends): the x-y cell is the lattice square clipped by the polygon, or for a
+!! cylinder the disk's explicit annular-sector cell. One integration point per particle, with
 !!  - the weight W_L = V_L, the prism's volume;
 !!  - the smoothed gradients b_Ij = (1/V_L) \oint N_I n_j dS (Chen, Wu, Yoon, You 2001): the
 !!    two end faces (the x-y polygon, fan triangles of three points each, n = -e3 below,
@@ -27,7 +27,7 @@ module rkpm_tl3d_m
   use body_m, only: body_t, max_cell_vertices
   use dims_m, only: dims_3d
   use solid_tables_m, only: solid_tables_t, tables_transpose
-  use geometry_m, only: geom_prism, clip_polygon_box
+  use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape
   use neighbour_bins_m, only: bins_candidates
   implicit none
@@ -51,9 +51,9 @@ contains
     real(wp), allocatable :: gl(:, :, :), ml(:, :)
     integer, allocatable :: idl(:, :), nl(:), cand(:)
     integer :: np, maxk, i, n, bad
-    if (b%ndim /= 3 .or. b%geom%kind /= geom_prism) then
-      call set_error(err, "body '"//trim(b%name)//"': the 3D RKPM tables need a 3D lattice "// &
-        "body (shape 'box', or a 'polygon' extruded along z)")
+    if (b%ndim /= 3 .or. (b%geom%kind /= geom_prism .and. b%geom%kind /= geom_cylinder)) then
+      call set_error(err, "body '"//trim(b%name)//"': the 3D RKPM tables need a 3D body "// &
+        "extruded along z (shape 'box', 'cylinder', or a 'polygon' with extrude)")
       return
     end if
     if (allocated(b%merged_ptr)) then
@@ -127,7 +127,12 @@ contains
     do i = 1, np
       nl(i) = 0
       o = b%x(:, i)
-      call clip_polygon_box(b%geom%v, o(1:2) - half(1:2), o(1:2) + half(1:2), cv, ncv)
+      if (allocated(b%cell_ptr)) then
+        ncv = min(b%cell_ptr(i + 1) - b%cell_ptr(i), max_cv)
+        cv(:, 1:ncv) = b%cell_xy(:, b%cell_ptr(i):b%cell_ptr(i) + ncv - 1)
+      else
+        call clip_polygon_box(b%geom%v, o(1:2) - half(1:2), o(1:2) + half(1:2), cv, ncv)
+      end if
       za = max(b%geom%z0, o(3) - half(3))
       zb = min(b%geom%z1, o(3) + half(3))
       call fan_points(cv, ncv, xg, wg, ngp)

@@ -7,11 +7,14 @@ module geometry_m
   implicit none
   private
   public :: geometry_t, geom_none, geom_segment, geom_polygon, geom_annulus, geom_prism
+  public :: geom_cylinder
   public :: signed_distance, polygon_area, clip_polygon_box, segment_distance
   public :: polygon_crossing, full_turn_tol
 
   integer, parameter :: geom_none = 0, geom_segment = 1, geom_polygon = 2, geom_annulus = 3
   integer, parameter :: geom_prism = 4
+  !> a circular cylinder about the z axis through center (x, y): radius r1, from z0 to z1
+  integer, parameter :: geom_cylinder = 5
 
   !> An angular span within this of 2 pi (rad) is a full turn: the decks give whole
   !! degrees, converted with one rounding (about 1e-16 relative), and no sector an
@@ -43,6 +46,8 @@ contains
       sd = annulus_sd(g, p(1:2))
     case (geom_prism)
       sd = prism_sd(g, p(1:3))
+    case (geom_cylinder)
+      sd = cylinder_sd(g, p(1:3))
     case default
       sd = huge(1.0_wp)
     end select
@@ -93,6 +98,20 @@ contains
       sd = sqrt(max(s, 0.0_wp)**2 + max(t, 0.0_wp)**2)
     end if
   end function prism_sd
+
+  !> A cylinder's signed distance: the disk's (r - R) and the slab's combined as a prism's.
+  pure real(wp) function cylinder_sd(g, p) result(sd)
+    type(geometry_t), intent(in) :: g
+    real(wp), intent(in) :: p(3)
+    real(wp) :: s, t
+    s = norm2(p(1:2) - g%center) - g%r1
+    t = max(g%z0 - p(3), p(3) - g%z1)
+    if (s <= 0.0_wp .and. t <= 0.0_wp) then
+      sd = max(s, t)
+    else
+      sd = sqrt(max(s, 0.0_wp)**2 + max(t, 0.0_wp)**2)
+    end if
+  end function cylinder_sd
 
   pure real(wp) function annulus_sd(g, p) result(sd)
     type(geometry_t), intent(in) :: g

@@ -226,6 +226,11 @@ contains
       end if
     case ('disk')
       call make_disk(b, s%center, s%radius, s%spacing(1), e2)
+    case ('cylinder')
+      ! a disk in x-y (its rings and cells) extruded along z
+      call make_disk(b2, s%center, s%radius, s%spacing(1), e2)
+      if (.not. allocated(e2)) call extrude_body(b2, s%extrude(1), s%extrude(2), &
+        max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2)
     case ('file', 'geo')
       ! a gmsh script gives in memory what tools/mesh_body.py writes into a particle file:
       ! from here on the two are one path

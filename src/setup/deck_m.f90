@@ -109,7 +109,7 @@ module deck_m
     real(wp) :: center(2)
     real(wp) :: r_inner, r_outer
     real(wp) :: radius      !< shape 'disk': its radius (m), about center
-    real(wp) :: extrude(2)  !< shape 'polygon' in 3D: the z range it is extruded over (m)
+    real(wp) :: extrude(2)  !< shape 'polygon' in 3D, 'cylinder': the z range (m)
     real(wp) :: theta_start, theta_end   !< degrees in the deck
     character(len=body_file_len) :: file
     !> shape 'geo': the gmsh parser numbers set before the .geo script is read, as names
@@ -1252,6 +1252,28 @@ contains
         call bad(deck, grp, 'n', itoa(s%n(1))//', '//itoa(s%n(2)), &
           'give n = n_radial, n_angular, both >= 2 (at most 5e7 particles)', err)
       end if
+    case ('cylinder')
+      if (.not. (s%radius > 0.0_wp)) then
+        call bad(deck, grp, 'radius', rtoa(s%radius), 'give the cylinder''s radius > 0 (m), '// &
+          'about center (its axis along z)', err)
+      else if (any(s%extrude == unset) .or. .not. s%extrude(2) > s%extrude(1)) then
+        call bad(deck, grp, 'extrude', 'missing or z1 <= z0', 'give extrude = z0, z1 with '// &
+          'z1 > z0 (m): the cylinder''s ends', err)
+      else if (s%spacing(1) == unset .or. .not. (s%spacing(1) > 0.0_wp)) then
+        call bad(deck, grp, 'spacing', 'missing or <= 0', 'give spacing = h > 0 (m): the '// &
+          'distance between the rings of particles (and, unless a third value dz is given, '// &
+          'between the layers)', err)
+      else if (s%spacing(2) /= unset) then
+        call bad(deck, grp, 'spacing', 'a second value', 'a cylinder''s rings have one '// &
+          'spacing: give spacing = h, or h with the layers'' dz as the third value '// &
+          '(spacing(3) = dz)', err)
+      else if (s%radius/s%spacing(1) > 2.0e4_wp) then
+        call bad(deck, grp, 'spacing', rtoa(s%spacing(1)), 'the cylinder''s disk would '// &
+          'have more than about 1.3e9 particles; give a coarser spacing', err)
+      end if
+      if (.not. allocated(err) .and. s%spacing(3) == unset) s%spacing(3) = s%spacing(1)
+      if (.not. allocated(err) .and. .not. (s%spacing(3) > 0.0_wp)) call bad(deck, grp, &
+        'spacing', rtoa(s%spacing(3)), 'give a positive layer spacing dz (m)', err)
     case ('disk')
       if (.not. (s%radius > 0.0_wp)) then
         call bad(deck, grp, 'radius', rtoa(s%radius), 'give the disk''s radius > 0 (m), '// &
@@ -1961,7 +1983,7 @@ contains
     character(len=*), intent(in) :: shape
     character(len=:), allocatable :: v
     select case (shape)
-    case ('polygon', 'disk')
+    case ('polygon', 'disk', 'cylinder')
       v = 'spacing'
     case ('box')
       v = 'n'
@@ -1981,7 +2003,7 @@ contains
       v = 'lo/hi'
     case ('polygon')
       v = 'vertices'
-    case ('annulus_sector', 'disk')
+    case ('annulus_sector', 'disk', 'cylinder')
       v = 'center'
     case default
       v = 'file'
@@ -2001,6 +2023,8 @@ contains
       v = 'r_inner/r_outer/n'
     case ('disk')
       v = 'radius/spacing'
+    case ('cylinder')
+      v = 'radius/extrude/spacing'
     case default
       v = 'file'
     end select
@@ -2014,7 +2038,7 @@ contains
       shape_ndim = 1
     case ('rectangle', 'annulus_sector', 'disk', 'geo')
       shape_ndim = 2
-    case ('box')
+    case ('box', 'cylinder')
       shape_ndim = 3
     case default
       shape_ndim = 0

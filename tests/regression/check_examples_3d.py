@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """det(M) in three dimensions (issue 23, item 1): the 3D counterparts of Example 2.2, a
-convex box (input/example_3d_box.nml) and the concave C-shaped block
-(input/example_3d_l_block.nml), run by mfcd and checked against an independent reference.
+convex box (input/example_3d_box.nml), the concave C-shaped block
+(input/example_3d_l_block.nml) and a round body, a cylinder of rings
+(input/example_3d_cylinder.nml), run by mfcd and checked against an independent reference.
 
 Reference: numpy. The moment matrix M(x) = sum_I P(z_I) P(z_I)^T phi_I(x) V_I is summed
 particle by particle from /bodies/<name> (positions, volumes, supports; the basis scale of
@@ -14,16 +15,23 @@ query point within 1e-10 of the plateau (measured 3e-15 of it at most).
 Closed forms and coverage:
   plateau: with rho = 2 dx the window reproduces its moments on a uniform lattice, M =
     diag(1, 1/12, 1/12, 1/12) far inside, det = 12^-3; the run's plateau and every query
-    point whose support lies inside the body (signed distance below -|rho|) equal it to 1e-12;
+    point whose support lies inside the body (signed distance below -|rho|) equal it to 1e-12
+    on the lattices (box, C-block); the cylinder's rings are no lattice, and its plateau lies
+    within 2% of 12^-3 (measured -1.1%);
   det = 0 exactly where no particle's support covers the point (brute-force coverage);
   the buffer zone (eq. 50): no point inside the body with det <= threshold, none outside
     beyond rho_buffer with det > threshold;
   box: det(15, 10, 10) = plateau, det(3, 10, 10) = 0 (no support), 0 < det(25.3, 10, 10) <
     plateau (the buffer zone);
   C-block: det = plateau in the arm (10, 10, 10) and in the lower arm (20, 5, 10), det = 0
-    in the notch (20, 10, 10), 5 m from either arm.
+    in the notch (20, 10, 10), 5 m from either arm;
+  cylinder: det(0, 0, 5) on the axis within a factor 2 of 12^-3 (measured +19.5%: about the
+    centre particle and its first rings the layout is least like a lattice), det(5.2, 0, 5)
+    above the threshold (0.2 m outside
+    the side, in the buffer zone), det(8, 0, 5) = 0.
 
 Usage: check_examples_3d.py /path/to/mfcd input/example_3d_box.nml input/example_3d_l_block.nml
+       input/example_3d_cylinder.nml
 """
 import os
 import subprocess
@@ -107,8 +115,10 @@ def main():
             plateau = float(np.asarray(det_attrs["plateau"]).ravel()[0])
             threshold = float(np.asarray(det_attrs["threshold"]).ravel()[0])
             rho_buffer = float(np.asarray(det_attrs["rho_buffer"]).ravel()[0])
-            check(f"{name}: plateau = 12^-3 ({plateau / PLATEAU - 1:+.1e})",
-                  abs(plateau / PLATEAU - 1) < 1e-12, plateau)
+            lattice = name != "example_3d_cylinder"
+            tol = 1e-12 if lattice else 0.02
+            check(f"{name}: plateau = 12^-3 ({plateau / PLATEAU - 1:+.1e}, within {tol:g})",
+                  abs(plateau / PLATEAU - 1) < tol, plateau)
             pts = {}
             for kind in ("line", "grid", "points"):
                 if kind not in f.query_kinds():
@@ -129,7 +139,7 @@ def main():
                       f"({float(np.asarray(a['max_outside_inside']).ravel()[0]):.3g} < "
                       f"{rho_buffer:.3g} m)", a["n_beyond_buffer"] == 0
                       and a["max_outside_inside"] < rho_buffer, a["max_outside_inside"])
-                if qs.distance is not None:
+                if qs.distance is not None and lattice:
                     deep = qs.distance.ravel() <= -np.linalg.norm(b.support[0])
                     if deep.any():
                         e = np.max(np.abs(det[deep] / PLATEAU - 1))
@@ -144,6 +154,12 @@ def main():
                 check("box: det(3, 10, 10) = 0 (no support)", p[1] == 0.0, p[1])
                 check("box: 0 < det(25.3, 10, 10) < plateau (buffer zone), above the "
                       "threshold", threshold < p[2] < plateau, p[2])
+            elif name == "example_3d_cylinder":
+                check(f"cylinder: det(0, 0, 5) on the axis within a factor 2 of 12^-3 "
+                      f"({p[0] / PLATEAU - 1:+.3f})", 0.5 < p[0] / PLATEAU < 2.0, p[0])
+                check("cylinder: det(5.2, 0, 5) > threshold (the buffer zone)",
+                      p[1] > threshold, p[1])
+                check("cylinder: det(8, 0, 5) = 0", p[2] == 0.0, p[2])
             elif name == "example_3d_l_block":
                 check("C-block: det = plateau in the arm (10, 10, 10)",
                       abs(p[0] / PLATEAU - 1) < 1e-12, p[0])
