@@ -8,7 +8,7 @@
 module elastic_m
   use kinds_m, only: wp
   use material_m, only: material_t, material_params_t, material_state_t, ncomp, &
-    jaumann_rotate, elastic_rate
+    jaumann_rotate, elastic_rate, ncomp3d, jaumann_rotate_3d, elastic_rate_3d
   implicit none
   private
   public :: elastic_t
@@ -18,6 +18,7 @@ module elastic_m
   contains
     procedure :: init => elastic_init
     procedure :: update => elastic_update
+    procedure :: update3d => elastic_update3d
     procedure, nopass :: model_name => elastic_name
   end type elastic_t
 
@@ -50,6 +51,25 @@ contains
       dwp(i) = 0.0_wp
     end do
   end subroutine elastic_update
+
+  !> elastic_update in 3D (arguments: see update3d_i).
+  subroutine elastic_update3d(this, dt, d, w, st, i0, i1, dwp)
+    class(elastic_t), intent(in) :: this
+    real(wp), intent(in) :: dt
+    real(wp), intent(in), contiguous :: d(:, :), w(:, :)
+    type(material_state_t), intent(inout) :: st
+    integer, intent(in) :: i0, i1
+    real(wp), intent(inout), contiguous :: dwp(:)
+    real(wp) :: t(ncomp3d), r(ncomp3d)
+    integer :: i
+    do i = i0, i1
+      t = st%tau(:, i)
+      call jaumann_rotate_3d(dt, w(:, i), t)
+      call elastic_rate_3d(this%lambda, this%g, d(:, i), r)
+      st%tau(:, i) = t + dt*r
+      dwp(i) = 0.0_wp
+    end do
+  end subroutine elastic_update3d
 
   !> 'elastic'.
   pure function elastic_name() result(name)

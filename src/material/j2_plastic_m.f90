@@ -14,7 +14,7 @@
 module j2_plastic_m
   use kinds_m, only: wp
   use material_m, only: material_t, material_params_t, material_state_t, ncomp, &
-    jaumann_rotate, elastic_rate
+    jaumann_rotate, elastic_rate, ncomp3d, jaumann_rotate_3d, elastic_rate_3d
   implicit none
   private
   public :: j2_plastic_t
@@ -26,6 +26,7 @@ module j2_plastic_m
   contains
     procedure :: init => j2_init
     procedure :: update => j2_update
+    procedure :: update3d => j2_update3d
     procedure, nopass :: model_name => j2_name
   end type j2_plastic_t
 
@@ -80,6 +81,47 @@ contains
       st%tau(:, i) = t
     end do
   end subroutine j2_update
+
+  !> j2_update in 3D (arguments: see update3d_i): the same predictor and radial return on
+  !! six components, sbar = sqrt(3/2 (s11^2 + s22^2 + s33^2 + 2 (s23^2 + s13^2 + s12^2))).
+  subroutine j2_update3d(this, dt, d, w, st, i0, i1, dwp)
+    class(j2_plastic_t), intent(in) :: this
+    real(wp), intent(in) :: dt
+    real(wp), intent(in), contiguous :: d(:, :), w(:, :)
+    type(material_state_t), intent(inout) :: st
+    integer, intent(in) :: i0, i1
+    real(wp), intent(inout), contiguous :: dwp(:)
+    real(wp) :: t(ncomp3d), r(ncomp3d), p, s(ncomp3d), sbar, sy, dgam, fac, g3, rdt
+    integer :: i
+    g3 = 3.0_wp*this%g
+    rdt = 0.0_wp
+    if (dt > 0.0_wp) rdt = 1.0_wp/dt
+    do i = i0, i1
+      t = st%tau(:, i)
+      call jaumann_rotate_3d(dt, w(:, i), t)
+      call elastic_rate_3d(this%lambda, this%g, d(:, i), r)
+      t = t + dt*r
+      p = (t(1) + t(2) + t(3))/3.0_wp
+      s(1:3) = t(1:3) - p
+      s(4:6) = t(4:6)
+      sbar = sqrt(1.5_wp*(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_wp*(s(4)**2 + s(5)**2 + &
+        s(6)**2)))
+      sy = this%yield_stress + this%hardening*st%epsbar(i)
+      if (sbar > sy) then
+        dgam = (sbar - sy)/(g3 + this%hardening)
+        fac = 1.0_wp - g3*dgam/sbar
+        t(1:3) = fac*s(1:3) + p
+        t(4:6) = fac*s(4:6)
+        st%epsbar(i) = st%epsbar(i) + dgam
+        st%epsdot(i) = dgam*rdt
+        dwp(i) = (sy + this%hardening*dgam)*dgam
+      else
+        st%epsdot(i) = 0.0_wp
+        dwp(i) = 0.0_wp
+      end if
+      st%tau(:, i) = t
+    end do
+  end subroutine j2_update3d
 
   !> 'j2_plastic'.
   pure function j2_name() result(name)

@@ -28,12 +28,15 @@ module material_m
   public :: ncomp, material_names
   public :: material_params_t, material_state_t, material_t
   public :: make_material, check_material_params, jaumann_rotate, elastic_rate
+  public :: ncomp3d, jaumann_rotate_3d, elastic_rate_3d
   public :: material_constant_names, material_constant_units, material_constant_meaning, &
     model_uses, model_default, &
     material_constant, set_material_constant, material_presets
 
   !> stored tensor components (11, 22, 33, 12): the updates are the plane kernels
   integer, parameter :: ncomp = dims_plane%ncomp
+  !> the components of a symmetric tensor in 3D (dims_3d: 11, 22, 33, 23, 13, 12)
+  integer, parameter :: ncomp3d = 6
 
   !> Valid values of material_params_t%model.
   character(len=*), parameter :: material_names(3) = [character(len=12) :: &
@@ -93,6 +96,7 @@ module material_m
     real(wp), allocatable :: epsdot(:)    !< effective plastic strain rate of the last step (1/s)
   contains
     procedure :: init => state_init
+    procedure :: init3d => state_init3d
   end type material_state_t
 
   !> A constitutive model: elastic constants plus what an extension adds.
@@ -106,6 +110,7 @@ module material_m
   contains
     procedure(init_i), deferred :: init
     procedure(update_i), deferred :: update
+    procedure(update3d_i), deferred :: update3d
     procedure(model_name_i), deferred, nopass :: model_name
     procedure :: set_elastic_constants
     procedure :: dilatational_speed
@@ -134,6 +139,19 @@ module material_m
       integer, intent(in) :: i0, i1
       real(wp), intent(inout), contiguous :: dwp(:)
     end subroutine update_i
+
+    !> update_i in three dimensions (dims_3d): d(6, :) the rate of deformation in the
+    !! order 11, 22, 33, 23, 13, 12 (1/s), w(3, :) the spin W23, W13, W12 (1/s); the state's
+    !! tau and alpha (6, n) in the same order (material_state_t%init3d).
+    subroutine update3d_i(this, dt, d, w, st, i0, i1, dwp)
+      import :: material_t, material_state_t, wp
+      class(material_t), intent(in) :: this
+      real(wp), intent(in) :: dt
+      real(wp), intent(in), contiguous :: d(:, :), w(:, :)
+      type(material_state_t), intent(inout) :: st
+      integer, intent(in) :: i0, i1
+      real(wp), intent(inout), contiguous :: dwp(:)
+    end subroutine update3d_i
 
     !> The model's deck name (one of material_names).
     pure function model_name_i() result(name)
@@ -168,6 +186,21 @@ contains
     this%epsbar = 0.0_wp
     this%epsdot = 0.0_wp
   end subroutine state_init
+
+  !> Allocate n points in 3D (six components a tensor), all zero.
+  subroutine state_init3d(this, n)
+    class(material_state_t), intent(inout) :: this
+    integer, intent(in) :: n
+    if (allocated(this%tau)) deallocate(this%tau)
+    if (allocated(this%alpha)) deallocate(this%alpha)
+    if (allocated(this%epsbar)) deallocate(this%epsbar)
+    if (allocated(this%epsdot)) deallocate(this%epsdot)
+    allocate(this%tau(ncomp3d, n), this%alpha(ncomp3d, n), this%epsbar(n), this%epsdot(n))
+    this%tau = 0.0_wp
+    this%alpha = 0.0_wp
+    this%epsbar = 0.0_wp
+    this%epsdot = 0.0_wp
+  end subroutine state_init3d
 
   !> Store rho0 (kg/m^3), E (Pa), nu and the derived G, K, lambda (Pa).
   subroutine set_elastic_constants(this, rho0, e, nu)
@@ -210,6 +243,53 @@ contains
     t(2) = ss*t11 - 2.0_wp*cs*t12 + cc*t22
     t(4) = cs*(t22 - t11) + (cc - ss)*t12
   end subroutine jaumann_rotate
+
+  !> The Hughes-Winget rotation in 3D: t <- Q t Q^T with Q = (I - A)^-1 (I + A), A = dt W/2,
+  !! W = [0 W12 W13; -W12 0 W23; -W13 -W23 0] from w = (W23, W13, W12) (1/s), t symmetric
+  !! in the order 11, 22, 33, 23, 13, 12. Q is orthogonal (a Cayley transform), so the
+  !! invariants of t are kept to round-off; with only W12 it is jaumann_rotate.
+  pure subroutine jaumann_rotate_3d(dt, w, t)
+    real(wp), intent(in) :: dt, w(3)
+    real(wp), intent(inout) :: t(ncomp3d)
+    real(wp) :: a(3, 3), m(3, 3), mi(3, 3), q(3, 3), tm(3, 3), det
+    a = 0.5_wp*dt*reshape([0.0_wp, -w(3), -w(2), w(3), 0.0_wp, -w(1), w(2), w(1), &
+      0.0_wp], [3, 3])
+    m = -a
+    m(1, 1) = m(1, 1) + 1.0_wp
+    m(2, 2) = m(2, 2) + 1.0_wp
+    m(3, 3) = m(3, 3) + 1.0_wp
+    ! (I - A)^-1 by cofactors
+    mi(1, 1) = m(2, 2)*m(3, 3) - m(2, 3)*m(3, 2)
+    mi(1, 2) = m(1, 3)*m(3, 2) - m(1, 2)*m(3, 3)
+    mi(1, 3) = m(1, 2)*m(2, 3) - m(1, 3)*m(2, 2)
+    mi(2, 1) = m(2, 3)*m(3, 1) - m(2, 1)*m(3, 3)
+    mi(2, 2) = m(1, 1)*m(3, 3) - m(1, 3)*m(3, 1)
+    mi(2, 3) = m(1, 3)*m(2, 1) - m(1, 1)*m(2, 3)
+    mi(3, 1) = m(2, 1)*m(3, 2) - m(2, 2)*m(3, 1)
+    mi(3, 2) = m(1, 2)*m(3, 1) - m(1, 1)*m(3, 2)
+    mi(3, 3) = m(1, 1)*m(2, 2) - m(1, 2)*m(2, 1)
+    det = m(1, 1)*mi(1, 1) + m(1, 2)*mi(2, 1) + m(1, 3)*mi(3, 1)
+    m = a
+    m(1, 1) = m(1, 1) + 1.0_wp
+    m(2, 2) = m(2, 2) + 1.0_wp
+    m(3, 3) = m(3, 3) + 1.0_wp
+    q = matmul(mi, m)/det
+    tm = reshape([t(1), t(6), t(5), t(6), t(2), t(4), t(5), t(4), t(3)], [3, 3])
+    tm = matmul(q, matmul(tm, transpose(q)))
+    t = [tm(1, 1), tm(2, 2), tm(3, 3), 0.5_wp*(tm(2, 3) + tm(3, 2)), &
+      0.5_wp*(tm(1, 3) + tm(3, 1)), 0.5_wp*(tm(1, 2) + tm(2, 1))]
+  end subroutine jaumann_rotate_3d
+
+  !> elastic_rate in 3D: r = lambda tr(d) 1 + 2 G d, six components (11, 22, 33, 23, 13,
+  !! 12; tensor shear components).
+  pure subroutine elastic_rate_3d(lambda, g, d, r)
+    real(wp), intent(in) :: lambda, g, d(ncomp3d)
+    real(wp), intent(out) :: r(ncomp3d)
+    real(wp) :: ltr
+    ltr = lambda*(d(1) + d(2) + d(3))
+    r(1:3) = ltr + 2.0_wp*g*d(1:3)
+    r(4:6) = 2.0_wp*g*d(4:6)
+  end subroutine elastic_rate_3d
 
   !> Isotropic elastic rate r = C : d = lambda tr(d) 1 + 2 G d (Pa/s for d in 1/s).
   pure subroutine elastic_rate(lambda, g, d, r)

@@ -39,7 +39,7 @@
 module viscoplastic_m
   use kinds_m, only: wp
   use material_m, only: material_t, material_params_t, material_state_t, ncomp, &
-    jaumann_rotate, elastic_rate
+    jaumann_rotate, elastic_rate, ncomp3d, jaumann_rotate_3d, elastic_rate_3d
   implicit none
   private
   public :: viscoplastic_t
@@ -76,6 +76,7 @@ module viscoplastic_m
   contains
     procedure :: init => vp_init
     procedure :: update => vp_update
+    procedure :: update3d => vp_update3d
     procedure, nopass :: model_name => vp_name
     procedure :: flow_stress => vp_flow_stress
   end type viscoplastic_t
@@ -206,6 +207,92 @@ contains
     end if
     t = tn
   end subroutine rate_tangent_step
+
+  !> vp_update in 3D (arguments: see update3d_i): the same rotation, sub-step count and
+  !! rate-tangent steps on six components (the shear ones weighted twice in the inner
+  !! products: D':D' and P:D).
+  subroutine vp_update3d(this, dt, d, w, st, i0, i1, dwp)
+    class(viscoplastic_t), intent(in) :: this
+    real(wp), intent(in) :: dt
+    real(wp), intent(in), contiguous :: d(:, :), w(:, :)
+    type(material_state_t), intent(inout) :: st
+    integer, intent(in) :: i0, i1
+    real(wp), intent(inout), contiguous :: dwp(:)
+    real(wp) :: t(ncomp3d), a(ncomp3d), ce(ncomp3d)
+    real(wp) :: eb, edot, dw, wsum, esum, h, deq2, trd, rm, dmax2
+    integer :: i, k, nsub
+    rm = 1.0_wp/this%m
+    dmax2 = min(this%deps_max, sqrt(huge(1.0_wp)))**2
+    do i = i0, i1
+      t = st%tau(:, i)
+      a = st%alpha(:, i)
+      call jaumann_rotate_3d(dt, w(:, i), t)
+      call jaumann_rotate_3d(dt, w(:, i), a)
+      call elastic_rate_3d(this%lambda, this%g, d(:, i), ce)
+      eb = st%epsbar(i)
+      trd = (d(1, i) + d(2, i) + d(3, i))/3.0_wp
+      deq2 = dt*dt*(2.0_wp/3.0_wp)*((d(1, i) - trd)**2 + (d(2, i) - trd)**2 &
+        + (d(3, i) - trd)**2 + 2.0_wp*(d(4, i)**2 + d(5, i)**2 + d(6, i)**2))
+      nsub = 1
+      if (deq2 > dmax2) nsub = ceiling(min(sqrt(deq2/dmax2), real(max_substeps, wp)))
+      h = dt/nsub
+      wsum = 0.0_wp
+      esum = 0.0_wp
+      do k = 1, nsub
+        call rate_tangent_step_3d(this, rm, h, d(:, i), ce, t, a, eb, edot, dw)
+        wsum = wsum + dw
+        esum = esum + edot
+      end do
+      dwp(i) = wsum
+      st%epsdot(i) = esum/nsub
+      st%tau(:, i) = t
+      st%alpha(:, i) = a
+      st%epsbar(i) = eb
+    end do
+  end subroutine vp_update3d
+
+  !> rate_tangent_step on six components (eqs. 82-88 in 3D).
+  pure subroutine rate_tangent_step_3d(this, rm, h, d, ce, t, a, eb, edot, dw)
+    type(viscoplastic_t), intent(in) :: this
+    real(wp), intent(in) :: rm, h, d(ncomp3d), ce(ncomp3d)
+    real(wp), intent(inout) :: t(ncomp3d), a(ncomp3d), eb
+    real(wp), intent(out) :: edot, dw
+    real(wp) :: r(ncomp3d), s(ncomp3d), pdir(ncomp3d), tn(ncomp3d), wgt(ncomp3d)
+    real(wp) :: p, sbar, gv, dlng, x, edn, h0, xi, pd, g2
+    ! the weights of a symmetric tensor's inner product in this layout
+    wgt = [1.0_wp, 1.0_wp, 1.0_wp, 2.0_wp, 2.0_wp, 2.0_wp]
+    g2 = 2.0_wp*this%g
+    r = ce
+    edot = 0.0_wp
+    pdir = 0.0_wp
+    p = (t(1) + t(2) + t(3))/3.0_wp
+    s(1:3) = t(1:3) - p - a(1:3)
+    s(4:6) = t(4:6) - a(4:6)
+    sbar = sqrt(1.5_wp*sum(wgt*s*s))
+    if (sbar > 0.0_wp) then
+      gv = this%sigma0*(1.0_wp + eb/this%eps0)**this%n/(1.0_wp + (eb/this%eps1)**2)
+      x = log(sbar/gv)*rm
+      if (x > x_floor) then
+        edn = this%epsdot0*exp(min(x, x_cap))                          ! eq. (79)
+        dlng = this%n/(this%eps0 + eb) - 2.0_wp*eb/(this%eps1**2 + eb**2)
+        pdir = (1.5_wp/sbar)*s                                          ! eq. (78)
+        h0 = max(3.0_wp*this%g + 1.5_wp*this%b + sbar*dlng, this%g)
+        xi = this%theta*h*edn*rm/sbar*h0                                ! eq. (86)
+        pd = g2*sum(wgt*pdir*d)                                         ! (C:P):D
+        edot = max(0.0_wp, (edn + xi*pd/h0)/(1.0_wp + xi))              ! eq. (83)
+        r = r - (edot*g2)*pdir                                          ! eqs. (87)-(88)
+      end if
+    end if
+    tn = t + h*r
+    if (edot > 0.0_wp) then
+      a = a + (h*this%b*edot)*pdir                                      ! eq. (81)
+      eb = eb + h*edot
+      dw = h*edot*0.5_wp*sum(wgt*pdir*(t + tn))
+    else
+      dw = 0.0_wp
+    end if
+    t = tn
+  end subroutine rate_tangent_step_3d
 
   !> 'viscoplastic'.
   pure function vp_name() result(name)
