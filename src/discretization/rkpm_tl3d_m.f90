@@ -14,7 +14,8 @@
 !!    functions of a linear basis reproduce them) and, because the cells tile the body with
 !!    shared faces, the forces of a uniform stress on interior particles vanish: the patch
 !!    test to round-off (test_rkpm_tl3d);
-!!  - the lumped mass M_I = rho0 \int N_I dV (fan triangles x 2 Gauss points in z).
+!!  - the lumped mass M_I = rho0 \int N_I dV (the x-y cell's fan triangles, rkpm_tl_m's
+!!    cell_area_points, x 2 Gauss points in z).
 !! The three displacement components share one shape function (no symmetry axis to fold in
 !! 3D), so the gradients are stored per component in the layout of dims_3d (ngrad = 9: dN/dX1,
 !! dN/dX2, dN/dX3 for u1, then for u2, then for u3) and the position table holds N three
@@ -30,6 +31,7 @@ module rkpm_tl3d_m
   use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape
   use neighbour_bins_m, only: bins_candidates
+  use rkpm_tl_m, only: cell_area_points
   implicit none
   private
   public :: tl_build_3d
@@ -135,7 +137,7 @@ contains
       end if
       za = max(b%geom%z0, o(3) - half(3))
       zb = min(b%geom%z1, o(3) + half(3))
-      call fan_points(cv, ncv, xg, wg, ngp)
+      call cell_area_points(cv, ncv, xg, wg, ngp)
       area = sum(wg(1:ngp))
       vol(i) = area*(zb - za)
       ! volume integrals: the fan's points at two z levels
@@ -211,33 +213,6 @@ contains
       end if
     end do
   end subroutine shape_at
-
-  !> Area quadrature of a polygon cell: fan triangles from the vertex mean, three points each
-  !! (exact for quadratics; signed areas keep it exact for any simple polygon).
-  pure subroutine fan_points(cv, ncv, xg, wg, ng)
-    real(wp), intent(in) :: cv(:, :)
-    integer, intent(in) :: ncv
-    real(wp), intent(out) :: xg(:, :), wg(:)
-    integer, intent(out) :: ng
-    real(wp) :: o(2), a(2), bb(2), area
-    integer :: k, q
-    real(wp), parameter :: bary(3, 3) = reshape([2.0_wp/3.0_wp, 1.0_wp/6.0_wp, &
-      1.0_wp/6.0_wp, 1.0_wp/6.0_wp, 2.0_wp/3.0_wp, 1.0_wp/6.0_wp, 1.0_wp/6.0_wp, &
-      1.0_wp/6.0_wp, 2.0_wp/3.0_wp], [3, 3])
-    o = sum(cv(:, 1:ncv), dim=2)/real(ncv, wp)
-    ng = 0
-    do k = 1, ncv
-      a = cv(:, k)
-      bb = cv(:, modulo(k, ncv) + 1)
-      area = 0.5_wp*((a(1) - o(1))*(bb(2) - o(2)) - (bb(1) - o(1))*(a(2) - o(2)))
-      if (area == 0.0_wp) cycle
-      do q = 1, 3
-        ng = ng + 1
-        xg(:, ng) = bary(1, q)*o + bary(2, q)*a + bary(3, q)*bb
-        wg(ng) = area/3.0_wp
-      end do
-    end do
-  end subroutine fan_points
 
   !> The tables from the per-point lists: CSR over the points, the gradients repeated for
   !! the three components (dims_3d), lumped masses rho0 \int N dV, no hoop term, no

@@ -42,6 +42,8 @@ module rkpm_tl_m
   private
   public :: solid_tables_t, tl_build, scheme_scni, scheme_gauss, scheme_direct, scheme_names
   public :: scheme_id
+  ! (the 3D builder rkpm_tl3d_m integrates its cells' x-y sections with it)
+  public :: cell_area_points
 
   integer, parameter :: scheme_scni = 1, scheme_gauss = 2, scheme_direct = 3
   character(len=*), parameter :: scheme_names(3) = [character(len=6) :: &

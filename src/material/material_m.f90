@@ -176,31 +176,30 @@ contains
   subroutine state_init(this, n)
     class(material_state_t), intent(inout) :: this
     integer, intent(in) :: n
-    if (allocated(this%tau)) deallocate(this%tau)
-    if (allocated(this%alpha)) deallocate(this%alpha)
-    if (allocated(this%epsbar)) deallocate(this%epsbar)
-    if (allocated(this%epsdot)) deallocate(this%epsdot)
-    allocate(this%tau(ncomp, n), this%alpha(ncomp, n), this%epsbar(n), this%epsdot(n))
-    this%tau = 0.0_wp
-    this%alpha = 0.0_wp
-    this%epsbar = 0.0_wp
-    this%epsdot = 0.0_wp
+    call state_alloc(this, n, ncomp)
   end subroutine state_init
 
   !> Allocate n points in 3D (six components a tensor), all zero.
   subroutine state_init3d(this, n)
     class(material_state_t), intent(inout) :: this
     integer, intent(in) :: n
+    call state_alloc(this, n, ncomp3d)
+  end subroutine state_init3d
+
+  !> n points of nc tensor components each, all zero.
+  subroutine state_alloc(this, n, nc)
+    class(material_state_t), intent(inout) :: this
+    integer, intent(in) :: n, nc
     if (allocated(this%tau)) deallocate(this%tau)
     if (allocated(this%alpha)) deallocate(this%alpha)
     if (allocated(this%epsbar)) deallocate(this%epsbar)
     if (allocated(this%epsdot)) deallocate(this%epsdot)
-    allocate(this%tau(ncomp3d, n), this%alpha(ncomp3d, n), this%epsbar(n), this%epsdot(n))
+    allocate(this%tau(nc, n), this%alpha(nc, n), this%epsbar(n), this%epsdot(n))
     this%tau = 0.0_wp
     this%alpha = 0.0_wp
     this%epsbar = 0.0_wp
     this%epsdot = 0.0_wp
-  end subroutine state_init3d
+  end subroutine state_alloc
 
   !> Store rho0 (kg/m^3), E (Pa), nu and the derived G, K, lambda (Pa).
   subroutine set_elastic_constants(this, rho0, e, nu)

@@ -89,29 +89,29 @@ contains
   pure real(wp) function prism_sd(g, p) result(sd)
     type(geometry_t), intent(in) :: g
     real(wp), intent(in) :: p(3)
-    real(wp) :: s, t
-    s = polygon_sd(g%v, p(1:2))
-    t = max(g%z0 - p(3), p(3) - g%z1)
-    if (s <= 0.0_wp .and. t <= 0.0_wp) then
-      sd = max(s, t)
-    else
-      sd = sqrt(max(s, 0.0_wp)**2 + max(t, 0.0_wp)**2)
-    end if
+    sd = extruded_sd(polygon_sd(g%v, p(1:2)), g, p(3))
   end function prism_sd
 
   !> A cylinder's signed distance: the disk's (r - R) and the slab's combined as a prism's.
   pure real(wp) function cylinder_sd(g, p) result(sd)
     type(geometry_t), intent(in) :: g
     real(wp), intent(in) :: p(3)
-    real(wp) :: s, t
-    s = norm2(p(1:2) - g%center) - g%r1
-    t = max(g%z0 - p(3), p(3) - g%z1)
+    sd = extruded_sd(norm2(p(1:2) - g%center) - g%r1, g, p(3))
+  end function cylinder_sd
+
+  !> The signed distance of a section's extrusion from z0 to z1: s the section's in x-y, t
+  !! the slab's along z; outside sqrt(max(s, 0)^2 + max(t, 0)^2), inside max(s, t).
+  pure real(wp) function extruded_sd(s, g, z) result(sd)
+    real(wp), intent(in) :: s, z
+    type(geometry_t), intent(in) :: g
+    real(wp) :: t
+    t = max(g%z0 - z, z - g%z1)
     if (s <= 0.0_wp .and. t <= 0.0_wp) then
       sd = max(s, t)
     else
       sd = sqrt(max(s, 0.0_wp)**2 + max(t, 0.0_wp)**2)
     end if
-  end function cylinder_sd
+  end function extruded_sd
 
   pure real(wp) function annulus_sd(g, p) result(sd)
     type(geometry_t), intent(in) :: g

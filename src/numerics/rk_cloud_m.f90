@@ -268,7 +268,6 @@ contains
     logical :: empty
     real(wp) :: dx, dy, w, z1, z2, z12, h1, h2
     real(wp) :: m11, m12, m13, m14, m22, m24, m33, m34, m44
-    real(wp) :: l11, l21, l31, l41, l22, l32, l42, l33, l43, l44, s, tol
     logical :: cubic
     det = 0.0_wp
     cubic = c%kid == kernel_cubic
@@ -305,26 +304,8 @@ contains
         m44 = m44 + w*z12*z12
       end do
     end do
-    ! M23 = M14 (eq. 19). Cholesky, column by column.
-    if (m11 <= 0.0_wp) return
-    tol = singular_pivot
-    l11 = sqrt(m11)
-    l21 = m12/l11
-    l31 = m13/l11
-    l41 = m14/l11
-    s = m22 - l21*l21
-    if (s <= tol*m22) return
-    l22 = sqrt(s)
-    l32 = (m14 - l31*l21)/l22
-    l42 = (m24 - l41*l21)/l22
-    s = m33 - l31*l31 - l32*l32
-    if (s <= tol*m33) return
-    l33 = sqrt(s)
-    l43 = (m34 - l41*l31 - l42*l32)/l33
-    s = m44 - l41*l41 - l42*l42 - l43*l43
-    if (s <= tol*m44) return
-    l44 = sqrt(s)
-    det = (l11*l22*l33*l44)**2
+    ! M23 = M14 (eq. 19)
+    det = det4_chol(m11, m12, m13, m14, m22, m14, m24, m33, m34, m44)
   end function det_2d_bilinear_tensor
 
   !> Hot path for mfcd's 3D detection basis (linear, P = (1, x, y, z), tensor-product
@@ -337,7 +318,6 @@ contains
     logical :: empty, cubic
     real(wp) :: dx, dy, dz, w, z1, z2, z3, h1, h2, h3, r1, r2, r3
     real(wp) :: m11, m12, m13, m14, m22, m23, m24, m33, m34, m44
-    real(wp) :: l11, l21, l31, l41, l22, l32, l42, l33, l43, l44, s, tol
     det = 0.0_wp
     cubic = c%kid == kernel_cubic
     call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
@@ -382,7 +362,17 @@ contains
         end do
       end do
     end do
-    ! Cholesky, column by column
+    det = det4_chol(m11, m12, m13, m14, m22, m23, m24, m33, m34, m44)
+  end function det_3d_linear_tensor
+
+  !> det of the symmetric 4x4 moment matrix given by its upper triangle, by an unrolled
+  !! Cholesky factorization, column by column (the hot paths'); 0 when a pivot falls to
+  !! singular_pivot of its diagonal entry or below (M singular or not positive definite).
+  pure real(wp) function det4_chol(m11, m12, m13, m14, m22, m23, m24, m33, m34, m44) &
+    result(det)
+    real(wp), intent(in) :: m11, m12, m13, m14, m22, m23, m24, m33, m34, m44
+    real(wp) :: l11, l21, l31, l41, l22, l32, l42, l33, l43, l44, s, tol
+    det = 0.0_wp
     if (m11 <= 0.0_wp) return
     tol = singular_pivot
     l11 = sqrt(m11)
@@ -402,7 +392,7 @@ contains
     if (s <= tol*m44) return
     l44 = sqrt(s)
     det = (l11*l22*l33*l44)**2
-  end function det_3d_linear_tensor
+  end function det4_chol
 
   !> The cubic spline of eq. (8) at a = |s| < 2 (the caller has checked the support); the
   !! hot loop calls it directly, which lets the compiler inline it (window_1d's select case
