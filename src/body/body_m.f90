@@ -53,5 +53,9 @@ module body_m
     !> Element connectivity (3, ne) when the body is a finite-element (CST4) mesh whose nodes
     !! are the points above; unallocated for particle bodies
     integer, allocatable :: cells(:, :)
+    !> 3D bodies: the boundary surface as triangles over the particles (3, nfacet),
+    !! counter-clockwise seen from outside (the outward normal is (x2 - x1) x (x3 - x1)),
+    !! closed; unallocated when the generator cannot close it (contact in 3D needs it)
+    integer, allocatable :: facets(:, :)
   end type body_t
 end module body_m

@@ -668,6 +668,7 @@ contains
     end if
     b%geom%z0 = z0
     b%geom%z1 = z1
+    call extruded_facets(b2, nz, b)
     if (allocated(b2%cell_ptr)) then
       ! the x-y cells, the same polygon for each layer of a particle
       n = b2%cell_ptr(n2 + 1) - 1
@@ -682,6 +683,193 @@ contains
       end do
     end if
   end subroutine extrude_body
+
+  !> The closed boundary surface of b, b2 extruded in nz layers (extrude_body), as triangles
+  !! over b's particles, counter-clockwise seen from outside: the section's triangulation
+  !! (section_triangles) as the two end caps (turned over at the bottom) and each segment of
+  !! the section's boundary loops times each layer as two side triangles (a CCW loop walks
+  !! with the body on its left, so (a, b, c) of the quad a = (i0, k), b = (i1, k), c = (i1,
+  !! k + 1), d = (i0, k + 1) faces out). Left unallocated when the section has no
+  !! triangulation that closes it.
+  subroutine extruded_facets(b2, nz, b)
+    type(body_t), intent(in) :: b2
+    integer, intent(in) :: nz
+    type(body_t), intent(inout) :: b
+    integer, allocatable :: tri(:, :)
+    integer :: n2, nt, nside, l, k, m, i0, i1, q, nf
+    logical :: ok
+    call section_triangles(b2, tri, ok)
+    if (.not. ok) return
+    n2 = b2%np
+    nt = size(tri, 2)
+    nside = 0
+    do l = 1, b2%nloops
+      nside = nside + (b2%loop_ptr(l + 1) - b2%loop_ptr(l))
+    end do
+    allocate(b%facets(3, 2*nt + 2*nside*(nz - 1)))
+    nf = 0
+    do m = 1, nt
+      b%facets(:, nf + 1) = tri([1, 3, 2], m)              ! bottom, seen from below
+      b%facets(:, nf + 2) = tri(:, m) + (nz - 1)*n2       ! top
+      nf = nf + 2
+    end do
+    do l = 1, b2%nloops
+      do q = b2%loop_ptr(l), b2%loop_ptr(l + 1) - 1
+        i0 = b2%loop_idx(q)
+        i1 = b2%loop_idx(merge(b2%loop_ptr(l), q + 1, q == b2%loop_ptr(l + 1) - 1))
+        do k = 1, nz - 1
+          b%facets(:, nf + 1) = [i0, i1, i1 + n2] + (k - 1)*n2
+          b%facets(:, nf + 2) = [i0, i1 + n2, i0 + n2] + (k - 1)*n2
+          nf = nf + 2
+        end do
+      end do
+    end do
+  end subroutine extruded_facets
+
+  !> A triangulation tri(3, nt) of a 2D body's section whose vertices are its particles,
+  !! counter-clockwise, and whose outline is the body's boundary loops (ok), when the
+  !! generator's layout gives one: a disk's centre fan and ring strips (consecutive rings
+  !! merged by angle), a lattice polygon's squares of four particles cut along a diagonal
+  !! (ok only if they cover the polygon: their areas sum to its area to round-off, as for a
+  !! rectangle or a polygon with its vertices on lattice points).
+  subroutine section_triangles(b2, tri, ok)
+    type(body_t), intent(in) :: b2
+    integer, allocatable, intent(out) :: tri(:, :)
+    logical, intent(out) :: ok
+    ok = .false.
+    if (b2%geom%kind == geom_annulus .and. b2%geom%r0 == 0.0_wp .and. &
+      allocated(b2%cell_ptr)) then
+      call disk_triangles(b2, tri)
+      ok = .true.
+    else if (b2%geom%kind == geom_polygon .and. .not. allocated(b2%cell_centre)) then
+      call lattice_triangles(b2, tri)
+      ok = abs(tri_area(b2%x, tri) - polygon_area(b2%geom%v, size(b2%geom%v, 2))) <= &
+        1.0e-9_wp*polygon_area(b2%geom%v, size(b2%geom%v, 2))
+    end if
+    if (.not. ok .and. allocated(tri)) deallocate(tri)
+  end subroutine section_triangles
+
+  !> Sum of the signed areas of triangles tri over points x.
+  pure real(wp) function tri_area(x, tri) result(a)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tri(:, :)
+    integer :: m
+    real(wp) :: e1(2), e2(2)
+    a = 0.0_wp
+    do m = 1, size(tri, 2)
+      e1 = x(1:2, tri(2, m)) - x(1:2, tri(1, m))
+      e2 = x(1:2, tri(3, m)) - x(1:2, tri(1, m))
+      a = a + 0.5_wp*(e1(1)*e2(2) - e1(2)*e2(1))
+    end do
+  end function tri_area
+
+  !> A lattice body's squares whose four corners are particles, each cut into two
+  !! counter-clockwise triangles along the diagonal from its lower-left corner.
+  subroutine lattice_triangles(b2, tri)
+    type(body_t), intent(in) :: b2
+    integer, allocatable, intent(out) :: tri(:, :)
+    integer, allocatable :: at(:, :), ij(:, :)
+    real(wp) :: lo(2)
+    integer :: j, n(2), i, k, nt, c(4)
+    lo = minval(b2%x(1:2, :), dim=2)
+    allocate(ij(2, b2%np))
+    do j = 1, b2%np
+      ij(:, j) = nint((b2%x(1:2, j) - lo)/b2%spacing(1:2))
+    end do
+    n = maxval(ij, dim=2) + 1
+    allocate(at(0:n(1), 0:n(2)))
+    at = 0
+    do j = 1, b2%np
+      at(ij(1, j), ij(2, j)) = j
+    end do
+    allocate(tri(3, 2*b2%np))
+    nt = 0
+    do k = 0, n(2) - 2
+      do i = 0, n(1) - 2
+        c = [at(i, k), at(i + 1, k), at(i + 1, k + 1), at(i, k + 1)]
+        if (any(c == 0)) cycle
+        tri(:, nt + 1) = [c(1), c(2), c(3)]
+        tri(:, nt + 2) = [c(1), c(3), c(4)]
+        nt = nt + 2
+      end do
+    end do
+    tri = tri(:, 1:nt)
+  end subroutine lattice_triangles
+
+  !> A disk's triangulation (make_disk's numbering: the centre, then ring k's particles in
+  !! increasing angle): the fan from the centre to ring 1, and between rings k and k + 1
+  !! the strip obtained by walking both rings by angle, each step closing a triangle with
+  !! the particle of the ring that comes next.
+  subroutine disk_triangles(b2, tri)
+    type(body_t), intent(in) :: b2
+    integer, allocatable, intent(out) :: tri(:, :)
+    integer, allocatable :: first(:), nk(:)
+    integer :: nr, k, np, nt, i, j, a, bb, na, nb
+    real(wp) :: ta, tb
+    np = b2%np
+    ! the rings from the particle count: 1 + sum_k disk_ring_count(k)
+    nr = 0
+    k = 1
+    do while (k < np)
+      nr = nr + 1
+      k = k + disk_ring_count(nr)
+    end do
+    allocate(first(0:nr), nk(0:nr))
+    first(0) = 1
+    nk(0) = 1
+    do k = 1, nr
+      nk(k) = disk_ring_count(k)
+      first(k) = first(k - 1) + nk(k - 1)
+    end do
+    allocate(tri(3, 2*np))
+    nt = 0
+    do j = 1, nk(1)
+      tri(:, nt + 1) = [1, first(1) + j - 1, first(1) + modulo(j, nk(1))]
+      nt = nt + 1
+    end do
+    do k = 1, nr - 1
+      na = nk(k)
+      nb = nk(k + 1)
+      i = 0
+      j = 0
+      ! start both walks at the particles of smallest angle
+      do while (i < na .or. j < nb)
+        a = first(k) + modulo(i, na)
+        bb = first(k + 1) + modulo(j, nb)
+        ta = angle_of(first(k) + modulo(i + 1, na), i + 1 >= na)
+        tb = angle_of(first(k + 1) + modulo(j + 1, nb), j + 1 >= nb)
+        if (j >= nb .or. (i < na .and. ta <= tb)) then
+          tri(:, nt + 1) = [a, first(k) + modulo(i + 1, na), bb]
+          i = i + 1
+        else
+          tri(:, nt + 1) = [a, first(k + 1) + modulo(j + 1, nb), bb]
+          j = j + 1
+        end if
+        ! counter-clockwise: (a, next, bb) as built is clockwise for the inner ring's step
+        call ccw(tri(:, nt + 1))
+        nt = nt + 1
+      end do
+    end do
+    tri = tri(:, 1:nt)
+  contains
+    !> The angle of particle q about the disk's centre in [0, 2 pi), plus 2 pi past a wrap.
+    real(wp) function angle_of(q, wrapped) result(t)
+      integer, intent(in) :: q
+      logical, intent(in) :: wrapped
+      real(wp) :: d(2)
+      d = b2%x(1:2, q) - b2%geom%center
+      t = modulo(atan2(d(2), d(1)), 2.0_wp*pi)
+      if (wrapped) t = t + 2.0_wp*pi
+    end function angle_of
+
+    subroutine ccw(t3)
+      integer, intent(inout) :: t3(3)
+      real(wp) :: e1(2), e2(2)
+      e1 = b2%x(1:2, t3(2)) - b2%x(1:2, t3(1))
+      e2 = b2%x(1:2, t3(3)) - b2%x(1:2, t3(1))
+      if (e1(1)*e2(2) - e1(2)*e2(1) < 0.0_wp) t3(2:3) = t3([3, 2])
+    end subroutine ccw
+  end subroutine disk_triangles
 
   !> A lattice body's integration cells made explicit (cell_ptr, cell_xy): each particle's
   !! lattice cell (a box of the spacing about its lattice point) clipped by the body's
