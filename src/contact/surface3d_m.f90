@@ -1,0 +1,227 @@
+!> A 3D master's boundary surface for the gap and the normal of Section 5 in three
+!! dimensions (issue 23, item 3): the body's facets (body_t%facets, triangles over its
+!! particles, counter-clockwise from outside), and for a point p the closest point q on the
+!! surface, the signed gap g = +-|p - q| (negative inside) and the outward normal.
+!!
+!! The sign comes from the angle-weighted pseudo-normal of the feature q lies on (Baerentzen
+!! and Aanaes, IEEE TVCG 11 (2005)): the facet's normal inside a facet, the sum of the two
+!! facets' normals on an edge, the angle-weighted sum of the facets' normals at a vertex.
+!! With it the sign of (p - q) . n is the inside/outside of any point of a closed surface,
+!! also where q is an edge or a vertex (a facet normal alone can give the wrong sign there,
+!! at convex and concave edges alike). The closest point on a triangle is Ericson's
+!! (Real-Time Collision Detection, 2005, Section 5.1.5), by the Voronoi regions of its
+!! vertices, edges and face.
+!!
+!! Search: every facet (the first version; binned facets for large masters come with the
+!! contact pass in 3D).
+module surface3d_m
+  use kinds_m, only: wp
+  use errors_m, only: error_t, set_error
+  use sorting_m, only: sort_index
+  implicit none
+  private
+  public :: surface3d_t, surface3d_build, surface3d_gap
+
+  type :: surface3d_t
+    integer :: nf = 0
+    integer, allocatable :: tri(:, :)        !< (3, nf) vertex numbers, CCW from outside
+    real(wp), allocatable :: x(:, :)         !< (3, np) vertex positions (m)
+    real(wp), allocatable :: fn(:, :)        !< (3, nf) unit facet normals
+    real(wp), allocatable :: en(:, :, :)     !< (3, 3, nf) pseudo-normal of edge k of facet
+                                             !! (from its vertex k to k + 1)
+    real(wp), allocatable :: vn(:, :)        !< (3, np) vertex pseudo-normals
+  end type surface3d_t
+
+contains
+
+  !> The surface of the facets tri (3, nf) over the vertices x (3, np): normals and the
+  !! pseudo-normals of edges and vertices. err: an edge not shared by exactly two facets
+  !! (the surface is not closed).
+  subroutine surface3d_build(s, x, tri, err)
+    type(surface3d_t), intent(out) :: s
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tri(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: m, k, a, b, ne, i
+    integer, allocatable :: order(:), ea(:), eb(:), ef(:), ek(:)
+    real(wp), allocatable :: key(:)
+    real(wp) :: e1(3), e2(3), ang, u(3), v(3)
+    s%nf = size(tri, 2)
+    s%tri = tri
+    s%x = x
+    allocate(s%fn(3, s%nf), s%en(3, 3, s%nf), s%vn(3, size(x, 2)))
+    s%vn = 0.0_wp
+    do m = 1, s%nf
+      e1 = x(:, tri(2, m)) - x(:, tri(1, m))
+      e2 = x(:, tri(3, m)) - x(:, tri(1, m))
+      s%fn(:, m) = cross(e1, e2)
+      s%fn(:, m) = s%fn(:, m)/norm2(s%fn(:, m))
+      ! the facet's angle at each vertex weights its normal there
+      do k = 1, 3
+        u = x(:, tri(modulo(k, 3) + 1, m)) - x(:, tri(k, m))
+        v = x(:, tri(modulo(k + 1, 3) + 1, m)) - x(:, tri(k, m))
+        ang = acos(max(-1.0_wp, min(1.0_wp, dot_product(u, v)/(norm2(u)*norm2(v)))))
+        s%vn(:, tri(k, m)) = s%vn(:, tri(k, m)) + ang*s%fn(:, m)
+      end do
+    end do
+    ! edges: each undirected edge (smaller, larger vertex) must appear in two facets
+    ne = 3*s%nf
+    allocate(ea(ne), eb(ne), ef(ne), ek(ne), key(ne), order(ne))
+    i = 0
+    do m = 1, s%nf
+      do k = 1, 3
+        i = i + 1
+        a = tri(k, m)
+        b = tri(modulo(k, 3) + 1, m)
+        ea(i) = min(a, b)
+        eb(i) = max(a, b)
+        ef(i) = m
+        ek(i) = k
+        key(i) = real(ea(i), wp)*real(size(x, 2) + 1, wp) + real(eb(i), wp)
+      end do
+    end do
+    call sort_index(key, order)
+    i = 1
+    do while (i <= ne)
+      if (i == ne) then
+        call set_error(err, 'the surface is not closed: an edge belongs to one facet')
+        return
+      end if
+      if (key(order(i + 1)) /= key(order(i)) .or. &
+        (i + 2 <= ne .and. key(order(min(i + 2, ne))) == key(order(i)))) then
+        call set_error(err, 'the surface is not closed: edge '//'of one or of three facets')
+        return
+      end if
+      u = s%fn(:, ef(order(i))) + s%fn(:, ef(order(i + 1)))
+      s%en(:, ek(order(i)), ef(order(i))) = u
+      s%en(:, ek(order(i + 1)), ef(order(i + 1))) = u
+      i = i + 2
+    end do
+  end subroutine surface3d_build
+
+  !> The closest point of surface s to p: the signed gap g (m, < 0 inside), the outward unit
+  !! normal nrm ((p - q)/|p - q| turned outward; the feature's pseudo-normal when p lies on
+  !! the surface), the facet jf and the barycentric coordinates bary of q on it.
+  pure subroutine surface3d_gap(s, p, g, nrm, jf, bary)
+    type(surface3d_t), intent(in) :: s
+    real(wp), intent(in) :: p(3)
+    real(wp), intent(out) :: g, nrm(3), bary(3)
+    integer, intent(out) :: jf
+    integer :: m, region, rbest
+    real(wp) :: q(3), d2, best, bb(3), qbest(3), pn(3), dist
+    best = huge(1.0_wp)
+    jf = 0
+    rbest = 0
+    bary = 0.0_wp
+    qbest = p
+    do m = 1, s%nf
+      call closest_on_triangle(p, s%x(:, s%tri(1, m)), s%x(:, s%tri(2, m)), &
+        s%x(:, s%tri(3, m)), q, bb, region)
+      d2 = sum((p - q)**2)
+      if (d2 < best) then
+        best = d2
+        jf = m
+        qbest = q
+        bary = bb
+        rbest = region
+      end if
+    end do
+    g = huge(1.0_wp)
+    nrm = 0.0_wp
+    if (jf == 0) return
+    ! the pseudo-normal of the feature: region 0 the face, 1-3 vertex k, 4-6 edge k
+    select case (rbest)
+    case (1:3)
+      pn = s%vn(:, s%tri(rbest, jf))
+    case (4:6)
+      pn = s%en(:, rbest - 3, jf)
+    case default
+      pn = s%fn(:, jf)
+    end select
+    dist = sqrt(best)
+    g = dist
+    if (dot_product(p - qbest, pn) < 0.0_wp) g = -dist
+    if (dist > 0.0_wp) then
+      nrm = (p - qbest)/dist
+      if (g < 0.0_wp) nrm = -nrm
+    else
+      nrm = pn/norm2(pn)
+    end if
+  end subroutine surface3d_gap
+
+  !> The point q of triangle (a, b, c) closest to p, its barycentric coordinates (of a, b,
+  !! c) and its Voronoi region: 0 the face, k = 1, 2, 3 vertex k, 3 + k the edge from vertex
+  !! k to vertex k + 1 (Ericson 2005, 5.1.5).
+  pure subroutine closest_on_triangle(p, a, b, c, q, bary, region)
+    real(wp), intent(in) :: p(3), a(3), b(3), c(3)
+    real(wp), intent(out) :: q(3), bary(3)
+    integer, intent(out) :: region
+    real(wp) :: ab(3), ac(3), ap(3), bp(3), cp(3), d1, d2, d3, d4, d5, d6, va, vb, vc, &
+      v, w, den
+    ab = b - a
+    ac = c - a
+    ap = p - a
+    d1 = dot_product(ab, ap)
+    d2 = dot_product(ac, ap)
+    if (d1 <= 0.0_wp .and. d2 <= 0.0_wp) then
+      q = a
+      bary = [1.0_wp, 0.0_wp, 0.0_wp]
+      region = 1
+      return
+    end if
+    bp = p - b
+    d3 = dot_product(ab, bp)
+    d4 = dot_product(ac, bp)
+    if (d3 >= 0.0_wp .and. d4 <= d3) then
+      q = b
+      bary = [0.0_wp, 1.0_wp, 0.0_wp]
+      region = 2
+      return
+    end if
+    vc = d1*d4 - d3*d2
+    if (vc <= 0.0_wp .and. d1 >= 0.0_wp .and. d3 <= 0.0_wp) then
+      v = d1/(d1 - d3)
+      q = a + v*ab
+      bary = [1.0_wp - v, v, 0.0_wp]
+      region = 4          ! edge a-b
+      return
+    end if
+    cp = p - c
+    d5 = dot_product(ab, cp)
+    d6 = dot_product(ac, cp)
+    if (d6 >= 0.0_wp .and. d5 <= d6) then
+      q = c
+      bary = [0.0_wp, 0.0_wp, 1.0_wp]
+      region = 3
+      return
+    end if
+    vb = d5*d2 - d1*d6
+    if (vb <= 0.0_wp .and. d2 >= 0.0_wp .and. d6 <= 0.0_wp) then
+      w = d2/(d2 - d6)
+      q = a + w*ac
+      bary = [1.0_wp - w, 0.0_wp, w]
+      region = 6          ! edge c-a (vertex 3 to vertex 1)
+      return
+    end if
+    va = d3*d6 - d5*d4
+    if (va <= 0.0_wp .and. (d4 - d3) >= 0.0_wp .and. (d5 - d6) >= 0.0_wp) then
+      w = (d4 - d3)/((d4 - d3) + (d5 - d6))
+      q = b + w*(c - b)
+      bary = [0.0_wp, 1.0_wp - w, w]
+      region = 5          ! edge b-c
+      return
+    end if
+    den = 1.0_wp/(va + vb + vc)
+    v = vb*den
+    w = vc*den
+    q = a + ab*v + ac*w
+    bary = [1.0_wp - v - w, v, w]
+    region = 0
+  end subroutine closest_on_triangle
+
+  pure function cross(u, v) result(w)
+    real(wp), intent(in) :: u(3), v(3)
+    real(wp) :: w(3)
+    w = [u(2)*v(3) - u(3)*v(2), u(3)*v(1) - u(1)*v(3), u(1)*v(2) - u(2)*v(1)]
+  end function cross
+end module surface3d_m
