@@ -423,23 +423,31 @@ contains
   subroutine route_shares(p, ia, ib)
     type(contact_pair_t), intent(inout), target :: p
     integer, intent(in) :: ia, ib
-    integer :: k, i, m, nl, n0, n
-    real(wp), allocatable :: rec(:, :), key(:)
-    integer, allocatable :: idx(:)
+    integer :: k, i, m, nl, n0, n, nt, q
     call route_to_owners(p, ia, ib, 3, share, n0, n)
     associate (b => p%side(ib), db => p%dist%side(ib))
-      ! the owner's sums, in the order of the slave particles
+      ! the owner's sums, in the order of the slave particles: the records (master, slave,
+      ! weight), its own then the other ranks', sorted by slave particle
       nl = (n - n0)/3
       m = (db%nptr(size(db%to) + 1) - 1)/3
-      allocate(rec(3, nl + m), key(nl + m), idx(nl + m))
-      rec(:, 1:nl) = reshape(db%sbuf(n0:n - 1), [3, nl])
-      rec(:, nl + 1:) = reshape(db%rbuf(1:3*m), [3, m])
-      key = rec(2, :)
-      call sort_index(key, idx)
+      nt = nl + m
+      call ensure(db%wrec, 3*nt)
+      call ensure(db%wkey, nt)
+      if (allocated(db%widx)) then
+        if (size(db%widx) < nt) deallocate(db%widx)
+      end if
+      if (.not. allocated(db%widx)) allocate(db%widx(max(nt, 1)))
+      db%wrec(1:3*nl) = db%sbuf(n0:n - 1)
+      db%wrec(3*nl + 1:3*nt) = db%rbuf(1:3*m)
+      do k = 1, nt
+        db%wkey(k) = db%wrec(3*k - 1)
+      end do
+      call sort_index(db%wkey(1:nt), db%widx(1:nt))
       b%share(db%own) = 0.0_wp
-      do k = 1, size(idx)
-        i = nint(rec(1, idx(k)))
-        b%share(i) = b%share(i) + rec(3, idx(k))
+      do k = 1, nt
+        q = db%widx(k)
+        i = nint(db%wrec(3*q - 2))
+        b%share(i) = b%share(i) + db%wrec(3*q)
       end do
       ! the ghosts' sums from their owners
       call ensure(db%sbuf, size(db%sids))

@@ -203,6 +203,10 @@ module contact_pair_m
     real(wp), allocatable :: xl(:, :)    !< positions of loc (work, m)
     real(wp), allocatable :: f(:, :)     !< point forces on the part solid's nodes (work, N)
     real(wp), allocatable :: sbuf(:), rbuf(:)   !< message buffers (work)
+    !> the shared mass's records sorted into the serial order (route_shares; work, grown
+    !! as needed, so that no pass allocates): (master, slave, weight) triples, their keys
+    real(wp), allocatable :: wrec(:), wkey(:)
+    integer, allocatable :: widx(:)
     integer, allocatable :: mptr(:), nptr(:)    !< message pointers (work)
   end type dist_side_t
 
