@@ -216,8 +216,8 @@ contains
       msg = msg//': the contact work broke the balance (against fixed or deformable '// &
         'masters contact can only take energy out, through inelastic stops and friction; '// &
         'w_contact > 0 there means its corrections pushed bodies apart; a moving rigid '// &
-        'master puts in its own work): check the &contact pairs (against a deformable master keep '// &
-        'shared_mass = .true., the default, and slave and master spacings within a '// &
+        'master puts in its own work): check the &contact pairs (against a deformable '// &
+        'master keep shared_mass = .true., the default, and slave and master spacings within a '// &
         'factor of about two), then the step below'
     else
       msg = msg//': the bodies'' own motion broke the balance'

@@ -18,7 +18,8 @@ module stable_step_m
   use kinds_m, only: wp
   use strings_m, only: itoa, rtoa
   use solid_m, only: solid_t, solid_step_estimate
-  use tl_kinematics_m, only: linear_elastic_piola, deformation_gradient, internal_force, stabilization_force, &
+  use tl_kinematics_m, only: linear_elastic_piola, deformation_gradient, internal_force, &
+    stabilization_force, &
     jacobian
   implicit none
   private
