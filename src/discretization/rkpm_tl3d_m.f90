@@ -40,6 +40,7 @@ module rkpm_tl3d_m
   integer, parameter :: max_cv = max_cell_vertices
   !> two Gauss points on [0, 1]
   real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
+  real(wp), parameter :: zero3(3) = 0.0_wp   !< no face: a volume point adds mass only
 
 contains
 
@@ -144,13 +145,15 @@ contains
       do r = 1, 2
         do q = 1, ngp
           p = [xg(:, q), za + gx(r)*(zb - za)]
-          call shape_at(c, p, 0.5_wp*wg(q)*(zb - za), 0.0_wp, 0, i, slot, nl, idl, gl, ml, bad)
+          call shape_at(c, p, 0.5_wp*wg(q)*(zb - za), zero3, i, slot, nl, idl, gl, ml, bad)
         end do
       end do
       ! the end faces: n = -e3 at za, +e3 at zb
       do q = 1, ngp
-        call shape_at(c, [xg(:, q), za], 0.0_wp, -wg(q), 3, i, slot, nl, idl, gl, ml, bad)
-        call shape_at(c, [xg(:, q), zb], 0.0_wp, wg(q), 3, i, slot, nl, idl, gl, ml, bad)
+        call shape_at(c, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], i, slot, nl, idl, &
+          gl, ml, bad)
+        call shape_at(c, [xg(:, q), zb], 0.0_wp, [0.0_wp, 0.0_wp, wg(q)], i, slot, nl, idl, &
+          gl, ml, bad)
       end do
       ! the side faces: each edge times [za, zb], 2 x 2 Gauss points
       do k = 1, ncv
@@ -162,8 +165,8 @@ contains
           do r = 1, 2
             p = [cv(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
             w = 0.25_wp*len_e*(zb - za)
-            call shape_at(c, p, 0.0_wp, w*nrm(1), 1, i, slot, nl, idl, gl, ml, bad)
-            call shape_at(c, p, 0.0_wp, w*nrm(2), 2, i, slot, nl, idl, gl, ml, bad)
+            call shape_at(c, p, 0.0_wp, [w*nrm(1), w*nrm(2), 0.0_wp], i, slot, nl, idl, gl, &
+              ml, bad)
           end do
         end do
       end do
@@ -177,14 +180,13 @@ contains
     !$omp end parallel
   end subroutine cell_integrals
 
-  !> Add, at point pp, wm N_I to ml and wn N_I to gl(dir) of particle i's slots (dir = 0:
-  !! mass only), for every particle I whose shape function reaches pp. (The shape functions
-  !! are recomputed per face component: simple, and the set-up runs once.) bad: i when
-  !! they are undefined there.
-  subroutine shape_at(c, pp, wm, wn, dir, i, slot, nl, idl, gl, ml, bad)
+  !> Add, at point pp, wm N_I to ml and wn N_I to gl (the face's weight times its normal)
+  !! of particle i's slots, for every particle I whose shape function reaches pp. bad: i
+  !! when they are undefined there.
+  subroutine shape_at(c, pp, wm, wn, i, slot, nl, idl, gl, ml, bad)
     type(rk_cloud_t), intent(in) :: c
-    real(wp), intent(in) :: pp(3), wm, wn
-    integer, intent(in) :: dir, i
+    real(wp), intent(in) :: pp(3), wm, wn(3)
+    integer, intent(in) :: i
     integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
     real(wp), intent(inout) :: gl(:, :, :), ml(:, :)
     real(wp) :: n(max_nb), dn(3, max_nb)
@@ -206,11 +208,8 @@ contains
         gl(:, s, i) = 0.0_wp
         ml(s, i) = 0.0_wp
       end if
-      if (dir == 0) then
-        ml(s, i) = ml(s, i) + wm*n(kk)
-      else
-        gl(dir, s, i) = gl(dir, s, i) + wn*n(kk)
-      end if
+      ml(s, i) = ml(s, i) + wm*n(kk)
+      gl(:, s, i) = gl(:, s, i) + wn*n(kk)
     end do
   end subroutine shape_at
 
