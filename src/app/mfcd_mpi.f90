@@ -23,9 +23,9 @@ program mfcd_mpi
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
   use log_m, only: log_print, log_flush
-  use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
+  use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic, mpi_scene_check
   use explicit_driver_m, only: run_dynamic
-  use mpi_domain_m, only: mpi_domain_t, mpi_domain_init, mpi_scene_check, ghost_margin_default
+  use mpi_domain_m, only: mpi_domain_t, mpi_domain_init, ghost_margin_default
   use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t
   implicit none
   type(deck_t) :: deck

@@ -40,6 +40,8 @@ module run_files_m
     integer :: checkpoint_step = -1              !< step of the last checkpoint (-1: none)
     character(len=:), allocatable :: checkpoint  !< and its file
     type(xdmf_body_t), allocatable :: rigid(:)   !< the rigid bodies, for the XDMF file
+    !> the run's deck, for its checkpoints (a copy taken when the files are opened)
+    type(deck_t), allocatable :: deck
   end type run_files_t
 
 contains
@@ -56,6 +58,7 @@ contains
     character(len=*), intent(in), optional :: restart
     integer :: k
     allocate(out%labels(0), out%times(0), out%earlier_times(0), out%rigid(0))
+    out%deck = deck
     do k = 1, size(bodies)
       if (deck%bodies(k)%role /= 'rigid') cycle
       out%rigid = [out%rigid, xdmf_body_t(name=bodies(k)%name, np=bodies(k)%np, &
@@ -110,9 +113,8 @@ contains
   !! over the previous checkpoint (output_path_m, checkpoint_commit). t_loop: seconds spent
   !! in the time loop so far. A failure fails the run (exit 1) and leaves the previous
   !! checkpoint as it was.
-  subroutine run_files_checkpoint(out, deck, bodies, r, solids, pairs, t_loop, err)
+  subroutine run_files_checkpoint(out, bodies, r, solids, pairs, t_loop, err)
     type(run_files_t), intent(inout) :: out
-    type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(run_record_t), intent(in) :: r
     type(solid_t), intent(in) :: solids(:)
@@ -120,7 +122,7 @@ contains
     real(wp), intent(in) :: t_loop
     type(error_t), allocatable, intent(inout) :: err
     logical :: ok
-    call checkpoint_write(out%path%tmp_checkpoint, deck, bodies, r, solids, pairs, &
+    call checkpoint_write(out%path%tmp_checkpoint, out%deck, bodies, r, solids, pairs, &
       out%hist, out%nsnap_done, [out%earlier_times, pack(out%times, out%labels /= 'failure')], &
       t_loop, err)
     if (allocated(err)) then

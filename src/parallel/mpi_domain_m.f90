@@ -17,12 +17,12 @@
 !! draws the snapshots' det(M) fields from them with its copy of the pairs as set up. A
 !! history row's measures are maxima over the ranks, without a gather. Checkpoints are the
 !! serial ones, written by rank 0 from the gathered state and read whole by every rank, so a
-!! run continues on any number of ranks. Subcycling is refused (mpi_scene_check).
+!! run continues on any number of ranks. Subcycling is refused (dynamic_setup_m's
+!! mpi_scene_check).
 module mpi_domain_m
   use mpi_f08
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
-  use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_init, solid_set_owned, part_halo_t, state_fields, &
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
@@ -40,7 +40,7 @@ module mpi_domain_m
   use run_domain_m, only: run_domain_t
   implicit none
   private
-  public :: mpi_domain_t, mpi_domain_init, mpi_scene_check, ghost_margin_default
+  public :: mpi_domain_t, mpi_domain_init, ghost_margin_default
 
   !> The default margin of the ghost width of contact with a deforming master, a fraction of
   !! the width contact needs: larger, fewer refreshes and more ghosts (doc/parallel.md)
@@ -105,43 +105,11 @@ contains
     dom%ghost_refresh = ghost_refresh
   end subroutine mpi_domain_init
 
-  !> What this driver cannot run on ranks yet, as bad input (before anything is written).
-  subroutine mpi_scene_check(deck, err)
-    type(deck_t), intent(in) :: deck
-    type(error_t), allocatable, intent(inout) :: err
-    integer :: k
-    character(len=*), parameter :: what = "deck '"
-    if (deck%run%mode /= 'dynamic') then
-      call set_error(err, what//deck%path//"', group &run, variable mode: the MPI driver "// &
-        "runs mode = 'dynamic' only; run mfcd for the others")
-      return
-    end if
-    if (deck%solver%subcycle) then
-      call set_error(err, what//deck%path//"', group &solver, variable subcycle: not yet "// &
-        "with MPI; set subcycle = .false. or run mfcd")
-      return
-    end if
-    do k = 1, deck%ncontacts
-      associate (c => deck%contacts(k))
-        if (deck%bodies(c%imaster)%role == 'rigid') cycle
-        ! a deforming master (or self-contact): its ghost particles (contact_dist_sm)
-        if (c%detector /= 'det_m' .or. c%compare_detectors) then
-          call set_error(err, what//deck%path//"', group &contact, variable detector: "// &
-            "against the deforming master '"//trim(c%master)//"' the MPI driver takes "// &
-            "detector = 'det_m' (and compare_detectors = .false.); run mfcd for the others")
-          return
-        end if
-      end associate
-    end do
-  end subroutine mpi_scene_check
-
   !> solids (the whole set-up, and with restarted the state a checkpoint held) become this
   !! rank's parts; the whole ones are kept for output; the pairs are narrowed to the parts.
-  subroutine mpi_split(dom, deck, solids, isolid, pairs, restarted, err)
+  subroutine mpi_split(dom, solids, pairs, restarted, err)
     class(mpi_domain_t), intent(inout), target :: dom
-    type(deck_t), intent(in) :: deck
     type(solid_t), allocatable, intent(inout), target :: solids(:)
-    integer, intent(in) :: isolid(:)
     type(contact_pair_t), intent(inout) :: pairs(:)
     logical, intent(in) :: restarted
     type(error_t), allocatable, intent(inout) :: err
@@ -159,7 +127,7 @@ contains
     call move_alloc(solids, dom%gs)
     allocate(solids(nk), dom%lp(nk), dom%halos(nk), own(nk))
     do k = 1, nk
-      call make_part(dom, deck, k, isolid, solids(k), own(k)%owner, err)
+      call make_part(dom, k, solids(k), own(k)%owner, err)
       if (dom%any_error(err)) return
       if (restarted) call restart_part(dom, k, solids(k))
       solids(k)%part%halo => dom%halos(k)
@@ -188,16 +156,15 @@ contains
   !! part's tables, its halo plan, the part solid (its velocities, kinetic energy at t = 0 of
   !! its own nodes, limits and stabilization as the whole solid's); owner(:) the rank (from
   !! 0) of every node of the whole solid.
-  subroutine make_part(dom, deck, k, isolid, p, owner, err)
+  subroutine make_part(dom, k, p, owner, err)
     type(mpi_domain_t), intent(inout), target :: dom
-    type(deck_t), intent(in) :: deck
-    integer, intent(in) :: k, isolid(:)
+    integer, intent(in) :: k
     type(solid_t), intent(out) :: p
     integer, allocatable, intent(out) :: owner(:)
     type(error_t), allocatable, intent(inout) :: err
     type(rcb_tree_t) :: tree
     integer, allocatable :: node_part(:), point_part(:)
-    integer :: i, q, kb, j
+    integer :: i, q, j
     associate (g => dom%gs(k), lp => dom%lp(k), h => dom%halos(k))
       call rcb_build(g%x0, dom%ranks%nranks, tree)
       allocate(node_part(g%np), point_part(g%nq))
@@ -211,10 +178,9 @@ contains
       owner = node_part - 1
       call halo_plan_build(dom%mcomm, lp, node_part, point_part, h%plan, err)
       if (allocated(err)) return
-      kb = findloc(isolid, k, dim=1)
       associate (n => lp%nglob)
         call solid_init(p, g%name, lp%t, g%x0(:, n), &
-          deck%materials(deck%bodies(kb)%imat)%params, 0.0_wp, 0.0_wp*g%x0(:, 1), &
+          g%mat_params, 0.0_wp, 0.0_wp*g%x0(:, 1), &
           g%pres(:, n), g%vpres(:, n), err)
         if (allocated(err)) return
         call solid_set_owned(p, lp%own_point, lp%own_node)
@@ -487,10 +453,9 @@ contains
   !! gathered, the solids' energies and the pairs' counters summed over the ranks: the
   !! serial layout, which any number of ranks can restart from (the ghost sets of contact
   !! and skip_far's schedule start afresh, which is exact).
-  subroutine mpi_checkpoint(dom, out, deck, bodies, r, solids, pairs, t_loop, err)
+  subroutine mpi_checkpoint(dom, out, bodies, r, solids, pairs, t_loop, err)
     class(mpi_domain_t), intent(inout), target :: dom
     type(run_files_t), intent(inout) :: out
-    type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(run_record_t), intent(in) :: r
     type(solid_t), intent(inout), target :: solids(:)
@@ -522,7 +487,7 @@ contains
         do j = 1, size(pairs)
           pairs(j)%side(1)%skip_far = .false.
         end do
-        call run_files_checkpoint(out, deck, bodies, r, dom%gs, pairs, t_loop, err)
+        call run_files_checkpoint(out, bodies, r, dom%gs, pairs, t_loop, err)
         do j = 1, size(pairs)
           pairs(j)%side(1)%skip_far = skip(j)
         end do

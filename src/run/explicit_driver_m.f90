@@ -84,7 +84,7 @@ contains
         snap_times0, err)
       if (dom%any_error(err)) return
     end if
-    call dom%split(deck, solids, isolid, pairs, present(restart), err)
+    call dom%split(solids, pairs, present(restart), err)
     if (dom%any_error(err)) return
     ckpt_every = deck%output%checkpoint_every
     call output_intervals(deck, r%nsteps_est, log_every, hist_every)
@@ -173,7 +173,7 @@ contains
       call dom%impulses_restarted(solids, dom%root .and. out%nsnap_done > nbefore)
       if (dom%any_error(err)) exit
       if (ckpt_every > 0) then
-        if (mod(r%n, ckpt_every) == 0) call dom%checkpoint(out, deck, bodies, r, solids, &
+        if (mod(r%n, ckpt_every) == 0) call dom%checkpoint(out, bodies, r, solids, &
           pairs, r%t_loop + (omp_get_wtime() - t_loop0), err)
       end if
       r%t_output = r%t_output + (omp_get_wtime() - tw)

@@ -51,12 +51,10 @@ module run_domain_m
   abstract interface
     !> The whole solids of the set-up (with restarted, the state a checkpoint held) become
     !! this rank's parts, and the pairs are narrowed to them.
-    subroutine split_i(dom, deck, solids, isolid, pairs, restarted, err)
-      import :: run_domain_t, deck_t, solid_t, contact_pair_t, error_t
+    subroutine split_i(dom, solids, pairs, restarted, err)
+      import :: run_domain_t, solid_t, contact_pair_t, error_t
       class(run_domain_t), intent(inout), target :: dom
-      type(deck_t), intent(in) :: deck
       type(solid_t), allocatable, intent(inout), target :: solids(:)
-      integer, intent(in) :: isolid(:)
       type(contact_pair_t), intent(inout) :: pairs(:)
       logical, intent(in) :: restarted
       type(error_t), allocatable, intent(inout) :: err
@@ -116,12 +114,11 @@ module run_domain_m
     end subroutine impulses_i
     !> A checkpoint of the state after step r%n, written by rank 0 in the serial layout
     !! (collective).
-    subroutine checkpoint_i(dom, out, deck, bodies, r, solids, pairs, t_loop, err)
-      import :: run_domain_t, run_files_t, deck_t, body_t, run_record_t, solid_t, &
+    subroutine checkpoint_i(dom, out, bodies, r, solids, pairs, t_loop, err)
+      import :: run_domain_t, run_files_t, body_t, run_record_t, solid_t, &
         contact_pair_t, error_t, wp
       class(run_domain_t), intent(inout), target :: dom
       type(run_files_t), intent(inout) :: out
-      type(deck_t), intent(in) :: deck
       type(body_t), intent(in) :: bodies(:)
       type(run_record_t), intent(in) :: r
       type(solid_t), intent(inout), target :: solids(:)
@@ -197,16 +194,14 @@ contains
     r%reason = why//' (rank '//itoa(first(1))//')'
   end subroutine domain_agree_failure
 
-  subroutine serial_split(dom, deck, solids, isolid, pairs, restarted, err)
+  subroutine serial_split(dom, solids, pairs, restarted, err)
     class(serial_domain_t), intent(inout), target :: dom
-    type(deck_t), intent(in) :: deck
     type(solid_t), allocatable, intent(inout), target :: solids(:)
-    integer, intent(in) :: isolid(:)
     type(contact_pair_t), intent(inout) :: pairs(:)
     logical, intent(in) :: restarted
     type(error_t), allocatable, intent(inout) :: err
     ! one rank: each part is its whole solid, every pair sees it whole
-    if (len(deck%path) < 0 .or. size(isolid) + size(pairs) < 0 .or. allocated(err) .or. &
+    if (size(pairs) < 0 .or. allocated(err) .or. &
       .not. dom%root .or. .not. allocated(solids) .or. restarted) continue
   end subroutine serial_split
 
@@ -274,17 +269,16 @@ contains
     if (.not. dom%root .or. size(solids) < 0 .or. written) continue
   end subroutine serial_impulses
 
-  subroutine serial_checkpoint(dom, out, deck, bodies, r, solids, pairs, t_loop, err)
+  subroutine serial_checkpoint(dom, out, bodies, r, solids, pairs, t_loop, err)
     class(serial_domain_t), intent(inout), target :: dom
     type(run_files_t), intent(inout) :: out
-    type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(run_record_t), intent(in) :: r
     type(solid_t), intent(inout), target :: solids(:)
     type(contact_pair_t), intent(inout), target :: pairs(:)
     real(wp), intent(in) :: t_loop
     type(error_t), allocatable, intent(inout) :: err
-    call run_files_checkpoint(out, deck, bodies, r, solids, pairs, t_loop, err)
+    call run_files_checkpoint(out, bodies, r, solids, pairs, t_loop, err)
     if (.not. dom%root) continue
   end subroutine serial_checkpoint
 

@@ -22,6 +22,7 @@ module dynamic_setup_m
   implicit none
   private
   public :: setup_solids, setup_contacts, setup_time_step, dynamic_setup_t, setup_dynamic
+  public :: mpi_scene_check
 
   !> What the set-up of a dynamic run builds before anything is written: the solids of the
   !! deformable bodies (isolid(k): body k's solid, 0 if rigid) and the contact pairs.
@@ -393,4 +394,35 @@ contains
     end if
     flush(output_unit)
   end subroutine setup_time_step
+
+  !> What the MPI driver (mfcd_mpi) cannot run on ranks yet, as bad input (before anything
+  !! is written).
+  subroutine mpi_scene_check(deck, err)
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    character(len=*), parameter :: what = "deck '"
+    if (deck%run%mode /= 'dynamic') then
+      call set_error(err, what//deck%path//"', group &run, variable mode: the MPI driver "// &
+        "runs mode = 'dynamic' only; run mfcd for the others")
+      return
+    end if
+    if (deck%solver%subcycle) then
+      call set_error(err, what//deck%path//"', group &solver, variable subcycle: not yet "// &
+        "with MPI; set subcycle = .false. or run mfcd")
+      return
+    end if
+    do k = 1, deck%ncontacts
+      associate (c => deck%contacts(k))
+        if (deck%bodies(c%imaster)%role == 'rigid') cycle
+        ! a deforming master (or self-contact): its ghost particles (contact_dist_sm)
+        if (c%detector /= 'det_m' .or. c%compare_detectors) then
+          call set_error(err, what//deck%path//"', group &contact, variable detector: "// &
+            "against the deforming master '"//trim(c%master)//"' the MPI driver takes "// &
+            "detector = 'det_m' (and compare_detectors = .false.); run mfcd for the others")
+          return
+        end if
+      end associate
+    end do
+  end subroutine mpi_scene_check
 end module dynamic_setup_m

@@ -189,6 +189,8 @@ module solid_m
     integer :: nq = 0                            !< integration points
     type(solid_tables_t) :: t
     class(material_t), allocatable :: mat
+    !> the parameters the material was made from (a rank's part of the solid makes its own)
+    type(material_params_t) :: mat_params
     real(wp), allocatable :: x0(:, :)            !< reference positions (ndim, np) (m)
     type(solid_state_t) :: state                 !< what a step changes
     type(solid_options_t) :: opt                 !< set once by the run's set-up
@@ -256,6 +258,7 @@ contains
     end if
     call make_material(params, s%mat, err)
     if (allocated(err)) return
+    s%mat_params = params
     s%name = name
     call tables_move(t, s%t)
     np = s%t%np
