@@ -19,20 +19,27 @@ module dims_m
     integer :: ndim = 0    !< dimension of space
     integer :: nf = 0      !< stored components of F and P
     integer :: ncomp = 0   !< stored components of a symmetric tensor
-    integer :: ngrad = 0   !< reference gradient entries per (point, node): ndim x ndim
+    !> reference gradient entries per (point, node): ndim x ndim in the plane (the radial
+    !! and axial components' shape functions differ in axisymmetry), ndim in 3D (one shape
+    !! function for the three components)
+    integer :: ngrad = 0
+    integer :: npos = 0    !< position-table entries per (node, node): ndim, or 1 when shared
+    integer :: nstab = 0   !< SCNI stabilization stresses per point
     !> the names of a symmetric tensor's stored components, in order (1:ncomp)
     character(len=2) :: tensor_names(6) = ''
     character(len=3) :: axes = ''  !< the coordinates' names in XDMF (GeometryType)
   end type dims_t
 
   !> Plane strain and axisymmetry (the paper's two geometries).
-  type(dims_t), parameter :: dims_plane = dims_t(ndim=2, nf=5, ncomp=4, ngrad=4, &
+  type(dims_t), parameter :: dims_plane = dims_t(ndim=2, nf=5, ncomp=4, ngrad=4, npos=2, nstab=4, &
     tensor_names=['11', '22', '33', '12', '  ', '  '], axes='XY')
 
-  !> Three dimensions (issue 23): F and P 11, 12, 13, 21, ..., 33 (row by row); symmetric
-  !! tensors 11, 22, 33, 23, 13, 12 (Voigt's order); gradients dN^c/dX_j, j fastest, for
-  !! c = 1, 2, 3 (the components share one shape function: no axis to fold).
-  type(dims_t), parameter :: dims_3d = dims_t(ndim=3, nf=9, ncomp=6, ngrad=9, &
+  !> Three dimensions: F and P 11, 12, 13, 21, ..., 33 (row by row); symmetric tensors 11,
+  !! 22, 33, 23, 13, 12 (Voigt's order); gradients dN/dX1, dN/dX2, dN/dX3 of the one shape
+  !! function the three components share (no axis to fold: compact tables, a third of the
+  !! plane layout's memory per entry), the position table N_I(X_J) once; stabilization
+  !! stresses (c, j) for the half cell along X_j, row by row like F.
+  type(dims_t), parameter :: dims_3d = dims_t(ndim=3, nf=9, ncomp=6, ngrad=3, npos=1, nstab=9, &
     tensor_names=['11', '22', '33', '23', '13', '12'], axes='XYZ')
 
   !> The largest ndim of any geometry: the extent of small fixed-size work arrays, of

@@ -16,11 +16,16 @@
 !!    test to round-off (test_rkpm_tl3d);
 !!  - the lumped mass M_I = rho0 \int N_I dV (the x-y cell's fan triangles, rkpm_tl_m's
 !!    cell_area_points, x 2 Gauss points in z).
+!!  - the sub-cell stabilization (after Puso, Chen, Zywicz, Elmer, IJNME 74 (2008); the 2D
+!!    builder's right and upper halves, here in three directions): for each direction j
+!!    the half prism on the positive side of the particle along X_j (the x-y polygon
+!!    clipped at x = X1 or y = X2 times the z interval; the polygon times [X3, zb] along
+!!    z) smooths dN/dX_j over its faces with n_j /= 0; gs_j = that minus the cell's, and
+!!    the weight W_j = V_h (1 + V_h/(V_L - V_h)). A half that is (nearly) empty, as on the
+!!    boundary, gets none. gs vanishes for linear fields (the patch test is untouched).
 !! The three displacement components share one shape function (no symmetry axis to fold in
-!! 3D), so the gradients are stored per component in the layout of dims_3d (ngrad = 9: dN/dX1,
-!! dN/dX2, dN/dX3 for u1, then for u2, then for u3) and the position table holds N three
-!! times. The sub-cell stabilization (the 2D builder's right and upper halves) is not built
-!! here yet: gs and ws are zero.
+!! 3D), so the tables are compact (dims_3d): g and gs (3, nnz) hold dN/dX_j once, the
+!! position table N once.
 module rkpm_tl3d_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
@@ -41,6 +46,9 @@ module rkpm_tl3d_m
   !> two Gauss points on [0, 1]
   real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
   real(wp), parameter :: zero3(3) = 0.0_wp   !< no face: a volume point adds mass only
+  !> A half cell holding less than this fraction of its cell's volume is empty (as in the
+  !! 2D builder: clipping round-off, far below any genuine half).
+  real(wp), parameter :: empty_half = 1.0e-9_wp
 
 contains
 
@@ -51,7 +59,7 @@ contains
     type(solid_tables_t), intent(out) :: t
     type(error_t), allocatable, intent(inout) :: err
     type(rk_cloud_t) :: c
-    real(wp), allocatable :: gl(:, :, :), ml(:, :)
+    real(wp), allocatable :: gl(:, :, :), ml(:, :), sl(:, :, :)
     integer, allocatable :: idl(:, :), nl(:), cand(:)
     integer :: np, maxk, i, n, bad
     if (b%ndim /= 3 .or. (b%geom%kind /= geom_prism .and. b%geom%kind /= geom_cylinder)) then
@@ -83,11 +91,11 @@ contains
       call bins_candidates(c%bins, b%x(:, i), c%rmax(1:3) + 0.5_wp*b%spacing(1:3), cand, n)
       maxk = max(maxk, n)
     end do
-    allocate(gl(3, maxk, np), ml(maxk, np), idl(maxk, np), nl(np))
-    allocate(t%xq(3, np), t%owner(np), t%wgt(np), t%fix1(np))
+    allocate(gl(3, maxk, np), ml(maxk, np), sl(3, maxk, np), idl(maxk, np), nl(np))
+    allocate(t%xq(3, np), t%owner(np), t%wgt(np), t%fix1(np), t%ws(3, np))
     t%fix1 = .false.
     bad = 0
-    call cell_integrals(b, c, maxk, gl, ml, idl, nl, t%wgt, bad)
+    call cell_integrals(b, c, maxk, gl, ml, sl, idl, nl, t%wgt, t%ws, bad)
     if (bad > 0) then
       call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined in the "// &
         "cell of particle "//itoa(bad)//" (too few particles cover a point of it; a larger "// &
@@ -96,7 +104,7 @@ contains
     end if
     t%xq = b%x
     t%owner = [(i, i = 1, np)]
-    call compress_3d(t, gl, ml, idl, nl, rho0)
+    call compress_3d(t, gl, ml, sl, idl, nl, rho0)
     call positions_3d(b, c, t, err)
     if (allocated(err)) return
     call tables_transpose(t)
@@ -106,24 +114,26 @@ contains
 
   !> For each particle i: the volume of its cell (vol(i)), the unnormalised face integrals
   !! \oint N_I n dS (gl) and volume integrals \int N_I dV (ml) of the particles I touching
-  !! it (idl, nl), then gl divided by the volume. bad: the largest particle whose cell has a
+  !! it (idl, nl), then gl divided by the volume; the half cells' smoothed gradients minus
+  !! the cell's (sl) and their weights (ws). bad: the largest particle whose cell has a
   !! point where the shape functions are undefined (0: none).
-  subroutine cell_integrals(b, c, maxk, gl, ml, idl, nl, vol, bad)
+  subroutine cell_integrals(b, c, maxk, gl, ml, sl, idl, nl, vol, ws, bad)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: maxk
-    real(wp), intent(out) :: gl(:, :, :), ml(:, :), vol(:)
+    real(wp), intent(out) :: gl(:, :, :), ml(:, :), sl(:, :, :), vol(:), ws(:, :)
     integer, intent(out) :: idl(:, :), nl(:)
     integer, intent(inout) :: bad
-    real(wp) :: cv(2, max_cv), half(3), o(3), za, zb, area, e(2), len_e, nrm(2)
-    real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), p(3), w
-    integer :: ncv, ngp, i, k, q, r, np
+    real(wp) :: cv(2, max_cv), half(3), o(3), za, zb, zm, area, vh(3), hc(2, max_cv)
+    real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), lo(2), hi(2)
+    integer :: ncv, ngp, i, q, r, np, dir, nhc, ngh
     integer, allocatable :: slot(:)
+    real(wp), parameter :: big = huge(1.0_wp)/4.0_wp
     np = b%np
     half = 0.5_wp*b%spacing(1:3)
-    !$omp parallel default(none) shared(b, c, maxk, gl, ml, idl, nl, vol, half, np) &
-    !$omp private(cv, o, za, zb, area, e, len_e, nrm, xg, wg, p, w, ncv, ngp, k, q, r, &
-    !$omp slot) reduction(max: bad)
+    !$omp parallel default(none) shared(b, c, maxk, gl, ml, sl, idl, nl, vol, ws, half, np) &
+    !$omp private(cv, o, za, zb, zm, area, vh, hc, xg, wg, lo, hi, ncv, ngp, q, r, dir, nhc, &
+    !$omp ngh, slot) reduction(max: bad)
     allocate(slot(np))
     slot = 0
     !$omp do schedule(dynamic, 64)
@@ -144,35 +154,56 @@ contains
       ! volume integrals: the fan's points at two z levels
       do r = 1, 2
         do q = 1, ngp
-          p = [xg(:, q), za + gx(r)*(zb - za)]
-          call shape_at(c, p, 0.5_wp*wg(q)*(zb - za), zero3, i, slot, nl, idl, gl, ml, bad)
+          call shape_at(c, [xg(:, q), za + gx(r)*(zb - za)], 0.5_wp*wg(q)*(zb - za), zero3, &
+            zero3, i, slot, nl, idl, gl, ml, sl, bad)
         end do
       end do
-      ! the end faces: n = -e3 at za, +e3 at zb
+      ! the faces of the cell (into gl), n = -e3 at za and +e3 at zb, then the sides
       do q = 1, ngp
-        call shape_at(c, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], i, slot, nl, idl, &
-          gl, ml, bad)
-        call shape_at(c, [xg(:, q), zb], 0.0_wp, [0.0_wp, 0.0_wp, wg(q)], i, slot, nl, idl, &
-          gl, ml, bad)
+        call shape_at(c, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], zero3, i, slot, &
+          nl, idl, gl, ml, sl, bad)
+        call shape_at(c, [xg(:, q), zb], 0.0_wp, [0.0_wp, 0.0_wp, wg(q)], zero3, i, slot, &
+          nl, idl, gl, ml, sl, bad)
       end do
-      ! the side faces: each edge times [za, zb], 2 x 2 Gauss points
-      do k = 1, ncv
-        e = cv(:, modulo(k, ncv) + 1) - cv(:, k)
-        len_e = norm2(e)
-        if (len_e == 0.0_wp) cycle
-        nrm = [e(2), -e(1)]/len_e
-        do q = 1, 2
-          do r = 1, 2
-            p = [cv(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
-            w = 0.25_wp*len_e*(zb - za)
-            call shape_at(c, p, 0.0_wp, [w*nrm(1), w*nrm(2), 0.0_wp], i, slot, nl, idl, gl, &
-              ml, bad)
-          end do
+      call side_faces(c, cv, ncv, za, zb, [1.0_wp, 1.0_wp, 0.0_wp], .true., i, slot, nl, &
+        idl, gl, ml, sl, bad)
+      ! the half cells along X1 and X2 (their faces with n_j /= 0 are sides), into sl(j)
+      do dir = 1, 2
+        lo = -big
+        hi = big
+        lo(dir) = o(dir)
+        call clip_polygon_box(cv(:, 1:ncv), lo, hi, hc, nhc)
+        vh(dir) = 0.0_wp
+        if (nhc < 3) cycle
+        call cell_area_points(hc, nhc, xg, wg, ngh)
+        vh(dir) = sum(wg(1:ngh))*(zb - za)
+        call side_faces(c, hc, nhc, za, zb, merge(1.0_wp, 0.0_wp, [1, 2, 3] == dir), &
+          .false., i, slot, nl, idl, gl, ml, sl, bad)
+      end do
+      ! the half cell along X3: the polygon times [zm, zb]; its faces at zm (-e3), zb (+e3)
+      zm = max(za, min(zb, o(3)))
+      call cell_area_points(cv, ncv, xg, wg, ngp)
+      vh(3) = area*(zb - zm)
+      if (zb > zm) then
+        do q = 1, ngp
+          call shape_at(c, [xg(:, q), zm], 0.0_wp, zero3, [0.0_wp, 0.0_wp, -wg(q)], i, slot, &
+            nl, idl, gl, ml, sl, bad)
+          call shape_at(c, [xg(:, q), zb], 0.0_wp, zero3, [0.0_wp, 0.0_wp, wg(q)], i, slot, &
+            nl, idl, gl, ml, sl, bad)
         end do
-      end do
+      end if
       if (vol(i) > 0.0_wp) gl(:, 1:nl(i), i) = gl(:, 1:nl(i), i)/vol(i)
-      do k = 1, nl(i)
-        slot(idl(k, i)) = 0
+      do dir = 1, 3
+        if (vh(dir) > empty_half*vol(i) .and. vol(i) - vh(dir) > empty_half*vol(i)) then
+          sl(dir, 1:nl(i), i) = sl(dir, 1:nl(i), i)/vh(dir) - gl(dir, 1:nl(i), i)
+          ws(dir, i) = vh(dir)*(1.0_wp + vh(dir)/(vol(i) - vh(dir)))
+        else
+          sl(dir, 1:nl(i), i) = 0.0_wp
+          ws(dir, i) = 0.0_wp
+        end if
+      end do
+      do q = 1, nl(i)
+        slot(idl(q, i)) = 0
       end do
     end do
     !$omp end do
@@ -180,15 +211,47 @@ contains
     !$omp end parallel
   end subroutine cell_integrals
 
-  !> Add, at point pp, wm N_I to ml and wn N_I to gl (the face's weight times its normal)
-  !! of particle i's slots, for every particle I whose shape function reaches pp. bad: i
-  !! when they are undefined there.
-  subroutine shape_at(c, pp, wm, wn, i, slot, nl, idl, gl, ml, bad)
+  !> The side faces of the prism polygon cv (ncv) x [za, zb], 2 x 2 Gauss points each: with
+  !! whole, N_I n dS into gl (the cell), else N_I n_j dS into sl(j) for the directions
+  !! with mask(j) = 1 (a half cell).
+  subroutine side_faces(c, cv, ncv, za, zb, mask, whole, i, slot, nl, idl, gl, ml, sl, bad)
     type(rk_cloud_t), intent(in) :: c
-    real(wp), intent(in) :: pp(3), wm, wn(3)
+    real(wp), intent(in) :: cv(:, :), za, zb, mask(3)
+    integer, intent(in) :: ncv, i
+    logical, intent(in) :: whole
+    integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
+    real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
+    real(wp) :: e(2), len_e, nrm(3), w, p(3)
+    integer :: k, q, r
+    do k = 1, ncv
+      e = cv(:, modulo(k, ncv) + 1) - cv(:, k)
+      len_e = norm2(e)
+      if (len_e == 0.0_wp) cycle
+      nrm = mask*[e(2), -e(1), 0.0_wp]/len_e
+      if (all(nrm == 0.0_wp)) cycle
+      w = 0.25_wp*len_e*(zb - za)
+      do q = 1, 2
+        do r = 1, 2
+          p = [cv(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
+          if (whole) then
+            call shape_at(c, p, 0.0_wp, w*nrm, zero3, i, slot, nl, idl, gl, ml, sl, bad)
+          else
+            call shape_at(c, p, 0.0_wp, zero3, w*nrm, i, slot, nl, idl, gl, ml, sl, bad)
+          end if
+        end do
+      end do
+    end do
+  end subroutine side_faces
+
+  !> Add, at point pp, wm N_I to ml, wn N_I to gl (the cell's face weight times its normal)
+  !! and wh N_I to sl (a half cell's) of particle i's slots, for every particle I whose
+  !! shape function reaches pp. bad: i when they are undefined there.
+  subroutine shape_at(c, pp, wm, wn, wh, i, slot, nl, idl, gl, ml, sl, bad)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: pp(3), wm, wn(3), wh(3)
     integer, intent(in) :: i
     integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
-    real(wp), intent(inout) :: gl(:, :, :), ml(:, :)
+    real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
     real(wp) :: n(max_nb), dn(3, max_nb)
     integer :: ids(max_nb), nnb, kk, jj, s
     logical :: ok
@@ -207,25 +270,23 @@ contains
         idl(s, i) = jj
         gl(:, s, i) = 0.0_wp
         ml(s, i) = 0.0_wp
+        sl(:, s, i) = 0.0_wp
       end if
       ml(s, i) = ml(s, i) + wm*n(kk)
       gl(:, s, i) = gl(:, s, i) + wn*n(kk)
+      sl(:, s, i) = sl(:, s, i) + wh*n(kk)
     end do
   end subroutine shape_at
 
-  !> The tables from the per-point lists: CSR over the points, the gradients repeated for
-  !! the three components (dims_3d), lumped masses rho0 \int N dV, no hoop term, no
-  !! stabilization yet.
-  subroutine compress_3d(t, gl, ml, idl, nl, rho0)
+  !> The tables from the per-point lists: CSR over the points, the compact gradients and
+  !! half-cell differences (dims_3d), lumped masses rho0 \int N dV, no hoop term.
+  subroutine compress_3d(t, gl, ml, sl, idl, nl, rho0)
     type(solid_tables_t), intent(inout) :: t
-    real(wp), intent(in) :: gl(:, :, :), ml(:, :), rho0
+    real(wp), intent(in) :: gl(:, :, :), ml(:, :), sl(:, :, :), rho0
     integer, intent(in) :: idl(:, :), nl(:)
     integer :: q, k, e, nnz
     nnz = sum(nl)
-    allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(9, nnz), t%h(nnz), t%mass(t%np))
-    allocate(t%gs(9, nnz), t%ws(3, t%nq))
-    t%gs = 0.0_wp
-    t%ws = 0.0_wp
+    allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(3, nnz), t%h(nnz), t%mass(t%np), t%gs(3, nnz))
     t%h = 0.0_wp
     t%mass = 0.0_wp
     t%ptr(1) = 1
@@ -234,15 +295,15 @@ contains
       do k = 1, nl(q)
         e = t%ptr(q) + k - 1
         t%nbr(e) = idl(k, q)
-        t%g(1:3, e) = gl(:, k, q)
-        t%g(4:6, e) = gl(:, k, q)
-        t%g(7:9, e) = gl(:, k, q)
+        t%g(:, e) = gl(:, k, q)
+        t%gs(:, e) = sl(:, k, q)
         t%mass(idl(k, q)) = t%mass(idl(k, q)) + rho0*ml(k, q)
       end do
     end do
   end subroutine compress_3d
 
-  !> N_I(X_J) for the physical positions x_J = X_J + sum_I N_I(X_J) d_I (each component).
+  !> N_I(X_J) for the physical positions x_J = X_J + sum_I N_I(X_J) d_I (once: the
+  !! components share it).
   subroutine positions_3d(b, c, t, err)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
@@ -273,14 +334,14 @@ contains
         "particle "//itoa(bad))
       return
     end if
-    allocate(t%pptr(b%np + 1), t%pnbr(sum(cnt)), t%pn(3, sum(cnt)))
+    allocate(t%pptr(b%np + 1), t%pnbr(sum(cnt)), t%pn(1, sum(cnt)))
     t%pptr(1) = 1
     do j = 1, b%np
       t%pptr(j + 1) = t%pptr(j) + cnt(j)
       do k = 1, cnt(j)
         e = t%pptr(j) + k - 1
         t%pnbr(e) = idj(k, j)
-        t%pn(:, e) = nj(k, j)
+        t%pn(1, e) = nj(k, j)
       end do
     end do
   end subroutine positions_3d

@@ -223,7 +223,7 @@ contains
           nnz = nnz + count(nloc(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) > 0)
           u%pptr(k + 1) = nnz + 1
         end do
-        allocate(u%pnbr(nnz), u%pn(t%dims%ndim, nnz))
+        allocate(u%pnbr(nnz), u%pn(t%dims%npos, nnz))
         nnz = 0
         do k = 1, npl
           j = lp%nglob(k)

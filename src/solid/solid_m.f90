@@ -20,11 +20,12 @@ module solid_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
   use material_m, only: material_t, material_state_t, material_params_t, make_material
-  use dims_m, only: dims_plane, max_dim
+  use dims_m, only: dims_plane, dims_3d, max_dim
   use solid_tables_m, only: solid_tables_t, tables_move
   use tl_kinematics_m, only: f_identity, deformation_gradient, rate_of_deformation, piola_stress, &
     internal_force, physical_positions, jacobian, deformation_gradient_list, &
     rate_of_deformation_list, piola_stress_list, internal_force_list
+  use tl_kinematics3d_m, only: f_identity_3d, stretch2_min_3d
   implicit none
   private
   public :: solid_t, solid_sub_t, solid_part_t, solid_state_t, solid_options_t, &
@@ -207,8 +208,10 @@ module solid_m
     !! (action and reaction of every pass; N)
     real(wp), allocatable :: fpoint(:, :)
     real(wp), allocatable :: x(:, :)             !< physical positions (ndim, np) (m)
-    real(wp), allocatable :: dr(:, :), w12(:), dwp(:)    !< D (ncomp, nq), W12, plastic work
-    real(wp), allocatable :: stab(:, :)          !< stabilization stresses (ncomp, nq)
+    !> D (ncomp, nq), the spin (W12 (1, nq) in the plane, W23, W13, W12 (3, nq) in 3D), the
+    !! plastic work of the step (nq)
+    real(wp), allocatable :: dr(:, :), spin(:, :), dwp(:)
+    real(wp), allocatable :: stab(:, :)          !< stabilization stresses (nstab, nq)
     ! the critical-step estimate that follows the deformation (solid_step_estimate)
     real(wp), allocatable :: kap0(:)             !< kappa0_L of each point (1/m^2), step_metric
     real(wp) :: kappa0 = 0.0_wp                  !< largest kappa in the reference state (1/m^2)
@@ -249,11 +252,15 @@ contains
     real(wp), intent(in) :: vpres(:, :)
     type(error_t), allocatable, intent(inout) :: err
     integer :: i, np, nq, nd, nf, nc
-    if (t%dims%ndim /= dims_plane%ndim .or. t%dims%nf /= dims_plane%nf .or. &
-        t%dims%ncomp /= dims_plane%ncomp) then
+    logical :: plane, space
+    plane = t%dims%ndim == dims_plane%ndim .and. t%dims%nf == dims_plane%nf .and. &
+      t%dims%ncomp == dims_plane%ncomp
+    space = t%dims%ndim == dims_3d%ndim .and. t%dims%nf == dims_3d%nf .and. &
+      t%dims%ncomp == dims_3d%ncomp
+    if (.not. (plane .or. space)) then
       call set_error(err, "solid '"//trim(name)//"': no kernels for tables of dimension "// &
         itoa(t%dims%ndim)//' (this build has the plane kernels, plane strain and '// &
-        'axisymmetry)')
+        'axisymmetry, and the 3D kernels)')
       return
     end if
     call make_material(params, s%mat, err)
@@ -270,9 +277,13 @@ contains
     s%nq = nq
     s%opt%stab_normal = alpha*(s%mat%lambda + 2.0_wp*s%mat%g)
     s%opt%stab_shear = alpha*s%mat%g
-    allocate(s%stab(nc, nq))
+    allocate(s%stab(s%t%dims%nstab, nq))
     s%stab = 0.0_wp
-    call s%state%st%init(nq)
+    if (space) then
+      call s%state%st%init3d(nq)
+    else
+      call s%state%st%init(nq)
+    end if
     s%x0 = x0
     s%x = x0
     allocate(s%state%d(nd, np), s%state%v(nd, np), s%state%a(nd, np), &
@@ -299,15 +310,19 @@ contains
     where (s%t%fix1) s%vpres(1, :) = 0.0_wp
     where (s%pres) s%state%v = s%vpres
     allocate(s%state%f(nf, nq), s%state%f_old(nf, nq), s%state%p(nf, nq), &
-      s%state%p_old(nf, nq), s%dr(nc, nq), s%w12(nq), s%dwp(nq))
+      s%state%p_old(nf, nq), s%dr(nc, nq), s%spin(merge(3, 1, space), nq), s%dwp(nq))
     do i = 1, nq
-      s%state%f(:, i) = f_identity
+      if (space) then
+        s%state%f(:, i) = f_identity_3d
+      else
+        s%state%f(:, i) = f_identity
+      end if
     end do
     s%state%f_old = s%state%f
     s%state%p = 0.0_wp
     s%state%p_old = 0.0_wp
     s%dr = 0.0_wp
-    s%w12 = 0.0_wp
+    s%spin = 0.0_wp
     s%dwp = 0.0_wp
     s%acc%ke0 = solid_kinetic_energy(s)
     s%acc%ke = s%acc%ke0
@@ -418,13 +433,18 @@ contains
     end do
   end subroutine solid_quiet_blocks
 
-  !> The square of the smallest principal stretch of f (5), in the plane layout (dims_plane):
-  !! the smaller eigenvalue of the in-plane C = F^T F, or F33^2 if smaller. Here and not
-  !! with the plane kernels of tl_kinematics_m because points_account calls it at every
-  !! point of every step and in this module it can be inlined.
+  !> The square of the smallest principal stretch of f: in the plane layout (dims_plane) the
+  !! smaller eigenvalue of the in-plane C = F^T F, or F33^2 if smaller; in 3D (f of 9)
+  !! the smallest eigenvalue of C (stretch2_min_3d). Here and not with the plane kernels of
+  !! tl_kinematics_m because points_account calls it at every point of every step and in
+  !! this module it can be inlined.
   pure real(wp) function stretch2_min(f) result(s2)
-    real(wp), intent(in) :: f(5)
+    real(wp), intent(in) :: f(:)
     real(wp) :: c11, c12, c22, tr, det, lmax
+    if (size(f) == size(f_identity_3d)) then
+      s2 = stretch2_min_3d(f)
+      return
+    end if
     c11 = f(1)**2 + f(3)**2
     c22 = f(2)**2 + f(4)**2
     c12 = f(1)*f(2) + f(3)*f(4)
@@ -544,7 +564,7 @@ contains
         call deformation_gradient(s%t, s%state%d, s%state%f, active=s%qact)
       end if
     end if
-    call rate_of_deformation(s%nq, dt, s%state%f_old, s%state%f, s%dr, s%w12)
+    call rate_of_deformation(s%nq, dt, s%state%f_old, s%state%f, s%dr, s%spin)
     t1 = omp_get_wtime()
     nblocks = (s%nq + material_block - 1)/material_block
     !$omp parallel do default(none) shared(s, dt, nblocks) private(i0, i1) &
@@ -555,7 +575,7 @@ contains
       end if
       i0 = (blk - 1)*material_block + 1
       i1 = min(blk*material_block, s%nq)
-      call s%mat%update(dt, s%dr, s%w12, s%state%st, i0, i1, s%dwp)
+      call material_range(s, dt, i0, i1)
     end do
     !$omp end parallel do
     t2 = omp_get_wtime()
@@ -594,6 +614,19 @@ contains
     !$omp end parallel do
     s%acc%wall = s%acc%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
   end subroutine solid_internal_force
+
+  !> The material update of a step dt at the points i0..i1 from D and the spin: the plane
+  !! update (W12) or the 3D one (W23, W13, W12), by the shape of the solid's spin.
+  subroutine material_range(s, dt, i0, i1)
+    type(solid_t), intent(inout) :: s
+    real(wp), intent(in) :: dt
+    integer, intent(in) :: i0, i1
+    if (size(s%spin, 1) == 3) then
+      call s%mat%update3d(dt, s%dr, s%spin, s%state%st, i0, i1, s%dwp)
+    else
+      call s%mat%update(dt, s%dr, s%spin(1, :), s%state%st, i0, i1, s%dwp)
+    end if
+  end subroutine material_range
 
   !> Distributed memory: this solid owns the points own_point and the nodes own_node of its
   !! local tables (decomposition_m's local_part_t); from now on it evaluates and updates only
@@ -732,7 +765,7 @@ contains
     else
       call deformation_gradient_list(s%t, s%state%d, s%state%f, list, n)
     end if
-    call rate_of_deformation_list(dt, s%state%f_old, s%state%f, s%dr, s%w12, list, n)
+    call rate_of_deformation_list(dt, s%state%f_old, s%state%f, s%dr, s%spin, list, n)
     t1 = omp_get_wtime()
     ! in chunks of the list, each run of consecutive points in one call (the slow points of
     ! a subcycled step are most of the body in a few long runs)
@@ -747,7 +780,7 @@ contains
           if (list(k1 + 1) /= list(k1) + 1) exit
           k1 = k1 + 1
         end do
-        call s%mat%update(dt, s%dr, s%w12, s%state%st, list(k), list(k1), s%dwp)
+        call material_range(s, dt, list(k), list(k1))
         k = k1 + 1
       end do
     end do
@@ -1323,9 +1356,16 @@ contains
     end if
     ! summed in the order of physical_positions, so both give the same bits
     x = 0.0_wp
-    do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
-      x = x + s%t%pn(:, e)*d(:, s%t%pnbr(e))
-    end do
+    if (s%t%dims%npos == 1) then
+      ! (one shape function for every component: 3D)
+      do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
+        x = x + s%t%pn(1, e)*d(:, s%t%pnbr(e))
+      end do
+    else
+      do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
+        x = x + s%t%pn(:, e)*d(:, s%t%pnbr(e))
+      end do
+    end if
     x = s%x0(:, j) + x
   end subroutine point_position
 
@@ -1359,10 +1399,17 @@ contains
         s%fcon(:, j) = s%fcon(:, j) + fphys(:, j)
         cycle
       end if
-      do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
-        i = s%t%pnbr(e)
-        s%fcon(:, i) = s%fcon(:, i) + s%t%pn(:, e)*fphys(:, j)
-      end do
+      if (s%t%dims%npos == 1) then
+        do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
+          i = s%t%pnbr(e)
+          s%fcon(:, i) = s%fcon(:, i) + s%t%pn(1, e)*fphys(:, j)
+        end do
+      else
+        do e = s%t%pptr(j), s%t%pptr(j + 1) - 1
+          i = s%t%pnbr(e)
+          s%fcon(:, i) = s%fcon(:, i) + s%t%pn(:, e)*fphys(:, j)
+        end do
+      end if
     end do
   end subroutine solid_add_point_forces
 

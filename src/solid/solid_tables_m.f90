@@ -22,7 +22,7 @@ module solid_tables_m
     integer :: nq = 0                    !< integration points
     integer :: scheme = 0                !< how the tables were built (builder-specific id)
     !> the shapes of the geometry (dims_m), set by the builder: xq is (ndim, nq), g, gs
-    !! and tg (ngrad, nnz), ws (ndim, nq), pn (ndim, nnzp)
+    !! and tg (ngrad, nnz), ws (ndim, nq), pn (npos, nnzp)
     type(dims_t) :: dims
     logical :: axisym = .false.
     !> nodal interpolation (finite elements): the physical position of node J is X_J + d_J,

@@ -74,7 +74,7 @@ contains
     integer :: it, q, i, c, nd
     nd = tb%t%dims%ndim
     allocate(x(nd, tb%np), y(nd, tb%np), f(tb%t%dims%nf, tb%nq), p(tb%t%dims%nf, tb%nq), &
-      sw(tb%t%dims%ncomp, tb%nq))
+      sw(tb%t%dims%nstab, tb%nq))
     lam = tb%mat%lambda
     mu = tb%mat%g
     do i = 1, tb%np

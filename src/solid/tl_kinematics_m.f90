@@ -7,9 +7,18 @@
 !! Layouts (plane strain and axisymmetric share them; the hoop terms vanish in plane strain):
 !!  F(5, nq), P(5, nq): components 11, 12, 21, 22, 33 (33 = hoop r/R in axisymmetry);
 !!  tau(4, nq), d(4, nq): 11, 22, 33, 12 (symmetric); d(2, np): coefficients (m).
+!!
+!! The dimension is chosen once, by the tables (t%dims) or the extent of F: each public
+!! kernel here hands 3D data (dims_3d) to its counterpart in tl_kinematics3d_m, so the
+!! solid and the step estimate call one interface whatever the geometry. The spin differs
+!! in shape (W12 (nq) here, W (3, nq) in 3D): rate_of_deformation takes it as (nspin, nq).
 module tl_kinematics_m
   use kinds_m, only: wp
   use solid_tables_m, only: solid_tables_t
+  use tl_kinematics3d_m, only: deformation_gradient_3d, deformation_gradient_list_3d, &
+    rate_of_deformation_3d, rate_of_deformation_list_3d, piola_stress_3d, &
+    piola_stress_list_3d, internal_force_3d, internal_force_list_3d, stabilization_force_3d, &
+    physical_positions_3d, linear_elastic_piola_3d, jacobian_3d, f_identity_3d
   implicit none
   private
   public :: deformation_gradient, rate_of_deformation, piola_stress, internal_force
@@ -25,9 +34,13 @@ contains
   !> P of the linear elastic law at the displacement gradient F - I (small strain, Lame
   !! constants lam, mu; Pa): the operator K of the critical-step power iteration.
   pure subroutine linear_elastic_piola(lam, mu, f, p)
-    real(wp), intent(in) :: lam, mu, f(5)
-    real(wp), intent(out) :: p(5)
+    real(wp), intent(in) :: lam, mu, f(:)
+    real(wp), intent(out) :: p(:)
     real(wp) :: eps(4), tr
+    if (size(f) == size(f_identity_3d)) then
+      call linear_elastic_piola_3d(lam, mu, f, p)
+      return
+    end if
     eps = [f(1) - 1.0_wp, f(4) - 1.0_wp, f(5) - 1.0_wp, 0.5_wp*(f(2) + f(3))]
     tr = eps(1) + eps(2) + eps(3)
     p = [lam*tr + 2.0_wp*mu*eps(1), 2.0_wp*mu*eps(4), 2.0_wp*mu*eps(4), &
@@ -50,6 +63,10 @@ contains
     integer :: q
     real(wp) :: en, eq
     logical :: with_stab, masked
+    if (t%dims%ndim == 3) then
+      call deformation_gradient_3d(t, d, f, stab, s, energy, active)
+      return
+    end if
     with_stab = present(stab)
     masked = present(active)
     en = 0.0_wp
@@ -83,6 +100,10 @@ contains
     integer :: k
     real(wp) :: en, eq
     logical :: with_stab
+    if (t%dims%ndim == 3) then
+      call deformation_gradient_list_3d(t, d, f, list, n, stab, s, energy)
+      return
+    end if
     with_stab = present(stab)
     en = 0.0_wp
     !$omp parallel do default(none) shared(t, d, f, list, n, stab, s, with_stab) &
@@ -157,41 +178,54 @@ contains
     f = [1.0_wp + a11, a12, a21, 1.0_wp + a22, 1.0_wp + a33]
   end subroutine point_deformation_gradient
 
-  !> J = det F.
+  !> J = det F (the plane layout, or the 3D one by the extent of f).
   pure real(wp) function jacobian(f) result(j)
-    real(wp), intent(in) :: f(5)
-    j = (f(1)*f(4) - f(2)*f(3))*f(5)
+    real(wp), intent(in) :: f(:)
+    if (size(f) == size(f_identity_3d)) then
+      j = jacobian_3d(f)
+    else
+      j = (f(1)*f(4) - f(2)*f(3))*f(5)
+    end if
   end function jacobian
 
-  !> D (4, nq) and W12 (nq) between F0 and F1 a step dt apart: L dt = (F1 - F0) Fm^-1 with
-  !! the midpoint Fm = (F0 + F1)/2, so a rigid rotation gives D = 0 exactly (Cayley form).
-  subroutine rate_of_deformation(nq, dt, f0, f1, d, w12)
+  !> D (4, nq) and W12 (1, nq) between F0 and F1 a step dt apart: L dt = (F1 - F0) Fm^-1
+  !! with the midpoint Fm = (F0 + F1)/2, so a rigid rotation gives D = 0 exactly (Cayley
+  !! form). In 3D D (6, nq) and W (3, nq).
+  subroutine rate_of_deformation(nq, dt, f0, f1, d, w)
     integer, intent(in) :: nq
     real(wp), intent(in) :: dt, f0(:, :), f1(:, :)
-    real(wp), intent(out) :: d(:, :), w12(:)
+    real(wp), intent(out) :: d(:, :), w(:, :)
     integer :: q
     real(wp) :: rdt
+    if (size(f0, 1) == size(f_identity_3d)) then
+      call rate_of_deformation_3d(nq, dt, f0, f1, d, w)
+      return
+    end if
     rdt = 1.0_wp/dt
-    !$omp parallel do default(none) shared(nq, f0, f1, d, w12, rdt) schedule(static)
+    !$omp parallel do default(none) shared(nq, f0, f1, d, w, rdt) schedule(static)
     do q = 1, nq
-      call point_rate(rdt, f0(:, q), f1(:, q), d(:, q), w12(q))
+      call point_rate(rdt, f0(:, q), f1(:, q), d(:, q), w(1, q))
     end do
     !$omp end parallel do
   end subroutine rate_of_deformation
 
   !> rate_of_deformation at the integration points list(1:n) only.
-  subroutine rate_of_deformation_list(dt, f0, f1, d, w12, list, n)
+  subroutine rate_of_deformation_list(dt, f0, f1, d, w, list, n)
     real(wp), intent(in) :: dt, f0(:, :), f1(:, :)
-    real(wp), intent(inout) :: d(:, :), w12(:)
+    real(wp), intent(inout) :: d(:, :), w(:, :)
     integer, intent(in) :: list(:), n
     integer :: k, q
     real(wp) :: rdt
+    if (size(f0, 1) == size(f_identity_3d)) then
+      call rate_of_deformation_list_3d(dt, f0, f1, d, w, list, n)
+      return
+    end if
     rdt = 1.0_wp/dt
-    !$omp parallel do default(none) shared(f0, f1, d, w12, rdt, list, n) private(q) &
+    !$omp parallel do default(none) shared(f0, f1, d, w, rdt, list, n) private(q) &
     !$omp schedule(static)
     do k = 1, n
       q = list(k)
-      call point_rate(rdt, f0(:, q), f1(:, q), d(:, q), w12(q))
+      call point_rate(rdt, f0(:, q), f1(:, q), d(:, q), w(1, q))
     end do
     !$omp end parallel do
   end subroutine rate_of_deformation_list
@@ -222,6 +256,10 @@ contains
     real(wp), intent(in) :: f(:, :), tau(:, :)
     real(wp), intent(out) :: p(:, :)
     integer :: q
+    if (size(f, 1) == size(f_identity_3d)) then
+      call piola_stress_3d(nq, f, tau, p)
+      return
+    end if
     !$omp parallel do default(none) shared(nq, f, tau, p) schedule(static)
     do q = 1, nq
       call point_piola(f(:, q), tau(:, q), p(:, q))
@@ -235,6 +273,10 @@ contains
     real(wp), intent(inout) :: p(:, :)
     integer, intent(in) :: list(:), n
     integer :: k, q
+    if (size(f, 1) == size(f_identity_3d)) then
+      call piola_stress_list_3d(f, tau, p, list, n)
+      return
+    end if
     !$omp parallel do default(none) shared(f, tau, p, list, n) private(q) schedule(static)
     do k = 1, n
       q = list(k)
@@ -273,6 +315,10 @@ contains
     logical, intent(in), optional :: awake(:)
     integer :: i
     logical :: with_stab, masked
+    if (t%dims%ndim == 3) then
+      call internal_force_3d(t, p, fint, s, awake)
+      return
+    end if
     with_stab = present(s)
     masked = present(awake)
     !$omp parallel do default(none) shared(t, p, fint, s, with_stab, masked, awake) &
@@ -298,6 +344,10 @@ contains
     real(wp), intent(in), optional :: s(:, :)   !< stabilization stresses, as internal_force
     integer :: i, j
     logical :: with_stab
+    if (t%dims%ndim == 3) then
+      call internal_force_list_3d(t, p, fint, list, n, s)
+      return
+    end if
     with_stab = present(s)
     !$omp parallel do default(none) shared(t, p, fint, list, n, s, with_stab) &
     !$omp private(i) schedule(static)
@@ -348,6 +398,10 @@ contains
     real(wp), intent(out) :: energy
     integer :: q, e, i, k
     real(wp) :: dh(4), f1, f2
+    if (t%dims%ndim == 3) then
+      call stabilization_force_3d(t, d, c_normal, c_shear, s, fint, energy)
+      return
+    end if
     energy = 0.0_wp
     !$omp parallel do default(none) shared(t, d, c_normal, c_shear, s) private(e, i, dh) &
     !$omp reduction(+: energy) schedule(static)
@@ -389,6 +443,10 @@ contains
     real(wp), intent(out) :: x(:, :)
     integer :: j, e, i
     real(wp) :: u1, u2
+    if (t%dims%ndim == 3) then
+      call physical_positions_3d(t, x0, d, x)
+      return
+    end if
     if (t%interpolating) then
       !$omp parallel do default(none) shared(t, x0, d, x) schedule(static)
       do j = 1, t%np
