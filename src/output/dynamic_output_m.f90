@@ -13,7 +13,12 @@ module dynamic_output_m
   implicit none
   private
   public :: history_t, history_names, snapshot_write, history_create, history_flush
-  public :: history_push, xdmf_write, xdmf_body_t, history_width, body_columns
+  public :: history_push, xdmf_write, xdmf_body_t, history_width, body_columns, pair_columns
+  public :: history_geometry, hist_plane, hist_axisym, hist_3d
+
+  !> The geometries whose history columns differ: plane strain (per unit thickness),
+  !! axisymmetry (per radian... the whole body: J, N), three dimensions (history_geometry).
+  integer, parameter :: hist_plane = 1, hist_axisym = 2, hist_3d = 3
   public :: rigid_snapshot_write
 
   !> A rigid body as the output shows it: a fixed one on its reference positions
@@ -57,11 +62,26 @@ module dynamic_output_m
   !! centre of mass, sum_I M_I (x_I - x_c) x (v_I - v_c) (x_I = X_I + d_I; with the
   !! coefficients of eqs. (65)-(67) the internal forces of the total-Lagrangian solid
   !! exert no net force or moment, so a free body keeps both); in axisymmetry the kinetic
-  !! energy and the axial momentum.
+  !! energy and the axial momentum; in 3D the momentum's and the angular momentum's three
+  !! components and the extents along the three axes.
   character(len=*), parameter :: body_plane_names(7) = [character(len=16) :: 'ke', &
     'momentum_x', 'momentum_y', 'angular_momentum', 'extent_x', 'extent_y', 'max_epsbar']
   character(len=*), parameter :: body_axi_names(6) = [character(len=16) :: 'ke', &
     'momentum_z', 'length', 'radius', 'foot_radius', 'max_epsbar']
+  character(len=*), parameter :: body_3d_names(11) = [character(len=18) :: 'ke', &
+    'momentum_x', 'momentum_y', 'momentum_z', 'angular_momentum_x', 'angular_momentum_y', &
+    'angular_momentum_z', 'extent_x', 'extent_y', 'extent_z', 'max_epsbar']
+  character(len=*), parameter :: body_3d_units(11) = [character(len=4) :: 'J', 'N s', &
+    'N s', 'N s', 'J s', 'J s', 'J s', 'm', 'm', 'm', '1']
+  character(len=*), parameter :: body_3d_descr(11) = [character(len=96) :: &
+    'kinetic energy of the body', 'momentum of the body, x', 'momentum of the body, y', &
+    'momentum of the body, z', 'angular momentum of the body about its centre of mass, x', &
+    'angular momentum of the body about its centre of mass, y', &
+    'angular momentum of the body about its centre of mass, z', &
+    'extent of the body in x (its physical nodes)', &
+    'extent of the body in y (its physical nodes)', &
+    'extent of the body in z (its physical nodes)', &
+    'largest effective plastic strain in the body']
   character(len=*), parameter :: body_plane_units(7) = [character(len=4) :: 'J', 'N s', &
     'N s', 'J s', 'm', 'm', '1']
   character(len=*), parameter :: body_axi_units(6) = [character(len=4) :: 'J', 'N s', 'm', &
@@ -87,13 +107,18 @@ module dynamic_output_m
     'force_normal', 'force_tangential', 'force_x', 'force_y', 'w_friction']
   character(len=*), parameter :: pair_axi_names(5) = [character(len=16) :: &
     'force_normal', 'force_tangential', 'force_r', 'force_z', 'w_friction']
+  character(len=*), parameter :: pair_3d_names(6) = [character(len=16) :: &
+    'force_normal', 'force_tangential', 'force_x', 'force_y', 'force_z', 'w_friction']
+  character(len=*), parameter :: pair_3d_units(6) = [character(len=4) :: 'N', 'N', 'N', &
+    'N', 'N', 'J']
   character(len=*), parameter :: pair_units(5) = [character(len=4) :: 'N', 'N', 'N', 'N', &
     'J']
-  character(len=*), parameter :: pair_descr(5) = [character(len=96) :: &
+  character(len=*), parameter :: pair_descr(6) = [character(len=96) :: &
     'mean normal contact force of the step (half the sum of the eq. 93 forces)', &
     'mean friction force of the step (half the sum of the eq. 94-96 magnitudes)', &
     'resultant contact force on the slave body, first component', &
     'resultant contact force on the slave body, second component', &
+    'resultant contact force on the slave body, third component', &
     'friction work since t = 0 on the slip left after each correction (<= 0: dissipated)']
 
   !> History rows kept in memory until flushed to the file: the run's columns
@@ -107,36 +132,58 @@ module dynamic_output_m
 
 contains
 
-  !> Columns of one deformable body in /history/bodies/<name>/ (plane: plane strain).
-  pure integer function body_columns(plane) result(n)
-    logical, intent(in) :: plane
-    n = size(body_axi_names)
-    if (plane) n = size(body_plane_names)
+  !> The history's geometry: hist_plane, hist_axisym or hist_3d.
+  pure integer function history_geometry(ndim, axisym) result(g)
+    integer, intent(in) :: ndim
+    logical, intent(in) :: axisym
+    g = hist_plane
+    if (axisym) g = hist_axisym
+    if (ndim == 3) g = hist_3d
+  end function history_geometry
+
+  !> Columns of one deformable body in /history/bodies/<name>/.
+  pure integer function body_columns(geometry) result(n)
+    integer, intent(in) :: geometry
+    select case (geometry)
+    case (hist_axisym)
+      n = size(body_axi_names)
+    case (hist_3d)
+      n = size(body_3d_names)
+    case default
+      n = size(body_plane_names)
+    end select
   end function body_columns
+
+  !> Columns of one contact pair in /history/contacts/contact<k>/.
+  pure integer function pair_columns(geometry) result(n)
+    integer, intent(in) :: geometry
+    n = size(pair_plane_names)
+    if (geometry == hist_3d) n = size(pair_3d_names)
+  end function pair_columns
 
   !> Columns of a history row with nbodies deformable bodies, npairs contact pairs and nbcs
   !! &bc groups.
-  pure integer function history_width(nbodies, npairs, nbcs, plane) result(n)
-    integer, intent(in) :: nbodies, npairs, nbcs
-    logical, intent(in) :: plane
-    n = size(history_names) + nbodies*body_columns(plane) + npairs*size(pair_plane_names) + &
-      nbcs
+  pure integer function history_width(nbodies, npairs, nbcs, geometry) result(n)
+    integer, intent(in) :: nbodies, npairs, nbcs, geometry
+    n = size(history_names) + nbodies*body_columns(geometry) + npairs*pair_columns(geometry) &
+      + nbcs
   end function history_width
 
   !> Create /history with one extendible dataset per column, and /history/bodies/<name>/
   !! with those of each deformable body (names, in the order of the solids).
-  subroutine history_create(f, h, names, npairs, nbcs, plane, err)
+  subroutine history_create(f, h, names, npairs, nbcs, geometry, err)
     type(h5file_t), intent(in) :: f
     type(history_t), intent(out) :: h
     character(len=*), intent(in) :: names(:)
-    integer, intent(in) :: npairs, nbcs
-    logical, intent(in) :: plane
+    integer, intent(in) :: npairs, nbcs, geometry
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, b, c, nc
     character(len=:), allocatable :: g
-    nc = history_width(size(names), npairs, nbcs, plane)
+    logical :: plane
+    plane = geometry == hist_plane
+    nc = history_width(size(names), npairs, nbcs, geometry)
     allocate(h%rows(nc, 1024))
-    allocate(character(len=max(len('/history/bodies//') + len(names), 40) + 16) :: &
+    allocate(character(len=max(len('/history/bodies//') + len(names), 40) + 20) :: &
       h%paths(nc))
     call h5_group(f, '/history', err)
     do k = 1, size(history_names)
@@ -149,30 +196,43 @@ contains
     k = size(history_names)
     do b = 1, size(names)
       if (.not. allocated(err)) call h5_group(f, '/history/bodies/'//trim(names(b)), err)
-      do c = 1, body_columns(plane)
+      do c = 1, body_columns(geometry)
         if (allocated(err)) return
         k = k + 1
-        if (plane) then
+        select case (geometry)
+        case (hist_plane)
           h%paths(k) = '/history/bodies/'//trim(names(b))//'/'//trim(body_plane_names(c))
           call h5_series_create(f, trim(h%paths(k)), plane_units(body_plane_units(c)), err, &
             trim(body_plane_descr(c)))
-        else
+        case (hist_3d)
+          h%paths(k) = '/history/bodies/'//trim(names(b))//'/'//trim(body_3d_names(c))
+          call h5_series_create(f, trim(h%paths(k)), trim(body_3d_units(c)), err, &
+            trim(body_3d_descr(c)))
+        case default
           h%paths(k) = '/history/bodies/'//trim(names(b))//'/'//trim(body_axi_names(c))
           call h5_series_create(f, trim(h%paths(k)), trim(body_axi_units(c)), err, &
             trim(body_axi_descr(c)))
-        end if
+        end select
       end do
     end do
     if (npairs > 0 .and. .not. allocated(err)) call h5_group(f, '/history/contacts', err)
     do b = 1, npairs
       g = '/history/contacts/contact'//itoa(b)
       if (.not. allocated(err)) call h5_group(f, g, err)
-      do c = 1, size(pair_plane_names)
+      do c = 1, pair_columns(geometry)
         if (allocated(err)) return
         k = k + 1
-        h%paths(k) = g//'/'//trim(merge(pair_plane_names(c), pair_axi_names(c), plane))
-        call h5_series_create(f, trim(h%paths(k)), plane_units(pair_units(c)), err, &
-          trim(pair_descr(c)))
+        select case (geometry)
+        case (hist_3d)
+          h%paths(k) = g//'/'//trim(pair_3d_names(c))
+          call h5_series_create(f, trim(h%paths(k)), trim(pair_3d_units(c)), err, &
+            trim(pair_descr(c)))
+        case default
+          h%paths(k) = g//'/'//trim(merge(pair_plane_names(c), pair_axi_names(c), plane))
+          ! (the plane's five columns: the descriptions without the third component's)
+          call h5_series_create(f, trim(h%paths(k)), plane_units(pair_units(c)), err, &
+            trim(pair_descr(merge(c, c + 1, c < 5))))
+        end select
       end do
     end do
     ! /history/bcs/bc<k>/reaction: the force the k-th &bc group exerts on its body, in its

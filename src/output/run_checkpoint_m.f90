@@ -35,7 +35,7 @@ module run_checkpoint_m
     solid_get_field, solid_put_field, solid_state_derived, solid_energies, solid_set_energies
   use contact_pair_m, only: contact_pair_t
   use run_report_m, only: run_record_t
-  use dynamic_output_m, only: history_t, history_width
+  use dynamic_output_m, only: history_t, history_width, history_geometry
   use run_output_m, only: timestamp
   use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text, &
     h5_open_read, h5_has, h5_has_attr, h5_shape, h5_read, h5_read_attr, h5_read_text
@@ -530,7 +530,8 @@ contains
     if (.not. allocated(err)) then
       ! the run's columns and those of each deformable body (history_create)
       ncol = history_width(count(deck%bodies(1:deck%nbodies)%role /= 'rigid'), &
-        deck%ncontacts, deck%nbcs, deck%run%geometry /= 'axisymmetric')
+        deck%ncontacts, deck%nbcs, history_geometry(deck%run%ndim, &
+        deck%run%geometry == 'axisymmetric'))
       if (dims(1) /= ncol) call set_error(err, 'its history rows have '//itoa(dims(1))// &
         ' columns, this run writes '//itoa(ncol)//' (a checkpoint of an mfcd before '// &
         'the per-body and per-pair history?): run the deck from t = 0')

@@ -19,6 +19,7 @@ module run_files_m
     base_name, checkpoint_commit
   use run_checkpoint_m, only: checkpoint_write
   use dynamic_output_m, only: history_t, history_create, history_flush, snapshot_write, &
+    history_geometry, &
     xdmf_write, xdmf_body_t, rigid_snapshot_write
   use run_report_m, only: run_record_t, det_fields_out, self_det_out
   use log_m, only: log_print
@@ -78,7 +79,8 @@ contains
     if (.not. allocated(err)) call h5_group(out%f, '/snapshots', err)
     if (.not. allocated(err)) call history_create(out%f, out%hist, &
       pack(deck%bodies(1:deck%nbodies)%name, deck%bodies(1:deck%nbodies)%role /= 'rigid'), &
-      deck%ncontacts, deck%nbcs, deck%run%geometry /= 'axisymmetric', err)
+      deck%ncontacts, deck%nbcs, history_geometry(deck%run%ndim, &
+      deck%run%geometry == 'axisymmetric'), err)
     if (allocated(err)) call abandon(out, err)
   end subroutine run_files_open
 

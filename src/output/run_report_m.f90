@@ -317,6 +317,7 @@ contains
       call put_r('length', m%length, 'm')
       call put_r('width', m%width, 'm')
       call put_r('foot_radius', m%foot_radius, 'm')
+      if (solids(k)%t%dims%ndim == 3) call put_r('depth', m%extent(2), 'm')
       call put_r('max_epsbar', m%max_epsbar, '1')
       call put_r('quiet_point_steps_skipped', real(solids(k)%acc%quiet_skipped, wp), '1')
       call close_group()
@@ -434,6 +435,11 @@ contains
         write(output_unit, '(a,es12.5,a,es12.5,a,es12.5,a,f8.4)') 'summary: body '''// &
           trim(solids(k)%name)//''': length (z extent) ', m%length, ' m, width (r extent) ', &
           m%width, ' m, foot radius ', m%foot_radius, ' m, max epsbar ', m%max_epsbar
+      else if (solids(k)%t%dims%ndim == 3) then
+        write(output_unit, '(a,3(es12.5,a),es12.5,a,f8.4)') 'summary: body '''// &
+          trim(solids(k)%name)//''': extent ', m%extent(1), ' m in x, ', m%extent(2), &
+          ' m in y, ', m%extent(3), ' m in z, foot radius (from the z axis) ', &
+          m%foot_radius, ' m, max epsbar ', m%max_epsbar
       else
         write(output_unit, '(a,es12.5,a,es12.5,a,f8.4)') 'summary: body '''// &
           trim(solids(k)%name)//''': extent ', m%width, ' m in x, ', m%length, &

@@ -21,7 +21,8 @@ module explicit_driver_m
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, &
-    solid_update, solid_share_corrections, solid_body_sums, solid_bc_reactions
+    solid_update, solid_share_corrections, solid_body_sums, solid_bc_reactions, &
+    solid_sums_size
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t
   use body_measures_m, only: measures_t
   use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
@@ -30,7 +31,7 @@ module explicit_driver_m
   use subcycle_m, only: subcycle_next, subcycle_rates, subcycle_end
   use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
   use dynamic_output_m, only: history_t, history_push, history_flush, history_width, &
-    history_names
+    history_names, history_geometry, pair_columns, hist_axisym, hist_3d
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, &
     history_row_measured, report_summary
   use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
@@ -89,7 +90,7 @@ contains
     ckpt_every = deck%output%checkpoint_every
     call output_intervals(deck, r%nsteps_est, log_every, hist_every)
     allocate(row(history_width(size(solids), size(pairs), deck%nbcs, &
-      .not. solids(1)%t%axisym)))
+      history_geometry(solids(1)%t%dims%ndim, solids(1)%t%axisym))))
     if (dom%root) call run_files_open(deck, bodies, out, err, restart)
     if (dom%any_error(err)) return
     whole => dom%whole(solids, .false.)
@@ -303,14 +304,15 @@ contains
     type(energies_t), intent(in) :: en
     real(wp), intent(inout) :: row(:)
     type(measures_t) :: hm, bm
-    integer :: k, nd, nv, c, o
-    ! per solid (solid_body_sums): ke, M, P(nd), sum M x (nd), L_o
-    real(wp) :: v((3 + 2*size(solids(1)%state%d, 1))*size(solids)), xc(max_dim)
-    real(wp) :: wf(size(pairs))
+    integer :: k, nd, nv, c, o, geo, npc
+    ! per solid (solid_body_sums): ke, M, P(nd), sum M x (nd), L_o (1 or 3)
+    real(wp) :: v(solid_sums_size(size(solids(1)%state%d, 1))*size(solids)), xc(max_dim)
+    real(wp) :: wf(size(pairs)), lcm(3), p(3)
     hm = dom%measures(solids(1))
     row(1:size(history_names)) = history_row_measured(r, en, hm)
     nd = size(solids(1)%state%d, 1)
-    nv = 3 + 2*nd
+    nv = solid_sums_size(nd)
+    geo = history_geometry(nd, solids(1)%t%axisym)
     do k = 1, size(solids)
       call solid_body_sums(solids(k), v((k - 1)*nv + 1:k*nv))
     end do
@@ -321,34 +323,43 @@ contains
       ! the body's measures (the first solid's are the run's: hm; collective on ranks)
       if (k > 1) bm = dom%measures(solids(k))
       if (k == 1) bm = hm
-      if (solids(1)%t%axisym) then
+      xc(:nd) = v(o + 3 + nd:o + 2 + 2*nd)/max(v(o + 2), tiny(1.0_wp))
+      select case (geo)
+      case (hist_axisym)
         ! the kinetic energy and the momentum along the axis (x2); the Taylor measures
         row(c + 1:c + 6) = [v(o + 1), v(o + 2 + nd), bm%length, bm%width, bm%foot_radius, &
           bm%max_epsbar]
         c = c + 6
-      else
+      case (hist_3d)
+        ! L_cm = L_o - x_c x P, x_c = sum M x / M
+        p = v(o + 3:o + 5)
+        lcm = v(o + 9:o + 11) - [xc(2)*p(3) - xc(3)*p(2), xc(3)*p(1) - xc(1)*p(3), &
+          xc(1)*p(2) - xc(2)*p(1)]
+        row(c + 1:c + 11) = [v(o + 1), p, lcm, bm%extent(1:3), bm%max_epsbar]
+        c = c + 11
+      case default
         ! the plane kernel (dims_plane): L_cm = L_o - x_c x P, x_c = sum M x / M
-        xc(:nd) = v(o + 3 + nd:o + 2 + 2*nd)/max(v(o + 2), tiny(1.0_wp))
         row(c + 1) = v(o + 1)
         row(c + 2:c + 1 + nd) = v(o + 3:o + 2 + nd)
         row(c + 2 + nd) = v(o + nv) - (xc(1)*v(o + 4) - xc(2)*v(o + 3))
         row(c + 3 + nd:c + 5 + nd) = [bm%width, bm%length, bm%max_epsbar]
         c = c + 5 + nd
-      end if
+      end select
     end do
     ! each pair's forces of the step (on ranks summed by dom%contact_stats) and friction
     ! work so far (each rank's own particles', summed here)
     o = c
+    npc = pair_columns(geo)
     do k = 1, size(pairs)
-      row(c + 1:c + 5) = [pairs(k)%step%force_normal, pairs(k)%step%force_tangential, &
-        pairs(k)%step%force_slave, pairs(k)%count%w_friction]
-      c = c + 5
+      row(c + 1:c + npc) = [pairs(k)%step%force_normal, pairs(k)%step%force_tangential, &
+        pairs(k)%step%force_slave(1:npc - 3), pairs(k)%count%w_friction]
+      c = c + npc
     end do
     if (dom%comm%nranks > 1 .and. size(pairs) > 0) then
-      wf = [(row(o + 5*k), k = 1, size(pairs))]
+      wf = [(row(o + npc*k), k = 1, size(pairs))]
       call dom%comm%sum_real(wf)
       do k = 1, size(pairs)
-        row(o + 5*k) = wf(k)
+        row(o + npc*k) = wf(k)
       end do
     end if
     ! each &bc group's reaction force, summed over the solids (and the ranks)

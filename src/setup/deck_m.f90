@@ -297,7 +297,34 @@ contains
     close(u)
     if (.not. allocated(err)) call check_across(deck, err)
     if (.not. allocated(err)) call check_subcycle(deck, err)
+    if (.not. allocated(err)) call check_3d(deck, err)
   end subroutine read_deck
+
+  !> What a 3D dynamic run does not have yet (doc/3d.md): elements, contact.
+  subroutine check_3d(deck, err)
+    type(deck_t), intent(in) :: deck
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    if (deck%run%ndim /= 3 .or. deck%run%mode /= 'dynamic') return
+    do k = 1, deck%nbodies
+      if (deck%bodies(k)%role == 'rigid') cycle
+      if (deck%bodies(k)%discretization == 'fem') then
+        call bad(deck, 'body', 'discretization', "'fem' (body '"// &
+          trim(deck%bodies(k)%name)//"')", "3D bodies are RKPM particles in this "// &
+          "version: give discretization = 'rkpm'", err)
+        return
+      end if
+      if (deck%bodies(k)%integration /= 'scni') then
+        call bad(deck, 'body', 'integration', "'"//trim(deck%bodies(k)%integration)// &
+          "' (body '"//trim(deck%bodies(k)%name)//"')", "3D RKPM bodies are integrated "// &
+          "by SCNI over their cells: give integration = 'scni'", err)
+        return
+      end if
+    end do
+    if (deck%ncontacts > 0) call bad(deck, 'contact', 'master', "'"// &
+      trim(deck%contacts(1)%master)//"'", "contact between 3D bodies is not in this "// &
+      "version: leave out the &contact groups (hold the body with &bc instead)", err)
+  end subroutine check_3d
 
   !> &solver subcycle needs element meshes (a contact force on an element node moves that
   !! node only) against rigid masters (a sub-step corrects only the slave's fast nodes).
@@ -892,9 +919,6 @@ contains
     if (geometry == 'axisymmetric' .and. ndim /= 2) then
       call bad(deck, 'run', 'geometry', "'axisymmetric'", 'axisymmetric runs need ndim = 2', err)
     end if
-    if (.not. allocated(err) .and. mode == 'dynamic' .and. ndim == 3) call bad(deck, 'run', &
-      'ndim', '3', "three-dimensional dynamic runs (the 3D solid and contact) are not in "// &
-      "this version: det(M) in 3D runs with mode = 'detect'; a dynamic run needs ndim = 2", err)
     if (.not. allocated(err) .and. geometry == 'axisymmetric' .and. gravity(1) /= 0.0_wp) &
       call bad(deck, 'run', 'gravity', rtoa(gravity(1))//' (radial)', 'in axisymmetry '// &
       'gravity lies along the axis: give gravity = 0, g_z', err)
@@ -1123,8 +1147,16 @@ contains
       s%discretization == 'rkpm') then
       ! what the RKPM tables would refuse at set-up (rkpm_tl_m), named here
       ! (a 'file' body brings its cells, or the body set-up says it has none)
-      if (s%integration /= 'direct' .and. s%shape /= 'rectangle' .and. s%shape /= 'polygon' &
-        .and. s%shape /= 'disk' .and. s%shape /= 'file' .and. s%shape /= 'geo') then
+      if (nd == 3 .and. s%shape /= 'box' .and. s%shape /= 'polygon' .and. &
+        s%shape /= 'cylinder') then
+        call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", "a deformable 3D body is "// &
+          "integrated over the prism cells of an extruded body: use shape = 'box', "// &
+          "'cylinder' or 'polygon' (with extrude)", err)
+        return
+      end if
+      if (nd == 2 .and. s%integration /= 'direct' .and. s%shape /= 'rectangle' .and. &
+        s%shape /= 'polygon' .and. s%shape /= 'disk' .and. s%shape /= 'file' .and. &
+        s%shape /= 'geo') then
         call bad(deck, grp, 'integration', "'"//trim(s%integration)//"'", trim(s%integration)// &
           " integrates over the cells of a 'rectangle', 'polygon' or 'disk' body, of a "// &
           "gmsh mesh (shape = 'geo') or of a particle file that carries them (/cells, "// &

@@ -13,6 +13,7 @@ module dynamic_setup_m
   use body_m, only: body_t
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
+  use rkpm_tl3d_m, only: tl_build_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin
   use material_m, only: material_constant_names, material_constant
@@ -216,6 +217,9 @@ contains
       mesh%tri = b%cells
       call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2)
       alpha = 0.0_wp    ! the SCNI stabilization is a particle method's; elements need none
+    else if (b%ndim == 3) then
+      call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
+      alpha = bs%stabilization
     else
       call tl_build(b, axisym, scheme_id(bs%integration), &
         deck%materials(bs%imat)%params%density, t, e2)

@@ -30,7 +30,8 @@ module solid_m
   private
   public :: solid_t, solid_sub_t, solid_part_t, solid_state_t, solid_options_t, &
     solid_accounts_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
-  public :: solid_kinetic_energy, solid_positions, solid_point_position, solid_body_sums
+  public :: solid_kinetic_energy, solid_positions, solid_point_position, solid_body_sums, &
+    solid_sums_size
   public :: solid_set_gravity, solid_add_spin, solid_bc_reactions
   public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_quiet_init, &
     solid_quiet_blocks
@@ -79,11 +80,12 @@ module solid_m
     state_field_t('freac', 'N', .true., .false., 'reactions of the kinematic conditions'), &
     state_field_t('contact_impulse', 'N s', .true., .true., 'contact impulse on the '// &
       'physical points since the last snapshot'), &
-    state_field_t('F', '1', .false., .true., 'deformation gradient 11, 12, 21, 22, 33'), &
-    state_field_t('P', 'Pa', .false., .false., 'first Piola-Kirchhoff stress 11, 12, 21, '// &
-      '22, 33'), &
-    state_field_t('tau', 'Pa', .false., .true., 'Kirchhoff stress 11, 22, 33, 12'), &
-    state_field_t('alpha', 'Pa', .false., .false., 'back stress 11, 22, 33, 12'), &
+    state_field_t('F', '1', .false., .true., 'deformation gradient (plane: 11, 12, 21, '// &
+      '22, 33; 3D: 11, 12, 13, 21, .., 33)'), &
+    state_field_t('P', 'Pa', .false., .false., 'first Piola-Kirchhoff stress (as F)'), &
+    state_field_t('tau', 'Pa', .false., .true., 'Kirchhoff stress (plane: 11, 22, 33, 12; '// &
+      '3D: 11, 22, 33, 23, 13, 12)'), &
+    state_field_t('alpha', 'Pa', .false., .false., 'back stress (as tau)'), &
     state_field_t('epsbar', '1', .false., .true., 'effective plastic strain'), &
     state_field_t('epsdot', '1/s', .false., .false., 'effective plastic strain rate of '// &
       'the last step')]
@@ -1289,14 +1291,16 @@ contains
   !> Sums over the solid's nodes (a rank's part: its owned nodes) for the history, from
   !! the coefficients of eqs. (65)-(67) with the lumped masses: v(1) the kinetic energy,
   !! v(2) the mass, v(3:2+nd) the momentum sum M v, v(3+nd:2+2nd) sum M x with x = X + d,
-  !! and v(3+2nd) the angular momentum about the origin, sum M (x1 v2 - x2 v1) (plane).
-  !! size(v) = 3 + 2 ndim. Sums, so that the ranks' parts add up to the whole.
+  !! and then the angular momentum about the origin, sum M x (x) v: its one component out
+  !! of the plane (x1 v2 - x2 v1), or its three in 3D. size(v) = solid_sums_size(ndim).
+  !! Sums, so that the ranks' parts add up to the whole.
   subroutine solid_body_sums(s, v)
     type(solid_t), intent(in) :: s
     real(wp), intent(out) :: v(:)
-    integer :: k, i, n, nd
-    real(wp) :: m, x(max_dim)
+    integer :: k, i, n, nd, o
+    real(wp) :: m, x(max_dim), u(max_dim)
     nd = s%t%dims%ndim
+    o = 2 + 2*nd
     v = 0.0_wp
     n = s%np
     if (s%part%on) n = size(s%part%own_n)
@@ -1305,14 +1309,25 @@ contains
       if (s%part%on) i = s%part%own_n(k)
       m = s%t%mass(i)
       x(:nd) = s%x0(:, i) + s%state%d(:, i)
-      v(1) = v(1) + 0.5_wp*m*sum(s%state%v(:, i)**2)
+      u(:nd) = s%state%v(:, i)
+      v(1) = v(1) + 0.5_wp*m*sum(u(:nd)**2)
       v(2) = v(2) + m
-      v(3:2 + nd) = v(3:2 + nd) + m*s%state%v(:, i)
-      v(3 + nd:2 + 2*nd) = v(3 + nd:2 + 2*nd) + m*x(:nd)
-      if (nd == dims_plane%ndim) v(3 + 2*nd) = v(3 + 2*nd) + &
-        m*(x(1)*s%state%v(2, i) - x(2)*s%state%v(1, i))
+      v(3:2 + nd) = v(3:2 + nd) + m*u(:nd)
+      v(3 + nd:o) = v(3 + nd:o) + m*x(:nd)
+      if (nd == dims_plane%ndim) then
+        v(o + 1) = v(o + 1) + m*(x(1)*u(2) - x(2)*u(1))
+      else
+        v(o + 1:o + 3) = v(o + 1:o + 3) + m*[x(2)*u(3) - x(3)*u(2), x(3)*u(1) - x(1)*u(3), &
+          x(1)*u(2) - x(2)*u(1)]
+      end if
     end do
   end subroutine solid_body_sums
+
+  !> The size of solid_body_sums' v in ndim dimensions.
+  pure integer function solid_sums_size(ndim) result(n)
+    integer, intent(in) :: ndim
+    n = 2 + 2*ndim + merge(3, 1, ndim == 3)
+  end function solid_sums_size
 
   !> Physical positions of every node (ndim, np) at the start of the step or at the current
   !! (predicted, possibly corrected) coefficients (m).
