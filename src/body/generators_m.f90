@@ -427,10 +427,17 @@ contains
   !! shared edges (what SCNI's divergence consistency needs) and their areas are the
   !! volumes. The same construction gives a sphere (shells of cells) and a cylinder (a disk
   !! in layers) in 3D.
-  subroutine make_disk(b, center, radius, dx, err)
+  !!
+  !! sector (rad, optional): a half (pi) or a quarter (pi/2) of the disk from angle 0, for
+  !! symmetry planes along its straight sides: the rings hold a multiple of 4 (2) particles
+  !! and are not turned, so every ring has particles on both sides; the disk's cells are
+  !! clipped at the sides (the particles on them keep half cells) and the particles beyond
+  !! dropped (disk_sector). The straight sides are boundary.
+  subroutine make_disk(b, center, radius, dx, err, sector)
     type(body_t), intent(out) :: b
     real(wp), intent(in) :: center(2), radius, dx
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: sector
     !> two break angles closer than this (rad) are one vertex: far below any spacing of
     !! angles (2 pi / n_k, n_k < 1e9), far above the rounding of 2 pi (j + c)/n
     real(wp), parameter :: angle_tol = 1.0e-12_wp
@@ -440,9 +447,25 @@ contains
     integer, allocatable :: nk(:), first(:), cptr(:), idx_in(:, :), idx_out(:, :)
     real(wp), allocatable :: ang(:), ca(:, :), work(:), poly(:, :)
     integer, allocatable :: cnt(:)
+    integer :: mult
+    real(wp) :: turn
     if (.not. (radius > 0.0_wp .and. dx > 0.0_wp)) then
       call set_error(err, 'a disk needs radius > 0 and spacing > 0')
       return
+    end if
+    ! a sector: ring counts a multiple of mult, rings not turned (turn = 0)
+    mult = 1
+    turn = 0.5_wp
+    if (present(sector)) then
+      if (abs(sector - 0.5_wp*pi) < angle_tol) then
+        mult = 4
+      else if (abs(sector - pi) < angle_tol) then
+        mult = 2
+      else if (.not. abs(sector - 2.0_wp*pi) < angle_tol) then
+        call set_error(err, 'a disk sector spans a quarter, a half or the whole turn')
+        return
+      end if
+      if (mult > 1) turn = 0.0_wp
     end if
     if (radius/dx > 2.0e4_wp) then
       call set_error(err, 'a disk of radius '//rtoa(radius)//' m at spacing '// &
@@ -456,6 +479,7 @@ contains
     first(0) = 1
     do k = 1, nr
       nk(k) = disk_ring_count(k)
+      if (mult > 1) nk(k) = mult*max(8/mult, nint(real(nk(k), wp)/real(mult, wp)))
       first(k) = first(k - 1) + nk(k - 1)
     end do
     ntot = sum(int(nk, i64))
@@ -556,12 +580,13 @@ contains
     b%loop_ptr = [1, nk(nr) + 1]
     b%loop_idx = [(first(nr) + j - 1, j = 1, nk(nr))]
     b%loop_closed = [.true.]
+    if (mult > 1) call disk_sector(b, 2.0_wp*pi/real(mult, wp), nr, err)
   contains
     !> The angle of ring k's particle j shifted by off steps, in [0, 2 pi).
     pure real(wp) function ring_angle(kk, jj, off) result(t)
       integer, intent(in) :: kk, jj
       real(wp), intent(in) :: off
-      t = modulo(2.0_wp*pi*(real(jj - 1, wp) + 0.5_wp*real(mod(kk, 2), wp) + off)/ &
+      t = modulo(2.0_wp*pi*(real(jj - 1, wp) + turn*real(mod(kk, 2), wp) + off)/ &
         real(nk(kk), wp), 2.0_wp*pi)
     end function ring_angle
 
@@ -606,6 +631,105 @@ contains
       b%cell_ptr(i + 1) = b%cell_ptr(i) + nv
     end subroutine add_cell
   end subroutine make_disk
+
+  !> The sector of angles [0, span] (pi/2 or pi) of the disk b (make_disk, rings not turned,
+  !! so that each has particles at both angles): each cell clipped by the half-planes of the
+  !! sector's straight sides (a convex region: the clipped cells tile the sector), the
+  !! particles outside the sector dropped (the order kept: the centre, then each ring by
+  !! angle from 0), their volumes the clipped areas; the particles on the sides are boundary;
+  !! the boundary loop runs along the arc from angle 0 to span, in along the side at span to
+  !! the centre, and out along the side at 0.
+  subroutine disk_sector(b, span, nr, err)
+    type(body_t), intent(inout) :: b
+    real(wp), intent(in) :: span
+    integer, intent(in) :: nr
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), parameter :: big = huge(1.0_wp)/4.0_wp
+    real(wp) :: lo(2), hi(2), q(2), t, tol, cv(2, max_cell_vertices)
+    real(wp), allocatable :: x(:, :), vol(:), cxy(:, :)
+    integer, allocatable :: keep(:), cptr(:), loop(:)
+    logical, allocatable :: bnd(:)
+    integer :: i, n, nc, ncv, nv, m
+    real(wp) :: h, r
+    tol = 1.0e-9_wp*b%geom%r1
+    h = b%geom%r1/real(nr, wp)
+    lo = [b%geom%center(1), b%geom%center(2)]
+    hi = lo + big
+    if (span > 0.75_wp*pi) lo(1) = -big
+    allocate(keep(b%np))
+    n = 0
+    do i = 1, b%np
+      q = b%x(1:2, i) - b%geom%center
+      t = atan2(q(2), q(1))
+      if (abs(q(2)) <= tol) then
+        t = merge(0.0_wp, pi, q(1) > 0.0_wp)
+      else if (t < 0.0_wp) then
+        t = t + 2.0_wp*pi
+      end if
+      if (norm2(q) <= tol .or. t <= span + 1.0e-9_wp) then
+        n = n + 1
+        keep(n) = i
+      end if
+    end do
+    allocate(x(2, n), vol(n), bnd(n), cptr(n + 1), cxy(2, size(b%cell_xy, 2)))
+    nc = 0
+    cptr(1) = 1
+    do m = 1, n
+      i = keep(m)
+      x(:, m) = b%x(1:2, i)
+      nv = b%cell_ptr(i + 1) - b%cell_ptr(i)
+      call clip_polygon_box(b%cell_xy(:, b%cell_ptr(i):b%cell_ptr(i + 1) - 1), lo, hi, cv, ncv)
+      if (ncv < 3 .or. ncv > max_cell_vertices) then
+        call set_error(err, 'a disk sector''s cell of particle '//itoa(m)//' is empty '// &
+          'after the clip or has too many vertices')
+        return
+      end if
+      cxy(:, nc + 1:nc + ncv) = cv(:, 1:ncv)
+      nc = nc + ncv
+      cptr(m + 1) = cptr(m) + ncv
+      vol(m) = polygon_area(cv, ncv)
+      q = x(:, m) - b%geom%center
+      r = norm2(q)
+      bnd(m) = b%boundary(i) .or. abs(q(2)) <= tol .or. &
+        (span < 0.75_wp*pi .and. abs(q(1)) <= tol) .or. &
+        (span > 0.75_wp*pi .and. abs(q(2)) <= tol)
+    end do
+    ! the loop: the arc (the last ring, by angle), the side at span inwards, the side at 0
+    ! outwards (rings kk = nr - 1 .. 1 on the side, and the centre)
+    allocate(loop(0))
+    do m = 1, n
+      r = norm2(x(:, m) - b%geom%center)
+      if (abs(r - b%geom%r1) <= tol) loop = [loop, m]
+    end do
+    do i = nr - 1, 1, -1
+      do m = 1, n
+        q = x(:, m) - b%geom%center
+        if (abs(norm2(q) - real(i, wp)*h) > tol) cycle
+        if (abs(atan2(q(2), q(1)) - span) <= 1.0e-9_wp .or. (span > 0.75_wp*pi .and. &
+          abs(q(2)) <= tol .and. q(1) < 0.0_wp)) loop = [loop, m]
+      end do
+    end do
+    loop = [loop, 1]
+    do i = 1, nr - 1
+      do m = 1, n
+        q = x(:, m) - b%geom%center
+        if (abs(norm2(q) - real(i, wp)*h) > tol) cycle
+        if (abs(q(2)) <= tol .and. q(1) > 0.0_wp) loop = [loop, m]
+      end do
+    end do
+    b%np = n
+    deallocate(b%x, b%vol, b%boundary)
+    allocate(b%x(2, n))
+    b%x = x
+    call move_alloc(vol, b%vol)
+    call move_alloc(bnd, b%boundary)
+    call move_alloc(cptr, b%cell_ptr)
+    b%cell_xy = cxy(:, 1:nc)
+    b%geom%t0 = 0.0_wp
+    b%geom%t1 = span
+    b%loop_ptr = [1, size(loop) + 1]
+    b%loop_idx = loop
+  end subroutine disk_sector
 
   !> A 3D body from a 2D body b2 (a rectangle, a polygon or a disk) extruded along z: nz
   !! layers of its particles from z0 to z1 (spacing dz = (z1 - z0)/(nz - 1)), each with the
@@ -665,6 +789,8 @@ contains
       b%geom%kind = geom_cylinder
       b%geom%center = b2%geom%center
       b%geom%r1 = b2%geom%r1
+      b%geom%t0 = b2%geom%t0
+      b%geom%t1 = b2%geom%t1
     end if
     b%geom%z0 = z0
     b%geom%z1 = z1
@@ -738,7 +864,7 @@ contains
     logical, intent(out) :: ok
     ok = .false.
     if (b2%geom%kind == geom_annulus .and. b2%geom%r0 == 0.0_wp .and. &
-      allocated(b2%cell_ptr)) then
+      allocated(b2%cell_ptr) .and. b2%geom%t1 - b2%geom%t0 > 1.5_wp*pi) then
       call disk_triangles(b2, tri)
       ok = .true.
     else if (b2%geom%kind == geom_polygon .and. .not. allocated(b2%cell_centre)) then

@@ -96,7 +96,12 @@ contains
   pure real(wp) function cylinder_sd(g, p) result(sd)
     type(geometry_t), intent(in) :: g
     real(wp), intent(in) :: p(3)
-    sd = extruded_sd(norm2(p(1:2) - g%center) - g%r1, g, p(3))
+    if (g%t1 - g%t0 >= 2.0_wp*pi - full_turn_tol) then
+      sd = extruded_sd(norm2(p(1:2) - g%center) - g%r1, g, p(3))
+    else
+      ! a sector of the cylinder (symmetry planes along its straight sides)
+      sd = extruded_sd(annulus_sd(g, p(1:2)), g, p(3))
+    end if
   end function cylinder_sd
 
   !> The signed distance of a section's extrusion from z0 to z1: s the section's in x-y, t

@@ -225,10 +225,10 @@ contains
           s%theta_end*pi/180.0_wp, s%n(1), s%n(2), e2)
       end if
     case ('disk')
-      call make_disk(b, s%center, s%radius, s%spacing(1), e2)
+      call make_disk(b, s%center, s%radius, s%spacing(1), e2, s%theta_end*pi/180.0_wp)
     case ('cylinder')
-      ! a disk in x-y (its rings and cells) extruded along z
-      call make_disk(b2, s%center, s%radius, s%spacing(1), e2)
+      ! a disk (or its sector) in x-y, its rings and cells, extruded along z
+      call make_disk(b2, s%center, s%radius, s%spacing(1), e2, s%theta_end*pi/180.0_wp)
       if (.not. allocated(e2)) call extrude_body(b2, s%extrude(1), s%extrude(2), &
         max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2)
     case ('file', 'geo')

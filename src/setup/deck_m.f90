@@ -1340,6 +1340,13 @@ contains
           'the path of a particle file in it (HDF5 .h5 or plain columns)', err)
       end if
     end select
+    ! a disk's or a cylinder's sector: a half or a quarter from angle 0 (symmetry planes)
+    if (.not. allocated(err) .and. (s%shape == 'disk' .or. s%shape == 'cylinder') .and. &
+      (s%theta_start /= 0.0_wp .or. .not. any(s%theta_end == [90.0_wp, 180.0_wp, 360.0_wp]))) &
+      call bad(deck, grp, 'theta_start/theta_end', rtoa(s%theta_start)//', '// &
+      rtoa(s%theta_end), "a "//trim(s%shape)//" is whole (0, 360) or a sector from 0 "// &
+      "to 90 or 180 degrees (its straight sides on the axes through center, for symmetry "// &
+      "planes)", err)
   end subroutine check_body_shape
 
   !> A shape = 'geo' body: file names a plain gmsh script (.geo) of at most geo_max_bytes,
