@@ -34,7 +34,7 @@ module rkpm_tl3d_m
   use dims_m, only: dims_3d
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box
-  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape
+  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape_values
   use neighbour_bins_m, only: bins_candidates
   use rkpm_tl_m, only: cell_area_points
   implicit none
@@ -124,16 +124,17 @@ contains
     real(wp), intent(out) :: gl(:, :, :), ml(:, :), sl(:, :, :), vol(:), ws(:, :)
     integer, intent(out) :: idl(:, :), nl(:)
     integer, intent(inout) :: bad
-    real(wp) :: cv(2, max_cv), half(3), o(3), za, zb, zm, area, vh(3), hc(2, max_cv)
-    real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), lo(2), hi(2)
-    integer :: ncv, ngp, i, q, r, np, dir, nhc, ngh
+    real(wp) :: cv(2, max_cv), half(3), o(3), za, zb, zm, area, vh(3), hcs(2, max_cv, 2)
+    real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), lo(2), hi(2), xc(2, max_cv), wc(max_cv)
+    real(wp) :: xh(2, 3*max_cv), wh(3*max_cv)
+    integer :: ncv, ngp, i, q, r, np, dir, nhs(2), ngh, nc
     integer, allocatable :: slot(:)
     real(wp), parameter :: big = huge(1.0_wp)/4.0_wp
     np = b%np
     half = 0.5_wp*b%spacing(1:3)
     !$omp parallel default(none) shared(b, c, maxk, gl, ml, sl, idl, nl, vol, ws, half, np) &
-    !$omp private(cv, o, za, zb, zm, area, vh, hc, xg, wg, lo, hi, ncv, ngp, q, r, dir, nhc, &
-    !$omp ngh, slot) reduction(max: bad)
+    !$omp private(cv, o, za, zb, zm, area, vh, hcs, xg, wg, lo, hi, xc, wc, xh, wh, ncv, ngp, &
+    !$omp q, r, dir, nhs, ngh, nc, slot) reduction(max: bad)
     allocate(slot(np))
     slot = 0
     !$omp do schedule(dynamic, 64)
@@ -151,44 +152,48 @@ contains
       call cell_area_points(cv, ncv, xg, wg, ngp)
       area = sum(wg(1:ngp))
       vol(i) = area*(zb - za)
-      ! volume integrals: the fan's points at two z levels
-      do r = 1, 2
-        do q = 1, ngp
-          call shape_at(c, [xg(:, q), za + gx(r)*(zb - za)], 0.5_wp*wg(q)*(zb - za), zero3, &
-            zero3, i, slot, nl, idl, gl, ml, sl, bad)
-        end do
-      end do
-      ! the faces of the cell (into gl), n = -e3 at za and +e3 at zb, then the sides
-      do q = 1, ngp
-        call shape_at(c, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], zero3, i, slot, &
-          nl, idl, gl, ml, sl, bad)
-        call shape_at(c, [xg(:, q), zb], 0.0_wp, [0.0_wp, 0.0_wp, wg(q)], zero3, i, slot, &
-          nl, idl, gl, ml, sl, bad)
-      end do
-      call side_faces(c, cv, ncv, za, zb, [1.0_wp, 1.0_wp, 0.0_wp], .true., i, slot, nl, &
-        idl, gl, ml, sl, bad)
-      ! the half cells along X1 and X2 (their faces with n_j /= 0 are sides), into sl(j)
+      zm = max(za, min(zb, o(3)))
+      ! the half cells along X1 and X2 (the polygon clipped at x = X1, y = X2)
       do dir = 1, 2
         lo = -big
         hi = big
         lo(dir) = o(dir)
-        call clip_polygon_box(cv(:, 1:ncv), lo, hi, hc, nhc)
-        vh(dir) = 0.0_wp
-        if (nhc < 3) cycle
-        call cell_area_points(hc, nhc, xg, wg, ngh)
-        vh(dir) = sum(wg(1:ngh))*(zb - za)
-        call side_faces(c, hc, nhc, za, zb, merge(1.0_wp, 0.0_wp, [1, 2, 3] == dir), &
-          .false., i, slot, nl, idl, gl, ml, sl, bad)
+        call clip_polygon_box(cv(:, 1:ncv), lo, hi, hcs(:, :, dir), nhs(dir))
       end do
-      ! the half cell along X3: the polygon times [zm, zb]; its faces at zm (-e3), zb (+e3)
-      zm = max(za, min(zb, o(3)))
-      call cell_area_points(cv, ncv, xg, wg, ngp)
+      ! volume integrals: one point per fan triangle (its centroid: exact for linear N; the
+      ! masses are row sums, their total exact by the partition of unity) at two z levels
+      call fan_centroids(cv, ncv, xc, wc, nc)
+      do r = 1, 2
+        do q = 1, nc
+          call shape_at(c, [xc(:, q), za + gx(r)*(zb - za)], 0.5_wp*wc(q)*(zb - za), zero3, &
+            zero3, i, slot, nl, idl, gl, ml, sl, bad)
+        end do
+      end do
+      ! the end faces, n = -e3 at za and +e3 at zb (the top face is the X3 half cell's too)
+      do q = 1, ngp
+        call shape_at(c, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], zero3, i, slot, &
+          nl, idl, gl, ml, sl, bad)
+        call shape_at(c, [xg(:, q), zb], 0.0_wp, [0.0_wp, 0.0_wp, wg(q)], &
+          merge([0.0_wp, 0.0_wp, wg(q)], zero3, zb > zm), i, slot, nl, idl, gl, ml, sl, bad)
+      end do
+      ! the side faces; an edge that is whole in a half cell is that half cell's face too
+      call side_faces(c, cv, ncv, za, zb, hcs, nhs, .true., i, slot, nl, idl, gl, ml, sl, &
+        bad)
+      ! the half cells' own faces: their edges that are not whole edges of the cell (the
+      ! cut at x = X1 or y = X2, pieces of edges it splits)
+      do dir = 1, 2
+        vh(dir) = 0.0_wp
+        if (nhs(dir) < 3) cycle
+        call cell_area_points(hcs(:, :, dir), nhs(dir), xh, wh, ngh)
+        vh(dir) = sum(wh(1:ngh))*(zb - za)
+        call half_faces(c, hcs(:, :, dir), nhs(dir), cv, ncv, dir, za, zb, i, slot, nl, idl, &
+          gl, ml, sl, bad)
+      end do
+      ! the half cell along X3: the polygon times [zm, zb]; its face at zm (-e3)
       vh(3) = area*(zb - zm)
       if (zb > zm) then
         do q = 1, ngp
           call shape_at(c, [xg(:, q), zm], 0.0_wp, zero3, [0.0_wp, 0.0_wp, -wg(q)], i, slot, &
-            nl, idl, gl, ml, sl, bad)
-          call shape_at(c, [xg(:, q), zb], 0.0_wp, zero3, [0.0_wp, 0.0_wp, wg(q)], i, slot, &
             nl, idl, gl, ml, sl, bad)
         end do
       end if
@@ -211,37 +216,102 @@ contains
     !$omp end parallel
   end subroutine cell_integrals
 
-  !> The side faces of the prism polygon cv (ncv) x [za, zb], 2 x 2 Gauss points each: with
-  !! whole, N_I n dS into gl (the cell), else N_I n_j dS into sl(j) for the directions
-  !! with mask(j) = 1 (a half cell).
-  subroutine side_faces(c, cv, ncv, za, zb, mask, whole, i, slot, nl, idl, gl, ml, sl, bad)
+  !> The side faces of the prism polygon cv (ncv) x [za, zb], 2 x 2 Gauss points each:
+  !! N_I n dS into gl (the cell), and N_I n_j dS into sl(j) where the edge is whole in the
+  !! half cell j (hcs(:, :, j), nhs(j): an edge of it with the same two vertices).
+  subroutine side_faces(c, cv, ncv, za, zb, hcs, nhs, whole, i, slot, nl, idl, gl, ml, sl, &
+    bad)
     type(rk_cloud_t), intent(in) :: c
-    real(wp), intent(in) :: cv(:, :), za, zb, mask(3)
-    integer, intent(in) :: ncv, i
+    real(wp), intent(in) :: cv(:, :), za, zb, hcs(:, :, :)
+    integer, intent(in) :: ncv, nhs(2), i
     logical, intent(in) :: whole
     integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
     real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
-    real(wp) :: e(2), len_e, nrm(3), w, p(3)
-    integer :: k, q, r
+    real(wp) :: e(2), len_e, nrm(3), w, p(3), hmask(3)
+    integer :: k, q, r, k1, dir
     do k = 1, ncv
-      e = cv(:, modulo(k, ncv) + 1) - cv(:, k)
+      k1 = modulo(k, ncv) + 1
+      e = cv(:, k1) - cv(:, k)
       len_e = norm2(e)
       if (len_e == 0.0_wp) cycle
-      nrm = mask*[e(2), -e(1), 0.0_wp]/len_e
-      if (all(nrm == 0.0_wp)) cycle
+      nrm = [e(2), -e(1), 0.0_wp]/len_e
+      hmask = 0.0_wp
+      do dir = 1, 2
+        if (whole .and. nhs(dir) >= 3) then
+          if (has_edge(hcs(:, 1:nhs(dir), dir), cv(:, k), cv(:, k1))) hmask(dir) = 1.0_wp
+        end if
+      end do
       w = 0.25_wp*len_e*(zb - za)
       do q = 1, 2
         do r = 1, 2
           p = [cv(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
-          if (whole) then
-            call shape_at(c, p, 0.0_wp, w*nrm, zero3, i, slot, nl, idl, gl, ml, sl, bad)
-          else
-            call shape_at(c, p, 0.0_wp, zero3, w*nrm, i, slot, nl, idl, gl, ml, sl, bad)
-          end if
+          call shape_at(c, p, 0.0_wp, w*nrm, w*nrm*hmask, i, slot, nl, idl, gl, ml, sl, bad)
         end do
       end do
     end do
   end subroutine side_faces
+
+  !> The faces of the half cell hc (nhc) x [za, zb] along X_dir that are not whole edges of
+  !! the cell cv (those side_faces added): N_I n_dir dS into sl(dir), 2 x 2 Gauss points.
+  subroutine half_faces(c, hc, nhc, cv, ncv, dir, za, zb, i, slot, nl, idl, gl, ml, sl, bad)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: hc(:, :), cv(:, :), za, zb
+    integer, intent(in) :: nhc, ncv, dir, i
+    integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
+    real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
+    real(wp) :: e(2), len_e, nrm(3), w, p(3)
+    integer :: k, q, r, k1
+    do k = 1, nhc
+      k1 = modulo(k, nhc) + 1
+      e = hc(:, k1) - hc(:, k)
+      len_e = norm2(e)
+      if (len_e == 0.0_wp) cycle
+      nrm = 0.0_wp
+      nrm(dir) = merge(e(2), -e(1), dir == 1)/len_e
+      if (nrm(dir) == 0.0_wp) cycle
+      if (has_edge(cv(:, 1:ncv), hc(:, k), hc(:, k1))) cycle
+      w = 0.25_wp*len_e*(zb - za)
+      do q = 1, 2
+        do r = 1, 2
+          p = [hc(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
+          call shape_at(c, p, 0.0_wp, zero3, w*nrm, i, slot, nl, idl, gl, ml, sl, bad)
+        end do
+      end do
+    end do
+  end subroutine half_faces
+
+  !> Has polygon v an edge from a to b (the same vertices, in this order)?
+  pure logical function has_edge(v, a, b)
+    real(wp), intent(in) :: v(:, :), a(2), b(2)
+    integer :: k
+    has_edge = .false.
+    do k = 1, size(v, 2)
+      if (all(v(:, k) == a) .and. all(v(:, modulo(k, size(v, 2)) + 1) == b)) then
+        has_edge = .true.
+        return
+      end if
+    end do
+  end function has_edge
+
+  !> One point per triangle of the fan of polygon cv (ncv) from its vertex mean (as
+  !! cell_area_points): the triangles' centroids xc and areas wc (nc of them).
+  pure subroutine fan_centroids(cv, ncv, xc, wc, nc)
+    real(wp), intent(in) :: cv(:, :)
+    integer, intent(in) :: ncv
+    real(wp), intent(out) :: xc(:, :), wc(:)
+    integer, intent(out) :: nc
+    real(wp) :: o(2), a(2), b(2)
+    integer :: k
+    o = sum(cv(:, 1:ncv), dim=2)/real(ncv, wp)
+    nc = 0
+    do k = 1, ncv
+      a = cv(:, k)
+      b = cv(:, modulo(k, ncv) + 1)
+      nc = nc + 1
+      xc(:, nc) = (o + a + b)/3.0_wp
+      wc(nc) = 0.5_wp*((a(1) - o(1))*(b(2) - o(2)) - (a(2) - o(2))*(b(1) - o(1)))
+    end do
+  end subroutine fan_centroids
 
   !> Add, at point pp, wm N_I to ml, wn N_I to gl (the cell's face weight times its normal)
   !! and wh N_I to sl (a half cell's) of particle i's slots, for every particle I whose
@@ -252,10 +322,10 @@ contains
     integer, intent(in) :: i
     integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
     real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
-    real(wp) :: n(max_nb), dn(3, max_nb)
+    real(wp) :: n(max_nb)
     integer :: ids(max_nb), nnb, kk, jj, s
     logical :: ok
-    call cloud_shape(c, pp, nnb, ids, n, dn, ok)
+    call cloud_shape_values(c, pp, nnb, ids, n, ok)
     if (.not. ok) then
       bad = max(bad, i)
       return
@@ -311,16 +381,16 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: cnt(:), idj(:, :)
     real(wp), allocatable :: nj(:, :)
-    real(wp) :: n(max_nb), dn(3, max_nb)
+    real(wp) :: n(max_nb)
     integer :: ids(max_nb), nnb, j, k, e, bad, maxk
     logical :: ok
     maxk = max_nb
     allocate(cnt(b%np), idj(maxk, b%np), nj(maxk, b%np))
     bad = 0
-    !$omp parallel do default(none) shared(b, c, cnt, idj, nj) private(n, dn, ids, nnb, ok, k) &
+    !$omp parallel do default(none) shared(b, c, cnt, idj, nj) private(n, ids, nnb, ok, k) &
     !$omp reduction(max: bad) schedule(dynamic, 64)
     do j = 1, b%np
-      call cloud_shape(c, b%x(:, j), nnb, ids, n, dn, ok)
+      call cloud_shape_values(c, b%x(:, j), nnb, ids, n, ok)
       cnt(j) = nnb
       if (.not. ok) bad = max(bad, j)
       do k = 1, nnb

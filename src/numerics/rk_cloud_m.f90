@@ -13,7 +13,8 @@ module rk_cloud_m
   use neighbour_bins_m, only: bins_t, bins_build, bins_cell_block
   implicit none
   private
-  public :: rk_cloud_t, cloud_init, cloud_det, cloud_moment, cloud_shape, cloud_count_cover
+  public :: rk_cloud_t, cloud_init, cloud_det, cloud_moment, cloud_shape, cloud_count_cover, &
+    cloud_shape_values
   public :: cloud_move, cloud_set_reference, cloud_det_excluding, cloud_clearance
 
   type :: rk_cloud_t
@@ -484,6 +485,66 @@ contains
       end do
     end do
   end subroutine cloud_shape
+
+  !> The RK shape functions' values at p (cloud_shape without the derivatives): N_I(p) =
+  !! b^T P(z_I) phi_I V_I with M(p) b = e_1, for the nnb particles ids(1:nnb) (original
+  !! numbers) whose supports cover p; ok false where M(p) is singular or more particles
+  !! cover p than ids holds. A quarter of cloud_shape's work in 3D (no moment-matrix
+  !! derivatives, one window evaluation per particle): what integration tables need where
+  !! only N enters (the face and volume integrals of the 3D SCNI builder).
+  pure subroutine cloud_shape_values(c, p, nnb, ids, n, ok)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:)
+    integer, intent(out) :: nnb
+    integer, intent(inout) :: ids(:)
+    real(wp), intent(inout) :: n(:)
+    logical, intent(out) :: ok
+    integer :: clo(3), chi(3), i, j, k, cc, q, nd, m, l
+    logical :: empty
+    real(wp) :: d(3), pv(mmax), phi, mm(mmax, mmax), b(mmax)
+    integer :: slot(size(ids))
+    nd = c%ndim
+    m = c%m
+    nnb = 0
+    ok = .false.
+    mm = 0.0_wp
+    call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
+    if (empty) return
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
+        do i = clo(1), chi(1)
+          do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
+            d(1:nd) = c%x(:, q) - p(1:nd)
+            if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
+            call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
+            if (phi <= 0.0_wp) cycle
+            if (nnb >= size(ids)) return
+            nnb = nnb + 1
+            slot(nnb) = q
+            ! (n holds phi V until the coefficients are known)
+            n(nnb) = phi*c%vol(q)
+            call basis_eval(c%bid, d(1:nd)*c%hinv(1:nd), pv)
+            call moment_add(m, pv, n(nnb), mm)
+          end do
+        end do
+      end do
+    end do
+    if (nnb == 0) return
+    call moment_symmetrize(m, mm)
+    call chol_small(m, mm, ok)
+    if (.not. ok) return
+    b = 0.0_wp
+    b(1) = 1.0_wp
+    call chol_solve(m, mm, b)
+    do l = 1, nnb
+      q = slot(l)
+      ids(l) = c%perm(q)
+      d(1:nd) = c%x(:, q) - p(1:nd)
+      call basis_eval(c%bid, d(1:nd)*c%hinv(1:nd), pv)
+      n(l) = dot_product(b(1:m), pv(1:m))*n(l)
+    end do
+  end subroutine cloud_shape_values
 
   !> Upper triangle of dm += (dp p^T + p dp^T) w + p p^T dw.
   pure subroutine add_dm(m, p, dp, w, dw, dm)
