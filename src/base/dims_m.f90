@@ -13,7 +13,7 @@
 module dims_m
   implicit none
   private
-  public :: dims_t, dims_plane, dims_3d, max_dim
+  public :: dims_t, dims_plane, dims_3d, dims_3d_folded, max_dim
 
   type :: dims_t
     integer :: ndim = 0    !< dimension of space
@@ -41,6 +41,13 @@ module dims_m
   !! stresses (c, j) for the half cell along X_j, row by row like F.
   type(dims_t), parameter :: dims_3d = dims_t(ndim=3, nf=9, ncomp=6, ngrad=3, npos=1, nstab=9, &
     tensor_names=['11', '22', '33', '23', '13', '12'], axes='XYZ')
+
+  !> Three dimensions with the shape functions folded across symmetry planes (a quarter or
+  !! half cylinder, rkpm_tl3d_m): the components' shape functions differ near the planes,
+  !! so the gradients are per component, dN^c/dX_j at 3 (c - 1) + j, and the position
+  !! table holds N^c for each c; the rest as dims_3d.
+  type(dims_t), parameter :: dims_3d_folded = dims_t(ndim=3, nf=9, ncomp=6, ngrad=9, npos=3, &
+    nstab=9, tensor_names=['11', '22', '33', '23', '13', '12'], axes='XYZ')
 
   !> The largest ndim of any geometry: the extent of small fixed-size work arrays, of
   !! which a procedure uses the first ndim entries.

@@ -14,8 +14,8 @@
 !!    functions of a linear basis reproduce them) and, because the cells tile the body with
 !!    shared faces, the forces of a uniform stress on interior particles vanish: the patch
 !!    test to round-off (test_rkpm_tl3d);
-!!  - the lumped mass M_I = rho0 \int N_I dV (the x-y cell's fan triangles, rkpm_tl_m's
-!!    cell_area_points, x 2 Gauss points in z).
+!!  - the lumped mass M_I = rho0 \int N_I dV (one point per fan triangle of the x-y cell,
+!!    its centroid, x 2 Gauss points in z).
 !!  - the sub-cell stabilization (after Puso, Chen, Zywicz, Elmer, IJNME 74 (2008); the 2D
 !!    builder's right and upper halves, here in three directions): for each direction j
 !!    the half prism on the positive side of the particle along X_j (the x-y polygon
@@ -26,12 +26,24 @@
 !! The three displacement components share one shape function (no symmetry axis to fold in
 !! 3D), so the tables are compact (dims_3d): g and gs (3, nnz) hold dN/dX_j once, the
 !! position table N once.
+!!
+!! Symmetry planes: a quarter or half cylinder (a disk sector extruded) is the part of a
+!! symmetric body on one side of its straight sides. Its RK shape functions are folded as
+!! the 2D builder folds them about the axis of revolution: each particle within its support
+!! of a side gets a mirror image across it (and across both sides of a quarter, an image
+!! of the image), carrying the mirrored displacement (its normal component negated); the
+!! cloud with the images gives the shape functions, and each image's is added to its
+!! twin's with the sign of the component: N^c_I = N_I + sum_images s_c N_I'. A particle on
+!! a side is its own image: its normal component is held at 0 (solid set-up), and the
+!! normal displacement vanishes on the side exactly. The components' shape functions then
+!! differ near the sides: the tables are per component (dims_3d_folded: g, gs (9, nnz),
+!! the position table N^c three times).
 module rkpm_tl3d_m
-  use kinds_m, only: wp
+  use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
   use body_m, only: body_t, max_cell_vertices
-  use dims_m, only: dims_3d
+  use dims_m, only: dims_3d, dims_3d_folded
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape_values
@@ -39,7 +51,7 @@ module rkpm_tl3d_m
   use rkpm_tl_m, only: cell_area_points
   implicit none
   private
-  public :: tl_build_3d
+  public :: tl_build_3d, symmetry_planes_3d
 
   integer, parameter :: max_nb = 1024   !< particles covering one evaluation point (3D)
   integer, parameter :: max_cv = max_cell_vertices
@@ -50,7 +62,97 @@ module rkpm_tl3d_m
   !! 2D builder: clipping round-off, far below any genuine half).
   real(wp), parameter :: empty_half = 1.0e-9_wp
 
+  !> The shape functions of a body with symmetry planes folded onto its particles: cloud
+  !! particle k is particle twin(k) (k itself for k <= np), its displacement mirrored in
+  !! the components with sgn(c, k) = -1; ncg the components whose shape functions are
+  !! stored (1: compact, 3: folded, per component).
+  type :: fold_t
+    integer :: np = 0, ncg = 1
+    integer, allocatable :: twin(:)
+    real(wp), allocatable :: sgn(:, :)
+  end type fold_t
+
 contains
+
+  !> The symmetry planes of body b: normal(k) = 1 or 2 (x or y), at position pos(k) (m),
+  !! n of them (a quarter cylinder: y = cy and x = cx; a half: y = cy; else none).
+  pure subroutine symmetry_planes_3d(b, normal, pos, n)
+    type(body_t), intent(in) :: b
+    integer, intent(out) :: normal(2), n
+    real(wp), intent(out) :: pos(2)
+    real(wp) :: span
+    n = 0
+    normal = 0
+    pos = 0.0_wp
+    if (b%geom%kind /= geom_cylinder) return
+    span = b%geom%t1 - b%geom%t0
+    if (span > 1.5_wp*pi) return
+    n = 1
+    normal(1) = 2
+    pos(1) = b%geom%center(2)
+    if (span < 0.75_wp*pi) then
+      n = 2
+      normal(2) = 1
+      pos(2) = b%geom%center(1)
+    end if
+  end subroutine symmetry_planes_3d
+
+  !> The cloud of body b with its mirror images across its symmetry planes (fold_t): the
+  !! images of the particles whose supports reach across a plane (farther than tol from it).
+  subroutine folded_cloud(b, c, f, err)
+    type(body_t), intent(in) :: b
+    type(rk_cloud_t), intent(out) :: c
+    type(fold_t), intent(out) :: f
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: normal(2), nplanes, i, m, k, ni, q
+    real(wp) :: pos(2), tol, y(3), dist
+    real(wp), allocatable :: xe(:, :), rhoe(:, :), vole(:)
+    logical :: cross(2)
+    call symmetry_planes_3d(b, normal, pos, nplanes)
+    f%np = b%np
+    f%ncg = merge(3, 1, nplanes > 0)
+    ! at most 3 images per particle (two planes and the image of the image)
+    allocate(xe(3, 4*b%np), rhoe(3, 4*b%np), vole(4*b%np), f%twin(4*b%np), f%sgn(3, 4*b%np))
+    xe(:, 1:b%np) = b%x
+    rhoe(:, 1:b%np) = b%rho
+    vole(1:b%np) = b%vol
+    f%twin(1:b%np) = [(i, i = 1, b%np)]
+    f%sgn = 1.0_wp
+    ni = b%np
+    tol = 1.0e-9_wp*maxval(b%spacing(1:3))
+    cross = .false.
+    do i = 1, b%np
+      do m = 1, nplanes
+        dist = abs(b%x(normal(m), i) - pos(m))
+        cross(m) = dist > tol .and. dist < b%rho(normal(m), i)
+      end do
+      ! the images across each plane it reaches, and across both (the quarter's corner)
+      do q = 1, 3
+        if (q > 1 .and. nplanes < 2) exit
+        if (q <= 2) then
+          if (.not. cross(q)) cycle
+        else
+          if (.not. (cross(1) .and. cross(2))) cycle
+        end if
+        y = b%x(:, i)
+        ni = ni + 1
+        f%twin(ni) = i
+        do k = 1, nplanes
+          if (q == k .or. q == 3) then
+            y(normal(k)) = 2.0_wp*pos(k) - y(normal(k))
+            f%sgn(normal(k), ni) = -1.0_wp
+          end if
+        end do
+        xe(:, ni) = y
+        rhoe(:, ni) = b%rho(:, i)
+        vole(ni) = b%vol(i)
+      end do
+    end do
+    call cloud_init(c, xe(:, 1:ni), rhoe(:, 1:ni), vole(1:ni), b%kid, b%wshape, b%bid, &
+      b%h(1:3), err)
+    f%twin = f%twin(1:ni)
+    f%sgn = f%sgn(:, 1:ni)
+  end subroutine folded_cloud
 
   !> The SCNI tables of 3D lattice body b (reference configuration); rho0: density (kg/m^3).
   subroutine tl_build_3d(b, rho0, t, err)
@@ -59,9 +161,10 @@ contains
     type(solid_tables_t), intent(out) :: t
     type(error_t), allocatable, intent(inout) :: err
     type(rk_cloud_t) :: c
+    type(fold_t) :: f
     real(wp), allocatable :: gl(:, :, :), ml(:, :), sl(:, :, :)
     integer, allocatable :: idl(:, :), nl(:), cand(:)
-    integer :: np, maxk, i, n, bad
+    integer :: np, maxk, i, n, bad, ng
     if (b%ndim /= 3 .or. (b%geom%kind /= geom_prism .and. b%geom%kind /= geom_cylinder)) then
       call set_error(err, "body '"//trim(b%name)//"': the 3D RKPM tables need a 3D body "// &
         "extruded along z (shape 'box', 'cylinder', or a 'polygon' with extrude)")
@@ -79,23 +182,26 @@ contains
     t%np = np
     t%nq = np
     t%axisym = .false.
-    t%dims = dims_3d
     t%scheme = 1
-    call cloud_init(c, b%x, b%rho, b%vol, b%kid, b%wshape, b%bid, b%h(1:3), err)
+    call folded_cloud(b, c, f, err)
     if (allocated(err)) return
+    t%dims = dims_3d
+    if (f%ncg == 3) t%dims = dims_3d_folded
+    ng = 3*f%ncg
     t%hmin = minval(b%spacing(1:3))
     ! the most particles one cell's points can touch: those within rmax + half a cell
-    allocate(cand(np))
+    ! (the cloud holds the mirror images too)
+    allocate(cand(c%np))
     maxk = 1
     do i = 1, np
       call bins_candidates(c%bins, b%x(:, i), c%rmax(1:3) + 0.5_wp*b%spacing(1:3), cand, n)
       maxk = max(maxk, n)
     end do
-    allocate(gl(3, maxk, np), ml(maxk, np), sl(3, maxk, np), idl(maxk, np), nl(np))
+    allocate(gl(ng, maxk, np), ml(maxk, np), sl(ng, maxk, np), idl(maxk, np), nl(np))
     allocate(t%xq(3, np), t%owner(np), t%wgt(np), t%fix1(np), t%ws(3, np))
     t%fix1 = .false.
     bad = 0
-    call cell_integrals(b, c, maxk, gl, ml, sl, idl, nl, t%wgt, t%ws, bad)
+    call cell_integrals(b, c, f, maxk, gl, ml, sl, idl, nl, t%wgt, t%ws, bad)
     if (bad > 0) then
       call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined in the "// &
         "cell of particle "//itoa(bad)//" (too few particles cover a point of it; a larger "// &
@@ -105,7 +211,7 @@ contains
     t%xq = b%x
     t%owner = [(i, i = 1, np)]
     call compress_3d(t, gl, ml, sl, idl, nl, rho0)
-    call positions_3d(b, c, t, err)
+    call positions_3d(b, c, f, t, err)
     if (allocated(err)) return
     call tables_transpose(t)
     t%total_mass = sum(t%mass)
@@ -117,9 +223,10 @@ contains
   !! it (idl, nl), then gl divided by the volume; the half cells' smoothed gradients minus
   !! the cell's (sl) and their weights (ws). bad: the largest particle whose cell has a
   !! point where the shape functions are undefined (0: none).
-  subroutine cell_integrals(b, c, maxk, gl, ml, sl, idl, nl, vol, ws, bad)
+  subroutine cell_integrals(b, c, f, maxk, gl, ml, sl, idl, nl, vol, ws, bad)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
+    type(fold_t), intent(in) :: f
     integer, intent(in) :: maxk
     real(wp), intent(out) :: gl(:, :, :), ml(:, :), sl(:, :, :), vol(:), ws(:, :)
     integer, intent(out) :: idl(:, :), nl(:)
@@ -132,7 +239,7 @@ contains
     real(wp), parameter :: big = huge(1.0_wp)/4.0_wp
     np = b%np
     half = 0.5_wp*b%spacing(1:3)
-    !$omp parallel default(none) shared(b, c, maxk, gl, ml, sl, idl, nl, vol, ws, half, np) &
+    !$omp parallel default(none) shared(b, c, f, maxk, gl, ml, sl, idl, nl, vol, ws, half, np) &
     !$omp private(cv, o, za, zb, zm, area, vh, hcs, xg, wg, lo, hi, xc, wc, xh, wh, ncv, ngp, &
     !$omp q, r, dir, nhs, ngh, nc, slot) reduction(max: bad)
     allocate(slot(np))
@@ -165,19 +272,19 @@ contains
       call fan_centroids(cv, ncv, xc, wc, nc)
       do r = 1, 2
         do q = 1, nc
-          call shape_at(c, [xc(:, q), za + gx(r)*(zb - za)], 0.5_wp*wc(q)*(zb - za), zero3, &
+          call shape_at(c, f, [xc(:, q), za + gx(r)*(zb - za)], 0.5_wp*wc(q)*(zb - za), zero3, &
             zero3, i, slot, nl, idl, gl, ml, sl, bad)
         end do
       end do
       ! the end faces, n = -e3 at za and +e3 at zb (the top face is the X3 half cell's too)
       do q = 1, ngp
-        call shape_at(c, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], zero3, i, slot, &
+        call shape_at(c, f, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], zero3, i, slot, &
           nl, idl, gl, ml, sl, bad)
-        call shape_at(c, [xg(:, q), zb], 0.0_wp, [0.0_wp, 0.0_wp, wg(q)], &
+        call shape_at(c, f, [xg(:, q), zb], 0.0_wp, [0.0_wp, 0.0_wp, wg(q)], &
           merge([0.0_wp, 0.0_wp, wg(q)], zero3, zb > zm), i, slot, nl, idl, gl, ml, sl, bad)
       end do
       ! the side faces; an edge that is whole in a half cell is that half cell's face too
-      call side_faces(c, cv, ncv, za, zb, hcs, nhs, .true., i, slot, nl, idl, gl, ml, sl, &
+      call side_faces(c, f, cv, ncv, za, zb, hcs, nhs, .true., i, slot, nl, idl, gl, ml, sl, &
         bad)
       ! the half cells' own faces: their edges that are not whole edges of the cell (the
       ! cut at x = X1 or y = X2, pieces of edges it splits)
@@ -186,24 +293,29 @@ contains
         if (nhs(dir) < 3) cycle
         call cell_area_points(hcs(:, :, dir), nhs(dir), xh, wh, ngh)
         vh(dir) = sum(wh(1:ngh))*(zb - za)
-        call half_faces(c, hcs(:, :, dir), nhs(dir), cv, ncv, dir, za, zb, i, slot, nl, idl, &
+        call half_faces(c, f, hcs(:, :, dir), nhs(dir), cv, ncv, dir, za, zb, i, slot, nl, idl, &
           gl, ml, sl, bad)
       end do
       ! the half cell along X3: the polygon times [zm, zb]; its face at zm (-e3)
       vh(3) = area*(zb - zm)
       if (zb > zm) then
         do q = 1, ngp
-          call shape_at(c, [xg(:, q), zm], 0.0_wp, zero3, [0.0_wp, 0.0_wp, -wg(q)], i, slot, &
+          call shape_at(c, f, [xg(:, q), zm], 0.0_wp, zero3, [0.0_wp, 0.0_wp, -wg(q)], i, slot, &
             nl, idl, gl, ml, sl, bad)
         end do
       end if
       if (vol(i) > 0.0_wp) gl(:, 1:nl(i), i) = gl(:, 1:nl(i), i)/vol(i)
       do dir = 1, 3
+        ! (rows dir, dir + 3, dir + 6 when the components are folded)
         if (vh(dir) > empty_half*vol(i) .and. vol(i) - vh(dir) > empty_half*vol(i)) then
-          sl(dir, 1:nl(i), i) = sl(dir, 1:nl(i), i)/vh(dir) - gl(dir, 1:nl(i), i)
+          do q = dir, 3*f%ncg, 3
+            sl(q, 1:nl(i), i) = sl(q, 1:nl(i), i)/vh(dir) - gl(q, 1:nl(i), i)
+          end do
           ws(dir, i) = vh(dir)*(1.0_wp + vh(dir)/(vol(i) - vh(dir)))
         else
-          sl(dir, 1:nl(i), i) = 0.0_wp
+          do q = dir, 3*f%ncg, 3
+            sl(q, 1:nl(i), i) = 0.0_wp
+          end do
           ws(dir, i) = 0.0_wp
         end if
       end do
@@ -219,9 +331,10 @@ contains
   !> The side faces of the prism polygon cv (ncv) x [za, zb], 2 x 2 Gauss points each:
   !! N_I n dS into gl (the cell), and N_I n_j dS into sl(j) where the edge is whole in the
   !! half cell j (hcs(:, :, j), nhs(j): an edge of it with the same two vertices).
-  subroutine side_faces(c, cv, ncv, za, zb, hcs, nhs, whole, i, slot, nl, idl, gl, ml, sl, &
-    bad)
+  subroutine side_faces(c, f, cv, ncv, za, zb, hcs, nhs, whole, i, slot, nl, idl, gl, ml, &
+    sl, bad)
     type(rk_cloud_t), intent(in) :: c
+    type(fold_t), intent(in) :: f
     real(wp), intent(in) :: cv(:, :), za, zb, hcs(:, :, :)
     integer, intent(in) :: ncv, nhs(2), i
     logical, intent(in) :: whole
@@ -245,7 +358,7 @@ contains
       do q = 1, 2
         do r = 1, 2
           p = [cv(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
-          call shape_at(c, p, 0.0_wp, w*nrm, w*nrm*hmask, i, slot, nl, idl, gl, ml, sl, bad)
+          call shape_at(c, f, p, 0.0_wp, w*nrm, w*nrm*hmask, i, slot, nl, idl, gl, ml, sl, bad)
         end do
       end do
     end do
@@ -253,8 +366,10 @@ contains
 
   !> The faces of the half cell hc (nhc) x [za, zb] along X_dir that are not whole edges of
   !! the cell cv (those side_faces added): N_I n_dir dS into sl(dir), 2 x 2 Gauss points.
-  subroutine half_faces(c, hc, nhc, cv, ncv, dir, za, zb, i, slot, nl, idl, gl, ml, sl, bad)
+  subroutine half_faces(c, f, hc, nhc, cv, ncv, dir, za, zb, i, slot, nl, idl, gl, ml, sl, &
+    bad)
     type(rk_cloud_t), intent(in) :: c
+    type(fold_t), intent(in) :: f
     real(wp), intent(in) :: hc(:, :), cv(:, :), za, zb
     integer, intent(in) :: nhc, ncv, dir, i
     integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
@@ -274,7 +389,7 @@ contains
       do q = 1, 2
         do r = 1, 2
           p = [hc(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
-          call shape_at(c, p, 0.0_wp, zero3, w*nrm, i, slot, nl, idl, gl, ml, sl, bad)
+          call shape_at(c, f, p, 0.0_wp, zero3, w*nrm, i, slot, nl, idl, gl, ml, sl, bad)
         end do
       end do
     end do
@@ -315,15 +430,18 @@ contains
 
   !> Add, at point pp, wm N_I to ml, wn N_I to gl (the cell's face weight times its normal)
   !! and wh N_I to sl (a half cell's) of particle i's slots, for every particle I whose
-  !! shape function reaches pp. bad: i when they are undefined there.
-  subroutine shape_at(c, pp, wm, wn, wh, i, slot, nl, idl, gl, ml, sl, bad)
+  !! shape function reaches pp; folded (f%ncg = 3): per component c, rows 3 (c - 1) + 1..3,
+  !! an image's N added to its twin's with the component's sign. bad: i when they are
+  !! undefined there.
+  subroutine shape_at(c, f, pp, wm, wn, wh, i, slot, nl, idl, gl, ml, sl, bad)
     type(rk_cloud_t), intent(in) :: c
+    type(fold_t), intent(in) :: f
     real(wp), intent(in) :: pp(3), wm, wn(3), wh(3)
     integer, intent(in) :: i
     integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
     real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
     real(wp) :: n(max_nb)
-    integer :: ids(max_nb), nnb, kk, jj, s
+    integer :: ids(max_nb), nnb, kk, jj, s, cc
     logical :: ok
     call cloud_shape_values(c, pp, nnb, ids, n, ok)
     if (.not. ok) then
@@ -331,7 +449,7 @@ contains
       return
     end if
     do kk = 1, nnb
-      jj = ids(kk)
+      jj = f%twin(ids(kk))
       s = slot(jj)
       if (s == 0) then
         nl(i) = nl(i) + 1
@@ -343,8 +461,15 @@ contains
         sl(:, s, i) = 0.0_wp
       end if
       ml(s, i) = ml(s, i) + wm*n(kk)
-      gl(:, s, i) = gl(:, s, i) + wn*n(kk)
-      sl(:, s, i) = sl(:, s, i) + wh*n(kk)
+      if (f%ncg == 1) then
+        gl(:, s, i) = gl(:, s, i) + wn*n(kk)
+        sl(:, s, i) = sl(:, s, i) + wh*n(kk)
+      else
+        do cc = 1, 3
+          gl(3*cc - 2:3*cc, s, i) = gl(3*cc - 2:3*cc, s, i) + f%sgn(cc, ids(kk))*wn*n(kk)
+          sl(3*cc - 2:3*cc, s, i) = sl(3*cc - 2:3*cc, s, i) + f%sgn(cc, ids(kk))*wh*n(kk)
+        end do
+      end if
     end do
   end subroutine shape_at
 
@@ -356,7 +481,8 @@ contains
     integer, intent(in) :: idl(:, :), nl(:)
     integer :: q, k, e, nnz
     nnz = sum(nl)
-    allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(3, nnz), t%h(nnz), t%mass(t%np), t%gs(3, nnz))
+    allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(t%dims%ngrad, nnz), t%h(nnz), t%mass(t%np), &
+      t%gs(t%dims%ngrad, nnz))
     t%h = 0.0_wp
     t%mass = 0.0_wp
     t%ptr(1) = 1
@@ -374,29 +500,45 @@ contains
 
   !> N_I(X_J) for the physical positions x_J = X_J + sum_I N_I(X_J) d_I (once: the
   !! components share it).
-  subroutine positions_3d(b, c, t, err)
+  subroutine positions_3d(b, c, f, t, err)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
+    type(fold_t), intent(in) :: f
     type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: cnt(:), idj(:, :)
-    real(wp), allocatable :: nj(:, :)
+    real(wp), allocatable :: nj(:, :, :)
     real(wp) :: n(max_nb)
-    integer :: ids(max_nb), nnb, j, k, e, bad, maxk
+    integer :: ids(max_nb), nnb, j, k, e, bad, maxk, m, jj, s
     logical :: ok
     maxk = max_nb
-    allocate(cnt(b%np), idj(maxk, b%np), nj(maxk, b%np))
+    allocate(cnt(b%np), idj(maxk, b%np), nj(f%ncg, maxk, b%np))
     bad = 0
-    !$omp parallel do default(none) shared(b, c, cnt, idj, nj) private(n, ids, nnb, ok, k) &
-    !$omp reduction(max: bad) schedule(dynamic, 64)
+    !$omp parallel do default(none) shared(b, c, f, cnt, idj, nj) &
+    !$omp private(n, ids, nnb, ok, k, m, jj, s) reduction(max: bad) schedule(dynamic, 64)
     do j = 1, b%np
       call cloud_shape_values(c, b%x(:, j), nnb, ids, n, ok)
-      cnt(j) = nnb
       if (.not. ok) bad = max(bad, j)
+      ! images folded onto their twins (the sign of each component)
+      m = 0
       do k = 1, nnb
-        idj(k, j) = ids(k)
-        nj(k, j) = n(k)
+        jj = f%twin(ids(k))
+        do s = 1, m
+          if (idj(s, j) == jj) exit
+        end do
+        if (s > m) then
+          m = m + 1
+          s = m
+          idj(s, j) = jj
+          nj(:, s, j) = 0.0_wp
+        end if
+        if (f%ncg == 1) then
+          nj(1, s, j) = nj(1, s, j) + n(k)
+        else
+          nj(:, s, j) = nj(:, s, j) + f%sgn(:, ids(k))*n(k)
+        end if
       end do
+      cnt(j) = m
     end do
     !$omp end parallel do
     if (bad > 0) then
@@ -404,14 +546,14 @@ contains
         "particle "//itoa(bad))
       return
     end if
-    allocate(t%pptr(b%np + 1), t%pnbr(sum(cnt)), t%pn(1, sum(cnt)))
+    allocate(t%pptr(b%np + 1), t%pnbr(sum(cnt)), t%pn(t%dims%npos, sum(cnt)))
     t%pptr(1) = 1
     do j = 1, b%np
       t%pptr(j + 1) = t%pptr(j) + cnt(j)
       do k = 1, cnt(j)
         e = t%pptr(j) + k - 1
         t%pnbr(e) = idj(k, j)
-        t%pn(1, e) = nj(k, j)
+        t%pn(:, e) = nj(:, k, j)
       end do
     end do
   end subroutine positions_3d

@@ -13,7 +13,7 @@ module dynamic_setup_m
   use body_m, only: body_t
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
-  use rkpm_tl3d_m, only: tl_build_3d
+  use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin
   use material_m, only: material_constant_names, material_constant
@@ -231,6 +231,7 @@ contains
     end if
     call kinematic_masks(deck, k, b, pres, vpres, bc_of, err)
     if (allocated(err)) return
+    if (b%ndim == 3) call symmetry_holds(b, pres, vpres)
     call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
       bs%velocity(1:b%ndim), pres, vpres, e2)
     if (allocated(e2)) then
@@ -256,6 +257,28 @@ contains
     ! (read_deck refuses subcycle for anything but element meshes against rigid masters)
     s%sub%on = deck%solver%subcycle .and. s%t%interpolating
   end subroutine setup_solid
+
+  !> A body with symmetry planes (a quarter or half cylinder, rkpm_tl3d_m): the particles
+  !! on a plane are their own mirror images, so their component normal to it is held at 0
+  !! (as the 2D axisymmetric solid holds the radial component on the axis); no &bc group
+  !! holds it (no reaction is reported).
+  subroutine symmetry_holds(b, pres, vpres)
+    type(body_t), intent(in) :: b
+    logical, intent(inout) :: pres(:, :)
+    real(wp), intent(inout) :: vpres(:, :)
+    integer :: normal(2), n, m, i
+    real(wp) :: pos(2), tol
+    call symmetry_planes_3d(b, normal, pos, n)
+    tol = 1.0e-9_wp*maxval(b%spacing(1:3))
+    do m = 1, n
+      do i = 1, b%np
+        if (abs(b%x(normal(m), i) - pos(m)) <= tol) then
+          pres(normal(m), i) = .true.
+          vpres(normal(m), i) = 0.0_wp
+        end if
+      end do
+    end do
+  end subroutine symmetry_holds
 
   !> The deck's &bc groups of body k as masks over the nodes' reference positions: a node
   !! inside a group's box has that component prescribed (held at 0 for 'fixed', moved at

@@ -8,7 +8,9 @@
 !! Layouts (dims_3d): F(9, nq), P(9, nq) row by row, F_cj at 3 (c - 1) + j; symmetric tensors
 !! (6, nq) 11, 22, 33, 23, 13, 12; spin W (3, nq) as W23, W13, W12; d(3, np) coefficients (m).
 !! The tables are compact: the three components share one shape function, so g (3, nnz)
-!! holds dN/dX_j once, gs (3, nnz) the half-cell differences along X_j, pn (1, nnzp) N.
+!! holds dN/dX_j once, gs (3, nnz) the half-cell differences along X_j, pn (1, nnzp) N;
+!! or, folded across symmetry planes (dims_3d_folded: ngrad = 9), per component: g and gs
+!! (9, nnz) with component c's at 3 (c - 1) + 1..3, pn (3, nnzp).
 !! The stabilization stresses s (9, nq) are indexed (c, j) row by row like F: component c's
 !! half-cell gradient along X_j.
 !! The plane kernels of tl_kinematics_m hand tables of dims_3d to these, so callers
@@ -118,12 +120,21 @@ contains
     integer :: e, i
     real(wp) :: a(9)
     a = 0.0_wp
-    do e = t%ptr(q), t%ptr(q + 1) - 1
-      i = t%nbr(e)
-      a(1:3) = a(1:3) + d(1, i)*t%g(1:3, e)
-      a(4:6) = a(4:6) + d(2, i)*t%g(1:3, e)
-      a(7:9) = a(7:9) + d(3, i)*t%g(1:3, e)
-    end do
+    if (t%dims%ngrad == 3) then
+      do e = t%ptr(q), t%ptr(q + 1) - 1
+        i = t%nbr(e)
+        a(1:3) = a(1:3) + d(1, i)*t%g(1:3, e)
+        a(4:6) = a(4:6) + d(2, i)*t%g(1:3, e)
+        a(7:9) = a(7:9) + d(3, i)*t%g(1:3, e)
+      end do
+    else
+      do e = t%ptr(q), t%ptr(q + 1) - 1
+        i = t%nbr(e)
+        a(1:3) = a(1:3) + d(1, i)*t%g(1:3, e)
+        a(4:6) = a(4:6) + d(2, i)*t%g(4:6, e)
+        a(7:9) = a(7:9) + d(3, i)*t%g(7:9, e)
+      end do
+    end if
     f = f_identity_3d + a
   end subroutine point_f
 
@@ -137,15 +148,27 @@ contains
     real(wp) :: a(9), dh(9)
     a = 0.0_wp
     dh = 0.0_wp
-    do e = t%ptr(q), t%ptr(q + 1) - 1
-      i = t%nbr(e)
-      a(1:3) = a(1:3) + d(1, i)*t%g(1:3, e)
-      a(4:6) = a(4:6) + d(2, i)*t%g(1:3, e)
-      a(7:9) = a(7:9) + d(3, i)*t%g(1:3, e)
-      dh(1:3) = dh(1:3) + d(1, i)*t%gs(1:3, e)
-      dh(4:6) = dh(4:6) + d(2, i)*t%gs(1:3, e)
-      dh(7:9) = dh(7:9) + d(3, i)*t%gs(1:3, e)
-    end do
+    if (t%dims%ngrad == 3) then
+      do e = t%ptr(q), t%ptr(q + 1) - 1
+        i = t%nbr(e)
+        a(1:3) = a(1:3) + d(1, i)*t%g(1:3, e)
+        a(4:6) = a(4:6) + d(2, i)*t%g(1:3, e)
+        a(7:9) = a(7:9) + d(3, i)*t%g(1:3, e)
+        dh(1:3) = dh(1:3) + d(1, i)*t%gs(1:3, e)
+        dh(4:6) = dh(4:6) + d(2, i)*t%gs(1:3, e)
+        dh(7:9) = dh(7:9) + d(3, i)*t%gs(1:3, e)
+      end do
+    else
+      do e = t%ptr(q), t%ptr(q + 1) - 1
+        i = t%nbr(e)
+        a(1:3) = a(1:3) + d(1, i)*t%g(1:3, e)
+        a(4:6) = a(4:6) + d(2, i)*t%g(4:6, e)
+        a(7:9) = a(7:9) + d(3, i)*t%g(7:9, e)
+        dh(1:3) = dh(1:3) + d(1, i)*t%gs(1:3, e)
+        dh(4:6) = dh(4:6) + d(2, i)*t%gs(4:6, e)
+        dh(7:9) = dh(7:9) + d(3, i)*t%gs(7:9, e)
+      end do
+    end if
     call stab_stress(t%ws(:, q), stab, dh, s)
     energy = 0.5_wp*sum(s*dh)
     f = f_identity_3d + a
@@ -371,6 +394,10 @@ contains
     integer :: k, q
     real(wp) :: f(3), w, g(3)
     f = 0.0_wp
+    if (t%dims%ngrad /= 3) then
+      call node_force_folded(t, p, i, with_stab, fi, s)
+      return
+    end if
     do k = t%tptr(i), t%tptr(i + 1) - 1
       q = t%tq(k)
       w = t%wgt(q)
@@ -387,6 +414,27 @@ contains
     end do
     fi = f
   end subroutine node_force
+
+  !> node_force on folded tables (dims_3d_folded): component c's gradients at 3 (c - 1) + 1..3.
+  pure subroutine node_force_folded(t, p, i, with_stab, fi, s)
+    type(solid_tables_t), intent(in) :: t
+    real(wp), intent(in) :: p(:, :)
+    integer, intent(in) :: i
+    logical, intent(in) :: with_stab
+    real(wp), intent(out) :: fi(3)
+    real(wp), intent(in), optional :: s(:, :)
+    integer :: k, q, c
+    real(wp) :: w
+    fi = 0.0_wp
+    do k = t%tptr(i), t%tptr(i + 1) - 1
+      q = t%tq(k)
+      w = t%wgt(q)
+      do c = 1, 3
+        fi(c) = fi(c) + w*dot_product(p(3*c - 2:3*c, q), t%tg(3*c - 2:3*c, k))
+        if (with_stab) fi(c) = fi(c) + dot_product(s(3*c - 2:3*c, q), t%tgs(3*c - 2:3*c, k))
+      end do
+    end do
+  end subroutine node_force_folded
 
   !> The SCNI sub-cell stabilization's forces added to fint and its energy (J), for the
   !! power iteration (tl_kinematics_m's stabilization_force in 3D): s (9, nq) work space.
@@ -419,14 +467,27 @@ contains
       !$omp end parallel do
       return
     end if
-    !$omp parallel do default(none) shared(t, x0, d, x) private(e, u) schedule(static)
-    do j = 1, t%np
-      u = 0.0_wp
-      do e = t%pptr(j), t%pptr(j + 1) - 1
-        u = u + t%pn(1, e)*d(:, t%pnbr(e))
+    if (t%dims%npos == 1) then
+      !$omp parallel do default(none) shared(t, x0, d, x) private(e, u) schedule(static)
+      do j = 1, t%np
+        u = 0.0_wp
+        do e = t%pptr(j), t%pptr(j + 1) - 1
+          u = u + t%pn(1, e)*d(:, t%pnbr(e))
+        end do
+        x(:, j) = x0(:, j) + u
       end do
-      x(:, j) = x0(:, j) + u
-    end do
-    !$omp end parallel do
+      !$omp end parallel do
+    else
+      ! (folded: each component its own N^c)
+      !$omp parallel do default(none) shared(t, x0, d, x) private(e, u) schedule(static)
+      do j = 1, t%np
+        u = 0.0_wp
+        do e = t%pptr(j), t%pptr(j + 1) - 1
+          u = u + t%pn(:, e)*d(:, t%pnbr(e))
+        end do
+        x(:, j) = x0(:, j) + u
+      end do
+      !$omp end parallel do
+    end if
   end subroutine physical_positions_3d
 end module tl_kinematics3d_m
