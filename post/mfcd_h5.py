@@ -213,9 +213,9 @@ class SnapshotBody:
     """One body in one snapshot of a dynamic run (/snapshots/<label>/<body>)."""
 
     name: str
-    x: np.ndarray                       #: physical particle positions (np, 2) [m]
-    u: Optional[np.ndarray] = None      #: displacements (np, 2) [m]
-    v: Optional[np.ndarray] = None      #: velocities (np, 2) [m/s]
+    x: np.ndarray                       #: physical particle positions (np, ndim) [m]
+    u: Optional[np.ndarray] = None      #: displacements (np, ndim) [m]
+    v: Optional[np.ndarray] = None      #: velocities (np, ndim) [m/s]
     stress: Optional[np.ndarray] = None  #: Cauchy stress 11, 22, 33, 12 (np, 4) [Pa]
     epsbar: Optional[np.ndarray] = None  #: effective plastic strain (np,) [-]
     J: Optional[np.ndarray] = None      #: volume ratio det F (np,) [-]
@@ -670,9 +670,12 @@ class MfcdFile:
                 and not (n in self.body_names() and self.is_rigid(n))]
 
     def snapshot(self, label: str) -> Snapshot:
-        """/snapshots/<label> with every body in it, arrays as (np, 2) / (np, 4) / (np,),
-        and its det(M) fields (Snapshot.det) if the run wrote them."""
+        """/snapshots/<label> with every body in it, arrays as (np, ndim) / (np, ncomp) /
+        (np,) (ndim 2: the stress's 4 components 11, 22, 33, 12; ndim 3: its 6, 11, 22, 33,
+        23, 13, 12), and its det(M) fields (Snapshot.det) if the run wrote them."""
         g = self.h5["snapshots"][label]
+        nd = self.ndim
+        nc = 6 if nd == 3 else 4
         snap = Snapshot(label=label, time=float(decode(g.attrs["time"])),
                         step=int(decode(g.attrs.get("step", -1))))
         for name in g.keys():
@@ -687,17 +690,17 @@ class MfcdFile:
                 return a.reshape(-1, cols) if cols else a
 
             if name in self.body_names() and self.is_rigid(name):
-                snap.rigid[name] = SnapshotBody(name=name, x=arr("x", 2), u=arr("u", 2),
-                                                v=arr("v", 2))
+                snap.rigid[name] = SnapshotBody(name=name, x=arr("x", nd), u=arr("u", nd),
+                                                v=arr("v", nd))
                 continue
             snap.bodies[name] = SnapshotBody(
-                name=name, x=arr("x", 2), u=arr("u", 2), v=arr("v", 2),
-                stress=arr("stress", 4), epsbar=arr("epsbar"), J=arr("J"),
-                stress_cells=arr("stress_cells", 4), epsbar_cells=arr("epsbar_cells"),
+                name=name, x=arr("x", nd), u=arr("u", nd), v=arr("v", nd),
+                stress=arr("stress", nc), epsbar=arr("epsbar"), J=arr("J"),
+                stress_cells=arr("stress_cells", nc), epsbar_cells=arr("epsbar_cells"),
                 J_cells=arr("J_cells"), det_self=arr("det_self"),
                 det_self_threshold=float(decode(gb.attrs["det_self_threshold"]))
                 if "det_self_threshold" in gb.attrs else None,
-                f_contact=arr("f_contact", 2))
+                f_contact=arr("f_contact", nd))
         if "det" in g:
             for name, gd in g["det"].items():
                 if not name.startswith("contact"):

@@ -35,7 +35,9 @@ contains
     ! (self-contact: both sides are the same solid, owner1 = owner2)
     character(len=:), allocatable :: what
     what = "contact of '"//trim(p%side(1)%name)//"' on '"//trim(p%side(2)%name)//"': "
-    if (.not. p%both_ways) then
+    if (p%side(1)%ndim == 3) then
+      call set_error(err, what//"contact in 3D runs on one rank only (mfcd, not mfcd_mpi)")
+    else if (.not. p%both_ways) then
       call set_error(err, what//"the master is rigid: a rank's part takes it whole "// &
         "(contact_pair_localize)")
     else if (p%detector /= detector_det_m .or. p%compare) then

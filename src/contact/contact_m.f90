@@ -26,7 +26,7 @@ module contact_m
   private
   public :: master_surface_t, surface_build, surface_gap, contact_point_force, surface_update
   public :: contact_counters_t, closest_segment_update, surface_projection, surface_tie_tol
-  public :: surface_subset
+  public :: surface_subset, contact_point_force_3d
 
   !> The master's surface: segments a -> b (counter-clockwise around the master) and bins
   !! over their midpoints.
@@ -268,4 +268,27 @@ contains
     ft = -sign(min(fstick, fslip), slip)
     f = f + ft*tng
   end subroutine contact_point_force
+
+  !> contact_point_force in three dimensions: the same normal force 2 m |g|/dt^2 along the
+  !! outward normal nrm (3) (eq. 93), and friction in the tangent plane (eqs. 94-96)
+  !! against the predicted tangential slip vector slip (3) of the step relative to the
+  !! master (m; in the tangent plane): the smaller of stick, -2 m slip/dt^2, and slip, mu
+  !! |f_n| along -slip/|slip|. In the plane (slip = s_t t) it is contact_point_force.
+  pure subroutine contact_point_force_3d(g, nrm, slip, m, dt, mu, f, stick)
+    real(wp), intent(in) :: g, nrm(3), slip(3), m, dt, mu
+    real(wp), intent(out) :: f(3)
+    logical, intent(out) :: stick
+    real(wp) :: fn, fstick, fslip, s
+    f = 0.0_wp
+    stick = .false.
+    if (.not. (g < 0.0_wp)) return
+    fn = 2.0_wp*m*(-g)/(dt*dt)
+    f = fn*nrm
+    s = norm2(slip)
+    if (mu <= 0.0_wp .or. s == 0.0_wp) return
+    fstick = 2.0_wp*m*s/(dt*dt)
+    fslip = mu*fn
+    stick = fstick <= fslip
+    f = f - (min(fstick, fslip)/s)*slip
+  end subroutine contact_point_force_3d
 end module contact_m

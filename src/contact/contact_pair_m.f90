@@ -21,6 +21,15 @@
 !! Contact sees a deformable body only through the solid interface (solid_m): the points it
 !! detects are the nodes' physical points, whatever the discretization behind them. Its
 !! inputs are plain parameters (contact_params_t) and bodies; the caller names the deck.
+!!
+!! Three dimensions (bodies with ndim = 3, serial): the same passes with det(M) of the
+!! master (eqs. 25-28), the gap and outward normal from the master's closed triangle
+!! surface (body_t%facets, surface3d_m: the closest facet and the barycentric coordinates
+!! of the closest point), the eq. (93) force along that normal, friction in the tangent
+!! plane (eqs. 94-96 with the slip vector), and the reactions on a deformable master
+!! spread to the closest facet's three vertices by those barycentric weights (where the
+!! plane spreads to a segment's two ends by xi). Not in 3D (refused at set-up): the
+!! node-to-segment detector and the comparison, self-contact, axisymmetry, ranks.
 module contact_pair_m
   use kinds_m, only: wp, i64
   use dims_m, only: max_dim
@@ -31,7 +40,8 @@ module contact_pair_m
     cloud_det_excluding, cloud_clearance
   use detection_m, only: body_plateau, detection_threshold, body_cloud
   use contact_m, only: master_surface_t, surface_build, surface_update, surface_gap, &
-    contact_point_force, contact_counters_t, surface_subset
+    contact_point_force, contact_counters_t, surface_subset, contact_point_force_3d
+  use surface3d_m, only: surface3d_t, surface3d_build, surface3d_update, surface3d_gap
   use contact_nts_m, only: nts_buckets_t, nts_build, nts_update, nts_gap
   use omp_lib, only: omp_get_wtime
   use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
@@ -104,8 +114,9 @@ module contact_pair_m
     real(wp) :: force_tangential = 0.0_wp
     !> the resultant contact force on the slave body over the step (N, N/m), half the sum
     !! of the slave particles' forces and of the opposites of the master particles' (the
-    !! second condition of eq. 28), in x, y (plane) or r, z: the force the pair transmits
-    real(wp) :: force_slave(2) = 0.0_wp
+    !! second condition of eq. 28), in x, y (plane) or r, z, and in x, y, z in 3D (the third
+    !! 0 in the plane): the force the pair transmits
+    real(wp) :: force_slave(3) = 0.0_wp
     !> the work of the friction forces of eqs. (94)-(96) over the step on the relative
     !! tangential motion (J, J/m; <= 0): per particle 1/2 f_t s_c, the mean force of the
     !! step (as force_tangential) times the slip s_c left after the correction, s_c = s +
@@ -123,8 +134,13 @@ module contact_pair_m
     character(len=64) :: name = ''
     integer :: isolid = 0                !< index of its solid; 0 if rigid
     integer :: np = 0
+    integer :: ndim = 2                  !< 2 (plane, axisymmetry) or 3
     type(rk_cloud_t) :: cloud            !< det(M) of this body (current positions)
-    type(master_surface_t) :: surface
+    type(master_surface_t) :: surface    !< its boundary polylines (2D)
+    !> its closed triangle surface (3D; body_t%facets): seg holds the facet a penetrating
+    !! particle hit, bary (3, np) the barycentric coordinates of its closest point there
+    type(surface3d_t) :: surf3
+    real(wp), allocatable :: bary(:, :)
     type(nts_buckets_t) :: buckets       !< its segments bucket-sorted (node-to-segment)
     real(wp) :: plateau = 0.0_wp, threshold = 0.0_wp
     real(wp) :: surface_det = 0.0_wp     !< median det(M) at the body's own boundary particles
@@ -314,6 +330,16 @@ contains
         "in its det(M); give at least 1 (default 2)")
       return
     end if
+    if (bs%ndim /= bm%ndim) then
+      call set_error(err, "bodies '"//trim(bs%name)//"' ("//itoa(bs%ndim)//"D) and '"// &
+        trim(bm%name)//"' ("//itoa(bm%ndim)//"D) cannot be in contact: give two bodies "// &
+        "of the same dimension")
+      return
+    end if
+    if (bs%ndim == 3) then
+      call check_3d(prm, bs, axisym, err)
+      if (allocated(err)) return
+    end if
     call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err)
     if (allocated(err)) return
     call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
@@ -330,7 +356,15 @@ contains
         call self_candidates(p%side(j), prm%self_radius)
       end do
     end if
-    if (p%side(2)%surface%nseg == 0 .or. (isolid_m > 0 .and. p%side(1)%surface%nseg == 0)) then
+    if (bs%ndim == 3) then
+      ! (side_init has refused a 3D body without facets)
+      if (p%side(2)%surf3%nf == 0 .or. (isolid_m > 0 .and. p%side(1)%surf3%nf == 0)) then
+        call set_error(err, "body '"//trim(merge(bm%name, bs%name, &
+          p%side(2)%surf3%nf == 0))//"' has no surface facets")
+        return
+      end if
+    else if (p%side(2)%surface%nseg == 0 .or. &
+      (isolid_m > 0 .and. p%side(1)%surface%nseg == 0)) then
       call set_error(err, "body '"//trim(merge(bm%name, bs%name, &
         p%side(2)%surface%nseg == 0))//"' has no surface polyline")
       return
@@ -363,6 +397,30 @@ contains
     end if
   end subroutine contact_pair_init
 
+  !> What a 3D pair (slave body bs) cannot do yet: the node-to-segment detector and the
+  !! detectors' comparison (a 3D closest-facet search binned like contact_nts_m's buckets
+  !! is not written), self-contact (det(M) of the non-neighbours and the candidates come
+  !! from the surface polylines), axisymmetry (a 2D geometry).
+  subroutine check_3d(prm, bs, axisym, err)
+    type(contact_params_t), intent(in) :: prm
+    type(body_t), intent(in) :: bs
+    logical, intent(in) :: axisym
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=:), allocatable :: what
+    what = "contact of the 3D body '"//trim(bs%name)//"': "
+    if (prm%detector /= detector_det_m) then
+      call set_error(err, "variable detector: "//what//"the node-to-segment detector "// &
+        "is 2D only; give detector = 'det_m'")
+    else if (prm%compare) then
+      call set_error(err, "variable compare_detectors: "//what//"the node-to-segment "// &
+        "detector it compares with is 2D only; give .false.")
+    else if (prm%self_contact) then
+      call set_error(err, what//"self-contact is 2D only; give a master other than the slave")
+    else if (axisym) then
+      call set_error(err, what//"axisymmetry is a 2D geometry; give a plane or 3D run")
+    end if
+  end subroutine check_3d
+
   subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err)
     type(side_t), intent(out) :: s
     type(body_t), intent(in) :: b
@@ -379,12 +437,29 @@ contains
     s%plateau = body_plateau(b, s%cloud)
     s%threshold = detection_threshold(eps_cr, eps_rel, s%plateau)
     s%surface_det = surface_det_median(b, s%cloud)
-    call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
-      axis_fraction*minval(b%spacing(1:b%ndim)), err)
-    if (allocated(err)) return
+    s%ndim = b%ndim
+    if (b%ndim == 3) then
+      if (.not. allocated(b%facets)) then
+        call set_error(err, "body '"//trim(b%name)//"' has no closed surface of facets "// &
+          "(its shape's generator could not close one): contact in 3D needs it; give a "// &
+          "box, an extruded polygon or a cylinder")
+        return
+      end if
+      call surface3d_build(s%surf3, b%x, b%facets, err)
+      if (allocated(err)) then
+        err%message = "body '"//trim(b%name)//"': "//err%message
+        return
+      end if
+      allocate(s%bary(3, b%np))
+      s%bary = 0.0_wp
+    else
+      call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
+        axis_fraction*minval(b%spacing(1:b%ndim)), err)
+      if (allocated(err)) return
+    end if
     s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:b%ndim)
     s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:b%ndim)
-    call nts_build(s%buckets, s%surface)
+    if (b%ndim == 2) call nts_build(s%buckets, s%surface)
     allocate(s%x_old(b%ndim, b%np), s%x_pred(b%ndim, b%np), s%fphys(b%ndim, b%np), &
       s%active(b%np), s%seg(b%np), s%xi(b%np), s%imass(b%np), s%gap(b%np), s%slip(b%np), &
       s%nrm(b%ndim, b%np), s%tng(b%ndim, b%np), s%share(b%np))
@@ -422,7 +497,9 @@ contains
   !> Skipping far particles on slave side s: the Lipschitz constant of its positions in
   !! its coefficients, lip = |(max_j sum_I |N1_I(X_j)|, max_j sum_I |N2_I(X_j)|)| (the
   !! position table of eq. 65; 1 for interpolating element nodes), and every particle due
-  !! at the first step.
+  !! at the first step. In 3D the three components share one shape function (the table
+  !! has one row) and lip = max_j sum_I |N_I(X_j)| bounds |sum_I N_I (d_I - d'_I)| the
+  !! same way, so the skipping stays exact (test_contact3d: the same forces without it).
   subroutine skip_far_init(s, solids)
     type(side_t), intent(inout) :: s
     type(solid_t), intent(in) :: solids(:)
@@ -749,6 +826,11 @@ contains
     type(solid_t), intent(in) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, e
+    if (p%side(1)%ndim == 3) then
+      call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
+        trim(p%side(2)%name)//"': contact in 3D runs on one rank only (mfcd, not mfcd_mpi)")
+      return
+    end if
     if (p%both_ways .or. p%self .or. p%side(2)%isolid /= 0) then
       call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
         trim(p%side(2)%name)//"': a rank's part of a solid takes rigid masters only")
@@ -839,9 +921,13 @@ contains
     if (.not. move) return
     if (with_det) call cloud_move(s%cloud, s%x_pred, err)
     if (allocated(err)) return
-    call surface_update(s%surface, s%x_pred, err)
-    if (allocated(err)) return
-    if (with_nts) call nts_update(s%buckets, s%surface)
+    if (s%ndim == 3) then
+      call surface3d_update(s%surf3, s%x_pred)
+    else
+      call surface_update(s%surface, s%x_pred, err)
+      if (allocated(err)) return
+      if (with_nts) call nts_update(s%buckets, s%surface)
+    end if
     s%lo = minval(s%x_pred, dim=2) - s%cloud%rmax(1:size(s%lo))
     s%hi = maxval(s%x_pred, dim=2) + s%cloud%rmax(1:size(s%hi))
   end subroutine side_positions
@@ -899,6 +985,10 @@ contains
     real(wp) :: g, nrm(2), tng(2)
     logical :: found
     real(wp) :: t0
+    if (a%ndim == 3) then
+      call contact_pass_3d(p, a, b, solids, dt, count_stats, err)
+      return
+    end if
     ! detection: which of a's particles penetrate b, with gap, normal, segment, projection
     t0 = omp_get_wtime()
     if (p%self) then
@@ -1051,7 +1141,7 @@ contains
       p%step%n_flagged = int(ndet)
       p%step%force_normal = 0.5_wp*fnsum
       p%step%force_tangential = 0.5_wp*ftsum
-      p%step%force_slave = 0.5_wp*[fx, fy]
+      p%step%force_slave = 0.5_wp*[fx, fy, 0.0_wp]
       p%step%w_friction = wfr
       p%step%radius = rad
       p%step%pen_before = pen
@@ -1061,7 +1151,7 @@ contains
       p%step%n_flagged = p%step%n_flagged + int(ndet)
       p%step%force_normal = p%step%force_normal + 0.5_wp*fnsum
       p%step%force_tangential = p%step%force_tangential + 0.5_wp*ftsum
-      p%step%force_slave = p%step%force_slave + 0.5_wp*[fx, fy]
+      p%step%force_slave = p%step%force_slave + 0.5_wp*[fx, fy, 0.0_wp]
       p%step%w_friction = p%step%w_friction + wfr
       p%step%radius = max(p%step%radius, rad)
       p%step%pen_before = max(p%step%pen_before, pen)
@@ -1101,6 +1191,213 @@ contains
     end do
     !$omp end parallel do
   end subroutine detect_det_m
+
+  !> contact_pass for 3D bodies: one detection-and-force pass of side a's particles against
+  !! side b, b's closed triangle surface giving the gap and the normal. The reactions on a
+  !! deformable b go to the three vertices of the facet each particle hit, weighted by the
+  !! barycentric coordinates of its closest point (the 3D form of the plane pass's (1 - xi,
+  !! xi) on a segment's ends), so their sum is minus the particle's force and their moment
+  !! about the closest point vanishes.
+  subroutine contact_pass_3d(p, a, b, solids, dt, count_stats, err)
+    type(contact_pair_t), intent(inout) :: p
+    type(side_t), intent(inout) :: a, b
+    type(solid_t), intent(inout) :: solids(:)
+    real(wp), intent(in) :: dt
+    logical, intent(in) :: count_stats
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: j, jj, k, i, jf
+    integer(i64) :: neval, ndet, ncon
+    real(wp) :: g, nrm(3), bary(3), t0
+    t0 = omp_get_wtime()
+    call detect_det_m_3d(a, b, neval, ndet)
+    p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
+    call pass_forces_3d(p, a, b, dt, count_stats, neval, ndet, ncon)
+    if (ncon == 0) return
+    ! reactions on b at the vertices of the facets hit (serial: few particles)
+    if (b%isolid > 0) then
+      b%fphys = 0.0_wp
+      do jj = 1, a%nlist
+        j = side_particle(a, jj)
+        if (.not. a%active(j)) cycle
+        do k = 1, 3
+          i = b%surf3%tri(k, a%seg(j))
+          b%fphys(:, i) = b%fphys(:, i) - a%bary(k, j)*a%fphys(:, j)
+        end do
+      end do
+      call solid_add_point_forces(solids(b%isolid), b%fphys)
+      call solid_correct(solids(b%isolid), dt)
+    end if
+    call solid_add_point_forces(solids(a%isolid), a%fphys)
+    call solid_correct(solids(a%isolid), dt)
+    ! penetration left after the correction (eq. 98 spreads the forces): the corrected
+    ! positions of the particles that had a force (and b's surface when it moves)
+    if (b%isolid > 0) call side_positions(b, solids, .true., .false., .false., err)
+    if (allocated(err)) return
+    do jj = 1, a%nlist
+      j = side_particle(a, jj)
+      if (.not. a%active(j)) cycle
+      call solid_point_position(solids(a%isolid), j, a%x_pred(:, j))
+      call surface3d_gap(b%surf3, a%x_pred(:, j) - b%shift, g, nrm, jf, bary)
+      if (jf > 0) p%step%pen_after = max(p%step%pen_after, -g)
+    end do
+  end subroutine contact_pass_3d
+
+  !> detect_det_m for 3D bodies: a's particles in b's grown box with det(M_b) above the
+  !! threshold at their predicted positions are flagged (ndet of neval evaluated); the
+  !! flagged ones get the signed gap to b's closed triangle surface (surface3d_gap: the
+  !! closest point over every facet, the sign from the pseudo-normal of the feature it lies
+  !! on), and those with g < 0 are marked active with the outward normal, the facet and the
+  !! barycentric coordinates of the closest point. (Every facet is searched: brute force,
+  !! cheap while few particles are flagged per step; binning the facets by their boxes is
+  !! the next step for large masters.)
+  subroutine detect_det_m_3d(a, b, neval, ndet)
+    type(side_t), intent(inout) :: a
+    type(side_t), intent(in) :: b
+    integer(i64), intent(out) :: neval, ndet
+    integer :: j, jj, jf
+    real(wp) :: det, g, nrm(3), bary(3), xq(3)
+    neval = 0
+    ndet = 0
+    !$omp parallel do default(none) shared(a, b) &
+    !$omp private(j, det, g, nrm, jf, bary, xq) reduction(+: neval, ndet) &
+    !$omp schedule(static)
+    do jj = 1, a%nlist
+      j = side_particle(a, jj)
+      a%active(j) = .false.
+      if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
+      ! (in b's reference frame when b is a moving rigid body; shift 0 otherwise)
+      xq = a%x_pred(:, j) - b%shift
+      if (any(xq < b%lo) .or. any(xq > b%hi)) cycle
+      neval = neval + 1
+      det = cloud_det(b%cloud, xq)
+      if (.not. (det > b%threshold)) cycle
+      ndet = ndet + 1
+      call surface3d_gap(b%surf3, xq, g, nrm, jf, bary)
+      if (jf == 0 .or. .not. (g < 0.0_wp)) cycle
+      a%active(j) = .true.
+      a%gap(j) = g
+      a%nrm(:, j) = nrm
+      a%seg(j) = jf
+      a%bary(:, j) = bary
+    end do
+    !$omp end parallel do
+  end subroutine detect_det_m_3d
+
+  !> pass_forces for 3D bodies: the forces of eqs. (93)-(96) at side a's particles marked
+  !! active against side b (ncon of them), into a%fphys, with the same counters and
+  !! statistics. The master point is the closest point, sum_k bary_k x_k over the facet's
+  !! vertices; its motion over the step, its inverse mass (alone: sum_k bary_k^2 / m_k;
+  !! shared: the row sum sum_k bary_k S_k / m_k, S_k the vertex's total loading weight)
+  !! and the reactions use those weights. The slip (eq. 90) is the relative displacement
+  !! of the step projected on the tangent plane; a%tng gets its direction and a%slip its
+  !! length, so the friction force is f . tng (<= 0) as in the plane.
+  subroutine pass_forces_3d(p, a, b, dt, count_stats, neval, ndet, ncon)
+    type(contact_pair_t), intent(inout) :: p
+    type(side_t), intent(inout) :: a, b
+    real(wp), intent(in) :: dt
+    logical, intent(in) :: count_stats
+    integer(i64), intent(in) :: neval, ndet
+    integer(i64), intent(out) :: ncon
+    integer :: j, jj, k, i
+    real(wp) :: nrm(3), fj(3), dxb(3), ds(3), pen, rad, fnsum, ftsum, fx, fy, fz, sgn, wfr
+    real(wp) :: invmb, meff, ft, sl
+    logical :: stick
+    ncon = 0
+    pen = 0.0_wp
+    rad = 0.0_wp
+    fnsum = 0.0_wp
+    ftsum = 0.0_wp
+    fx = 0.0_wp
+    fy = 0.0_wp
+    fz = 0.0_wp
+    wfr = 0.0_wp
+    ! the step's first pass pushes the slave's particles, the second the master's (their
+    ! forces act on the slave with the opposite sign)
+    sgn = merge(1.0_wp, -1.0_wp, count_stats)
+    ! shared effective mass: how much of each master vertex the particles load together
+    if (p%shared_mass .and. b%isolid > 0) then
+      b%share = 0.0_wp
+      do j = 1, a%np
+        if (.not. a%active(j)) cycle
+        do k = 1, 3
+          i = b%surf3%tri(k, a%seg(j))
+          b%share(i) = b%share(i) + a%bary(k, j)
+        end do
+      end do
+    end if
+    !$omp parallel do default(none) shared(a, b, dt, p, sgn) &
+    !$omp private(j, k, i, nrm, fj, stick, invmb, meff, dxb, ds, ft, sl) &
+    !$omp reduction(+: ncon, fnsum, ftsum, fx, fy, fz, wfr) reduction(max: pen, rad) &
+    !$omp schedule(static)
+    do jj = 1, a%nlist
+      j = side_particle(a, jj)
+      a%fphys(:, j) = 0.0_wp
+      if (.not. a%active(j)) cycle
+      nrm = a%nrm(:, j)
+      ! the master point's motion over the step and its inverse mass (0 when rigid)
+      dxb = 0.0_wp
+      invmb = 0.0_wp
+      do k = 1, 3
+        i = b%surf3%tri(k, a%seg(j))
+        dxb = dxb + a%bary(k, j)*(b%x_pred(:, i) - b%x_old(:, i))
+        if (b%isolid == 0) cycle
+        if (p%shared_mass) then
+          invmb = invmb + a%bary(k, j)*b%share(i)*b%imass(i)
+        else
+          invmb = invmb + a%bary(k, j)**2*b%imass(i)
+        end if
+      end do
+      if (b%moving) dxb = b%vel*dt   ! a moving rigid master (its x_pred, x_old stay)
+      ! (0 when both are held by kinematic conditions: nothing can move)
+      meff = 0.0_wp
+      if (a%imass(j) + invmb > 0.0_wp) meff = 1.0_wp/(a%imass(j) + invmb)
+      ! the step's relative displacement in the tangent plane: the slip of eq. (90)
+      ds = a%x_pred(:, j) - a%x_old(:, j) - dxb
+      ds = ds - dot_product(ds, nrm)*nrm
+      sl = norm2(ds)
+      a%slip(j) = sl
+      a%tng(:, j) = 0.0_wp
+      if (sl > 0.0_wp) a%tng(:, j) = ds/sl
+      call contact_point_force_3d(a%gap(j), nrm, ds, meff, dt, p%mu, fj, stick)
+      a%fphys(:, j) = fj
+      ncon = ncon + 1
+      fnsum = fnsum + dot_product(fj, nrm)
+      ft = dot_product(fj, a%tng(:, j))
+      ftsum = ftsum + abs(ft)
+      ! friction work on the slip left after the correction (0 when it sticks)
+      if (meff > 0.0_wp) wfr = wfr + 0.5_wp*ft*(sl + 0.5_wp*dt*dt*ft/meff)
+      fx = fx + sgn*fj(1)
+      fy = fy + sgn*fj(2)
+      fz = fz + sgn*fj(3)
+      pen = max(pen, -a%gap(j))
+      rad = max(rad, a%x_pred(1, j))
+    end do
+    !$omp end parallel do
+    p%count%screened = p%count%screened + a%nlist
+    p%count%evaluated = p%count%evaluated + neval
+    p%count%detected = p%count%detected + ndet
+    p%count%contacts = p%count%contacts + ncon
+    if (count_stats) then
+      p%step%n_contact = int(ncon)
+      p%step%n_flagged = int(ndet)
+      p%step%force_normal = 0.5_wp*fnsum
+      p%step%force_tangential = 0.5_wp*ftsum
+      p%step%force_slave = 0.5_wp*[fx, fy, fz]
+      p%step%w_friction = wfr
+      p%step%radius = rad
+      p%step%pen_before = pen
+      if (p%edge > 0) p%step%edge_in_contact = a%active(p%edge)
+    else
+      p%step%n_contact = p%step%n_contact + int(ncon)
+      p%step%n_flagged = p%step%n_flagged + int(ndet)
+      p%step%force_normal = p%step%force_normal + 0.5_wp*fnsum
+      p%step%force_tangential = p%step%force_tangential + 0.5_wp*ftsum
+      p%step%force_slave = p%step%force_slave + 0.5_wp*[fx, fy, fz]
+      p%step%w_friction = p%step%w_friction + wfr
+      p%step%radius = max(p%step%radius, rad)
+      p%step%pen_before = max(p%step%pen_before, pen)
+    end if
+  end subroutine pass_forces_3d
 
   !> Self-contact detection (Sections 1 and 7): a's candidates (its surface particles) with
   !! det(M) of the same body (b's cloud), assembled only from the particles that are not
@@ -1285,6 +1582,11 @@ contains
     real(wp), allocatable :: xs(:, :)
     integer :: i, j, q
     real(wp) :: x(2)
+    if (p%side(1)%ndim == 3) then
+      call set_error(err, "the det(M) grid of contact of '"//trim(p%side(1)%name)// &
+        "' on '"//trim(p%side(2)%name)//"' is a plane grid: not for 3D bodies")
+      return
+    end if
     call current_cloud(p%side(1), cs, xs)
     if (allocated(err)) return
     call current_cloud(p%side(2), cm)

@@ -12,15 +12,16 @@
 !! (Real-Time Collision Detection, 2005, Section 5.1.5), by the Voronoi regions of its
 !! vertices, edges and face.
 !!
-!! Search: every facet (the first version; binned facets for large masters come with the
-!! contact pass in 3D).
+!! Search: every facet, brute force (cheap while a contact pass asks for the gaps of the few
+!! particles det(M) flags; binning the facets by their boxes for large masters is the next
+!! step). A deforming master's surface is moved each step by surface3d_update.
 module surface3d_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
   use sorting_m, only: sort_index
   implicit none
   private
-  public :: surface3d_t, surface3d_build, surface3d_gap
+  public :: surface3d_t, surface3d_build, surface3d_update, surface3d_gap
 
   type :: surface3d_t
     integer :: nf = 0
@@ -30,6 +31,7 @@ module surface3d_m
     real(wp), allocatable :: en(:, :, :)     !< (3, 3, nf) pseudo-normal of edge k of facet
                                              !! (from its vertex k to k + 1)
     real(wp), allocatable :: vn(:, :)        !< (3, np) vertex pseudo-normals
+    integer, allocatable :: partner(:, :)    !< (3, nf) the other facet of edge k of facet
   end type surface3d_t
 
 contains
@@ -45,25 +47,10 @@ contains
     integer :: m, k, a, b, ne, i
     integer, allocatable :: order(:), ea(:), eb(:), ef(:), ek(:)
     real(wp), allocatable :: key(:)
-    real(wp) :: e1(3), e2(3), ang, u(3), v(3)
     s%nf = size(tri, 2)
     s%tri = tri
     s%x = x
-    allocate(s%fn(3, s%nf), s%en(3, 3, s%nf), s%vn(3, size(x, 2)))
-    s%vn = 0.0_wp
-    do m = 1, s%nf
-      e1 = x(:, tri(2, m)) - x(:, tri(1, m))
-      e2 = x(:, tri(3, m)) - x(:, tri(1, m))
-      s%fn(:, m) = cross(e1, e2)
-      s%fn(:, m) = s%fn(:, m)/norm2(s%fn(:, m))
-      ! the facet's angle at each vertex weights its normal there
-      do k = 1, 3
-        u = x(:, tri(modulo(k, 3) + 1, m)) - x(:, tri(k, m))
-        v = x(:, tri(modulo(k + 1, 3) + 1, m)) - x(:, tri(k, m))
-        ang = acos(max(-1.0_wp, min(1.0_wp, dot_product(u, v)/(norm2(u)*norm2(v)))))
-        s%vn(:, tri(k, m)) = s%vn(:, tri(k, m)) + ang*s%fn(:, m)
-      end do
-    end do
+    allocate(s%fn(3, s%nf), s%en(3, 3, s%nf), s%vn(3, size(x, 2)), s%partner(3, s%nf))
     ! edges: each undirected edge (smaller, larger vertex) must appear in two facets
     ne = 3*s%nf
     allocate(ea(ne), eb(ne), ef(ne), ek(ne), key(ne), order(ne))
@@ -92,12 +79,43 @@ contains
         call set_error(err, 'the surface is not closed: edge '//'of one or of three facets')
         return
       end if
-      u = s%fn(:, ef(order(i))) + s%fn(:, ef(order(i + 1)))
-      s%en(:, ek(order(i)), ef(order(i))) = u
-      s%en(:, ek(order(i + 1)), ef(order(i + 1))) = u
+      s%partner(ek(order(i)), ef(order(i))) = ef(order(i + 1))
+      s%partner(ek(order(i + 1)), ef(order(i + 1))) = ef(order(i))
       i = i + 2
     end do
+    call surface3d_update(s, x)
   end subroutine surface3d_build
+
+  !> The normals and pseudo-normals of surface s (surface3d_build) at the vertices' new
+  !! positions x (3, np) (m): a deforming master's surface, moved each step without
+  !! allocating (its facets and their edge partners stay).
+  subroutine surface3d_update(s, x)
+    type(surface3d_t), intent(inout) :: s
+    real(wp), intent(in) :: x(:, :)
+    integer :: m, k
+    real(wp) :: e1(3), e2(3), ang, u(3), v(3)
+    s%x = x
+    s%vn = 0.0_wp
+    do m = 1, s%nf
+      e1 = x(:, s%tri(2, m)) - x(:, s%tri(1, m))
+      e2 = x(:, s%tri(3, m)) - x(:, s%tri(1, m))
+      s%fn(:, m) = cross(e1, e2)
+      s%fn(:, m) = s%fn(:, m)/norm2(s%fn(:, m))
+      ! the facet's angle at each vertex weights its normal there
+      do k = 1, 3
+        u = x(:, s%tri(modulo(k, 3) + 1, m)) - x(:, s%tri(k, m))
+        v = x(:, s%tri(modulo(k + 1, 3) + 1, m)) - x(:, s%tri(k, m))
+        ang = acos(max(-1.0_wp, min(1.0_wp, dot_product(u, v)/(norm2(u)*norm2(v)))))
+        s%vn(:, s%tri(k, m)) = s%vn(:, s%tri(k, m)) + ang*s%fn(:, m)
+      end do
+    end do
+    ! an edge's pseudo-normal: the sum of its two facets' normals
+    do m = 1, s%nf
+      do k = 1, 3
+        s%en(:, k, m) = s%fn(:, m) + s%fn(:, s%partner(k, m))
+      end do
+    end do
+  end subroutine surface3d_update
 
   !> The closest point of surface s to p: the signed gap g (m, < 0 inside), the outward unit
   !! normal nrm ((p - q)/|p - q| turned outward; the feature's pseudo-normal when p lies on

@@ -370,7 +370,7 @@ contains
     integer :: ni(4), nt(4), k
     real(wp) :: rs(1), rt(1), rm(3), rmt(3)
     integer :: nf(size(pairs)), nft(size(pairs))
-    real(wp) :: pf(4, size(pairs)), pft(4, size(pairs))
+    real(wp) :: pf(5, size(pairs)), pft(5, size(pairs))
     ni = [c%n_contact, c%n_flagged, c%n_cmp_det, merge(1, 0, c%edge_in_contact)]
     call MPI_Allreduce(ni, nt, 4, MPI_INTEGER, MPI_SUM, dom%mcomm)
     rs = c%force_normal
@@ -388,12 +388,12 @@ contains
     if (size(pairs) == 0) return
     ! each pair's forces (its history columns): sums over the ranks
     pf = reshape([(pairs(k)%step%force_normal, pairs(k)%step%force_tangential, &
-      pairs(k)%step%force_slave, k = 1, size(pairs))], [4, size(pairs)])
+      pairs(k)%step%force_slave, k = 1, size(pairs))], [5, size(pairs)])
     call MPI_Allreduce(pf, pft, size(pf), MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
     do k = 1, size(pairs)
       pairs(k)%step%force_normal = pft(1, k)
       pairs(k)%step%force_tangential = pft(2, k)
-      pairs(k)%step%force_slave = pft(3:4, k)
+      pairs(k)%step%force_slave = pft(3:5, k)
     end do
     nf = [(pairs(k)%step%n_flagged, k = 1, size(pairs))]
     call MPI_Allreduce(nf, nft, size(pairs), MPI_INTEGER, MPI_SUM, dom%mcomm)

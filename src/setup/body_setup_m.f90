@@ -85,6 +85,17 @@ contains
       im = deck%contacts(k)%imaster
       is = deck%contacts(k)%islave
       grp = "deck '"//deck%path//"', group &contact (contact "//itoa(k)//"), variable "
+      if (bodies(im)%ndim == 3) then
+        ! a 3D body's surface is its facets (extruded bodies; contact_pair_m checks them)
+        if (.not. allocated(bodies(im)%facets)) then
+          call set_error(err, grp//"master = '"//trim(bodies(im)%name)//"': the 3D body "// &
+            "has no boundary surface (a cylinder's sector, a particle file), so contact "// &
+            "has nothing to measure the gap to; make the master a 'box', an extruded "// &
+            "'polygon' or a whole 'cylinder'")
+          return
+        end if
+        cycle
+      end if
       if (size(bodies(im)%loop_idx) < 2) then
         call set_error(err, grp//"master = '"//trim(bodies(im)%name)//"': the body has "// &
           "no surface polyline (a particle file without the loop and order columns), so "// &

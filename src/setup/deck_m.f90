@@ -300,7 +300,8 @@ contains
     if (.not. allocated(err)) call check_3d(deck, err)
   end subroutine read_deck
 
-  !> What a 3D dynamic run does not have yet (doc/3d.md): elements, contact.
+  !> What a 3D dynamic run does not have yet (doc/3d.md): elements, self-contact, the
+  !! node-to-segment detector.
   subroutine check_3d(deck, err)
     type(deck_t), intent(in) :: deck
     type(error_t), allocatable, intent(inout) :: err
@@ -321,9 +322,19 @@ contains
         return
       end if
     end do
-    if (deck%ncontacts > 0) call bad(deck, 'contact', 'master', "'"// &
-      trim(deck%contacts(1)%master)//"'", "contact between 3D bodies is not in this "// &
-      "version: leave out the &contact groups (hold the body with &bc instead)", err)
+    do k = 1, deck%ncontacts
+      associate (c => deck%contacts(k))
+        if (c%imaster == c%islave) then
+          call bad(deck, 'contact', 'master', "'"//trim(c%master)//"' (= slave)", &
+            "self-contact in 3D is not in this version: leave out this &contact group", err)
+        else if (c%detector /= 'det_m' .or. c%compare_detectors) then
+          call bad(deck, 'contact', 'detector', "'"//trim(c%detector)//"'", "3D contact "// &
+            "detects by det(M) of the master: give detector = 'det_m' and "// &
+            "compare_detectors = .false.", err)
+        end if
+      end associate
+      if (allocated(err)) return
+    end do
   end subroutine check_3d
 
   !> &solver subcycle needs element meshes (a contact force on an element node moves that

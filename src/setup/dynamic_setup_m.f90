@@ -439,6 +439,11 @@ contains
         "with MPI; set subcycle = .false. or run mfcd")
       return
     end if
+    if (deck%run%ndim == 3 .and. deck%ncontacts > 0) then
+      call set_error(err, what//deck%path//"', group &contact: contact between 3D bodies "// &
+        "is not yet on ranks; run mfcd (serial), or leave out the &contact groups")
+      return
+    end if
     do k = 1, deck%ncontacts
       associate (c => deck%contacts(k))
         if (deck%bodies(c%imaster)%role == 'rigid') cycle
