@@ -626,9 +626,23 @@ contains
     if (size(s%spin, 1) == 3) then
       call s%mat%update3d(dt, s%dr, s%spin, s%state%st, i0, i1, s%dwp)
     else
-      call s%mat%update(dt, s%dr, s%spin(1, :), s%state%st, i0, i1, s%dwp)
+      ! (the spin's one row as a contiguous vector: spin(1, :) passed to the contiguous
+      ! dummy was an array temporary at every call)
+      call plane_update(s%mat, dt, s%dr, s%spin, size(s%spin, 2), s%state%st, i0, i1, s%dwp)
     end if
   end subroutine material_range
+
+  !> The plane material update with the spin W12 of w (1, n) seen as the vector w(1:n).
+  subroutine plane_update(mat, dt, d, w, n, st, i0, i1, dwp)
+    class(material_t), intent(in) :: mat
+    real(wp), intent(in) :: dt
+    real(wp), intent(in), contiguous :: d(:, :)
+    integer, intent(in) :: n, i0, i1
+    real(wp), intent(in) :: w(*)
+    type(material_state_t), intent(inout) :: st
+    real(wp), intent(inout), contiguous :: dwp(:)
+    call mat%update(dt, d, w(1:n), st, i0, i1, dwp)
+  end subroutine plane_update
 
   !> Distributed memory: this solid owns the points own_point and the nodes own_node of its
   !! local tables (decomposition_m's local_part_t); from now on it evaluates and updates only
