@@ -17,7 +17,7 @@ module generators_m
   private
   public :: make_segment, make_rectangle, make_polygon, make_annulus, make_from_arrays
   public :: make_disk, disk_ring_count, lattice_cells_explicit, extrude_body
-  public :: set_supports, perturb_interior, max_perturbation
+  public :: set_supports, perturb_interior, max_perturbation, section_triangles
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp
@@ -867,6 +867,12 @@ contains
       allocated(b2%cell_ptr) .and. b2%geom%t1 - b2%geom%t0 > 1.5_wp*pi) then
       call disk_triangles(b2, tri)
       ok = .true.
+    else if (b2%geom%kind == geom_annulus .and. b2%geom%r0 == 0.0_wp .and. &
+      allocated(b2%cell_ptr)) then
+      call sector_triangles(b2, tri)
+      ok = abs(tri_area(b2%x, tri) - polygon_area(b2%x(1:2, b2%loop_idx), &
+        size(b2%loop_idx))) <= 1.0e-9_wp*polygon_area(b2%x(1:2, b2%loop_idx), &
+        size(b2%loop_idx))
     else if (b2%geom%kind == geom_polygon .and. .not. allocated(b2%cell_centre)) then
       call lattice_triangles(b2, tri)
       ok = abs(tri_area(b2%x, tri) - polygon_area(b2%geom%v, size(b2%geom%v, 2))) <= &
@@ -921,6 +927,69 @@ contains
     end do
     tri = tri(:, 1:nt)
   end subroutine lattice_triangles
+
+  !> A disk sector's triangulation (disk_sector's numbering: the centre, then each ring's
+  !! particles by angle from 0 to the span, a ring the run of particles at one radius): the
+  !! fan from the centre to ring 1, and between rings k and k + 1 the strip obtained by
+  !! walking both rings by angle, as disk_triangles does without wrapping around.
+  subroutine sector_triangles(b2, tri)
+    type(body_t), intent(in) :: b2
+    integer, allocatable, intent(out) :: tri(:, :)
+    integer, allocatable :: first(:), nk(:)
+    integer :: nr, k, np, nt, i, j, q
+    real(wp) :: r, rprev, tol, ta, tb
+    np = b2%np
+    tol = 1.0e-9_wp*b2%geom%r1
+    ! the rings: runs of particles at one radius after the centre
+    allocate(first(np), nk(np))
+    nr = 0
+    rprev = -1.0_wp
+    do q = 2, np
+      r = norm2(b2%x(1:2, q) - b2%geom%center)
+      if (abs(r - rprev) > tol) then
+        nr = nr + 1
+        first(nr) = q
+        nk(nr) = 0
+        rprev = r
+      end if
+      nk(nr) = nk(nr) + 1
+    end do
+    allocate(tri(3, 2*np))
+    nt = 0
+    do j = 1, nk(1) - 1
+      nt = nt + 1
+      tri(:, nt) = [1, first(1) + j - 1, first(1) + j]
+    end do
+    do k = 1, nr - 1
+      i = 0
+      j = 0
+      do while (i < nk(k) - 1 .or. j < nk(k + 1) - 1)
+        ta = huge(1.0_wp)
+        tb = huge(1.0_wp)
+        if (i < nk(k) - 1) ta = angle_of(first(k) + i + 1)
+        if (j < nk(k + 1) - 1) tb = angle_of(first(k + 1) + j + 1)
+        nt = nt + 1
+        if (ta <= tb) then
+          tri(:, nt) = [first(k) + i, first(k + 1) + j, first(k) + i + 1]
+          i = i + 1
+        else
+          tri(:, nt) = [first(k) + i, first(k + 1) + j, first(k + 1) + j + 1]
+          j = j + 1
+        end if
+      end do
+    end do
+    tri = tri(:, 1:nt)
+  contains
+    !> The angle of particle q about the centre in [0, 2 pi).
+    real(wp) function angle_of(q) result(t)
+      integer, intent(in) :: q
+      real(wp) :: d(2)
+      d = b2%x(1:2, q) - b2%geom%center
+      t = atan2(d(2), d(1))
+      if (abs(d(2)) <= tol) t = merge(0.0_wp, pi, d(1) > 0.0_wp)
+      if (t < 0.0_wp) t = t + 2.0_wp*pi
+    end function angle_of
+  end subroutine sector_triangles
 
   !> A disk's triangulation (make_disk's numbering: the centre, then ring k's particles in
   !! increasing angle): the fan from the centre to ring 1, and between rings k and k + 1

@@ -176,7 +176,8 @@ contains
         discretization_text(deck%bodies(k))//'), material '''// &
         trim(deck%materials(deck%bodies(k)%imat)%name)//''' ('// &
         solids(n)%mat%model_name()//'), mass '//rtoa(solids(n)%t%total_mass)//' kg'// &
-        trim(merge('/m', '  ', .not. axisym))//'; '//itoa(size(solids(n)%t%nbr))// &
+        trim(merge('/m', '  ', .not. axisym .and. bodies(k)%ndim == 2))//'; '// &
+        itoa(size(solids(n)%t%nbr))// &
         ' point-node entries (mean '//itoa(nint(real(size(solids(n)%t%nbr))/ &
         real(max(solids(n)%nq, 1))))//' nodes per point)'
       flush(output_unit)

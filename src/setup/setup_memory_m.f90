@@ -28,6 +28,16 @@ module setup_memory_m
   integer(i64), parameter :: solid_bytes = 1024_i64
   !> Per node of a CST4 body (a node and its two triangles' tables, rounded up).
   integer(i64), parameter :: fem_bytes = 2304_i64
+  !> 3D RKPM (rkpm_tl3d_m), per candidate neighbour of the set-up's work arrays (the cell's
+  !! and the half cells' gradient integrals, mass, id: 60 B compact, 156 B folded across
+  !! symmetry planes) and per covering particle of the compressed tables with their
+  !! transpose's copies and the position table (124 B compact, 300 B folded), rounded up.
+  !! Measured (bench/memory_3d.py, doc/benchmarks.md): 30.4 kB a particle at the set-up's
+  !! peak, 16.3 kB in the time loop, for support_factor 2 (101 entries a point).
+  integer(i64), parameter :: candidate_bytes_3d = 64_i64, candidate_bytes_3d_folded = 160_i64
+  integer(i64), parameter :: neighbour_bytes_3d = 160_i64, neighbour_bytes_3d_folded = 320_i64
+  !> Per node of a 3D solid: its state (9-component F and P, 6 stresses, ...), rounded up.
+  integer(i64), parameter :: solid_bytes_3d = 2048_i64
   !> Per query point of mode detect or of the det(M) fields: position, det, distance, flag.
   integer(i64), parameter :: query_bytes = 48_i64
 
@@ -153,6 +163,19 @@ contains
     if (deck%run%mode /= 'dynamic' .or. s%role /= 'deformable') return
     if (s%discretization == 'fem') then
       bytes = bytes + fem_bytes
+      return
+    end if
+    if (deck%run%ndim == 3) then
+      ! candidates in a cell grown by the largest support, and particles covering the cell's
+      ! faces (2 support_factor + 1 per direction: measured 101 at support_factor 2)
+      maxk = int((2.0_wp*maxval(s%support_factor(1:3)) + 2.0_wp)**3, i64)
+      ncover = int(product(2.0_wp*s%support_factor(1:3) + 1.0_wp), i64)
+      if (s%shape == 'cylinder' .and. s%theta_end < 360.0_wp) then
+        bytes = bytes + candidate_bytes_3d_folded*maxk + neighbour_bytes_3d_folded*ncover
+      else
+        bytes = bytes + candidate_bytes_3d*maxk + neighbour_bytes_3d*ncover
+      end if
+      bytes = bytes + solid_bytes_3d
       return
     end if
     ! lattice counts: candidates in a cell grown by the largest support, particles covering
