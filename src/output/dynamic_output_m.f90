@@ -475,7 +475,13 @@ contains
         nps = itoa(np)
         g = h5name//':/snapshots/'//trim(labels(s))//'/'//trim(solids(k)%name)
         write(u, '(a)') '<Grid Name="'//trim(solids(k)%name)//'" GridType="Uniform">'
-        if (solids(k)%t%interpolating) then
+        if (solids(k)%t%interpolating .and. solids(k)%t%dims%ndim == 3) then
+          nes = itoa(solids(k)%nq)
+          write(u, '(a)') '<Topology TopologyType="Tetrahedron" NumberOfElements="'//nes// &
+            '"><DataItem Dimensions="'//nes//' 4" Format="HDF" NumberType="Int" '// &
+            'Precision="4">'//h5name//':/bodies/'//trim(solids(k)%name)//'/tetrahedra'// &
+            '</DataItem></Topology>'
+        else if (solids(k)%t%interpolating) then
           nes = itoa(solids(k)%nq)
           write(u, '(a)') '<Topology TopologyType="Triangle" NumberOfElements="'//nes// &
             '"><DataItem Dimensions="'//nes//' 3" Format="HDF" NumberType="Int" '// &

@@ -104,9 +104,14 @@ contains
           'CSR pointer of boundary polylines (1-based, nloops + 1)')
         if (.not. allocated(err)) call h5_write(f, g//'/loop_idx', b%loop_idx, '1', err, &
           'particle indices (1-based) along each counter-clockwise boundary polyline')
-        if (allocated(b%cells) .and. .not. allocated(err)) call h5_write(f, &
-          g//'/triangles', b%cells - 1, '1', err, 'CST4 elements: node indices (0-based, '// &
-          'as XDMF reads them) of each triangle, counter-clockwise (3, ne)')
+        if (allocated(b%cells) .and. b%ndim == 3 .and. .not. allocated(err)) then
+          call h5_write(f, g//'/tetrahedra', b%cells - 1, '1', err, 'linear tetrahedra '// &
+            '(averaged nodal pressure): node indices (0-based, as XDMF reads them), '// &
+            'positive volume (4, ne)')
+        else if (allocated(b%cells) .and. .not. allocated(err)) then
+          call h5_write(f, g//'/triangles', b%cells - 1, '1', err, 'CST4 elements: node '// &
+            'indices (0-based, as XDMF reads them) of each triangle, counter-clockwise (3, ne)')
+        end if
         if (.not. allocated(err)) call h5_attr(f, g, 'discretization', &
           trim(merge('fem ', 'rkpm', allocated(b%cells))), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'shape', trim(b%shape), err)

@@ -26,6 +26,7 @@ module body_setup_m
   use rk_cloud_m, only: cloud_det
   use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_annulus
   use mesh_cells_m, only: mesh_from_tags, mesh_body_arrays
+  use tet4_m, only: tet4_mesh_t, tet4_extruded
   use gmsh_mesh_m, only: gmsh_mesh_model
   use confine_m, only: confine_limits_t
   use log_m, only: log_print
@@ -218,6 +219,7 @@ contains
         call make_polygon(b2, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
         if (.not. allocated(e2)) call extrude_body(b2, s%extrude(1), s%extrude(2), &
           max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2)
+        if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
       else
         call make_polygon(b, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
       end if
@@ -225,6 +227,7 @@ contains
       ! a rectangle in x-y extruded along z: n(1) x n(2) x n(3) lattice points
       call make_rectangle(b2, s%lo(1:2), s%hi(1:2), s%n(1:2), e2)
       if (.not. allocated(e2)) call extrude_body(b2, s%lo(3), s%hi(3), s%n(3), b, e2)
+      if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
     case ('annulus_sector')
       if (s%discretization == 'fem') then
         ! CST4 elements on the polar boxes of the annulus lattice
@@ -242,6 +245,7 @@ contains
       call make_disk(b2, s%center, s%radius, s%spacing(1), e2, s%theta_end*pi/180.0_wp)
       if (.not. allocated(e2)) call extrude_body(b2, s%extrude(1), s%extrude(2), &
         max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2)
+      if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
     case ('file', 'geo')
       ! a gmsh script gives in memory what tools/mesh_body.py writes into a particle file:
       ! from here on the two are one path
@@ -312,7 +316,8 @@ contains
         local(i) = max(dr, norm2(b%x(:, i) - s%center)*dt)
       end do
       call set_supports(b, s%support_factor, local)
-    else if (.not. allocated(b%cells)) then
+    else if (.not. allocated(b%cells) .or. nd == 3) then
+      ! (a 3D element body's nodes are its lattice's particles: their det(M) supports too)
       call set_supports(b, s%support_factor)
     end if
     ! Theorem 3.1 on the generating lattice: name the smallest support factor that works.
@@ -345,6 +350,21 @@ contains
       return
     end if
     call check_particles(b, s, where, err)
+
+  contains
+
+    !> A 3D body of discretization 'fem' (deformable; a rigid body keeps its particles):
+    !! linear tetrahedra on the extruded lattice (tet4_m), its cells.
+    subroutine tets_if_fem(sec, body, e)
+      type(body_t), intent(in) :: sec
+      type(body_t), intent(inout) :: body
+      type(error_t), allocatable, intent(inout) :: e
+      type(tet4_mesh_t) :: tm
+      if (s%discretization /= 'fem' .or. s%role /= 'deformable' .or. &
+        deck%run%mode /= 'dynamic') return
+      call tet4_extruded(sec, body, tm, e)
+      if (.not. allocated(e)) call move_alloc(tm%tet, body%cells)
+    end subroutine tets_if_fem
   end subroutine build_body
 
   !> The body turned by s%rotate degrees counter-clockwise about its centroid (the volume-

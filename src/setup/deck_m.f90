@@ -300,8 +300,8 @@ contains
     if (.not. allocated(err)) call check_3d(deck, err)
   end subroutine read_deck
 
-  !> What a 3D dynamic run does not have yet (doc/3d.md): elements, self-contact, the
-  !! node-to-segment detector.
+  !> What a 3D dynamic run does not have yet (doc/3d.md): self-contact, the node-to-segment
+  !! detector; RKPM bodies integrated otherwise than by SCNI.
   subroutine check_3d(deck, err)
     type(deck_t), intent(in) :: deck
     type(error_t), allocatable, intent(inout) :: err
@@ -309,12 +309,7 @@ contains
     if (deck%run%ndim /= 3 .or. deck%run%mode /= 'dynamic') return
     do k = 1, deck%nbodies
       if (deck%bodies(k)%role == 'rigid') cycle
-      if (deck%bodies(k)%discretization == 'fem') then
-        call bad(deck, 'body', 'discretization', "'fem' (body '"// &
-          trim(deck%bodies(k)%name)//"')", "3D bodies are RKPM particles in this "// &
-          "version: give discretization = 'rkpm'", err)
-        return
-      end if
+      if (deck%bodies(k)%discretization == 'fem') cycle
       if (deck%bodies(k)%integration /= 'scni') then
         call bad(deck, 'body', 'integration', "'"//trim(deck%bodies(k)%integration)// &
           "' (body '"//trim(deck%bodies(k)%name)//"')", "3D RKPM bodies are integrated "// &
@@ -1135,7 +1130,15 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: j, nd
     nd = deck%run%ndim
-    if (s%discretization == 'fem' .and. ((s%shape /= 'rectangle' .and. &
+    if (s%discretization == 'fem' .and. nd == 3 .and. s%shape /= 'box' .and. &
+      s%shape /= 'cylinder' .and. s%shape /= 'polygon') then
+      call bad(deck, grp, 'discretization', "'fem'", "3D finite elements (linear "// &
+        "tetrahedra with averaged nodal pressure) are generated on a 'box', a 'cylinder' "// &
+        "or an extruded 'polygon'; use discretization = 'rkpm' for shape '"// &
+        trim(s%shape)//"'", err)
+      return
+    end if
+    if (s%discretization == 'fem' .and. nd /= 3 .and. ((s%shape /= 'rectangle' .and. &
       s%shape /= 'annulus_sector' .and. s%shape /= 'file' .and. s%shape /= 'geo') .or. &
       nd /= 2)) then
       call bad(deck, grp, 'discretization', "'fem'", "finite elements are generated on a "// &

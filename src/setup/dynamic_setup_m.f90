@@ -15,6 +15,7 @@ module dynamic_setup_m
   use rkpm_tl_m, only: tl_build, scheme_id
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
+  use tet4_m, only: tet4_mesh_t, tet4_tables
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin
   use material_m, only: material_constant_names, material_constant
   use stable_step_m, only: step_control_t, step_control_calibrate, spacing_step
@@ -187,7 +188,10 @@ contains
   pure function discretization_text(s) result(txt)
     type(body_spec_t), intent(in) :: s
     character(len=:), allocatable :: txt
-    if (s%discretization == 'fem') then
+    if (s%discretization == 'fem' .and. s%shape /= 'rectangle' .and. &
+      s%shape /= 'annulus_sector' .and. s%shape /= 'file' .and. s%shape /= 'geo') then
+      txt = 'linear tetrahedra with averaged nodal pressure, one point each'
+    else if (s%discretization == 'fem') then
       txt = 'CST4 elements, one point each'
     else
       txt = 'RKPM, '//trim(s%integration)
@@ -210,10 +214,17 @@ contains
     integer, allocatable :: bc_of(:, :)
     character(len=:), allocatable :: where
     type(cst4_mesh_t) :: mesh
+    type(tet4_mesh_t) :: tmesh
     real(wp) :: alpha
     bs = deck%bodies(k)
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
-    if (allocated(b%cells)) then
+    if (allocated(b%cells) .and. b%ndim == 3) then
+      ! linear tetrahedra with averaged nodal pressure (tet4_m)
+      tmesh%ne = size(b%cells, 2)
+      tmesh%tet = b%cells
+      call tet4_tables(b, tmesh, deck%materials(bs%imat)%params%density, t, e2)
+      alpha = 0.0_wp
+    else if (allocated(b%cells)) then
       mesh%ne = size(b%cells, 2)
       mesh%tri = b%cells
       call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2)
@@ -438,6 +449,13 @@ contains
     if (deck%solver%subcycle) then
       call set_error(err, what//deck%path//"', group &solver, variable subcycle: not yet "// &
         "with MPI; set subcycle = .false. or run mfcd")
+      return
+    end if
+    if (deck%run%ndim == 3 .and. any(deck%bodies(1:deck%nbodies)%discretization == 'fem' &
+      .and. deck%bodies(1:deck%nbodies)%role == 'deformable')) then
+      call set_error(err, what//deck%path//"', group &body, variable discretization: 3D "// &
+        "elements (tetrahedra with averaged nodal pressure) are not yet on ranks; run mfcd "// &
+        "(serial), or give discretization = 'rkpm'")
       return
     end if
     if (deck%run%ndim == 3 .and. deck%ncontacts > 0) then

@@ -12,7 +12,9 @@
 !! The solid sees its discretization only through solid_tables_t: RKPM (rkpm_tl_m) and CST4
 !! elements (cst4_m) fill the same tables (point-to-node gradients, hoop terms, weights,
 !! lumped masses, position table), so one code path serves both; what differs between
-!! them is data (the position table is the identity for elements), not behaviour.
+!! them is data (the position table is the identity for elements), not behaviour. Linear
+!! tetrahedra (tet4_m) add one step, flagged in their tables: the averaged nodal pressure
+!! (anp_average).
 !! Kinematic conditions arrive as masks (pres) and values (vpres) per node component.
 module solid_m
   use omp_lib, only: omp_get_wtime
@@ -214,6 +216,11 @@ module solid_m
     !! plastic work of the step (nq)
     real(wp), allocatable :: dr(:, :), spin(:, :), dwp(:)
     real(wp), allocatable :: stab(:, :)          !< stabilization stresses (nstab, nq)
+    !> averaged nodal pressure (tables flagged anp: linear tetrahedra, anp_average): J and
+    !! J_bar of each point (2, nq), each node's volume-weighted J (1, np), the material's
+    !! F_bar (nf, nq) now and at the point's last evaluation, and the Kirchhoff stress
+    !! whose pressure is carried by the point's own volume (ncomp, nq), which P takes
+    real(wp), allocatable :: jq(:, :), jn(:, :), fbar(:, :), fbar_old(:, :), taup(:, :)
     ! the critical-step estimate that follows the deformation (solid_step_estimate)
     real(wp), allocatable :: kap0(:)             !< kappa0_L of each point (1/m^2), step_metric
     real(wp) :: kappa0 = 0.0_wp                  !< largest kappa in the reference state (1/m^2)
@@ -323,6 +330,14 @@ contains
     s%state%f_old = s%state%f
     s%state%p = 0.0_wp
     s%state%p_old = 0.0_wp
+    if (s%t%anp) then
+      allocate(s%jq(2, nq), s%jn(1, np), s%fbar(nf, nq), s%fbar_old(nf, nq), s%taup(nc, nq))
+      s%jq = 1.0_wp
+      s%jn = 1.0_wp
+      s%fbar = s%state%f
+      s%fbar_old = s%state%f
+      s%taup = 0.0_wp
+    end if
     s%dr = 0.0_wp
     s%spin = 0.0_wp
     s%dwp = 0.0_wp
@@ -550,6 +565,13 @@ contains
       s%state%p_old(:, q) = s%state%p(:, q)
     end do
     !$omp end parallel do
+    if (s%t%anp) then
+      !$omp parallel do default(none) shared(s) schedule(static)
+      do q = 1, s%nq
+        s%fbar_old(:, q) = s%fbar(:, q)
+      end do
+      !$omp end parallel do
+    end if
     if (s%all_awake) then
       if (s%opt%stab_normal > 0.0_wp) then
         call deformation_gradient(s%t, s%state%d, s%state%f, &
@@ -566,7 +588,13 @@ contains
         call deformation_gradient(s%t, s%state%d, s%state%f, active=s%qact)
       end if
     end if
-    call rate_of_deformation(s%nq, dt, s%state%f_old, s%state%f, s%dr, s%spin)
+    if (s%t%anp) then
+      ! the material sees F_bar: D and W between the last F_bar and this one
+      call anp_average(s)
+      call rate_of_deformation(s%nq, dt, s%fbar_old, s%fbar, s%dr, s%spin)
+    else
+      call rate_of_deformation(s%nq, dt, s%state%f_old, s%state%f, s%dr, s%spin)
+    end if
     t1 = omp_get_wtime()
     nblocks = (s%nq + material_block - 1)/material_block
     !$omp parallel do default(none) shared(s, dt, nblocks) private(i0, i1) &
@@ -581,7 +609,12 @@ contains
     end do
     !$omp end parallel do
     t2 = omp_get_wtime()
-    call piola_stress(s%nq, s%state%f, s%state%st%tau, s%state%p)
+    if (s%t%anp) then
+      call anp_stress(s)
+      call piola_stress(s%nq, s%state%f, s%taup, s%state%p)
+    else
+      call piola_stress(s%nq, s%state%f, s%state%st%tau, s%state%p)
+    end if
     if (s%all_awake) then
       if (s%opt%stab_normal > 0.0_wp) then
         call internal_force(s%t, s%state%p, s%fint, s%stab)
@@ -616,6 +649,106 @@ contains
     !$omp end parallel do
     s%acc%wall = s%acc%wall + [t1 - t0, t2 - t1, omp_get_wtime() - t2]
   end subroutine solid_internal_force
+
+  !> The averaged nodal pressure (Bonet and Burton 1998): at the points list(1:n) (all when
+  !! list is absent), after F is computed there, the material's deformation gradient
+  !!   F_bar = (J_bar/J)^(1/3) F,   J_bar = (1/4) sum_{a in e} J_a,
+  !!   J_a = sum_{e' around a} V_e' J_e' / sum_{e' around a} V_e'
+  !! (J = det F of the point, J_a the volume-weighted mean over the points around node a,
+  !! gathered per node over the transpose: no races). F_bar has the point's isochoric part
+  !! F/J^(1/3) and the volume change of its nodes: the deviatoric rates dev D and the spin
+  !! are the point's own, the volumetric rate follows the averaged volume. A linear tetrahedron
+  !! has one volume constraint per element, about 6 per node against 3 degrees of freedom, and
+  !! locks in isochoric (plastic) flow; with J_bar the constraints are one per node. A point
+  !! whose J or J_bar is not positive keeps F (its J is what the health check sees).
+  !! Consistency: on a linear displacement field J is uniform, so J_a = J_bar = J and
+  !! F_bar = F (the patch test is untouched). With P built from anp_stress's Kirchhoff stress
+  !! tau_dev + (J/J_bar) p_K I (p_K the material's Kirchhoff pressure at J_bar) and the point's
+  !! own F, the force of eq. (72) is Bonet and Burton's
+  !!   f_b = sum_e v_e (J_e^-1 tau_dev + p_e I) grad_x N_b,   p_e = p_K/J_bar,
+  !! which for a pressure linear in J, p_e = mean_{a in e} p(J_a), is exactly the gradient of
+  !! the nodal volumetric energy sum_a V_a U(J_a) (V_a = sum V_e/4, J_a = v_a/V_a; their eq.
+  !! for the nodal force): conservative, and the internal work P : dF over the points' own F
+  !! (points_account) is the work of these forces to round-off. Distributed memory: the ghost
+  !! points' J and the ghost nodes' J_a come from their owners (two exchanges).
+  subroutine anp_average(s, list, n)
+    type(solid_t), intent(inout) :: s
+    integer, intent(in), optional :: list(:), n
+    integer :: k, q, i, e, nk
+    real(wp) :: sw, sj, jb
+    logical :: listed
+    listed = present(list)
+    nk = s%nq
+    if (listed) nk = n
+    !$omp parallel do default(none) shared(s, list, listed, nk) private(q) schedule(static)
+    do k = 1, nk
+      q = k
+      if (listed) q = list(k)
+      s%jq(1, q) = jacobian(s%state%f(:, q))
+    end do
+    !$omp end parallel do
+    if (associated(s%part%halo)) call s%part%halo%points(s%jq)
+    ! (subcycling: the points not listed keep the J of their last evaluation)
+    !$omp parallel do default(none) shared(s) private(k, q, sw, sj) schedule(static)
+    do i = 1, s%np
+      sw = 0.0_wp
+      sj = 0.0_wp
+      do k = s%t%tptr(i), s%t%tptr(i + 1) - 1
+        q = s%t%tq(k)
+        sw = sw + s%t%wgt(q)
+        sj = sj + s%t%wgt(q)*s%jq(1, q)
+      end do
+      s%jn(1, i) = 1.0_wp
+      if (sw > 0.0_wp) s%jn(1, i) = sj/sw
+    end do
+    !$omp end parallel do
+    if (associated(s%part%halo)) call s%part%halo%nodes(s%jn)
+    !$omp parallel do default(none) shared(s, list, listed, nk) private(q, e, jb) &
+    !$omp schedule(static)
+    do k = 1, nk
+      q = k
+      if (listed) q = list(k)
+      jb = 0.0_wp
+      do e = s%t%ptr(q), s%t%ptr(q + 1) - 1
+        jb = jb + s%jn(1, s%t%nbr(e))
+      end do
+      jb = jb/real(max(1, s%t%ptr(q + 1) - s%t%ptr(q)), wp)
+      if (s%jq(1, q) > 0.0_wp .and. jb > 0.0_wp) then
+        s%jq(2, q) = jb
+        s%fbar(:, q) = (jb/s%jq(1, q))**(1.0_wp/3.0_wp)*s%state%f(:, q)
+      else
+        s%jq(2, q) = s%jq(1, q)
+        s%fbar(:, q) = s%state%f(:, q)
+      end if
+    end do
+    !$omp end parallel do
+  end subroutine anp_average
+
+  !> The Kirchhoff stress P takes at the points list(1:n) (all when absent) under the
+  !! averaged nodal pressure: the material's tau (at F_bar) with its pressure carried by the
+  !! point's own volume, tau_dev + (J/J_bar) (tr tau/3) I, so that P = taup F^-T with the
+  !! point's own F gives Bonet and Burton's nodal force (anp_average). The normal
+  !! components come first in both layouts (11, 22, 33).
+  subroutine anp_stress(s, list, n)
+    type(solid_t), intent(inout) :: s
+    integer, intent(in), optional :: list(:), n
+    integer :: k, q, nk
+    real(wp) :: m
+    logical :: listed
+    listed = present(list)
+    nk = s%nq
+    if (listed) nk = n
+    !$omp parallel do default(none) shared(s, list, listed, nk) private(q, m) schedule(static)
+    do k = 1, nk
+      q = k
+      if (listed) q = list(k)
+      m = (s%state%st%tau(1, q) + s%state%st%tau(2, q) + s%state%st%tau(3, q))/3.0_wp* &
+        (s%jq(1, q)/s%jq(2, q) - 1.0_wp)
+      s%taup(:, q) = s%state%st%tau(:, q)
+      s%taup(1:3, q) = s%taup(1:3, q) + m
+    end do
+    !$omp end parallel do
+  end subroutine anp_stress
 
   !> The material update of a step dt at the points i0..i1 from D and the spin: the plane
   !! update (W12) or the 3D one (W23, W13, W12), by the shape of the solid's spin.
@@ -774,6 +907,14 @@ contains
       s%state%p_old(:, q) = s%state%p(:, q)
     end do
     !$omp end parallel do
+    if (s%t%anp) then
+      !$omp parallel do default(none) shared(s, list, n) private(q) schedule(static)
+      do k = 1, n
+        q = list(k)
+        s%fbar_old(:, q) = s%fbar(:, q)
+      end do
+      !$omp end parallel do
+    end if
     if (s%opt%stab_normal > 0.0_wp) then
       ! (a rank's part of a stabilized RKPM solid: its points' share of the energy)
       call deformation_gradient_list(s%t, s%state%d, s%state%f, list, n, &
@@ -781,7 +922,12 @@ contains
     else
       call deformation_gradient_list(s%t, s%state%d, s%state%f, list, n)
     end if
-    call rate_of_deformation_list(dt, s%state%f_old, s%state%f, s%dr, s%spin, list, n)
+    if (s%t%anp) then
+      call anp_average(s, list, n)
+      call rate_of_deformation_list(dt, s%fbar_old, s%fbar, s%dr, s%spin, list, n)
+    else
+      call rate_of_deformation_list(dt, s%state%f_old, s%state%f, s%dr, s%spin, list, n)
+    end if
     t1 = omp_get_wtime()
     ! in chunks of the list, each run of consecutive points in one call (the slow points of
     ! a subcycled step are most of the body in a few long runs)
@@ -802,7 +948,12 @@ contains
     end do
     !$omp end parallel do
     t2 = omp_get_wtime()
-    call piola_stress_list(s%state%f, s%state%st%tau, s%state%p, list, n)
+    if (s%t%anp) then
+      call anp_stress(s, list, n)
+      call piola_stress_list(s%state%f, s%taup, s%state%p, list, n)
+    else
+      call piola_stress_list(s%state%f, s%state%st%tau, s%state%p, list, n)
+    end if
     call points_account(s, dt, bad_q, dw, dwp, kmax, kq, list, n)
     s%acc%w_int = s%acc%w_int + dw
     s%acc%w_plastic = s%acc%w_plastic + dwp
@@ -1151,6 +1302,11 @@ contains
     s%state%freac = s%state%freac_old
     s%state%f_old = s%state%f
     s%state%p_old = s%state%p
+    if (s%t%anp) then
+      ! F_bar follows from the points' F (the last evaluation of each)
+      call anp_average(s)
+      s%fbar_old = s%fbar
+    end if
   end subroutine solid_state_derived
 
   !> The energy accounts of solid s, in the order checkpoints hold them: ke0, ke, w_int,

@@ -1,7 +1,7 @@
 !> The discretization-neutral tables of the total-Lagrangian solid (Section 4): everything
 !! that depends only on the reference configuration, computed once before the time loop,
-!! whatever built them (RKPM with SCNI, Gauss or direct integration in rkpm_tl_m; CST4
-!! finite elements in cst4_m).
+!! whatever built them (RKPM with SCNI, Gauss or direct integration in rkpm_tl_m and
+!! rkpm_tl3d_m; CST4 finite elements in cst4_m; linear tetrahedra in tet4_m).
 !!
 !! For each integration point L (an SCNI cell, a Gauss point, a triangle) the tables hold the
 !! nodes I (RK particles or element nodes) whose shape functions touch it (CSR: ptr, nbr)
@@ -28,6 +28,9 @@ module solid_tables_m
     !> nodal interpolation (finite elements): the physical position of node J is X_J + d_J,
     !! the position table is the identity and point forces need no redistribution (eq. 99)
     logical :: interpolating = .false.
+    !> averaged nodal pressure (linear tetrahedra, tet4_m): the solid replaces each point's
+    !! volume change by the mean of its nodes' before the material sees it (solid_m)
+    logical :: anp = .false.
     real(wp), allocatable :: xq(:, :)    !< integration points, reference (m)
     integer, allocatable :: owner(:)     !< node whose cell holds point L (0: none, e.g. an element)
     real(wp), allocatable :: wgt(:)      !< W_L (m^3 axisymmetric, m^2 per unit thickness)
@@ -68,6 +71,7 @@ contains
     b%dims = a%dims
     b%axisym = a%axisym
     b%interpolating = a%interpolating
+    b%anp = a%anp
     b%hmin = a%hmin
     b%total_mass = a%total_mass
     b%total_volume = a%total_volume

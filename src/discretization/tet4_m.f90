@@ -1,0 +1,381 @@
+!> Linear tetrahedra with averaged nodal pressure (Bonet and Burton, Commun. Numer. Meth.
+!! Engng 14 (1998) 437-449; Bonet, Marriott and Hassan, Commun. Numer. Meth. Engng 17 (2001)
+!! 551-561), the 3D finite element of the total-Lagrangian solid. This module builds the
+!! mesh of an extruded body (generators_m extrude_body) and fills the discretization-neutral
+!! tables of solid_tables_m, so the kernels of tl_kinematics3d_m (F, D, P, the internal
+!! force of eq. 72) run on tetrahedra as they run on RKPM particles:
+!!  - one integration point per tetrahedron, at its centroid, weight W = V (exact for the
+!!    constant gradients);
+!!  - nodal interpolation: the four linear shape functions, constant gradients (dims_3d,
+!!    compact: dN/dX_j shared by the three components), the identity position table;
+!!  - lumped mass by the row sum of the consistent mass (eq. 70), rho0 V/4 per node;
+!!  - the tables flagged anp: solid_m replaces each tetrahedron's volume change by the mean
+!!    of its nodes' (the averaged nodal pressure), which lifts the volumetric locking of
+!!    linear tetrahedra in isochoric plastic flow.
+!! The nodes are the body's particles, so contact and output see them as particles.
+module tet4_m
+  use kinds_m, only: wp
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa, rtoa
+  use body_m, only: body_t
+  use generators_m, only: section_triangles
+  use dims_m, only: dims_3d
+  use solid_tables_m, only: solid_tables_t, tables_transpose
+  implicit none
+  private
+  public :: tet4_mesh_t, tet4_extruded, tet4_prisms, tet4_tables, tet4_boundary_faces, &
+    tet4_volume
+
+  !> Tetrahedra over the nodes of a body_t.
+  type :: tet4_mesh_t
+    integer :: ne = 0                  !< tetrahedra
+    integer, allocatable :: tet(:, :)  !< (4, ne) node numbers, positive volume
+  end type tet4_mesh_t
+
+contains
+
+  !> The tetrahedra of b, the section b2 extruded in layers by extrude_body(b2, z0, z1, nz,
+  !! b): the section's triangles (section_triangles: a lattice polygon's squares cut in two,
+  !! a disk's fan and ring strips) times each layer give prisms, each cut into three
+  !! tetrahedra (tet4_prisms). Refused when the section has no triangulation (a polygon
+  !! whose outline leaves the lattice, a disk sector).
+  subroutine tet4_extruded(b2, b, mesh, err)
+    type(body_t), intent(in) :: b2, b
+    type(tet4_mesh_t), intent(out) :: mesh
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: tri(:, :)
+    logical :: ok
+    integer :: nz
+    if (b%ndim /= 3 .or. b2%np < 3 .or. mod(b%np, max(b2%np, 1)) /= 0) then
+      call set_error(err, "body '"//trim(b%name)//"': tetrahedra need the 3D body extruded "// &
+        'from its section (ndim = 3, a whole number of layers of the section''s '// &
+        itoa(b2%np)//' particles), got ndim = '//itoa(b%ndim)//' and '//itoa(b%np)// &
+        ' particles')
+      return
+    end if
+    nz = b%np/b2%np
+    call section_triangles(b2, tri, ok)
+    if (.not. ok) then
+      call set_error(err, "body '"//trim(b%name)//"': the section has no triangulation "// &
+        'for tetrahedra (a polygon needs its vertices on lattice points; a cylinder must '// &
+        'be whole, theta_end = 360): mesh it (gmsh) or use RKPM')
+      return
+    end if
+    call tet4_prisms(b%x, tri, b2%np, nz, mesh, err)
+  end subroutine tet4_extruded
+
+  !> The prisms of the section triangles tri (3, nt) over nz layers of n2 nodes (node (i, k)
+  !! is i + (k - 1) n2, x (3, n2 nz) their positions), each cut into three tetrahedra. Each
+  !! quadrilateral side face is cut along its diagonal from its lowest-numbered node
+  !! (Dompierre, Labbe, Vallet and Camarero, 8th Int. Meshing Roundtable, 1999): the choice
+  !! depends on the face alone, so neighbouring prisms cut their shared face alike and the
+  !! mesh is conforming. With the section's nodes sorted p < q < r (the top ones p', q', r'
+  !! numbered higher) the diagonals are p-q', p-r', q-r' and the prism is (p, q, r, r'),
+  !! (p, q, r', q'), (p, q', r', p'). Each tetrahedron's order is set for a positive volume.
+  subroutine tet4_prisms(x, tri, n2, nz, mesh, err)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tri(:, :), n2, nz
+    type(tet4_mesh_t), intent(out) :: mesh
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: nt, m, k, e, s(3), o, t4(4, 3), j
+    real(wp) :: v
+    nt = size(tri, 2)
+    if (nz < 2 .or. nt < 1 .or. size(x, 1) /= 3 .or. size(x, 2) < n2*nz) then
+      call set_error(err, 'tetrahedra of an extruded section: need 3D positions of '// &
+        itoa(n2)//' x '//itoa(nz)//' nodes (at least 2 layers) and triangles, got '// &
+        itoa(size(x, 2))//' nodes and '//itoa(nt)//' triangles')
+      return
+    end if
+    if (any(tri < 1 .or. tri > n2)) then
+      call set_error(err, 'tetrahedra of an extruded section: a triangle names a node '// &
+        'outside 1..'//itoa(n2))
+      return
+    end if
+    mesh%ne = 3*nt*(nz - 1)
+    allocate(mesh%tet(4, mesh%ne))
+    e = 0
+    do k = 1, nz - 1
+      o = (k - 1)*n2
+      do m = 1, nt
+        s = sort3(tri(:, m))
+        t4(:, 1) = [s(1), s(2), s(3), s(3) + n2] + o
+        t4(:, 2) = [s(1), s(2), s(3) + n2, s(2) + n2] + o
+        t4(:, 3) = [s(1), s(2) + n2, s(3) + n2, s(1) + n2] + o
+        do j = 1, 3
+          v = tet4_volume(x(:, t4(:, j)))
+          if (v < 0.0_wp) t4(3:4, j) = t4([4, 3], j)
+          if (.not. (abs(v) > 0.0_wp)) then
+            call set_error(err, 'tetrahedra of an extruded section: triangle '//itoa(m)// &
+              ' in layer '//itoa(k)//' gives a tetrahedron of zero volume (a degenerate '// &
+              'section triangle)')
+            return
+          end if
+          e = e + 1
+          mesh%tet(:, e) = t4(:, j)
+        end do
+      end do
+    end do
+  contains
+    pure function sort3(a) result(b)
+      integer, intent(in) :: a(3)
+      integer :: b(3)
+      b = a
+      if (b(1) > b(2)) b([1, 2]) = b([2, 1])
+      if (b(2) > b(3)) b([2, 3]) = b([3, 2])
+      if (b(1) > b(2)) b([1, 2]) = b([2, 1])
+    end function sort3
+  end subroutine tet4_prisms
+
+  !> Signed volume of the tetrahedron xt (3, 4) (m^3): positive when node 4 lies on the side
+  !! of the face (1, 2, 3) that its right-hand normal points to.
+  pure real(wp) function tet4_volume(xt) result(v)
+    real(wp), intent(in) :: xt(3, 4)
+    real(wp) :: e1(3), e2(3), e3(3)
+    e1 = xt(:, 2) - xt(:, 1)
+    e2 = xt(:, 3) - xt(:, 1)
+    e3 = xt(:, 4) - xt(:, 1)
+    v = (e1(1)*(e2(2)*e3(3) - e2(3)*e3(2)) - e1(2)*(e2(1)*e3(3) - e2(3)*e3(1)) &
+      + e1(3)*(e2(1)*e3(2) - e2(2)*e3(1)))/6.0_wp
+  end function tet4_volume
+
+  !> Gradients dn(:, k) = grad N_k (1/m) of the linear shape functions of the tetrahedron
+  !! xt (3, 4), its volume v (m^3) and its smallest height 1/max_k |grad N_k| (m). With the
+  !! edges e_k = X_{k+1} - X_1, grad N_{k+1} is the k-th column of [e_1 e_2 e_3]^-T, the
+  !! cross product of the other two edges over 6 V; grad N_1 = -sum of the others.
+  pure subroutine tet_gradients(xt, v, dn, hgt)
+    real(wp), intent(in) :: xt(3, 4)
+    real(wp), intent(out) :: v, dn(3, 4), hgt
+    real(wp) :: e1(3), e2(3), e3(3), d6
+    integer :: k
+    e1 = xt(:, 2) - xt(:, 1)
+    e2 = xt(:, 3) - xt(:, 1)
+    e3 = xt(:, 4) - xt(:, 1)
+    dn(:, 2) = cross(e2, e3)
+    dn(:, 3) = cross(e3, e1)
+    dn(:, 4) = cross(e1, e2)
+    d6 = dot_product(e1, dn(:, 2))
+    v = d6/6.0_wp
+    hgt = 0.0_wp
+    if (.not. (d6 > 0.0_wp)) return
+    dn(:, 2:4) = dn(:, 2:4)/d6
+    dn(:, 1) = -(dn(:, 2) + dn(:, 3) + dn(:, 4))
+    hgt = huge(1.0_wp)
+    do k = 1, 4
+      hgt = min(hgt, 1.0_wp/norm2(dn(:, k)))
+    end do
+  contains
+    pure function cross(a, b) result(c)
+      real(wp), intent(in) :: a(3), b(3)
+      real(wp) :: c(3)
+      c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+    end function cross
+  end subroutine tet_gradients
+
+  !> Tables of the total-Lagrangian solid on the tetrahedra of mesh over the nodes of b
+  !! (3D): one point per tetrahedron at its centroid with weight V, the constant gradients,
+  !! lumped masses rho0 V/4 (rho0: density, kg/m^3), the identity position table, and the
+  !! flag anp (solid_m averages the volume change over the nodes).
+  subroutine tet4_tables(b, mesh, rho0, t, err)
+    type(body_t), intent(in) :: b
+    type(tet4_mesh_t), intent(in) :: mesh
+    real(wp), intent(in) :: rho0
+    type(solid_tables_t), intent(out) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: touched(:)
+    real(wp) :: xt(3, 4), dn(3, 4), v, hgt, hmin
+    integer :: np, ne, e, k, i, bad, q
+    np = b%np
+    ne = mesh%ne
+    call check_mesh(b, mesh, err)
+    if (allocated(err)) return
+    if (.not. (rho0 > 0.0_wp)) then
+      call set_error(err, "body '"//trim(b%name)//"': tetrahedra density rho0 = "// &
+        rtoa(rho0)//' must be positive')
+      return
+    end if
+    t%np = np
+    t%nq = ne
+    t%dims = dims_3d
+    t%scheme = 0
+    t%axisym = .false.
+    t%interpolating = .true.
+    t%anp = .true.
+    allocate(t%xq(3, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), t%nbr(4*ne), &
+      t%g(t%dims%ngrad, 4*ne), t%h(4*ne))
+    t%owner = 0
+    t%h = 0.0_wp
+    t%ptr = [(4*q + 1, q = 0, ne)]
+    ! each tetrahedron writes only its own four entries: no races
+    hmin = huge(1.0_wp)
+    bad = huge(0)
+    !$omp parallel do default(none) shared(b, mesh, t, ne) private(xt, dn, v, hgt, k, i) &
+    !$omp reduction(min: hmin, bad) schedule(static)
+    do e = 1, ne
+      xt = b%x(:, mesh%tet(:, e))
+      call tet_gradients(xt, v, dn, hgt)
+      if (.not. (v > 0.0_wp)) then
+        bad = min(bad, e)
+        cycle
+      end if
+      hmin = min(hmin, hgt)
+      t%wgt(e) = v
+      t%xq(:, e) = 0.25_wp*sum(xt, dim=2)
+      do k = 1, 4
+        i = 4*(e - 1) + k
+        t%nbr(i) = mesh%tet(k, e)
+        t%g(:, i) = dn(:, k)
+      end do
+    end do
+    !$omp end parallel do
+    if (bad <= ne) then
+      xt = b%x(:, mesh%tet(:, bad))
+      call set_error(err, "body '"//trim(b%name)//"': tetrahedron "//itoa(bad)//' (nodes '// &
+        itoa(mesh%tet(1, bad))//', '//itoa(mesh%tet(2, bad))//', '//itoa(mesh%tet(3, bad))// &
+        ', '//itoa(mesh%tet(4, bad))//') has volume '//rtoa(tet4_volume(xt))//' m^3: '// &
+        'tetrahedra need a positive volume (node 4 on the side the right-hand normal of '// &
+        '(1, 2, 3) points to)')
+      return
+    end if
+    t%hmin = hmin
+    ! lumped mass, row sums of the consistent mass (eq. 70): rho0 int N_I dV = rho0 V/4 (a
+    ! scatter: serial)
+    allocate(t%mass(np), touched(np))
+    t%mass = 0.0_wp
+    touched = 0
+    do e = 1, ne
+      do k = 1, 4
+        i = mesh%tet(k, e)
+        touched(i) = touched(i) + 1
+        t%mass(i) = t%mass(i) + 0.25_wp*rho0*t%wgt(e)
+      end do
+    end do
+    if (any(touched == 0)) then
+      i = findloc(touched, 0, dim=1)
+      call set_error(err, "body '"//trim(b%name)//"': node "//itoa(i)//' belongs to no '// &
+        'tetrahedron (it would have no mass): remove it or mesh it')
+      return
+    end if
+    allocate(t%fix1(np))
+    t%fix1 = .false.
+    ! nodal interpolation: the position table N_I(X_J) is the identity
+    allocate(t%pptr(np + 1), t%pnbr(np), t%pn(t%dims%npos, np))
+    t%pptr = [(i, i = 1, np + 1)]
+    t%pnbr = [(i, i = 1, np)]
+    t%pn = 1.0_wp
+    t%total_mass = sum(t%mass)
+    t%total_volume = sum(t%wgt)
+    call tables_transpose(t)
+  end subroutine tet4_tables
+
+  !> The boundary of the mesh over np nodes: the faces that belong to one tetrahedron only,
+  !! faces (3, nf) ordered counter-clockwise seen from outside (the orientation of
+  !! body_t%facets), and which tetrahedron each belongs to (owner, nf). A conforming mesh
+  !! has every other face in exactly two tetrahedra; shared (optional) counts those and
+  !! over (optional) the faces found in more than two (0 for a valid mesh).
+  subroutine tet4_boundary_faces(mesh, np, faces, owner, shared, over)
+    type(tet4_mesh_t), intent(in) :: mesh
+    integer, intent(in) :: np
+    integer, allocatable, intent(out) :: faces(:, :), owner(:)
+    integer, intent(out), optional :: shared, over
+    ! the faces of (1, 2, 3, 4) with a positive volume, each counter-clockwise seen from
+    ! the side away from the opposite node
+    integer, parameter :: fn(3, 4) = reshape([2, 3, 4, 1, 4, 3, 1, 2, 4, 1, 3, 2], [3, 4])
+    integer, allocatable :: ptr(:), fid(:), cnt(:)
+    integer :: e, f, n, k, a, l, key(3), other(3), nshared, nover, nb
+    n = 4*mesh%ne
+    ! faces bucketed by their smallest node (CSR), then compared within a bucket
+    allocate(ptr(np + 1), fid(n), cnt(n))
+    ptr = 0
+    do e = 1, mesh%ne
+      do f = 1, 4
+        a = minval(mesh%tet(fn(:, f), e))
+        ptr(a + 1) = ptr(a + 1) + 1
+      end do
+    end do
+    ptr(1) = 1
+    do a = 1, np
+      ptr(a + 1) = ptr(a + 1) + ptr(a)
+    end do
+    do e = 1, mesh%ne
+      do f = 1, 4
+        a = minval(mesh%tet(fn(:, f), e))
+        fid(ptr(a)) = 4*(e - 1) + f
+        ptr(a) = ptr(a) + 1
+      end do
+    end do
+    do a = np, 1, -1
+      ptr(a + 1) = ptr(a)
+    end do
+    ptr(1) = 1
+    cnt = 0
+    nshared = 0
+    nover = 0
+    do a = 1, np
+      do k = ptr(a), ptr(a + 1) - 1
+        key = face_key(fid(k))
+        do l = k + 1, ptr(a + 1) - 1
+          other = face_key(fid(l))
+          if (all(key == other)) then
+            cnt(fid(k)) = cnt(fid(k)) + 1
+            cnt(fid(l)) = cnt(fid(l)) + 1
+          end if
+        end do
+      end do
+    end do
+    nb = count(cnt == 0)
+    allocate(faces(3, nb), owner(nb))
+    nb = 0
+    do k = 1, n
+      if (cnt(k) == 1) nshared = nshared + 1
+      if (cnt(k) > 1) nover = nover + 1
+      if (cnt(k) /= 0) cycle
+      e = (k - 1)/4 + 1
+      f = k - 4*(e - 1)
+      nb = nb + 1
+      faces(:, nb) = mesh%tet(fn(:, f), e)
+      owner(nb) = e
+    end do
+    if (present(shared)) shared = nshared/2
+    if (present(over)) over = nover
+  contains
+    pure function face_key(id) result(s)
+      integer, intent(in) :: id
+      integer :: s(3), ee, ff
+      ee = (id - 1)/4 + 1
+      ff = id - 4*(ee - 1)
+      s = mesh%tet(fn(:, ff), ee)
+      if (s(1) > s(2)) s([1, 2]) = s([2, 1])
+      if (s(2) > s(3)) s([2, 3]) = s([3, 2])
+      if (s(1) > s(2)) s([1, 2]) = s([2, 1])
+    end function face_key
+  end subroutine tet4_boundary_faces
+
+  !> Shape checks of the mesh against its body: 3D, tetrahedra present, node numbers valid.
+  subroutine check_mesh(b, mesh, err)
+    type(body_t), intent(in) :: b
+    type(tet4_mesh_t), intent(in) :: mesh
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: e
+    if (b%ndim /= 3) then
+      call set_error(err, "body '"//trim(b%name)//"': tetrahedra need ndim = 3, got "// &
+        itoa(b%ndim))
+      return
+    end if
+    if (mesh%ne < 1 .or. .not. allocated(mesh%tet)) then
+      call set_error(err, "body '"//trim(b%name)//"': the mesh has no tetrahedra")
+      return
+    end if
+    if (size(mesh%tet, 1) /= 4 .or. size(mesh%tet, 2) /= mesh%ne) then
+      call set_error(err, "body '"//trim(b%name)//"': the tetrahedra's connectivity is "// &
+        itoa(size(mesh%tet, 1))//' x '//itoa(size(mesh%tet, 2))//', expected 4 x '// &
+        itoa(mesh%ne))
+      return
+    end if
+    if (any(mesh%tet < 1 .or. mesh%tet > b%np)) then
+      e = findloc(any(mesh%tet < 1 .or. mesh%tet > b%np, dim=1), .true., dim=1)
+      call set_error(err, "body '"//trim(b%name)//"': tetrahedron "//itoa(e)// &
+        ' names a node outside 1..'//itoa(b%np))
+      return
+    end if
+  end subroutine check_mesh
+end module tet4_m
