@@ -10,7 +10,7 @@ module mesh_cells_m
   use strings_m, only: itoa
   implicit none
   private
-  public :: mesh_from_tags, mesh_body_arrays, triangle_area
+  public :: mesh_from_tags, mesh_body_arrays, triangle_area, check_cells
 
 contains
 
@@ -361,4 +361,29 @@ contains
       xy(:, nv) = p
     end subroutine put
   end subroutine dual_cells
+
+  !> An element mesh's connectivity against its body (the one check of cst4_m's and tet4_m's
+  !! tables): ndim = nd, ne >= 1 elements of nper nodes (cells(nper, ne)), every node
+  !! number in 1..np. what names the elements in the message ('CST4 triangle', ...).
+  subroutine check_cells(name, ndim, np, cells, ne, nper, nd, what, err)
+    character(len=*), intent(in) :: name, what
+    integer, intent(in) :: ndim, np, ne, nper, nd
+    integer, allocatable, intent(in) :: cells(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: e
+    if (ndim /= nd) then
+      call set_error(err, "body '"//trim(name)//"': "//what//" elements need ndim = "// &
+        itoa(nd)//", got "//itoa(ndim))
+    else if (ne < 1 .or. .not. allocated(cells)) then
+      call set_error(err, "body '"//trim(name)//"': the mesh has no "//what//" elements")
+    else if (size(cells, 1) /= nper .or. size(cells, 2) /= ne) then
+      call set_error(err, "body '"//trim(name)//"': the "//what//" connectivity is "// &
+        itoa(size(cells, 1))//' x '//itoa(size(cells, 2))//', expected '//itoa(nper)// &
+        ' x '//itoa(ne))
+    else if (any(cells < 1 .or. cells > np)) then
+      e = findloc(any(cells < 1 .or. cells > np, dim=1), .true., dim=1)
+      call set_error(err, "body '"//trim(name)//"': "//what//" element "//itoa(e)// &
+        ' names a node outside 1..'//itoa(np))
+    end if
+  end subroutine check_cells
 end module mesh_cells_m

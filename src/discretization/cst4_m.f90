@@ -23,6 +23,7 @@ module cst4_m
   use geometry_m, only: full_turn_tol
   use dims_m, only: dims_plane
   use solid_tables_m, only: solid_tables_t, tables_transpose
+  use mesh_cells_m, only: check_cells
   implicit none
   private
   public :: cst4_mesh_t, cst4_rectangle, cst4_annulus, cst4_tables
@@ -225,7 +226,7 @@ contains
     integer :: np, ne, e, k, q, bad, i
     np = b%np
     ne = mesh%ne
-    call check_mesh(b, mesh, err)
+    call check_cells(b%name, b%ndim, b%np, mesh%tri, mesh%ne, 3, 2, 'CST4', err)
     if (allocated(err)) return
     if (.not. (rho0 > 0.0_wp)) then
       call set_error(err, "body '"//trim(b%name)//"': CST4 density rho0 = "//rtoa(rho0)// &
@@ -359,35 +360,6 @@ contains
     end do
     alt = a2/lmax
   end subroutine triangle_gradients
-
-  !> Shape checks of the mesh against its body: 2D, triangles present, node numbers valid.
-  subroutine check_mesh(b, mesh, err)
-    type(body_t), intent(in) :: b
-    type(cst4_mesh_t), intent(in) :: mesh
-    type(error_t), allocatable, intent(inout) :: err
-    integer :: e
-    if (b%ndim /= 2) then
-      call set_error(err, "body '"//trim(b%name)//"': CST4 elements need ndim = 2 (plane "// &
-        'strain or axisymmetric), got '//itoa(b%ndim))
-      return
-    end if
-    if (mesh%ne < 1 .or. .not. allocated(mesh%tri)) then
-      call set_error(err, "body '"//trim(b%name)//"': the CST4 mesh has no triangles")
-      return
-    end if
-    if (size(mesh%tri, 1) /= 3 .or. size(mesh%tri, 2) /= mesh%ne) then
-      call set_error(err, "body '"//trim(b%name)//"': the CST4 connectivity is "// &
-        itoa(size(mesh%tri, 1))//' x '//itoa(size(mesh%tri, 2))//', expected 3 x '// &
-        itoa(mesh%ne))
-      return
-    end if
-    if (any(mesh%tri < 1 .or. mesh%tri > b%np)) then
-      e = findloc(any(mesh%tri < 1 .or. mesh%tri > b%np, dim=1), .true., dim=1)
-      call set_error(err, "body '"//trim(b%name)//"': CST4 triangle "//itoa(e)// &
-        ' names a node outside 1..'//itoa(b%np))
-      return
-    end if
-  end subroutine check_mesh
 
   !> The smaller nominal spacing of b (m), or, for a body without one, the square root of
   !! its smallest positive nodal area (for the on-axis tolerance).

@@ -21,6 +21,7 @@ module tet4_m
   use generators_m, only: section_triangles
   use dims_m, only: dims_3d
   use solid_tables_m, only: solid_tables_t, tables_transpose
+  use mesh_cells_m, only: check_cells
   implicit none
   private
   public :: tet4_mesh_t, tet4_extruded, tet4_prisms, tet4_tables, tet4_boundary_faces, &
@@ -186,7 +187,7 @@ contains
     integer :: np, ne, e, k, i, bad, q
     np = b%np
     ne = mesh%ne
-    call check_mesh(b, mesh, err)
+    call check_cells(b%name, b%ndim, b%np, mesh%tet, mesh%ne, 4, 3, 'tetrahedron', err)
     if (allocated(err)) return
     if (.not. (rho0 > 0.0_wp)) then
       call set_error(err, "body '"//trim(b%name)//"': tetrahedra density rho0 = "// &
@@ -349,33 +350,4 @@ contains
       if (s(1) > s(2)) s([1, 2]) = s([2, 1])
     end function face_key
   end subroutine tet4_boundary_faces
-
-  !> Shape checks of the mesh against its body: 3D, tetrahedra present, node numbers valid.
-  subroutine check_mesh(b, mesh, err)
-    type(body_t), intent(in) :: b
-    type(tet4_mesh_t), intent(in) :: mesh
-    type(error_t), allocatable, intent(inout) :: err
-    integer :: e
-    if (b%ndim /= 3) then
-      call set_error(err, "body '"//trim(b%name)//"': tetrahedra need ndim = 3, got "// &
-        itoa(b%ndim))
-      return
-    end if
-    if (mesh%ne < 1 .or. .not. allocated(mesh%tet)) then
-      call set_error(err, "body '"//trim(b%name)//"': the mesh has no tetrahedra")
-      return
-    end if
-    if (size(mesh%tet, 1) /= 4 .or. size(mesh%tet, 2) /= mesh%ne) then
-      call set_error(err, "body '"//trim(b%name)//"': the tetrahedra's connectivity is "// &
-        itoa(size(mesh%tet, 1))//' x '//itoa(size(mesh%tet, 2))//', expected 4 x '// &
-        itoa(mesh%ne))
-      return
-    end if
-    if (any(mesh%tet < 1 .or. mesh%tet > b%np)) then
-      e = findloc(any(mesh%tet < 1 .or. mesh%tet > b%np, dim=1), .true., dim=1)
-      call set_error(err, "body '"//trim(b%name)//"': tetrahedron "//itoa(e)// &
-        ' names a node outside 1..'//itoa(b%np))
-      return
-    end if
-  end subroutine check_mesh
 end module tet4_m
