@@ -6,9 +6,10 @@ coarse.nml) against mfcd's own axisymmetric run at the same spacing (input/taylo
   length (the extent along the axis) at each snapshot (12 and 24 us) within 0.5% of the
      axisymmetric run's (measured +0.02%: the plastic wave and the contact are the same
      physics; the two discretizations differ at the spacing's scale);
-  foot radius within 3% (measured +1.4% at 1 mm, +0.3% at 0.5 mm): in 3D the mean distance
-     from the axis of the reference rim's particles (body_measures_m: the rim is not round
-     at the spacing's scale; its outermost particle alone stood 4-6% beyond);
+  foot radius within 3% (measured +1.4% at 1 mm, +0.3% at 0.5 mm): in 3D the plane's
+     definition (the largest distance from the axis within one spacing of the lowest z)
+     in each direction of the reference rim, averaged (body_measures_m: the footprint is
+     not round at the spacing's scale; its outermost particle alone stood 4-7% beyond);
   momentum: the contact impulse (the history's 'impulse', the mean contact force times dt
      over every step) equals the bar's loss of axial momentum within 1% of the initial
      momentum (each run, computed independently: forces against velocities);
