@@ -22,7 +22,7 @@ module cst4_m
   use generators_m, only: make_rectangle, make_annulus, set_supports
   use geometry_m, only: full_turn_tol
   use dims_m, only: dims_plane
-  use solid_tables_m, only: solid_tables_t, tables_transpose
+  use solid_tables_m, only: solid_tables_t, tables_finish_elements
   use mesh_cells_m, only: check_cells
   implicit none
   private
@@ -327,13 +327,7 @@ contains
     allocate(t%fix1(np))
     t%fix1 = axisym .and. abs(b%x(1, :)) <= tol
     ! nodal interpolation: the position table N_I(X_J) is the identity
-    allocate(t%pptr(np + 1), t%pnbr(np), t%pn(t%dims%ndim, np))
-    t%pptr = [(i, i = 1, np + 1)]
-    t%pnbr = [(i, i = 1, np)]
-    t%pn = 1.0_wp
-    t%total_mass = sum(t%mass)
-    t%total_volume = sum(t%wgt)
-    call tables_transpose(t)
+    call tables_finish_elements(t)
   end subroutine cst4_tables
 
   !> Area A (m^2, positive when counter-clockwise), shape-function gradients dn(:, k) =

@@ -20,7 +20,7 @@ module tet4_m
   use body_m, only: body_t
   use generators_m, only: section_triangles
   use dims_m, only: dims_3d
-  use solid_tables_m, only: solid_tables_t, tables_transpose
+  use solid_tables_m, only: solid_tables_t, tables_finish_elements
   use mesh_cells_m, only: check_cells
   implicit none
   private
@@ -259,13 +259,7 @@ contains
     allocate(t%fix1(np))
     t%fix1 = .false.
     ! nodal interpolation: the position table N_I(X_J) is the identity
-    allocate(t%pptr(np + 1), t%pnbr(np), t%pn(t%dims%npos, np))
-    t%pptr = [(i, i = 1, np + 1)]
-    t%pnbr = [(i, i = 1, np)]
-    t%pn = 1.0_wp
-    t%total_mass = sum(t%mass)
-    t%total_volume = sum(t%wgt)
-    call tables_transpose(t)
+    call tables_finish_elements(t)
   end subroutine tet4_tables
 
   !> The boundary of the mesh over np nodes: the faces that belong to one tetrahedron only,

@@ -15,7 +15,7 @@ module solid_tables_m
   implicit none
   private
   public :: solid_tables_t, tables_transpose, tables_transpose_values, tables_move, &
-    tables_copy_scalars
+    tables_copy_scalars, tables_finish_elements
 
   type :: solid_tables_t
     integer :: np = 0                    !< particles (coefficient pairs)
@@ -104,6 +104,21 @@ contains
     call move_alloc(a%pn, b%pn)
     call move_alloc(a%fix1, b%fix1)
   end subroutine tables_move
+
+  !> The end of an element builder's tables (cst4_m, tet4_m), once masses and weights are
+  !! in: the position table N_I(X_J) is the identity (nodal interpolation: eq. 99), the
+  !! totals, the transpose.
+  subroutine tables_finish_elements(t)
+    type(solid_tables_t), intent(inout) :: t
+    integer :: i
+    allocate(t%pptr(t%np + 1), t%pnbr(t%np), t%pn(t%dims%npos, t%np))
+    t%pptr = [(i, i = 1, t%np + 1)]
+    t%pnbr = [(i, i = 1, t%np)]
+    t%pn = 1.0_wp
+    t%total_mass = sum(t%mass)
+    t%total_volume = sum(t%wgt)
+    call tables_transpose(t)
+  end subroutine tables_finish_elements
 
   !> For each particle, the entries (and their points) that involve it, and the values of
   !! the entries in that order. Called once g, h and gs are final.
