@@ -45,7 +45,7 @@ module rkpm_tl3d_m
   use body_m, only: body_t, max_cell_vertices
   use dims_m, only: dims_3d, dims_3d_folded
   use solid_tables_m, only: solid_tables_t, tables_transpose
-  use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box
+  use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box, polygon_area
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape_values
   use neighbour_bins_m, only: bins_candidates
   use rkpm_tl_m, only: cell_area_points
@@ -130,7 +130,7 @@ contains
       do q = 1, 3
         if (q > 1 .and. nplanes < 2) exit
         if (q <= 2) then
-          if (.not. cross(q)) cycle
+          if (.not. cross(min(q, 2))) cycle
         else
           if (.not. (cross(1) .and. cross(2))) cycle
         end if
@@ -233,15 +233,14 @@ contains
     integer, intent(inout) :: bad
     real(wp) :: cv(2, max_cv), half(3), o(3), za, zb, zm, area, vh(3), hcs(2, max_cv, 2)
     real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), lo(2), hi(2), xc(2, max_cv), wc(max_cv)
-    real(wp) :: xh(2, 3*max_cv), wh(3*max_cv)
-    integer :: ncv, ngp, i, q, r, np, dir, nhs(2), ngh, nc
+    integer :: ncv, ngp, i, q, r, np, dir, nhs(2), nc
     integer, allocatable :: slot(:)
     real(wp), parameter :: big = huge(1.0_wp)/4.0_wp
     np = b%np
     half = 0.5_wp*b%spacing(1:3)
     !$omp parallel default(none) shared(b, c, f, maxk, gl, ml, sl, idl, nl, vol, ws, half, np) &
-    !$omp private(cv, o, za, zb, zm, area, vh, hcs, xg, wg, lo, hi, xc, wc, xh, wh, ncv, ngp, &
-    !$omp q, r, dir, nhs, ngh, nc, slot) reduction(max: bad)
+    !$omp private(cv, o, za, zb, zm, area, vh, hcs, xg, wg, lo, hi, xc, wc, ncv, ngp, &
+    !$omp q, r, dir, nhs, nc, slot) reduction(max: bad)
     allocate(slot(np))
     slot = 0
     !$omp do schedule(dynamic, 64)
@@ -291,8 +290,8 @@ contains
       do dir = 1, 2
         vh(dir) = 0.0_wp
         if (nhs(dir) < 3) cycle
-        call cell_area_points(hcs(:, :, dir), nhs(dir), xh, wh, ngh)
-        vh(dir) = sum(wh(1:ngh))*(zb - za)
+        ! (its volume only: the shoelace area, no quadrature points)
+        vh(dir) = polygon_area(hcs(:, :, dir), nhs(dir))*(zb - za)
         call half_faces(c, f, hcs(:, :, dir), nhs(dir), cv, ncv, dir, za, zb, i, slot, nl, idl, &
           gl, ml, sl, bad)
       end do
