@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Hertz impact of an elastic sphere (axisymmetric) or cylinder (plane strain) on a rigid
-wall: an mfcd run against the closed forms.
+"""Hertz impact of an elastic sphere (axisymmetric or in full 3D) or cylinder (plane strain)
+on a rigid wall: an mfcd run against the closed forms.
 
-Sphere (the run's geometry 'axisymmetric').
+Sphere (the run's geometry 'axisymmetric', or a 3D run: ndim = 3).
 
 For a sphere of radius R and mass m striking a rigid wall at speed v, with E* = E/(1-nu^2)
 (Johnson, Contact Mechanics, ch. 11; the quasi-static Hertz law F = 4/3 E* sqrt(R)
@@ -15,7 +15,8 @@ delta^(3/2) integrated over the impact):
 
 From the run's /history, read through post/mfcd_h5.py: the contact force f_contact (N, the
 whole revolution in axisymmetry), the contacting particles n_contact and the largest radius
-in contact contact_radius. The approach is the distance the sphere's centre of mass has
+in contact contact_radius (in 3D the largest x of a node in contact: the sphere's pole is
+on the z axis). The approach is the distance the sphere's centre of mass has
 travelled towards the wall since first contact, from its momentum: m dv/dt = -F, so
 delta(t) = v (t - t0) - int_t0^t (1/m) int_t0^s F dt ds. m comes from the run's initial
 kinetic energy (the body's own mass, not the exact sphere's). Contact time: first to last
@@ -102,7 +103,8 @@ def measure(path, radius, speed=None):
         mat = deck_group(f.deck, "material") or {}
         body = deck_group(f.deck, "body", role="deformable") or deck_group(f.deck, "body") or {}
         title = f.title
-        geometry = f.geometry
+        # a 3D run (its geometry attribute says 'plane') is a whole sphere
+        geometry = "3d" if int(f.attrs.get("ndim", 2)) == 3 else f.geometry
         energy = f.summary["energy_residual"] / f.summary["energy_scale"]
     v = speed if speed else abs(float(np.atleast_1d(body.get("velocity", [0, -5]))[-1]))
     t, force, n = h["time"], h["f_contact"], h["n_contact"]
@@ -165,7 +167,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     runs = [(path, measure(path, a.radius, a.speed)) for path in a.files]
     if len({r["geometry"] == "plane" for _, r in runs}) > 1:
-        ap.error("give runs of one geometry: spheres (axisymmetric) or cylinders (plane)")
+        ap.error("give runs of one geometry: spheres (axisymmetric or 3D) or cylinders (plane)")
     lines = table(runs)
     print("\n".join(lines))
     if a.table:

@@ -10,7 +10,7 @@ module mesh_cells_m
   use strings_m, only: itoa
   implicit none
   private
-  public :: mesh_from_tags, mesh_body_arrays, triangle_area, check_cells
+  public :: mesh_from_tags, mesh_body_arrays, triangle_area, check_cells, tet_volume
 
 contains
 
@@ -19,26 +19,39 @@ contains
   !! 3-node triangles, tri_tags(3*ne). Only the nodes of triangles are kept (a geometry's
   !! construction points are dropped), in the mesher's node order; x(2, np) are their x and y
   !! and tri(3, ne) the triangles in 1-based rows of x, each clockwise one with its second
-  !! and third nodes swapped.
-  subroutine mesh_from_tags(tags, xyz, tri_tags, x, tri, err)
+  !! and third nodes swapped. With nv = 4 the elements are 4-node tetrahedra (tri_tags(4*ne)),
+  !! x(3, np) the nodes' x, y, z and tri(4, ne) the tetrahedra, each of negative volume with
+  !! its third and fourth nodes swapped; a tetrahedron of zero volume is an error.
+  subroutine mesh_from_tags(tags, xyz, tri_tags, x, tri, err, nv)
     integer(i64), intent(in) :: tags(:), tri_tags(:)
     real(wp), intent(in) :: xyz(:)
     real(wp), allocatable, intent(out) :: x(:, :)
     integer, allocatable, intent(out) :: tri(:, :)
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: nv
     integer, allocatable :: pos(:), renum(:)
     logical, allocatable :: used(:)
     integer(i64) :: maxtag
-    integer :: n, ne, k, e, np, j, t
+    integer :: n, ne, k, e, np, j, t, m, nd
+    character(len=:), allocatable :: what
+    real(wp) :: v
+    m = 3
+    if (present(nv)) m = nv
+    nd = m - 1
+    what = merge('triangle   ', 'tetrahedron', m == 3)
     n = size(tags)
-    ne = size(tri_tags)/3
+    ne = size(tri_tags)/m
     if (ne == 0 .or. n == 0) then
-      call set_error(err, 'the mesh has no triangles (is there a Plane Surface?)')
+      if (m == 3) then
+        call set_error(err, 'the mesh has no triangles (is there a Plane Surface?)')
+      else
+        call set_error(err, 'the mesh has no tetrahedra (is there a Volume?)')
+      end if
       return
     end if
-    if (size(xyz) /= 3*n .or. size(tri_tags) /= 3*ne) then
+    if (size(xyz) /= 3*n .or. size(tri_tags) /= m*ne) then
       call set_error(err, 'the mesher returned '//itoa(size(xyz))//' coordinates for '// &
-        itoa(n)//' nodes and '//itoa(size(tri_tags))//' triangle node tags')
+        itoa(n)//' nodes and '//itoa(size(tri_tags))//' '//trim(what)//' node tags')
       return
     end if
     maxtag = maxval(tags)
@@ -54,14 +67,14 @@ contains
     end do
     allocate(used(n))
     used = .false.
-    do k = 1, 3*ne
+    do k = 1, m*ne
       if (tri_tags(k) < 1 .or. tri_tags(k) > maxtag) then
         t = 0
       else
         t = pos(tri_tags(k))
       end if
       if (t == 0) then
-        call set_error(err, 'triangle '//itoa((k - 1)/3 + 1)//' names node tag '// &
+        call set_error(err, trim(what)//' '//itoa((k - 1)/m + 1)//' names node tag '// &
           itoa(int(tri_tags(k)))//', which is not among the mesh nodes')
         return
       end if
@@ -76,18 +89,42 @@ contains
       np = np + 1
       renum(k) = np
     end do
-    allocate(x(2, np), tri(3, ne))
+    allocate(x(nd, np), tri(m, ne))
     do k = 1, n
-      if (renum(k) > 0) x(:, renum(k)) = xyz(3*k - 2:3*k - 1)
+      if (renum(k) > 0) x(:, renum(k)) = xyz(3*k - 2:3*k - 3 + nd)
     end do
     do e = 1, ne
-      do j = 1, 3
-        tri(j, e) = renum(pos(tri_tags(3*(e - 1) + j)))
+      do j = 1, m
+        tri(j, e) = renum(pos(tri_tags(m*(e - 1) + j)))
       end do
-      ! counter-clockwise
-      if (triangle_area(x, tri(:, e)) < 0.0_wp) tri(2:3, e) = tri([3, 2], e)
+      if (m == 3) then
+        ! counter-clockwise
+        if (triangle_area(x, tri(:, e)) < 0.0_wp) tri(2:3, e) = tri([3, 2], e)
+      else
+        ! a positive volume
+        v = tet_volume(x, tri(:, e))
+        if (.not. (abs(v) > 0.0_wp)) then
+          call set_error(err, 'tetrahedron '//itoa(e)//' of the mesh has no volume (a '// &
+            'degenerate element)')
+          return
+        end if
+        if (v < 0.0_wp) tri(3:4, e) = tri([4, 3], e)
+      end if
     end do
   end subroutine mesh_from_tags
+
+  !> Signed volume of tetrahedron t of x (3, :): positive when node 4 lies on the side of
+  !! the face (1, 2, 3) that its right-hand normal points to.
+  pure real(wp) function tet_volume(x, t) result(v)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: t(4)
+    real(wp) :: e1(3), e2(3), e3(3)
+    e1 = x(:, t(2)) - x(:, t(1))
+    e2 = x(:, t(3)) - x(:, t(1))
+    e3 = x(:, t(4)) - x(:, t(1))
+    v = (e1(1)*(e2(2)*e3(3) - e2(3)*e3(2)) - e1(2)*(e2(1)*e3(3) - e2(3)*e3(1)) &
+      + e1(3)*(e2(1)*e3(2) - e2(2)*e3(1)))/6.0_wp
+  end function tet_volume
 
   !> Signed area of triangle t of x, as the script's signed_areas computes it.
   pure real(wp) function triangle_area(x, t) result(a)

@@ -25,8 +25,8 @@ module body_setup_m
   use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
   use rk_cloud_m, only: cloud_det
   use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_annulus
-  use mesh_cells_m, only: mesh_from_tags, mesh_body_arrays
-  use tet4_m, only: tet4_mesh_t, tet4_extruded
+  use mesh_cells_m, only: mesh_from_tags, mesh_body_arrays, tet_volume
+  use tet4_m, only: tet4_mesh_t, tet4_extruded, tet4_boundary_faces
   use gmsh_mesh_m, only: gmsh_mesh_model
   use confine_m, only: confine_limits_t
   use log_m, only: log_print
@@ -194,7 +194,7 @@ contains
     integer, allocatable :: loop(:), order(:), tri(:, :), ptr(:)
     real(wp) :: dr, dt, fmin
     integer :: nd, i
-    logical :: has_tri, has_cells
+    logical :: has_tri, has_cells, tets
     type(error_t), allocatable :: e2
     type(cst4_mesh_t) :: mesh
     type(body_t) :: b2
@@ -251,23 +251,30 @@ contains
       ! from here on the two are one path
       has_tri = .false.
       has_cells = .false.
+      tets = s%shape == 'geo' .and. nd == 3
       if (s%shape == 'geo') then
         what = "the mesh of '"//trim(s%file)//"'"
-        call mesh_geo(s, where, xs, vols, loop, order, tri, ptr, xy, e2)
+        call mesh_geo(s, where, nd, xs, vols, loop, order, tri, ptr, xy, e2)
         has_tri = .not. allocated(e2)
-        has_cells = has_tri
+        has_cells = has_tri .and. .not. tets
       else
         what = "particle file '"//trim(s%file)//"'"
         call read_particles(trim(s%file), nd, xs, vols, loop, order, e2)
       end if
-      if (.not. allocated(e2)) call check_file_values(what, xs, vols, e2)
-      if (.not. allocated(e2)) call make_from_arrays(b, xs, vols, loop, order, e2)
+      if (tets) then
+        ! linear tetrahedra of the script's volumes: the body of their nodes
+        if (.not. allocated(e2)) call tet_mesh_body(what, xs, tri, s%discretization == &
+          'fem' .and. s%role == 'deformable' .and. deck%run%mode == 'dynamic', b, local, e2)
+      else
+        if (.not. allocated(e2)) call check_file_values(what, xs, vols, e2)
+        if (.not. allocated(e2)) call make_from_arrays(b, xs, vols, loop, order, e2)
+      end if
       if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
       if (.not. allocated(e2)) call check_file_layout(what, b, e2)
       if (.not. allocated(e2) .and. s%shape == 'file') call read_mesh_extras(trim(s%file), &
         b%np, has_tri, tri, has_cells, ptr, xy, e2)
-      if (.not. allocated(e2)) call set_mesh_extras(what, s, deck%run%mode == 'dynamic', &
-        has_tri, tri, has_cells, ptr, xy, b, local, e2)
+      if (.not. allocated(e2) .and. .not. tets) call set_mesh_extras(what, s, &
+        deck%run%mode == 'dynamic', has_tri, tri, has_cells, ptr, xy, b, local, e2)
       if (.not. allocated(e2) .and. deck%run%mode == 'dynamic' .and. s%role == &
         'deformable' .and. s%discretization == 'rkpm' .and. s%integration /= 'direct' .and. &
         .not. allocated(b%cell_ptr)) then
@@ -734,11 +741,15 @@ contains
   !! checked with the deck (s%geo, geo_script_m), built and meshed by gmsh in a confined
   !! thread within the body's limits (gmsh_mesh_m), then the nodes, volumes, boundary
   !! loops, counter-clockwise triangles and median-dual cells that tools/mesh_body.py would
-  !! write for them (mesh_cells_m). where names the deck and body for messages. The log
-  !! says what gmsh made.
-  subroutine mesh_geo(s, where, x, vol, loop, order, tri, ptr, xy, err)
+  !! write for them (mesh_cells_m). In a 3D run (nd = 3) gmsh meshes the script's volumes
+  !! with linear tetrahedra: x (3, np) the nodes of the tetrahedra and tri (4, ne) the
+  !! tetrahedra, of positive volume (tet_mesh_body makes the body); vol, loop, order, ptr
+  !! and xy are then empty. where names the deck and body for messages. The log says what
+  !! gmsh made.
+  subroutine mesh_geo(s, where, nd, x, vol, loop, order, tri, ptr, xy, err)
     type(body_spec_t), intent(in) :: s
     character(len=*), intent(in) :: where
+    integer, intent(in) :: nd
     real(wp), allocatable, intent(out) :: x(:, :), vol(:), xy(:, :)
     integer, allocatable, intent(out) :: loop(:), order(:), tri(:, :), ptr(:)
     type(error_t), allocatable, intent(inout) :: err
@@ -747,7 +758,10 @@ contains
     character(len=:), allocatable :: version, numbers, script
     type(confine_limits_t) :: limits
     type(error_t), allocatable :: e2
-    integer :: k
+    integer :: k, nv
+    character(len=:), allocatable :: elements
+    nv = nd + 1
+    elements = trim(merge('triangles ', 'tetrahedra', nd == 2))
     script = "the gmsh script '"//trim(s%file)//"'"
     numbers = ''
     do k = 1, s%ngeo
@@ -755,7 +769,8 @@ contains
       numbers = numbers//trim(s%geo_names(k))//' = '//rtoa(s%geo_values(k))
     end do
     ! memory: about 800 bytes a triangle while gmsh meshes (measured on 2D meshes of
-    ! 2e4 to 2e6 triangles), so 2 KiB a triangle allowed, and 256 MiB for gmsh itself
+    ! 2e4 to 2e6 triangles), about 560 bytes a tetrahedron (a sphere of 8.5e4 and 2.8e5
+    ! tetrahedra, gmsh 4.15), so 2 KiB an element allowed, and 256 MiB for gmsh itself
     limits%seconds = s%geo_time_limit
     limits%max_growth = 268435456_i64 + 2048_i64*int(s%geo_max_elements, i64)
     limits%msg_time = where//', variable geo_time_limit = '//rtoa(s%geo_time_limit)// &
@@ -764,22 +779,27 @@ contains
       'meshing is meant'
     limits%msg_memory = where//', variable geo_max_elements = '// &
       itoa(s%geo_max_elements)//': meshing '//script//' took more than '// &
-      itoa(int(limits%max_growth/1048576_i64))//' MiB of memory (256 MiB and 2 KiB a '// &
-      'triangle allowed) and was stopped; give the script larger mesh sizes, or raise '// &
+      itoa(int(limits%max_growth/1048576_i64))//' MiB of memory (256 MiB and 2 KiB an '// &
+      'element allowed) and was stopped; give the script larger mesh sizes, or raise '// &
       'geo_max_elements if so large a mesh is meant'
     limits%msg_crash = where//', variable file = '''//trim(s%file)//''': gmsh crashed '// &
       'meshing '//script//' (a fatal signal in gmsh); check the geometry (curves that '// &
       'cross, loops that do not close, a surface without area) or mesh it another way'
-    call gmsh_mesh_model(s%geo, limits, tags, xyz, tri_tags, version, e2)
-    if (.not. allocated(e2) .and. size(tri_tags)/3 > s%geo_max_elements) then
+    call gmsh_mesh_model(s%geo, nd, limits, tags, xyz, tri_tags, version, e2)
+    if (.not. allocated(e2) .and. size(tri_tags)/nv > s%geo_max_elements) then
       call set_error(err, where//', variable geo_max_elements = '// &
-        itoa(s%geo_max_elements)//': gmsh made '//itoa(size(tri_tags)/3)//' triangles of '// &
+        itoa(s%geo_max_elements)//': gmsh made '//itoa(size(tri_tags)/nv)//' '//elements// &
+        ' of '// &
         script//', more than geo_max_elements; give the script larger mesh sizes, or '// &
         'raise geo_max_elements if so large a mesh is meant')
       return
     end if
-    if (.not. allocated(e2)) call mesh_from_tags(tags, xyz, tri_tags, x, tri, e2)
-    if (.not. allocated(e2)) call mesh_body_arrays(x, tri, vol, loop, order, ptr, xy, e2)
+    if (.not. allocated(e2)) call mesh_from_tags(tags, xyz, tri_tags, x, tri, e2, nv)
+    if (nd == 3) then
+      allocate(vol(0), loop(0), order(0), ptr(0), xy(0, 0))
+    else if (.not. allocated(e2)) then
+      call mesh_body_arrays(x, tri, vol, loop, order, ptr, xy, e2)
+    end if
     if (allocated(e2)) then
       if (len(version) == 0) then
         ! gmsh never started (a build without it, or no confinement): its message says
@@ -796,10 +816,83 @@ contains
       return
     end if
     if (len(numbers) > 0) numbers = ' with '//numbers
-    call log_print("body '"//trim(s%name)//"': gmsh "//version//" meshed '"// &
-      trim(s%file)//"'"//numbers//": "//itoa(size(x, 2))//" nodes, "//itoa(size(tri, 2))// &
-      " triangles, "//itoa(maxval(loop))//" boundary loop(s)")
+    if (nd == 3) then
+      call log_print("body '"//trim(s%name)//"': gmsh "//version//" meshed '"// &
+        trim(s%file)//"'"//numbers//": "//itoa(size(x, 2))//" nodes, "// &
+        itoa(size(tri, 2))//" tetrahedra")
+    else
+      call log_print("body '"//trim(s%name)//"': gmsh "//version//" meshed '"// &
+        trim(s%file)//"'"//numbers//": "//itoa(size(x, 2))//" nodes, "// &
+        itoa(size(tri, 2))//" triangles, "//itoa(maxval(loop))//" boundary loop(s)")
+    end if
   end subroutine mesh_geo
+
+  !> The body of a tetrahedral mesh (a 3D gmsh script meshed by mesh_geo): the nodes x
+  !! (3, np) are its particles, each with a quarter of the volume of every tetrahedron
+  !! tet (4, ne) it belongs to (the row sums of the consistent mass, eq. 70: the lumped
+  !! volumes tet4_m gives the element body), summed node 1, 2, 3, 4 of each tetrahedron in
+  !! turn; its facets (the closed surface contact needs) are the faces of one tetrahedron
+  !! only, and their nodes the boundary particles; the nominal spacing is the cube root of
+  !! the mean volume, and local(np) the longest edge at each node (the det(M) supports, as
+  !! a 2D mesh's). elements: the body is a finite-element body (its cells the tetrahedra).
+  !! A face in more than two tetrahedra (a mesh that is not conforming) is an error (every
+  !! node is in a tetrahedron: mesh_from_tags kept those only); what names the mesh.
+  subroutine tet_mesh_body(what, x, tet, elements, b, local, err)
+    character(len=*), intent(in) :: what
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tet(:, :)
+    logical, intent(in) :: elements
+    type(body_t), intent(inout) :: b
+    real(wp), allocatable, intent(inout) :: local(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(tet4_mesh_t) :: mesh
+    integer, allocatable :: faces(:, :), owner(:), zero(:)
+    real(wp), allocatable :: vol(:), v(:)
+    integer :: np, ne, e, k, i, j, nover
+    np = size(x, 2)
+    ne = size(tet, 2)
+    allocate(vol(np), v(ne), local(np))
+    do e = 1, ne
+      v(e) = tet_volume(x, tet(:, e))
+    end do
+    vol = 0.0_wp
+    do k = 1, 4
+      do e = 1, ne
+        vol(tet(k, e)) = vol(tet(k, e)) + 0.25_wp*v(e)
+      end do
+    end do
+    local = 0.0_wp
+    do e = 1, ne
+      do k = 1, 3
+        do j = k + 1, 4
+          i = tet(k, e)
+          local(i) = max(local(i), norm2(x(:, i) - x(:, tet(j, e))))
+          local(tet(j, e)) = max(local(tet(j, e)), norm2(x(:, i) - x(:, tet(j, e))))
+        end do
+      end do
+    end do
+    mesh%ne = ne
+    mesh%tet = tet
+    call tet4_boundary_faces(mesh, np, faces, owner, over=nover)
+    if (nover > 0) then
+      call set_error(err, what//": "//itoa(nover)//" faces belong to more than two "// &
+        "tetrahedra (the mesh is not conforming); fix the script")
+      return
+    end if
+    call check_file_values(what, x, vol, err)
+    if (allocated(err)) return
+    allocate(zero(np))
+    zero = 0
+    call make_from_arrays(b, x, vol, zero, zero, err)
+    if (allocated(err)) return
+    do e = 1, size(faces, 2)
+      b%boundary(faces(:, e)) = .true.
+    end do
+    call move_alloc(faces, b%facets)
+    if (elements) call move_alloc(mesh%tet, b%cells)
+    call log_print("  its surface: "//itoa(size(b%facets, 2))//" triangles over "// &
+      itoa(count(b%boundary))//" nodes")
+  end subroutine tet_mesh_body
 
   !> What an HDF5 particle file may add to its particles (tools/mesh_body.py writes both):
   !! /mesh/triangles (ne, 3 in h5py; 1-based rows of /particles/x), the elements of an FE

@@ -1074,6 +1074,11 @@ contains
       return
     end if
     ! before the basis: a basis that does not exist in ndim is a symptom, the shape the cause
+    if (s%shape == 'geo' .and. nd == 1) then
+      call bad(deck, grp, 'shape', "'geo'", "a gmsh script is meshed in 2D (triangles) "// &
+        "or 3D (tetrahedra): give &run ndim = 2 or 3 (this deck has ndim = 1)", err)
+      return
+    end if
     if (shape_ndim(s%shape) > 0 .and. shape_ndim(s%shape) /= nd) then
       call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", "a '"//trim(s%shape)// &
         "' needs &run ndim = "//itoa(shape_ndim(s%shape))//" (this deck has ndim = "// &
@@ -1131,11 +1136,11 @@ contains
     integer :: j, nd
     nd = deck%run%ndim
     if (s%discretization == 'fem' .and. nd == 3 .and. s%shape /= 'box' .and. &
-      s%shape /= 'cylinder' .and. s%shape /= 'polygon') then
+      s%shape /= 'cylinder' .and. s%shape /= 'polygon' .and. s%shape /= 'geo') then
       call bad(deck, grp, 'discretization', "'fem'", "3D finite elements (linear "// &
         "tetrahedra with averaged nodal pressure) are generated on a 'box', a 'cylinder' "// &
-        "or an extruded 'polygon'; use discretization = 'rkpm' for shape '"// &
-        trim(s%shape)//"'", err)
+        "or an extruded 'polygon', or meshed from a gmsh script (shape = 'geo'); use "// &
+        "discretization = 'rkpm' for shape '"//trim(s%shape)//"'", err)
       return
     end if
     if (s%discretization == 'fem' .and. nd /= 3 .and. ((s%shape /= 'rectangle' .and. &
@@ -1161,6 +1166,13 @@ contains
       s%discretization == 'rkpm') then
       ! what the RKPM tables would refuse at set-up (rkpm_tl_m), named here
       ! (a 'file' body brings its cells, or the body set-up says it has none)
+      if (nd == 3 .and. s%shape == 'geo') then
+        call bad(deck, grp, 'discretization', "'rkpm'", "a deformable 3D body meshed "// &
+          "from a gmsh script is made of its tetrahedra: give discretization = 'fem' (3D "// &
+          "RKPM particles are integrated over the prism cells of an extruded body: shape "// &
+          "= 'box', 'cylinder' or 'polygon' with extrude)", err)
+        return
+      end if
       if (nd == 3 .and. s%shape /= 'box' .and. s%shape /= 'polygon' .and. &
         s%shape /= 'cylinder') then
         call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", "a deformable 3D body is "// &
@@ -1408,7 +1420,8 @@ contains
     end if
     if (s%geo_max_elements < 1) then
       call bad(deck, grp, 'geo_max_elements', itoa(s%geo_max_elements), "give the most "// &
-        "triangles the mesh may have, at least 1 (the default is "// &
+        "elements (triangles, or tetrahedra in 3D) the mesh may have, at least 1 (the "// &
+        "default is "// &
         itoa(default_geo_max_elements)//")", err)
       return
     end if
@@ -1487,7 +1500,20 @@ contains
       return
     end if
     nmin = geo_min_triangles(s%geo)
-    if (nmin > real(s%geo_max_elements, wp)) then
+    if (deck%run%ndim == 3) then
+      ! the plane surfaces' triangles bound the volume's boundary, each a face of one
+      ! tetrahedron, and a tetrahedron has four faces
+      nmin = 0.25_wp*nmin
+      if (nmin > real(s%geo_max_elements, wp)) then
+        call bad(deck, grp, 'geo_max_elements', itoa(s%geo_max_elements), "the sizes of "// &
+          "the gmsh script '"//path//"' ask for at least about "//rtoa(nmin)// &
+          " tetrahedra (the plane surfaces' area over the square of an upper bound of "// &
+          "the mesh size, a quarter of that: each face of the boundary is a face of one "// &
+          "tetrahedron): give the script larger mesh sizes, or raise geo_max_elements "// &
+          "if a mesh that large is meant", err)
+        return
+      end if
+    else if (nmin > real(s%geo_max_elements, wp)) then
       call bad(deck, grp, 'geo_max_elements', itoa(s%geo_max_elements), "the sizes of "// &
         "the gmsh script '"//path//"' ask for at least about "//rtoa(nmin)//" triangles "// &
         "(an area over the square of an upper bound of the mesh size; gmsh makes about "// &
@@ -2083,13 +2109,14 @@ contains
     end select
   end function body_make_vars
 
-  !> The dimension a generated shape needs; 0 for a particle file (any).
+  !> The dimension a generated shape needs; 0 for a particle file or a gmsh script (more
+  !! than one).
   pure integer function shape_ndim(shape)
     character(len=*), intent(in) :: shape
     select case (shape)
     case ('segment')
       shape_ndim = 1
-    case ('rectangle', 'annulus_sector', 'disk', 'geo')
+    case ('rectangle', 'annulus_sector', 'disk')
       shape_ndim = 2
     case ('box', 'cylinder')
       shape_ndim = 3

@@ -174,7 +174,7 @@ contains
       end if
       write(output_unit, '(a)') 'dynamic: body '''//trim(bodies(k)%name)//''': '// &
         itoa(solids(n)%np)//' nodes, '//itoa(solids(n)%nq)//' integration points ('// &
-        discretization_text(deck%bodies(k))//'), material '''// &
+        discretization_text(deck%bodies(k), bodies(k)%ndim)//'), material '''// &
         trim(deck%materials(deck%bodies(k)%imat)%name)//''' ('// &
         solids(n)%mat%model_name()//'), mass '//rtoa(solids(n)%t%total_mass)//' kg'// &
         trim(merge('/m', '  ', .not. axisym .and. bodies(k)%ndim == 2))//'; '// &
@@ -185,11 +185,11 @@ contains
     end do
   end subroutine setup_solids
 
-  pure function discretization_text(s) result(txt)
+  pure function discretization_text(s, nd) result(txt)
     type(body_spec_t), intent(in) :: s
+    integer, intent(in) :: nd
     character(len=:), allocatable :: txt
-    if (s%discretization == 'fem' .and. s%shape /= 'rectangle' .and. &
-      s%shape /= 'annulus_sector' .and. s%shape /= 'file' .and. s%shape /= 'geo') then
+    if (s%discretization == 'fem' .and. nd == 3) then
       txt = 'linear tetrahedra with averaged nodal pressure, one point each'
     else if (s%discretization == 'fem') then
       txt = 'CST4 elements, one point each'

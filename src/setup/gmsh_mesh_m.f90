@@ -1,6 +1,7 @@
 !> gmsh in memory: builds the model of a gmsh script, as mfcd's reader made it
 !! (geo_script_m: every call with plain numbers), through gmsh's C API (gmshc.h, bound here
-!! with ISO_C_BINDING) and meshes it with linear triangles, for &body shape = 'geo'. gmsh's
+!! with ISO_C_BINDING) and meshes it with linear triangles (a 2D run) or linear tetrahedra
+!! (a 3D run: the model's volumes), for &body shape = 'geo'. gmsh's
 !! own interpreter never sees the user's text: no script is merged or opened, so nothing
 !! of gmsh's language but the subset reaches gmsh.
 !!
@@ -15,8 +16,8 @@
 !!
 !! The calls are those gmsh's parser makes for the same script (Gmsh.y of gmsh 4: a point's
 !! size 0 is "none", a 3-point ellipse is start, centre, start, end), in the script's order,
-!! then synchronize, Mesh.ElementOrder 1, generate 2, the nodes and the 2D elements,
-!! finalize; regression_geo_equivalence checks that the mesh is gmsh's mesh of the script,
+!! then synchronize, Mesh.ElementOrder 1, generate 2 (3 in a 3D run), the nodes and the
+!! elements of that dimension, finalize; regression_geo_equivalence checks that the mesh is gmsh's mesh of the script,
 !! bit for bit. Compiled when the build finds gmsh (MFCD_GMSH, cmake/MfcdFindGmsh.cmake);
 !! gmsh_mesh_stub_m.f90 is this module without it.
 !!
@@ -40,8 +41,8 @@ module gmsh_mesh_m
 
   !> This build meshes .geo files (the stub says .false.).
   logical, parameter :: gmsh_built_in = .true.
-  !> gmsh's element type of the 3-node triangle.
-  integer(c_int), parameter :: triangle_3 = 2
+  !> gmsh's element types of the 3-node triangle and the 4-node tetrahedron.
+  integer(c_int), parameter :: triangle_3 = 2, tetrahedron_4 = 4
 
   interface
     subroutine gmshInitialize(argc, argv, readConfigFiles, run, ierr) &
@@ -227,10 +228,12 @@ module gmsh_mesh_m
   end interface
 
   !> What the confined task gets and gives back: the model to build (none: only gmsh's
-  !! version), the mesh's raw arrays, gmsh's version, and msg, '' or what went wrong (with
-  !! the script line of the call gmsh refused).
+  !! version), the mesh's dimension (2: triangles, 3: tetrahedra), the mesh's raw arrays,
+  !! gmsh's version, and msg, '' or what went wrong (with the script line of the call gmsh
+  !! refused).
   type :: mesh_job_t
     type(geo_model_t), pointer :: model => null()
+    integer :: dim = 2
     integer(i64), allocatable :: tags(:), tri_tags(:)
     real(wp), allocatable :: xyz(:)
     character(len=:), allocatable :: version, msg
@@ -258,13 +261,16 @@ contains
     v = job%version
   end function gmsh_version
 
-  !> Build the model in gmsh and mesh it with linear triangles, within limits: the node
-  !! tags tags(n), their coordinates xyz(3*n) and the node tags of the 3-node triangles of
-  !! the 2D mesh, tri_tags(3*ne), as gmsh returns them (mesh_cells_m makes the body of
-  !! them); version is gmsh's. err says what went wrong: gmsh's own message, with the line
-  !! of the script whose call it refused, or why gmsh could not be started confined.
-  subroutine gmsh_mesh_model(model, limits, tags, xyz, tri_tags, version, err)
+  !> Build the model in gmsh and mesh it in dim = 2 (linear triangles of its surfaces) or
+  !! dim = 3 (linear tetrahedra of its volumes) dimensions, within limits: the node tags
+  !! tags(n), their coordinates xyz(3*n) and the node tags of the elements, tri_tags(3*ne)
+  !! of the 3-node triangles or tri_tags(4*ne) of the 4-node tetrahedra, as gmsh returns
+  !! them (mesh_cells_m makes the body of them); version is gmsh's. err says what went
+  !! wrong: gmsh's own message, with the line of the script whose call it refused, or why
+  !! gmsh could not be started confined.
+  subroutine gmsh_mesh_model(model, dim, limits, tags, xyz, tri_tags, version, err)
     type(geo_model_t), target, intent(in) :: model
+    integer, intent(in) :: dim
     type(confine_limits_t), intent(in) :: limits
     integer(i64), allocatable, intent(out) :: tags(:), tri_tags(:)
     real(wp), allocatable, intent(out) :: xyz(:)
@@ -274,6 +280,7 @@ contains
     character(len=:), allocatable :: failure
     type(c_funptr) :: task
     job%model => model
+    job%dim = dim
     job%version = ''
     job%msg = ''
     task = c_funloc(mesh_task)
@@ -314,9 +321,9 @@ contains
       call build(job%model, job%msg)
       if (len(job%msg) == 0) then
         call gmshOptionSetNumber('Mesh.ElementOrder'//c_null_char, 1.0_c_double, ierr)
-        call gmshModelMeshGenerate(2_c_int, ierr)
+        call gmshModelMeshGenerate(int(job%dim, c_int), ierr)
         if (ierr == 0) call get_nodes(job%tags, job%xyz, ierr)
-        if (ierr == 0) call get_triangles(job%tri_tags, ierr)
+        if (ierr == 0) call get_elements(job%dim, job%tri_tags, ierr)
         if (ierr /= 0) job%msg = 'gmsh cannot mesh the script: '//last_error()
       end if
     end if
@@ -453,9 +460,11 @@ contains
     call free_if(pparam)
   end subroutine get_nodes
 
-  !> The node tags of the 3-node triangles among the 2D elements (getElements(2)), in the
-  !! order gmsh gives them.
-  subroutine get_triangles(tri_tags, ierr)
+  !> The node tags of the 3-node triangles among the 2D elements (getElements(2)), or of
+  !! the 4-node tetrahedra among the 3D elements (getElements(3)), in the order gmsh gives
+  !! them.
+  subroutine get_elements(dim, tri_tags, ierr)
+    integer, intent(in) :: dim
     integer(i64), allocatable, intent(out) :: tri_tags(:)
     integer(c_int), intent(out) :: ierr
     type(c_ptr) :: ptypes, petags, petags_n, pntags, pntags_n
@@ -465,8 +474,11 @@ contains
     integer(c_size_t), pointer :: etags_n(:), ntags_n(:), nodes(:)
     integer(i64), allocatable :: part(:)
     integer :: k
+    integer(c_int) :: want
+    want = triangle_3
+    if (dim == 3) want = tetrahedron_4
     call gmshModelMeshGetElements(ptypes, ntypes, petags, petags_n, netags_nn, pntags, &
-      pntags_n, nntags_nn, 2_c_int, -1_c_int, ierr)
+      pntags_n, nntags_nn, int(dim, c_int), -1_c_int, ierr)
     allocate(tri_tags(0))
     if (ierr /= 0) return
     if (ntypes > 0) then
@@ -476,7 +488,7 @@ contains
       call c_f_pointer(pntags, ntags, [nntags_nn])
       call c_f_pointer(pntags_n, ntags_n, [nntags_nn])
       do k = 1, int(ntypes)
-        if (types(k) == triangle_3 .and. ntags_n(k) > 0) then
+        if (types(k) == want .and. ntags_n(k) > 0) then
           call c_f_pointer(ntags(k), nodes, [ntags_n(k)])
           part = int(nodes, i64)
           tri_tags = [tri_tags, part]
@@ -490,7 +502,7 @@ contains
     call free_if(petags_n)
     call free_if(pntags)
     call free_if(pntags_n)
-  end subroutine get_triangles
+  end subroutine get_elements
 
   subroutine free_if(p)
     type(c_ptr), intent(in) :: p

@@ -22,8 +22,9 @@ contains
   end function gmsh_version
 
   !> Always an error: this mfcd was built without gmsh.
-  subroutine gmsh_mesh_model(model, limits, tags, xyz, tri_tags, version, err)
+  subroutine gmsh_mesh_model(model, dim, limits, tags, xyz, tri_tags, version, err)
     type(geo_model_t), target, intent(in) :: model
+    integer, intent(in) :: dim
     type(confine_limits_t), intent(in) :: limits
     integer(i64), allocatable, intent(out) :: tags(:), tri_tags(:)
     real(wp), allocatable, intent(out) :: xyz(:)
@@ -32,7 +33,7 @@ contains
     allocate(tags(0), tri_tags(0), xyz(0))
     version = ''
     ! the arguments are those of gmsh_mesh_m.f90; refusing needs none of them
-    if (model%nops < 0 .or. limits%seconds < 0.0_wp) continue
+    if (model%nops < 0 .or. dim < 0 .or. limits%seconds < 0.0_wp) continue
     call set_error(err, "this mfcd was built without gmsh: run `bash tools/setup.sh "// &
       "--gmsh` and rebuild (bash tools/build.sh), or mesh the script elsewhere and give "// &
       "the mesh as shape = 'file'")

@@ -18,6 +18,7 @@ expect:
     // deck: geo_time_limit = 1, ...                (&body variables for this case)
     // requires: gmsh                               (skipped by an mfcd without gmsh)
     // within: <seconds>                            (the most a run may take; default 20)
+    // ndim: 3                                      (a 3D deck: gmsh meshes tetrahedra)
 
 and the cases made here, which need files a repository cannot hold: a FIFO with no writer,
 sparse files of 2^31 and 2^32 bytes and more, a file one byte over the limit, a symbolic
@@ -89,20 +90,20 @@ def fltk_state():
 
 def header(text):
     meta = {"what": "", "expect": [], "exit": 2, "deck": "", "requires": [],
-            "within": DEFAULT_WITHIN}
+            "within": DEFAULT_WITHIN, "ndim": 2}
     for line in text.splitlines():
         if not line.startswith("//"):
             break
         body = line[2:].strip()
         if not meta["what"]:
             meta["what"] = body
-        for key in ("expect", "exit", "deck", "requires", "within"):
+        for key in ("expect", "exit", "deck", "requires", "within", "ndim"):
             if body.startswith(key + ":"):
                 value = body[len(key) + 1:].strip()
                 if key == "expect":
                     meta["expect"].append(value)
-                elif key == "exit":
-                    meta["exit"] = int(value)
+                elif key in ("exit", "ndim"):
+                    meta[key] = int(value)
                 elif key == "within":
                     meta["within"] = float(value)
                 elif key == "requires":
@@ -112,17 +113,25 @@ def header(text):
     return meta
 
 
-def deck_text(geo, extra):
+def deck_text(geo, extra, ndim=2):
     """A detect deck (a fraction of a second once meshed) naming geo; extra: &body
-    variables, 'name = value, name = value'. The time limit is 30 s unless extra says."""
+    variables, 'name = value, name = value'. The time limit is 30 s unless extra says.
+    ndim = 3: a 3D deck (gmsh meshes the script's volumes)."""
     body = {"geo_time_limit": "30"}
+    if ndim == 3:
+        body["basis"] = "'linear'"   # the default, 'bilinear', is a 2D basis
     for item in filter(None, (s.strip() for s in extra.split(","))):
         k, v = (t.strip() for t in item.split("="))
         body[k] = v
     lines = "".join(f"  {k} = {v}\n" for k, v in body.items())
-    return ("&run\n  ndim = 2\n/\n&body\n  name = 'body'\n  shape = 'geo'\n"
-            f"  file = '{geo}'\n{lines}/\n&detection\n  grid_lo = -0.25, -0.25\n"
-            "  grid_hi = 1.25, 1.25\n  grid_n = 4, 4\n/\n&output\n  file = 'out/run.h5'\n/\n")
+    if ndim == 3:
+        grid = ("  grid_lo = -0.25, -0.25, -0.25\n  grid_hi = 1.25, 1.25, 1.25\n"
+                "  grid_n = 4, 4, 4\n")
+    else:
+        grid = "  grid_lo = -0.25, -0.25\n  grid_hi = 1.25, 1.25\n  grid_n = 4, 4\n"
+    return (f"&run\n  ndim = {ndim}\n/\n&body\n  name = 'body'\n  shape = 'geo'\n"
+            f"  file = '{geo}'\n{lines}/\n&detection\n{grid}/\n&output\n"
+            "  file = 'out/run.h5'\n/\n")
 
 
 def run_case(mfcd, name, meta, make, geo="case.geo"):
@@ -137,7 +146,7 @@ def run_case(mfcd, name, meta, make, geo="case.geo"):
                 os.mkdir(d)
             make(work, marks)
             with open(os.path.join(work, "deck.nml"), "w") as f:
-                f.write(deck_text(geo, meta["deck"]))
+                f.write(deck_text(geo, meta["deck"], meta["ndim"]))
             shutil.copy(os.path.join(CORPUS, "included", "second.geo"),
                         os.path.join(work, "second.geo"))
             for rc in (".petscrc", "petscrc"):
@@ -209,7 +218,7 @@ def made_cases(mfcd, only):
     """The cases whose files are made here (the module's header lists them)."""
     def meta(expect, within=DEFAULT_WITHIN):
         return {"what": "", "expect": expect, "exit": 2, "deck": "", "requires": [],
-                "within": within}
+                "within": within, "ndim": 2}
 
     def write(path, data, mode="w"):
         with open(path, mode) as f:

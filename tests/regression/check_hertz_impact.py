@@ -37,6 +37,24 @@ and energy checks, and (doc/verification.md, measured at b/4, b/8, b/16 and at 1
   would miss it by 5.3%; a check requires that gap to stay above TOL;
 - FEM and RKPM agree to 1.5% on each measure (measured 0.5% at most).
 
+Sphere in full 3D (input/hertz_sphere_3d.geo: eight octant surfaces, one volume of linear
+tetrahedra with averaged nodal pressure; `regression_hertz_3d`): contact elements of a/2
+(hc = 0.2 mm), input/hertz_sphere_3d.nml, beside the axisymmetric FEM twin
+input/hertz_sphere_fem.nml run with the same hc (its geo_values swapped in). Checks:
+
+- the mesh: the nodal volumes sum to the tetrahedra's volume (round-off), within 1% of the
+  sphere's 4/3 pi R^3 (the flat facets cut the sphere: a deficit of order (hf/R)^2/4 = 1%
+  at hf = 1 mm, measured 0.62%), every node within R (1e-12) and one on the pole;
+- the run completes, its energy balance closes to 1e-3 (measured 1e-6), the sphere
+  rebounds at the impact speed to 0.1%;
+- against Hertz, each measure within TOL3 = 7%: at a/2, a/3 and a/4 (doc/verification.md)
+  the 3D runs converge towards the axisymmetric runs' F +3.8%, approach -2.4%, contact
+  time -2.5% (the sphere is not quasi-static, above); a/2 adds up to 2% (measured F +5.7%,
+  approach -4.0%, contact time -4.0%, contact radius -2.5%);
+- against the axisymmetric run with the same contact elements, within 3% on each measure
+  (the two meshes differ: the 3D one is coarser away from the pole, hf = 1 mm against
+  0.5 mm, and tetrahedra are stiffer than CST4 at one size).
+
 Exit 77 (skipped) when mfcd is built without gmsh (its --version says so): `bash
 tools/setup.sh --gmsh` installs gmsh into .venv and the next build finds it (tools/test.sh
 does both).
@@ -44,9 +62,12 @@ does both).
 Usage: check_hertz_impact.py /path/to/mfcd input/hertz_sphere.geo input/hertz_sphere_fem.nml
        input/hertz_sphere_rkpm.nml
        (or the same with input/hertz_cylinder.geo and its two decks)
+       check_hertz_impact.py /path/to/mfcd input/hertz_sphere_3d.geo
+       input/hertz_sphere_3d.nml input/hertz_sphere_fem.nml
 """
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -70,6 +91,9 @@ CASES = {
         "tol": {"delta": 0.025, "force": 0.04, "radius": 0.06, "time": 0.04},
         "agree": 0.015, "rebound": (0.975, 1.001), "radius_label": "contact half-width"},
 }
+# the 3D sphere (docstring): against Hertz, and against the axisymmetric twin
+TOL3 = 0.07
+TWIN = 0.03
 results = []
 prefix = "hertz_impact."
 
@@ -93,10 +117,90 @@ def body_of(path, name):
         return b.x, b.volume, b.triangles
 
 
+def run_deck(mfcd, deck, cwd):
+    p = subprocess.run([mfcd, deck], cwd=cwd, capture_output=True, text=True,
+                       env=dict(os.environ, OMP_NUM_THREADS="1"))
+    return p.returncode, p.stdout[-800:] + p.stderr[-800:]
+
+
+def sphere_3d(mfcd, geo, deck3, axi):
+    """The 3D sphere's checks (docstring)."""
+    with open(deck3) as f:
+        text = f.read()
+    hc = re.search(r"^  geo_values = ([^,]+),", text, re.M).group(1)
+    with tempfile.TemporaryDirectory() as tmp:
+        os.makedirs(os.path.join(tmp, "input"))
+        shutil.copy(geo, os.path.join(tmp, "input", "hertz_sphere_3d.geo"))
+        shutil.copy(os.path.join(os.path.dirname(axi), "hertz_sphere.geo"),
+                    os.path.join(tmp, "input", "hertz_sphere.geo"))
+        with open(axi) as f:
+            twin = re.sub(r"^(  geo_values = )[^,]+,", r"\g<1>%s," % hc, f.read(), flags=re.M)
+        twin_deck = os.path.join(tmp, "axi.nml")
+        with open(twin_deck, "w") as f:
+            f.write(twin)
+        runs = {}
+        for name, deck, out in (("3d", deck3, "hertz_sphere_3d.h5"),
+                                ("axisymmetric", twin_deck, "hertz_sphere_fem.h5")):
+            rc, log = run_deck(mfcd, deck, tmp)
+            check("%s run completes (hc = %s m)" % (name, hc), rc == 0, log)
+            if rc:
+                continue
+            path = os.path.join(tmp, "output", out)
+            if name == "3d":
+                with MfcdFile(path) as f:
+                    x = f.body("sphere").x
+                    vol = f.body("sphere").volume
+                    # 0-based rows of x (doc/output.md)
+                    tet = np.asarray(f.h5["bodies/sphere/tetrahedra"], dtype=np.int64)
+                p = [x[tet[:, k]] for k in range(4)]
+                v = np.einsum("ij,ij->i", np.cross(p[1] - p[0], p[2] - p[0]), p[3] - p[0]) / 6
+                exact = 4.0 / 3.0 * math.pi * 5e-3 ** 3
+                # round-off of sums of ~1e4 terms
+                check("3d: %d nodes, %d tetrahedra (all of positive volume); the nodal "
+                      "volumes sum to theirs (%.4e m^3)" % (len(x), len(tet), v.sum()),
+                      v.min() > 0 and abs(vol.sum() / v.sum() - 1) < 1e-12,
+                      (v.min(), vol.sum(), v.sum()))
+                check("3d: the mesh holds %.4f of the sphere's volume (within 1%%)"
+                      % (v.sum() / exact), abs(v.sum() / exact - 1) < 0.01)
+                r = np.linalg.norm(x - [0.0, 0.0, 5e-3], axis=1)
+                check("3d: every node within the sphere, one on its pole (r/R max %.15f)"
+                      % (r.max() / 5e-3), r.max() <= 5e-3 * (1 + 1e-12)
+                      and np.min(np.linalg.norm(x, axis=1)) < 1e-12, (r.max(), x[:, 2].min()))
+            r = measure(path, 5e-3)
+            runs[name] = r
+            check("%s: energy balance closes (%.1e)" % (name, r["energy"]),
+                  abs(r["energy"]) < 1e-3)
+            check("%s: rebounds at %.4f m/s (impact %.1f m/s)" % (name, r["rebound"],
+                                                                  r["speed"]),
+                  abs(r["rebound"] / r["speed"] - 1) < 1e-3)
+        if "3d" in runs:
+            r = runs["3d"]
+            for key, label in (("delta", "approach"), ("force", "peak force"),
+                               ("radius", "contact radius"), ("time", "contact time")):
+                err = r["got"][key] / r["hertz"][key] - 1
+                check("3d: %s %+.1f%% of Hertz (within %.0f%%)" % (label, 100 * err,
+                                                                  100 * TOL3),
+                      abs(err) <= TOL3, (r["got"][key], r["hertz"][key]))
+                if "axisymmetric" in runs:
+                    a = runs["axisymmetric"]["got"][key]
+                    d = r["got"][key] / a - 1
+                    check("3d: %s %+.1f%% of the axisymmetric run's (within %.0f%%)"
+                          % (label, 100 * d, 100 * TWIN), abs(d) <= TWIN, (r["got"][key], a))
+
+
 def main():
     global prefix
     mfcd, geo, fem, rkpm = (os.path.abspath(p) for p in sys.argv[1:5])
     case = os.path.splitext(os.path.basename(geo))[0]
+    if case == "hertz_sphere_3d":
+        prefix = "hertz_3d."
+        if not has_gmsh(mfcd):
+            print("hertz_3d: mfcd is built without gmsh (bash tools/setup.sh --gmsh, then "
+                  "rebuild): skipped")
+            sys.exit(77)
+        sphere_3d(mfcd, geo, fem, rkpm)
+        print("%d passed, %d failed" % (results.count(True), results.count(False)))
+        sys.exit(0 if results and all(results) else 1)
     if case not in CASES:
         print("check_hertz_impact: %s: not one of %s" % (geo, ", ".join(CASES)))
         sys.exit(2)
