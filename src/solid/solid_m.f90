@@ -61,6 +61,18 @@ module solid_m
   !> Material points are updated in blocks of this many (dynamic scheduling over blocks).
   integer, parameter :: material_block = 256
 
+  !> Averaged nodal pressure: the share of a tetrahedron's own volume change in the volume
+  !! its material sees, J_mix = J_bar^(1 - anp_own) J^anp_own (anp_average). With none, a
+  !! tetrahedron's volume may leave its nodes' mean at no volumetric cost (the nodal means,
+  !! one per node, leave about five of the six volumes per node free), resisted only by the
+  !! deviatoric stiffness of its isochoric part, which plastic flow at the saturated flow
+  !! stress takes away: in the Taylor bar's foot single tetrahedra then fall to J = 0.08
+  !! with their nodes' J near 1 and the critical step with them. The share puts a bulk
+  !! modulus anp_own K (0.9 GPa for steel, twice its initial yield stress) on the difference
+  !! ln J - ln J_bar: weak against the plastic flow (the thick cylinder's limit pressure
+  !! moves by +0.1%), but no free mode.
+  real(wp), parameter, public :: anp_own = 0.005_wp
+
   !> A field of a solid's step state: what the reference configuration does not fix and a
   !! step changes. state_fields is the one list of them, through which checkpoints
   !! (run_checkpoint_m), the parts of a run restarted on ranks and the gathers to rank 0
@@ -652,25 +664,30 @@ contains
 
   !> The averaged nodal pressure (Bonet and Burton 1998): at the points list(1:n) (all when
   !! list is absent), after F is computed there, the material's deformation gradient
-  !!   F_bar = (J_bar/J)^(1/3) F,   J_bar = (1/4) sum_{a in e} J_a,
+  !!   F_bar = (J_mix/J)^(1/3) F,   J_mix = J_bar^(1 - a) J^a  (a = anp_own),
+  !!   J_bar = (1/4) sum_{a in e} J_a,
   !!   J_a = sum_{e' around a} V_e' J_e' / sum_{e' around a} V_e'
   !! (J = det F of the point, J_a the volume-weighted mean over the points around node a,
   !! gathered per node over the transpose: no races). F_bar has the point's isochoric part
-  !! F/J^(1/3) and the volume change of its nodes: the deviatoric rates dev D and the spin
-  !! are the point's own, the volumetric rate follows the averaged volume. A linear tetrahedron
-  !! has one volume constraint per element, about 6 per node against 3 degrees of freedom, and
-  !! locks in isochoric (plastic) flow; with J_bar the constraints are one per node. A point
-  !! whose J or J_bar is not positive keeps F (its J is what the health check sees).
+  !! F/J^(1/3) and the volume change of its nodes (with the small share a of its own): the
+  !! deviatoric rates dev D and the spin are the point's own, the volumetric rate follows
+  !! the averaged volume. A linear tetrahedron has one volume constraint per element, about 6
+  !! per node against 3 degrees of freedom, and locks in isochoric (plastic) flow; with
+  !! J_bar the constraints are one per node, and the share a keeps each element's volume
+  !! from drifting off its nodes' at no cost (anp_own). jq(2, q) holds J_bar. A point whose
+  !! J or J_bar is not positive keeps F (its J is what the health check sees).
   !! Consistency: on a linear displacement field J is uniform, so J_a = J_bar = J and
   !! F_bar = F (the patch test is untouched). With P built from anp_stress's Kirchhoff stress
-  !! tau_dev + (J/J_bar) p_K I (p_K the material's Kirchhoff pressure at J_bar) and the point's
-  !! own F, the force of eq. (72) is Bonet and Burton's
+  !! tau_dev + ((1 - a) J/J_bar + a) p_K I (p_K the material's Kirchhoff pressure at J_mix)
+  !! and the point's own F, the force of eq. (72) is Bonet and Burton's
   !!   f_b = sum_e v_e (J_e^-1 tau_dev + p_e I) grad_x N_b,   p_e = p_K/J_bar,
-  !! which for a pressure linear in J, p_e = mean_{a in e} p(J_a), is exactly the gradient of
-  !! the nodal volumetric energy sum_a V_a U(J_a) (V_a = sum V_e/4, J_a = v_a/V_a; their eq.
-  !! for the nodal force): conservative, and the internal work P : dF over the points' own F
-  !! (points_account) is the work of these forces to round-off. Distributed memory: the ghost
-  !! points' J and the ghost nodes' J_a come from their owners (two exchanges).
+  !! with the share 1 - a of the pressure, plus the plain tetrahedron's (p_e = p_K/J_e) with
+  !! the share a. For a pressure linear in J, p_e = mean_{a in e} p(J_a), the first is
+  !! exactly the gradient of the nodal volumetric energy sum_a V_a U(J_a) (V_a = sum V_e/4,
+  !! J_a = v_a/V_a; their eq. for the nodal force), the second that of sum_e V_e U(J_e):
+  !! conservative, and the internal work P : dF over the points' own F (points_account) is
+  !! the work of these forces to round-off. Distributed memory: the ghost points' J and the
+  !! ghost nodes' J_a come from their owners (two exchanges).
   subroutine anp_average(s, list, n)
     type(solid_t), intent(inout) :: s
     integer, intent(in), optional :: list(:), n
@@ -715,7 +732,7 @@ contains
       jb = jb/real(max(1, s%t%ptr(q + 1) - s%t%ptr(q)), wp)
       if (s%jq(1, q) > 0.0_wp .and. jb > 0.0_wp) then
         s%jq(2, q) = jb
-        s%fbar(:, q) = (jb/s%jq(1, q))**(1.0_wp/3.0_wp)*s%state%f(:, q)
+        s%fbar(:, q) = (jb/s%jq(1, q))**((1.0_wp - anp_own)/3.0_wp)*s%state%f(:, q)
       else
         s%jq(2, q) = s%jq(1, q)
         s%fbar(:, q) = s%state%f(:, q)
@@ -726,7 +743,8 @@ contains
 
   !> The Kirchhoff stress P takes at the points list(1:n) (all when absent) under the
   !! averaged nodal pressure: the material's tau (at F_bar) with its pressure carried by the
-  !! point's own volume, tau_dev + (J/J_bar) (tr tau/3) I, so that P = taup F^-T with the
+  !! point's own volume, tau_dev + ((1 - a) J/J_bar + a) (tr tau/3) I (a = anp_own: the
+  !! share of the plain tetrahedron's pressure), so that P = taup F^-T with the
   !! point's own F gives Bonet and Burton's nodal force (anp_average). The normal
   !! components come first in both layouts (11, 22, 33).
   subroutine anp_stress(s, list, n)
@@ -743,7 +761,7 @@ contains
       q = k
       if (listed) q = list(k)
       m = (s%state%st%tau(1, q) + s%state%st%tau(2, q) + s%state%st%tau(3, q))/3.0_wp* &
-        (s%jq(1, q)/s%jq(2, q) - 1.0_wp)
+        (1.0_wp - anp_own)*(s%jq(1, q)/s%jq(2, q) - 1.0_wp)
       s%taup(:, q) = s%state%st%tau(:, q)
       s%taup(1:3, q) = s%taup(1:3, q) + m
     end do
