@@ -12,9 +12,15 @@
 !! (Real-Time Collision Detection, 2005, Section 5.1.5), by the Voronoi regions of its
 !! vertices, edges and face.
 !!
-!! Search: every facet, brute force (cheap while a contact pass asks for the gaps of the few
-!! particles det(M) flags; binning the facets by their boxes for large masters is the next
-!! step). A deforming master's surface is moved each step by surface3d_update.
+!! Search: the facets are binned by their boxes on a uniform grid (cells about the mean
+!! facet size, at most bin_cap cells a facet); a query visits the cells in rings of growing
+!! Chebyshev distance r around p's cell and stops when the best distance found is below
+!! r cells, closer than any facet outside the rings visited. The facet chosen is the
+!! brute-force search's (the smallest squared distance, the lowest facet number among
+!! equal ones): the stop is strict, so every facet not visited lies farther, and equal
+!! distances compare by number. A deforming master's surface is moved each step by
+!! surface3d_update, which bins the facets again on the same cell size (the grid's arrays
+!! grow only when it needs more cells or entries than it had).
 module surface3d_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
@@ -32,7 +38,16 @@ module surface3d_m
                                              !! (from its vertex k to k + 1)
     real(wp), allocatable :: vn(:, :)        !< (3, np) vertex pseudo-normals
     integer, allocatable :: partner(:, :)    !< (3, nf) the other facet of edge k of facet
+    !> the bins: the grid's corner lo (m), its cell size (m) and cells per axis, and the
+    !! facets whose boxes touch cell c, cfac(cptr(c) : cptr(c + 1) - 1) (c numbered x
+    !! fastest from 1)
+    real(wp) :: lo(3) = 0.0_wp, cell = 1.0_wp
+    integer :: nc(3) = 1
+    integer, allocatable :: cptr(:), cfac(:)
   end type surface3d_t
+
+  !> The most grid cells per facet (the cell size grows for a sparse surface in a large box)
+  integer, parameter :: bin_cap = 8
 
 contains
 
@@ -83,8 +98,86 @@ contains
       s%partner(ek(order(i + 1)), ef(order(i + 1))) = ef(order(i))
       i = i + 2
     end do
+    ! the bins' cell size: the mean of the facets' longest edges in this configuration
+    s%cell = 0.0_wp
+    do m = 1, s%nf
+      s%cell = s%cell + max(norm2(x(:, tri(2, m)) - x(:, tri(1, m))), &
+        norm2(x(:, tri(3, m)) - x(:, tri(2, m))), norm2(x(:, tri(1, m)) - x(:, tri(3, m))))
+    end do
+    s%cell = s%cell/real(max(s%nf, 1), wp)
     call surface3d_update(s, x)
   end subroutine surface3d_build
+
+  !> The facets binned by their boxes in the current configuration s%x (surface3d_m's
+  !! header): the grid over the vertices' box, cells of s%cell grown until there are at
+  !! most bin_cap per facet.
+  subroutine bin_facets(s)
+    type(surface3d_t), intent(inout) :: s
+    real(wp) :: hi(3), bl(3), bh(3), h
+    integer :: m, i, j, k, c, ncell, il(3), ih(3), n
+    s%lo = minval(s%x, dim=2)
+    hi = maxval(s%x, dim=2)
+    h = s%cell
+    if (.not. (h > 0.0_wp)) h = max(maxval(hi - s%lo), tiny(1.0_wp))
+    do
+      s%nc = max(1, ceiling((hi - s%lo)/h))
+      if (real(s%nc(1), wp)*real(s%nc(2), wp)*real(s%nc(3), wp) <= &
+        real(bin_cap, wp)*real(max(s%nf, 1), wp)) exit
+      h = 1.5_wp*h
+    end do
+    s%cell = h
+    ncell = s%nc(1)*s%nc(2)*s%nc(3)
+    if (allocated(s%cptr)) then
+      if (size(s%cptr) < ncell + 1) deallocate(s%cptr)
+    end if
+    if (.not. allocated(s%cptr)) allocate(s%cptr(ncell + 1))
+    s%cptr(1:ncell + 1) = 0
+    ! count, then fill (cptr(c + 1) counts cell c's facets, then becomes its start)
+    do n = 1, 2
+      do m = 1, s%nf
+        bl = min(s%x(:, s%tri(1, m)), s%x(:, s%tri(2, m)), s%x(:, s%tri(3, m)))
+        bh = max(s%x(:, s%tri(1, m)), s%x(:, s%tri(2, m)), s%x(:, s%tri(3, m)))
+        il = cell_of(s, bl)
+        ih = cell_of(s, bh)
+        do k = il(3), ih(3)
+          do j = il(2), ih(2)
+            do i = il(1), ih(1)
+              c = i + s%nc(1)*((j - 1) + s%nc(2)*(k - 1))
+              if (n == 1) then
+                s%cptr(c + 1) = s%cptr(c + 1) + 1
+              else
+                s%cfac(s%cptr(c)) = m
+                s%cptr(c) = s%cptr(c) + 1
+              end if
+            end do
+          end do
+        end do
+      end do
+      if (n == 1) then
+        s%cptr(1) = 1
+        do c = 1, ncell
+          s%cptr(c + 1) = s%cptr(c + 1) + s%cptr(c)
+        end do
+        if (allocated(s%cfac)) then
+          if (size(s%cfac) < s%cptr(ncell + 1) - 1) deallocate(s%cfac)
+        end if
+        if (.not. allocated(s%cfac)) allocate(s%cfac(s%cptr(ncell + 1) - 1))
+      end if
+    end do
+    ! the fill moved each cell's start to the next cell's: move them back
+    do c = ncell, 2, -1
+      s%cptr(c) = s%cptr(c - 1)
+    end do
+    s%cptr(1) = 1
+  end subroutine bin_facets
+
+  !> The grid cell (i, j, k) holding point p, clamped to the grid.
+  pure function cell_of(s, p) result(ijk)
+    type(surface3d_t), intent(in) :: s
+    real(wp), intent(in) :: p(3)
+    integer :: ijk(3)
+    ijk = min(s%nc, max(1, 1 + floor((p - s%lo)/s%cell)))
+  end function cell_of
 
   !> The normals and pseudo-normals of surface s (surface3d_build) at the vertices' new
   !! positions x (3, np) (m): a deforming master's surface, moved each step without
@@ -115,34 +208,53 @@ contains
         s%en(:, k, m) = s%fn(:, m) + s%fn(:, s%partner(k, m))
       end do
     end do
+    call bin_facets(s)
   end subroutine surface3d_update
 
   !> The closest point of surface s to p: the signed gap g (m, < 0 inside), the outward unit
   !! normal nrm ((p - q)/|p - q| turned outward; the feature's pseudo-normal when p lies on
-  !! the surface), the facet jf and the barycentric coordinates bary of q on it.
-  pure subroutine surface3d_gap(s, p, g, nrm, jf, bary)
+  !! the surface), the facet jf and the barycentric coordinates bary of q on it. every
+  !! (optional, .false. by default): search every facet instead of the bins (the reference
+  !! the bins must give bit for bit, test_surface3d).
+  pure subroutine surface3d_gap(s, p, g, nrm, jf, bary, every)
     type(surface3d_t), intent(in) :: s
     real(wp), intent(in) :: p(3)
     real(wp), intent(out) :: g, nrm(3), bary(3)
     integer, intent(out) :: jf
-    integer :: m, region, rbest
-    real(wp) :: q(3), d2, best, bb(3), qbest(3), pn(3), dist
+    logical, intent(in), optional :: every
+    integer :: m, rbest, r, i, j, k, c, l, ijk(3), rmax
+    real(wp) :: best, qbest(3), pn(3), dist
     best = huge(1.0_wp)
     jf = 0
     rbest = 0
     bary = 0.0_wp
     qbest = p
-    do m = 1, s%nf
-      call closest_on_triangle(p, s%x(:, s%tri(1, m)), s%x(:, s%tri(2, m)), &
-        s%x(:, s%tri(3, m)), q, bb, region)
-      d2 = sum((p - q)**2)
-      if (d2 < best) then
-        best = d2
-        jf = m
-        qbest = q
-        bary = bb
-        rbest = region
+    ijk = cell_of(s, p)
+    rmax = maxval(max(ijk - 1, s%nc - ijk))
+    if (present(every)) then
+      if (every) then
+        rmax = -1
+        do m = 1, s%nf
+          call try_facet(s, p, m, best, jf, qbest, bary, rbest)
+        end do
       end if
+    end if
+    ! rings of cells at Chebyshev distance r from p's cell; every facet outside rings
+    ! 0 .. r lies at least r cells from p (also from a p outside the grid: its cell is
+    ! clamped), so the search stops once the best distance is strictly below that
+    do r = 0, rmax
+      do k = max(1, ijk(3) - r), min(s%nc(3), ijk(3) + r)
+        do j = max(1, ijk(2) - r), min(s%nc(2), ijk(2) + r)
+          do i = max(1, ijk(1) - r), min(s%nc(1), ijk(1) + r)
+            if (max(abs(i - ijk(1)), abs(j - ijk(2)), abs(k - ijk(3))) /= r) cycle
+            c = i + s%nc(1)*((j - 1) + s%nc(2)*(k - 1))
+            do l = s%cptr(c), s%cptr(c + 1) - 1
+              call try_facet(s, p, s%cfac(l), best, jf, qbest, bary, rbest)
+            end do
+          end do
+        end do
+      end do
+      if (jf > 0 .and. best < (real(r, wp)*s%cell)**2) exit
     end do
     g = huge(1.0_wp)
     nrm = 0.0_wp
@@ -166,6 +278,30 @@ contains
       nrm = pn/norm2(pn)
     end if
   end subroutine surface3d_gap
+
+  !> Facet m of s against the best so far for point p (squared distance best, facet jf,
+  !! closest point qbest, its barycentric coordinates bary and Voronoi region rbest): the
+  !! smallest squared distance wins, then the lowest facet number (the brute-force search's
+  !! choice, whatever order the bins give).
+  pure subroutine try_facet(s, p, m, best, jf, qbest, bary, rbest)
+    type(surface3d_t), intent(in) :: s
+    real(wp), intent(in) :: p(3)
+    integer, intent(in) :: m
+    real(wp), intent(inout) :: best, qbest(3), bary(3)
+    integer, intent(inout) :: jf, rbest
+    real(wp) :: q(3), bb(3), d2
+    integer :: region
+    call closest_on_triangle(p, s%x(:, s%tri(1, m)), s%x(:, s%tri(2, m)), &
+      s%x(:, s%tri(3, m)), q, bb, region)
+    d2 = sum((p - q)**2)
+    if (d2 < best .or. (d2 == best .and. m < jf)) then
+      best = d2
+      jf = m
+      qbest = q
+      bary = bb
+      rbest = region
+    end if
+  end subroutine try_facet
 
   !> The point q of triangle (a, b, c) closest to p, its barycentric coordinates (of a, b,
   !! c) and its Voronoi region: 0 the face, k = 1, 2, 3 vertex k, 3 + k the edge from vertex
