@@ -1245,11 +1245,9 @@ contains
   !> detect_det_m for 3D bodies: a's particles in b's grown box with det(M_b) above the
   !! threshold at their predicted positions are flagged (ndet of neval evaluated); the
   !! flagged ones get the signed gap to b's closed triangle surface (surface3d_gap: the
-  !! closest point over every facet, the sign from the pseudo-normal of the feature it lies
-  !! on), and those with g < 0 are marked active with the outward normal, the facet and the
-  !! barycentric coordinates of the closest point. (Every facet is searched: brute force,
-  !! cheap while few particles are flagged per step; binning the facets by their boxes is
-  !! the next step for large masters.)
+  !! closest point over the facets, found through their bins, the sign from the
+  !! pseudo-normal of the feature it lies on), and those with g < 0 are marked active with
+  !! the outward normal, the facet and the barycentric coordinates of the closest point.
   subroutine detect_det_m_3d(a, b, neval, ndet)
     type(side_t), intent(inout) :: a
     type(side_t), intent(in) :: b
