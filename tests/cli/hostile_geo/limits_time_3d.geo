@@ -1,8 +1,8 @@
-// limit (time, 3D): a unit cube with coarse faces (size 0.2, so the surface mesh is quick and the size estimate of its plane faces is small) and a Ball field asking for tetrahedra of size 0.002 inside (about 10^8 of them: gmsh would fill the volume for hours, its memory growing by a few MB a second), under geo_time_limit = 5: stopped after 5 s
-// deck: geo_time_limit = 5
+// limit (time, 3D): a unit cube with coarse faces (size 0.2, so the surface mesh is quick and the size estimate of its plane faces is small) and a Ball field asking for tetrahedra of size 0.002 inside (about 10^8 of them: gmsh would fill the volume for hours, its memory growing by a few MB a second), under geo_time_limit = 2: stopped after 2 s
+// deck: geo_time_limit = 2
 // ndim: 3
 // requires: gmsh
-// expect: variable geo_time_limit = 5
+// expect: variable geo_time_limit = 2
 // expect: took longer than
 h = 0.2;
 Point(1) = {0, 0, 0, h};
