@@ -61,6 +61,19 @@ module rkpm_tl3d_m
   !> A half cell holding less than this fraction of its cell's volume is empty (as in the
   !! 2D builder: clipping round-off, far below any genuine half).
   real(wp), parameter :: empty_half = 1.0e-9_wp
+  !> Particles per block of the build (scni_tables_3d, positions_3d): a block's cells are
+  !! kept row by row (the entries each has) until the block is packed, so the build's peak
+  !! is the packed tables and not np rows padded to the most candidates any cell has (a few
+  !! hundred, 60 B each compact, 156 B folded; issue 23: 10^6 particles in 3D).
+  integer, parameter :: block_np = 4096
+
+  !> Rows of a table, packed (the entries each row has, in order): one cell's, or one
+  !! block's kept until every block's count is known. Particle ids, values a (g or N), b
+  !! (gs) and m (\int N dV, a cell's).
+  type :: rows_t
+    integer, allocatable :: id(:)
+    real(wp), allocatable :: a(:, :), b(:, :), m(:)
+  end type rows_t
 
   !> The shape functions of a body with symmetry planes folded onto its particles: cloud
   !! particle k is particle twin(k) (k itself for k <= np), its displacement mirrored in
@@ -151,7 +164,12 @@ contains
     call cloud_init(c, xe(:, 1:ni), rhoe(:, 1:ni), vole(1:ni), b%kid, b%wshape, b%bid, &
       b%h(1:3), err)
     f%twin = f%twin(1:ni)
-    f%sgn = f%sgn(:, 1:ni)
+    ! (signs are read only where the components are folded)
+    if (f%ncg == 3) then
+      f%sgn = f%sgn(:, 1:ni)
+    else
+      deallocate(f%sgn)
+    end if
   end subroutine folded_cloud
 
   !> The SCNI tables of 3D lattice body b (reference configuration); rho0: density (kg/m^3).
@@ -160,11 +178,6 @@ contains
     real(wp), intent(in) :: rho0
     type(solid_tables_t), intent(out) :: t
     type(error_t), allocatable, intent(inout) :: err
-    type(rk_cloud_t) :: c
-    type(fold_t) :: f
-    real(wp), allocatable :: gl(:, :, :), ml(:, :), sl(:, :, :)
-    integer, allocatable :: idl(:, :), nl(:), cand(:)
-    integer :: np, maxk, i, n, bad, ng
     if (b%ndim /= 3 .or. (b%geom%kind /= geom_prism .and. b%geom%kind /= geom_cylinder)) then
       call set_error(err, "body '"//trim(b%name)//"': the 3D RKPM tables need a 3D body "// &
         "extruded along z (shape 'box', 'cylinder', or a 'polygon' with extrude)")
@@ -178,11 +191,35 @@ contains
         return
       end if
     end if
-    np = b%np
-    t%np = np
-    t%nq = np
+    t%np = b%np
+    t%nq = b%np
     t%axisym = .false.
     t%scheme = 1
+    call scni_tables_3d(b, rho0, t, err)
+    if (allocated(err)) return
+    ! (the cloud is gone by now: the transpose's arrays take its place at the build's peak)
+    call tables_transpose(t)
+    t%total_mass = sum(t%mass)
+    t%total_volume = sum(t%wgt)
+  end subroutine tl_build_3d
+
+  !> tl_build_3d's tables but the transpose. The cells are integrated block by block
+  !! (block_np particles), each cell's row kept compact (the entries it has) until its
+  !! block is packed; the CSR arrays are allocated once the total is known and filled from
+  !! the blocks. The tables are those of one pass over all the cells with padded (maxk, np)
+  !! arrays, to the bit: the same entries in the same order, the masses summed in the same
+  !! order.
+  subroutine scni_tables_3d(b, rho0, t, err)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: rho0
+    type(solid_tables_t), intent(inout) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    type(rk_cloud_t) :: c
+    type(fold_t) :: f
+    type(rows_t), allocatable :: rows(:), cells(:)
+    integer, allocatable :: nl(:), cand(:)
+    integer :: np, maxk, i, n, bad, ng, kb, i0, i1
+    np = b%np
     call folded_cloud(b, c, f, err)
     if (allocated(err)) return
     t%dims = dims_3d
@@ -197,55 +234,130 @@ contains
       call bins_candidates(c%bins, b%x(:, i), c%rmax(1:3) + 0.5_wp*b%spacing(1:3), cand, n)
       maxk = max(maxk, n)
     end do
-    allocate(gl(ng, maxk, np), ml(maxk, np), sl(ng, maxk, np), idl(maxk, np), nl(np))
-    allocate(t%xq(3, np), t%owner(np), t%wgt(np), t%fix1(np), t%ws(3, np))
+    deallocate(cand)
+    ! the arrays of np entries before the blocks: on the heap (when not mapped) the blocks
+    ! then lie above them, and gather_rows frees them from the top down
+    allocate(t%xq(3, np), t%owner(np), t%wgt(np), t%fix1(np), t%ws(3, np), t%mass(np), &
+      t%ptr(np + 1), t%pptr(np + 1), nl(np))
     t%fix1 = .false.
+    t%mass = 0.0_wp
+    allocate(rows((np + block_np - 1)/block_np), cells(min(block_np, np)))
     bad = 0
-    call cell_integrals(b, c, f, maxk, gl, ml, sl, idl, nl, t%wgt, t%ws, bad)
-    if (bad > 0) then
-      call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined in the "// &
-        "cell of particle "//itoa(bad)//" (too few particles cover a point of it; a larger "// &
-        "support_factor mends it)")
-      return
-    end if
+    do kb = 1, size(rows)
+      i0 = (kb - 1)*block_np + 1
+      i1 = min(np, kb*block_np)
+      call cell_integrals(b, c, f, i0, maxk, cells(1:i1 - i0 + 1), t%wgt(i0:i1), &
+        t%ws(:, i0:i1), bad)
+      ! (the first block with such a cell stops the build: its largest such particle)
+      if (bad > 0) then
+        call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined in "// &
+          "the cell of particle "//itoa(bad)//" (too few particles cover a point of it; a "// &
+          "larger support_factor mends it)")
+        return
+      end if
+      call pack_rows(cells(1:i1 - i0 + 1), ng, rho0, rows(kb), nl(i0:i1), t%mass)
+    end do
     t%xq = b%x
     t%owner = [(i, i = 1, np)]
-    call compress_3d(t, gl, ml, sl, idl, nl, rho0)
+    t%ptr(1) = 1
+    do i = 1, np
+      t%ptr(i + 1) = t%ptr(i) + nl(i)
+    end do
+    deallocate(nl)
+    n = t%ptr(np + 1) - 1
+    allocate(t%nbr(n), t%g(ng, n), t%gs(ng, n), t%h(n))
+    t%h = 0.0_wp
+    call gather_rows(rows, t%ptr, t%nbr, t%g, t%gs)
     call positions_3d(b, c, f, t, err)
-    if (allocated(err)) return
-    call tables_transpose(t)
-    t%total_mass = sum(t%mass)
-    t%total_volume = sum(t%wgt)
-  end subroutine tl_build_3d
+  end subroutine scni_tables_3d
 
-  !> For each particle i: the volume of its cell (vol(i)), the unnormalised face integrals
-  !! \oint N_I n dS (gl) and volume integrals \int N_I dV (ml) of the particles I touching
-  !! it (idl, nl), then gl divided by the volume; the half cells' smoothed gradients minus
-  !! the cell's (sl) and their weights (ws). bad: the largest particle whose cell has a
-  !! point where the shape functions are undefined (0: none).
-  subroutine cell_integrals(b, c, f, maxk, gl, ml, sl, idl, nl, vol, ws, bad)
+  !> One block's cells packed into r (each freed once copied): their entries in order
+  !! (ids, gradients g, half-cell differences gs; nl of each cell), their lumped masses
+  !! rho0 \int N dV added to mass cell by cell, entry by entry, as the whole table's rows
+  !! give them (the same sums in the same order).
+  subroutine pack_rows(cells, ng, rho0, r, nl, mass)
+    type(rows_t), intent(inout) :: cells(:)
+    integer, intent(in) :: ng
+    real(wp), intent(in) :: rho0
+    type(rows_t), intent(out) :: r
+    integer, intent(out) :: nl(:)
+    real(wp), intent(inout) :: mass(:)
+    integer :: j, k, e
+    do j = 1, size(cells)
+      nl(j) = size(cells(j)%id)
+    end do
+    allocate(r%id(sum(nl)), r%a(ng, sum(nl)), r%b(ng, sum(nl)))
+    e = 0
+    do j = 1, size(cells)
+      do k = 1, nl(j)
+        e = e + 1
+        r%id(e) = cells(j)%id(k)
+        r%a(:, e) = cells(j)%a(:, k)
+        r%b(:, e) = cells(j)%b(:, k)
+        mass(cells(j)%id(k)) = mass(cells(j)%id(k)) + rho0*cells(j)%m(k)
+      end do
+      deallocate(cells(j)%id, cells(j)%a, cells(j)%b, cells(j)%m)
+    end do
+  end subroutine pack_rows
+
+  !> The packed blocks copied into the CSR arrays (ptr over the particles, block k holding
+  !! rows (k - 1) block_np + 1, ...): ids into nbr, a into va, b into vb when present; each
+  !! block freed once copied, the last first, so that blocks on the heap go back to the
+  !! system as its top shrinks (mapped ones go back as they are freed) and the copy's peak
+  !! stays near one set of tables.
+  subroutine gather_rows(rows, ptr, nbr, va, vb)
+    type(rows_t), intent(inout) :: rows(:)
+    integer, intent(in) :: ptr(:)
+    integer, intent(out) :: nbr(:)
+    real(wp), intent(out) :: va(:, :)
+    real(wp), intent(out), optional :: vb(:, :)
+    integer :: kb, e0, n
+    do kb = size(rows), 1, -1
+      e0 = ptr((kb - 1)*block_np + 1) - 1
+      n = size(rows(kb)%id)
+      nbr(e0 + 1:e0 + n) = rows(kb)%id
+      va(:, e0 + 1:e0 + n) = rows(kb)%a
+      if (present(vb)) vb(:, e0 + 1:e0 + n) = rows(kb)%b
+      deallocate(rows(kb)%id, rows(kb)%a)
+      if (allocated(rows(kb)%b)) deallocate(rows(kb)%b)
+    end do
+  end subroutine gather_rows
+
+  !> For the particles i = i0, ..., i0 + size(cells) - 1 (a block; cell j = i - i0 + 1):
+  !! the volume of its cell (vol(j)), the unnormalised face integrals \oint N_I n dS (gl)
+  !! and volume integrals \int N_I dV (ml) of the particles I touching it (idl, nl), then
+  !! gl divided by the volume; the half cells' smoothed gradients minus the cell's (sl) and
+  !! their weights (ws); the cell's row into cells(j) (id, a = gl, b = sl, m = ml). gl, ml,
+  !! sl, idl are one thread's, for one cell of at most maxk candidates: they stay in its
+  !! caches (a block's padded cells did not: 5-10% slower). Each cell is its own (any thread
+  !! count gives the same). bad: the largest particle whose cell has a point where the
+  !! shape functions are undefined (0: none).
+  subroutine cell_integrals(b, c, f, i0, maxk, cells, vol, ws, bad)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
-    integer, intent(in) :: maxk
-    real(wp), intent(out) :: gl(:, :, :), ml(:, :), sl(:, :, :), vol(:), ws(:, :)
-    integer, intent(out) :: idl(:, :), nl(:)
+    integer, intent(in) :: i0, maxk
+    type(rows_t), intent(inout) :: cells(:)
+    real(wp), intent(out) :: vol(:), ws(:, :)
     integer, intent(inout) :: bad
     real(wp) :: cv(2, max_cv), half(3), o(3), za, zb, zm, area, vh(3), hcs(2, max_cv, 2)
     real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), lo(2), hi(2), xc(2, max_cv), wc(max_cv)
-    integer :: ncv, ngp, i, q, r, np, dir, nhs(2), nc
-    integer, allocatable :: slot(:)
+    integer :: ncv, ngp, i, j, q, r, np, dir, nhs(2), nc, nl(1)
+    integer, allocatable :: slot(:), idl(:, :)
+    real(wp), allocatable :: gl(:, :, :), ml(:, :), sl(:, :, :)
     real(wp), parameter :: big = huge(1.0_wp)/4.0_wp
     np = b%np
     half = 0.5_wp*b%spacing(1:3)
-    !$omp parallel default(none) shared(b, c, f, maxk, gl, ml, sl, idl, nl, vol, ws, half, np) &
+    !$omp parallel default(none) shared(b, c, f, i0, maxk, cells, vol, ws, half, np) &
     !$omp private(cv, o, za, zb, zm, area, vh, hcs, xg, wg, lo, hi, xc, wc, ncv, ngp, &
-    !$omp q, r, dir, nhs, nc, slot) reduction(max: bad)
-    allocate(slot(np))
+    !$omp i, q, r, dir, nhs, nc, slot, gl, ml, sl, idl, nl) reduction(max: bad)
+    allocate(slot(np), gl(3*f%ncg, maxk, 1), ml(maxk, 1), sl(3*f%ncg, maxk, 1), idl(maxk, 1))
     slot = 0
-    !$omp do schedule(dynamic, 64)
-    do i = 1, np
-      nl(i) = 0
+    ! (chunks of 16: a block of 4096 cells still keeps 16 threads busy to its end)
+    !$omp do schedule(dynamic, 16)
+    do j = 1, size(cells)
+      i = i0 + j - 1
+      nl(1) = 0
       o = b%x(:, i)
       if (allocated(b%cell_ptr)) then
         ncv = min(b%cell_ptr(i + 1) - b%cell_ptr(i), max_cv)
@@ -257,7 +369,7 @@ contains
       zb = min(b%geom%z1, o(3) + half(3))
       call cell_area_points(cv, ncv, xg, wg, ngp)
       area = sum(wg(1:ngp))
-      vol(i) = area*(zb - za)
+      vol(j) = area*(zb - za)
       zm = max(za, min(zb, o(3)))
       ! the half cells along X1 and X2 (the polygon clipped at x = X1, y = X2)
       do dir = 1, 2
@@ -272,19 +384,19 @@ contains
       do r = 1, 2
         do q = 1, nc
           call shape_at(c, f, [xc(:, q), za + gx(r)*(zb - za)], 0.5_wp*wc(q)*(zb - za), zero3, &
-            zero3, i, slot, nl, idl, gl, ml, sl, bad)
+            zero3, i, 1, slot, nl, idl, gl, ml, sl, bad)
         end do
       end do
       ! the end faces, n = -e3 at za and +e3 at zb (the top face is the X3 half cell's too)
       do q = 1, ngp
-        call shape_at(c, f, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], zero3, i, slot, &
-          nl, idl, gl, ml, sl, bad)
+        call shape_at(c, f, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], zero3, i, 1, &
+          slot, nl, idl, gl, ml, sl, bad)
         call shape_at(c, f, [xg(:, q), zb], 0.0_wp, [0.0_wp, 0.0_wp, wg(q)], &
-          merge([0.0_wp, 0.0_wp, wg(q)], zero3, zb > zm), i, slot, nl, idl, gl, ml, sl, bad)
+          merge([0.0_wp, 0.0_wp, wg(q)], zero3, zb > zm), i, 1, slot, nl, idl, gl, ml, sl, bad)
       end do
       ! the side faces; an edge that is whole in a half cell is that half cell's face too
-      call side_faces(c, f, cv, ncv, za, zb, hcs, nhs, .true., i, slot, nl, idl, gl, ml, sl, &
-        bad)
+      call side_faces(c, f, cv, ncv, za, zb, hcs, nhs, .true., i, 1, slot, nl, idl, gl, ml, &
+        sl, bad)
       ! the half cells' own faces: their edges that are not whole edges of the cell (the
       ! cut at x = X1 or y = X2, pieces of edges it splits)
       do dir = 1, 2
@@ -292,50 +404,56 @@ contains
         if (nhs(dir) < 3) cycle
         ! (its volume only: the shoelace area, no quadrature points)
         vh(dir) = polygon_area(hcs(:, :, dir), nhs(dir))*(zb - za)
-        call half_faces(c, f, hcs(:, :, dir), nhs(dir), cv, ncv, dir, za, zb, i, slot, nl, idl, &
-          gl, ml, sl, bad)
+        call half_faces(c, f, hcs(:, :, dir), nhs(dir), cv, ncv, dir, za, zb, i, 1, slot, nl, &
+          idl, gl, ml, sl, bad)
       end do
       ! the half cell along X3: the polygon times [zm, zb]; its face at zm (-e3)
       vh(3) = area*(zb - zm)
       if (zb > zm) then
         do q = 1, ngp
-          call shape_at(c, f, [xg(:, q), zm], 0.0_wp, zero3, [0.0_wp, 0.0_wp, -wg(q)], i, slot, &
-            nl, idl, gl, ml, sl, bad)
+          call shape_at(c, f, [xg(:, q), zm], 0.0_wp, zero3, [0.0_wp, 0.0_wp, -wg(q)], i, 1, &
+            slot, nl, idl, gl, ml, sl, bad)
         end do
       end if
-      if (vol(i) > 0.0_wp) gl(:, 1:nl(i), i) = gl(:, 1:nl(i), i)/vol(i)
+      if (vol(j) > 0.0_wp) gl(:, 1:nl(1), 1) = gl(:, 1:nl(1), 1)/vol(j)
       do dir = 1, 3
         ! (rows dir, dir + 3, dir + 6 when the components are folded)
-        if (vh(dir) > empty_half*vol(i) .and. vol(i) - vh(dir) > empty_half*vol(i)) then
+        if (vh(dir) > empty_half*vol(j) .and. vol(j) - vh(dir) > empty_half*vol(j)) then
           do q = dir, 3*f%ncg, 3
-            sl(q, 1:nl(i), i) = sl(q, 1:nl(i), i)/vh(dir) - gl(q, 1:nl(i), i)
+            sl(q, 1:nl(1), 1) = sl(q, 1:nl(1), 1)/vh(dir) - gl(q, 1:nl(1), 1)
           end do
-          ws(dir, i) = vh(dir)*(1.0_wp + vh(dir)/(vol(i) - vh(dir)))
+          ws(dir, j) = vh(dir)*(1.0_wp + vh(dir)/(vol(j) - vh(dir)))
         else
           do q = dir, 3*f%ncg, 3
-            sl(q, 1:nl(i), i) = 0.0_wp
+            sl(q, 1:nl(1), 1) = 0.0_wp
           end do
-          ws(dir, i) = 0.0_wp
+          ws(dir, j) = 0.0_wp
         end if
       end do
-      do q = 1, nl(i)
-        slot(idl(q, i)) = 0
+      allocate(cells(j)%id(nl(1)), cells(j)%a(3*f%ncg, nl(1)), cells(j)%b(3*f%ncg, nl(1)), &
+        cells(j)%m(nl(1)))
+      cells(j)%id = idl(1:nl(1), 1)
+      cells(j)%a = gl(:, 1:nl(1), 1)
+      cells(j)%b = sl(:, 1:nl(1), 1)
+      cells(j)%m = ml(1:nl(1), 1)
+      do q = 1, nl(1)
+        slot(idl(q, 1)) = 0
       end do
     end do
     !$omp end do
-    deallocate(slot)
+    deallocate(slot, gl, ml, sl, idl)
     !$omp end parallel
   end subroutine cell_integrals
 
   !> The side faces of the prism polygon cv (ncv) x [za, zb], 2 x 2 Gauss points each:
   !! N_I n dS into gl (the cell), and N_I n_j dS into sl(j) where the edge is whole in the
   !! half cell j (hcs(:, :, j), nhs(j): an edge of it with the same two vertices).
-  subroutine side_faces(c, f, cv, ncv, za, zb, hcs, nhs, whole, i, slot, nl, idl, gl, ml, &
+  subroutine side_faces(c, f, cv, ncv, za, zb, hcs, nhs, whole, i, j, slot, nl, idl, gl, ml, &
     sl, bad)
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     real(wp), intent(in) :: cv(:, :), za, zb, hcs(:, :, :)
-    integer, intent(in) :: ncv, nhs(2), i
+    integer, intent(in) :: ncv, nhs(2), i, j
     logical, intent(in) :: whole
     integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
     real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
@@ -357,7 +475,8 @@ contains
       do q = 1, 2
         do r = 1, 2
           p = [cv(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
-          call shape_at(c, f, p, 0.0_wp, w*nrm, w*nrm*hmask, i, slot, nl, idl, gl, ml, sl, bad)
+          call shape_at(c, f, p, 0.0_wp, w*nrm, w*nrm*hmask, i, j, slot, nl, idl, gl, ml, sl, &
+            bad)
         end do
       end do
     end do
@@ -365,12 +484,12 @@ contains
 
   !> The faces of the half cell hc (nhc) x [za, zb] along X_dir that are not whole edges of
   !! the cell cv (those side_faces added): N_I n_dir dS into sl(dir), 2 x 2 Gauss points.
-  subroutine half_faces(c, f, hc, nhc, cv, ncv, dir, za, zb, i, slot, nl, idl, gl, ml, sl, &
-    bad)
+  subroutine half_faces(c, f, hc, nhc, cv, ncv, dir, za, zb, i, j, slot, nl, idl, gl, ml, &
+    sl, bad)
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     real(wp), intent(in) :: hc(:, :), cv(:, :), za, zb
-    integer, intent(in) :: nhc, ncv, dir, i
+    integer, intent(in) :: nhc, ncv, dir, i, j
     integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
     real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
     real(wp) :: e(2), len_e, nrm(3), w, p(3)
@@ -388,7 +507,7 @@ contains
       do q = 1, 2
         do r = 1, 2
           p = [hc(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
-          call shape_at(c, f, p, 0.0_wp, zero3, w*nrm, i, slot, nl, idl, gl, ml, sl, bad)
+          call shape_at(c, f, p, 0.0_wp, zero3, w*nrm, i, j, slot, nl, idl, gl, ml, sl, bad)
         end do
       end do
     end do
@@ -428,15 +547,15 @@ contains
   end subroutine fan_centroids
 
   !> Add, at point pp, wm N_I to ml, wn N_I to gl (the cell's face weight times its normal)
-  !! and wh N_I to sl (a half cell's) of particle i's slots, for every particle I whose
-  !! shape function reaches pp; folded (f%ncg = 3): per component c, rows 3 (c - 1) + 1..3,
-  !! an image's N added to its twin's with the component's sign. bad: i when they are
-  !! undefined there.
-  subroutine shape_at(c, f, pp, wm, wn, wh, i, slot, nl, idl, gl, ml, sl, bad)
+  !! and wh N_I to sl (a half cell's) of cell j's slots (particle i's cell), for every
+  !! particle I whose shape function reaches pp; folded (f%ncg = 3): per component c, rows
+  !! 3 (c - 1) + 1..3, an image's N added to its twin's with the component's sign. bad: i
+  !! when they are undefined there.
+  subroutine shape_at(c, f, pp, wm, wn, wh, i, j, slot, nl, idl, gl, ml, sl, bad)
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     real(wp), intent(in) :: pp(3), wm, wn(3), wh(3)
-    integer, intent(in) :: i
+    integer, intent(in) :: i, j
     integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
     real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
     real(wp) :: n(max_nb)
@@ -451,109 +570,97 @@ contains
       jj = f%twin(ids(kk))
       s = slot(jj)
       if (s == 0) then
-        nl(i) = nl(i) + 1
-        s = nl(i)
+        nl(j) = nl(j) + 1
+        s = nl(j)
         slot(jj) = s
-        idl(s, i) = jj
-        gl(:, s, i) = 0.0_wp
-        ml(s, i) = 0.0_wp
-        sl(:, s, i) = 0.0_wp
+        idl(s, j) = jj
+        gl(:, s, j) = 0.0_wp
+        ml(s, j) = 0.0_wp
+        sl(:, s, j) = 0.0_wp
       end if
-      ml(s, i) = ml(s, i) + wm*n(kk)
+      ml(s, j) = ml(s, j) + wm*n(kk)
       if (f%ncg == 1) then
-        gl(:, s, i) = gl(:, s, i) + wn*n(kk)
-        sl(:, s, i) = sl(:, s, i) + wh*n(kk)
+        gl(:, s, j) = gl(:, s, j) + wn*n(kk)
+        sl(:, s, j) = sl(:, s, j) + wh*n(kk)
       else
         do cc = 1, 3
-          gl(3*cc - 2:3*cc, s, i) = gl(3*cc - 2:3*cc, s, i) + f%sgn(cc, ids(kk))*wn*n(kk)
-          sl(3*cc - 2:3*cc, s, i) = sl(3*cc - 2:3*cc, s, i) + f%sgn(cc, ids(kk))*wh*n(kk)
+          gl(3*cc - 2:3*cc, s, j) = gl(3*cc - 2:3*cc, s, j) + f%sgn(cc, ids(kk))*wn*n(kk)
+          sl(3*cc - 2:3*cc, s, j) = sl(3*cc - 2:3*cc, s, j) + f%sgn(cc, ids(kk))*wh*n(kk)
         end do
       end if
     end do
   end subroutine shape_at
 
-  !> The tables from the per-point lists: CSR over the points, the compact gradients and
-  !! half-cell differences (dims_3d), lumped masses rho0 \int N dV, no hoop term.
-  subroutine compress_3d(t, gl, ml, sl, idl, nl, rho0)
-    type(solid_tables_t), intent(inout) :: t
-    real(wp), intent(in) :: gl(:, :, :), ml(:, :), sl(:, :, :), rho0
-    integer, intent(in) :: idl(:, :), nl(:)
-    integer :: q, k, e, nnz
-    nnz = sum(nl)
-    allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(t%dims%ngrad, nnz), t%h(nnz), t%mass(t%np), &
-      t%gs(t%dims%ngrad, nnz))
-    t%h = 0.0_wp
-    t%mass = 0.0_wp
-    t%ptr(1) = 1
-    do q = 1, t%nq
-      t%ptr(q + 1) = t%ptr(q) + nl(q)
-      do k = 1, nl(q)
-        e = t%ptr(q) + k - 1
-        t%nbr(e) = idl(k, q)
-        t%g(:, e) = gl(:, k, q)
-        t%gs(:, e) = sl(:, k, q)
-        t%mass(idl(k, q)) = t%mass(idl(k, q)) + rho0*ml(k, q)
-      end do
-    end do
-  end subroutine compress_3d
-
   !> N_I(X_J) for the physical positions x_J = X_J + sum_I N_I(X_J) d_I (once: the
-  !! components share it).
+  !! components share it), block by block as the cells (scni_tables_3d); t%pptr is
+  !! allocated.
   subroutine positions_3d(b, c, f, t, err)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
+    type(rows_t), allocatable :: rows(:)
     integer, allocatable :: cnt(:), idj(:, :)
     real(wp), allocatable :: nj(:, :, :)
     real(wp) :: n(max_nb)
-    integer :: ids(max_nb), nnb, j, k, e, bad, maxk, m, jj, s
+    integer :: ids(max_nb), nnb, j, k, e, bad, m, jj, s, kb, i0, i1, l
     logical :: ok
-    maxk = max_nb
-    allocate(cnt(b%np), idj(maxk, b%np), nj(f%ncg, maxk, b%np))
-    bad = 0
-    !$omp parallel do default(none) shared(b, c, f, cnt, idj, nj) &
-    !$omp private(n, ids, nnb, ok, k, m, jj, s) reduction(max: bad) schedule(dynamic, 64)
-    do j = 1, b%np
-      call cloud_shape_values(c, b%x(:, j), nnb, ids, n, ok)
-      if (.not. ok) bad = max(bad, j)
-      ! images folded onto their twins (the sign of each component)
-      m = 0
-      do k = 1, nnb
-        jj = f%twin(ids(k))
-        do s = 1, m
-          if (idj(s, j) == jj) exit
+    allocate(cnt(b%np), idj(max_nb, min(block_np, b%np)), nj(f%ncg, max_nb, min(block_np, b%np)))
+    allocate(rows((b%np + block_np - 1)/block_np))
+    do kb = 1, size(rows)
+      i0 = (kb - 1)*block_np + 1
+      i1 = min(b%np, kb*block_np)
+      bad = 0
+      !$omp parallel do default(none) shared(b, c, f, cnt, idj, nj, i0, i1) &
+      !$omp private(n, ids, nnb, ok, k, m, jj, s, l) reduction(max: bad) schedule(dynamic, 16)
+      do j = i0, i1
+        l = j - i0 + 1
+        call cloud_shape_values(c, b%x(:, j), nnb, ids, n, ok)
+        if (.not. ok) bad = max(bad, j)
+        ! images folded onto their twins (the sign of each component)
+        m = 0
+        do k = 1, nnb
+          jj = f%twin(ids(k))
+          do s = 1, m
+            if (idj(s, l) == jj) exit
+          end do
+          if (s > m) then
+            m = m + 1
+            s = m
+            idj(s, l) = jj
+            nj(:, s, l) = 0.0_wp
+          end if
+          if (f%ncg == 1) then
+            nj(1, s, l) = nj(1, s, l) + n(k)
+          else
+            nj(:, s, l) = nj(:, s, l) + f%sgn(:, ids(k))*n(k)
+          end if
         end do
-        if (s > m) then
-          m = m + 1
-          s = m
-          idj(s, j) = jj
-          nj(:, s, j) = 0.0_wp
-        end if
-        if (f%ncg == 1) then
-          nj(1, s, j) = nj(1, s, j) + n(k)
-        else
-          nj(:, s, j) = nj(:, s, j) + f%sgn(:, ids(k))*n(k)
-        end if
+        cnt(j) = m
       end do
-      cnt(j) = m
+      !$omp end parallel do
+      if (bad > 0) then
+        call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined at "// &
+          "particle "//itoa(bad))
+        return
+      end if
+      allocate(rows(kb)%id(sum(cnt(i0:i1))), rows(kb)%a(f%ncg, sum(cnt(i0:i1))))
+      e = 0
+      do j = i0, i1
+        do k = 1, cnt(j)
+          e = e + 1
+          rows(kb)%id(e) = idj(k, j - i0 + 1)
+          rows(kb)%a(:, e) = nj(:, k, j - i0 + 1)
+        end do
+      end do
     end do
-    !$omp end parallel do
-    if (bad > 0) then
-      call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined at "// &
-        "particle "//itoa(bad))
-      return
-    end if
-    allocate(t%pptr(b%np + 1), t%pnbr(sum(cnt)), t%pn(t%dims%npos, sum(cnt)))
+    deallocate(idj, nj)
     t%pptr(1) = 1
     do j = 1, b%np
       t%pptr(j + 1) = t%pptr(j) + cnt(j)
-      do k = 1, cnt(j)
-        e = t%pptr(j) + k - 1
-        t%pnbr(e) = idj(k, j)
-        t%pn(:, e) = nj(:, k, j)
-      end do
     end do
+    allocate(t%pnbr(t%pptr(b%np + 1) - 1), t%pn(t%dims%npos, t%pptr(b%np + 1) - 1))
+    call gather_rows(rows, t%pptr, t%pnbr, t%pn)
   end subroutine positions_3d
 end module rkpm_tl3d_m

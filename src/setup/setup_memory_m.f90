@@ -30,12 +30,18 @@ module setup_memory_m
   integer(i64), parameter :: fem_bytes = 2304_i64
   !> 3D RKPM (rkpm_tl3d_m), per candidate neighbour of the set-up's work arrays (the cell's
   !! and the half cells' gradient integrals, mass, id: 60 B compact, 156 B folded across
-  !! symmetry planes) and per covering particle of the compressed tables with their
-  !! transpose's copies and the position table (124 B compact, 300 B folded), rounded up.
-  !! Measured (bench/memory_3d.py, doc/benchmarks.md): 30.4 kB a particle at the set-up's
-  !! peak, 16.3 kB in the time loop, for support_factor 2 (101 entries a point).
+  !! symmetry planes), counted for one block of block_3d particles (work_bytes: a block's
+  !! cell rows and the position table's work, all the build holds beside the tables), and
+  !! per covering particle of the tables with their transpose's copies and the position
+  !! table (124 B compact, 332 B folded), rounded up. The set-up's peak is then the tables
+  !! the time loop keeps. Measured (bench/memory_3d.py, doc/benchmarks.md): 15.4-15.6 kB a
+  !! particle at the set-up's peak, 15.1-15.2 kB in the time loop (cubes of 46^3 to 100^3,
+  !! support_factor 2, 115-121 entries a point; 30.5 kB at the peak before the blocks); a
+  !! folded quarter cylinder (109 entries a point, its target and contact included) 38 kB.
   integer(i64), parameter :: candidate_bytes_3d = 64_i64, candidate_bytes_3d_folded = 160_i64
-  integer(i64), parameter :: neighbour_bytes_3d = 160_i64, neighbour_bytes_3d_folded = 320_i64
+  integer(i64), parameter :: neighbour_bytes_3d = 128_i64, neighbour_bytes_3d_folded = 336_i64
+  !> Particles per block of the 3D table build (rkpm_tl3d_m's block_np).
+  integer(i64), parameter :: block_3d = 4096_i64
   !> Per node of a 3D solid: its state (9-component F and P, 6 stresses, ...), rounded up.
   integer(i64), parameter :: solid_bytes_3d = 2048_i64
   !> Per query point of mode detect or of the det(M) fields: position, det, distance, flag.
@@ -85,7 +91,7 @@ contains
         else
           np = particle_count(s, nd)
         end if
-        bytes = np*particle_bytes(deck, s)
+        bytes = np*particle_bytes(deck, s) + work_bytes(deck, s, np)
         total = total + bytes
         if (bytes > worst) then
           worst = bytes
@@ -166,14 +172,13 @@ contains
       return
     end if
     if (deck%run%ndim == 3) then
-      ! candidates in a cell grown by the largest support, and particles covering the cell's
-      ! faces (2 support_factor + 1 per direction: measured 101 at support_factor 2)
-      maxk = int((2.0_wp*maxval(s%support_factor(1:3)) + 2.0_wp)**3, i64)
+      ! particles covering the cell's faces (2 support_factor + 1 per direction: 125 inside
+      ! at support_factor 2, 101-121 a point with the surface); the work arrays: work_bytes
       ncover = int(product(2.0_wp*s%support_factor(1:3) + 1.0_wp), i64)
-      if (s%shape == 'cylinder' .and. s%theta_end < 360.0_wp) then
-        bytes = bytes + candidate_bytes_3d_folded*maxk + neighbour_bytes_3d_folded*ncover
+      if (folded_3d(s)) then
+        bytes = bytes + neighbour_bytes_3d_folded*ncover
       else
-        bytes = bytes + candidate_bytes_3d*maxk + neighbour_bytes_3d*ncover
+        bytes = bytes + neighbour_bytes_3d*ncover
       end if
       bytes = bytes + solid_bytes_3d
       return
@@ -185,6 +190,31 @@ contains
     ncover = max(1_i64, int(4.0_wp*sf(1)*sf(2), i64))
     bytes = bytes + candidate_bytes*maxk + neighbour_bytes*ncover + solid_bytes
   end function particle_bytes
+
+  !> Bytes of a body's set-up work arrays that do not grow with its np particles: the 3D
+  !! RKPM build's, one block of particles at a time (rkpm_tl3d_m).
+  function work_bytes(deck, s, np) result(bytes)
+    type(deck_t), intent(in) :: deck
+    type(body_spec_t), intent(in) :: s
+    integer(i64), intent(in) :: np
+    integer(i64) :: bytes, maxk
+    bytes = 0
+    if (deck%run%mode /= 'dynamic' .or. s%role /= 'deformable' .or. deck%run%ndim /= 3 .or. &
+      s%discretization == 'fem') return
+    ! candidates in a cell grown by the largest support
+    maxk = int((2.0_wp*maxval(s%support_factor(1:3)) + 2.0_wp)**3, i64)
+    if (folded_3d(s)) then
+      bytes = min(np, block_3d)*candidate_bytes_3d_folded*maxk
+    else
+      bytes = min(np, block_3d)*candidate_bytes_3d*maxk
+    end if
+  end function work_bytes
+
+  !> A 3D body whose shape functions are folded across symmetry planes (a cylinder's sector).
+  pure logical function folded_3d(s)
+    type(body_spec_t), intent(in) :: s
+    folded_3d = s%shape == 'cylinder' .and. s%theta_end < 360.0_wp
+  end function folded_3d
 
   !> The deck's value of the variable that sets a body's particle count, as text.
   function count_value(s, nd) result(t)

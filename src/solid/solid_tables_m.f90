@@ -44,10 +44,10 @@ module solid_tables_m
     real(wp), allocatable :: gs(:, :)
     real(wp), allocatable :: ws(:, :)    !< weights W_r (1 + W_r/W_l), W_u (1 + W_u/W_d)
     integer, allocatable :: tptr(:)      !< transpose pointer over particles (np + 1)
-    integer, allocatable :: tent(:)      !< entries touching particle I
+    integer, allocatable :: tent(:)      !< entries touching particle I (not in 3D)
     integer, allocatable :: tq(:)        !< their integration points
     !> g, h and gs in the transpose's order (tables_transpose_values): the force gather
-    !! of eq. (72) reads them as one stream instead of through tent
+    !! of eq. (72) reads them as one stream instead of through tent (th not in 3D)
     real(wp), allocatable :: tg(:, :), th(:), tgs(:, :)
     integer, allocatable :: pptr(:)      !< position table pointer (np + 1)
     integer, allocatable :: pnbr(:)
@@ -121,13 +121,18 @@ contains
   end subroutine tables_finish_elements
 
   !> For each particle, the entries (and their points) that involve it, and the values of
-  !! the entries in that order. Called once g, h and gs are final.
+  !! the entries in that order. Called once g, h and gs are final. In 3D the force gather
+  !! (tl_kinematics3d_m) reads tq, tg and tgs only, and h vanishes: the values are copied
+  !! as the transpose is filled, without tent and th (12 B an entry, about 1.4 kB a 3D
+  !! particle, at the set-up's peak and in the time loop).
   subroutine tables_transpose(t)
     type(solid_tables_t), intent(inout) :: t
     integer, allocatable :: fill(:)
-    integer :: q, e, i, nnz
+    integer :: q, e, i, k, nnz
+    logical :: full, with_gs
     nnz = size(t%nbr)
-    allocate(t%tptr(t%np + 1), t%tent(nnz), t%tq(nnz), fill(t%np))
+    full = t%dims%ndim /= 3
+    allocate(t%tptr(t%np + 1), t%tq(nnz), fill(t%np))
     fill = 0
     do e = 1, nnz
       fill(t%nbr(e)) = fill(t%nbr(e)) + 1
@@ -137,15 +142,33 @@ contains
       t%tptr(i + 1) = t%tptr(i) + fill(i)
     end do
     fill = 0
+    if (full) then
+      allocate(t%tent(nnz))
+      do q = 1, t%nq
+        do e = t%ptr(q), t%ptr(q + 1) - 1
+          i = t%nbr(e)
+          t%tent(t%tptr(i) + fill(i)) = e
+          t%tq(t%tptr(i) + fill(i)) = q
+          fill(i) = fill(i) + 1
+        end do
+      end do
+      call tables_transpose_values(t)
+      return
+    end if
+    with_gs = allocated(t%gs)
+    if (with_gs) with_gs = size(t%gs, 2) == size(t%g, 2)
+    allocate(t%tg(size(t%g, 1), nnz))
+    if (with_gs) allocate(t%tgs(size(t%gs, 1), nnz))
     do q = 1, t%nq
       do e = t%ptr(q), t%ptr(q + 1) - 1
         i = t%nbr(e)
-        t%tent(t%tptr(i) + fill(i)) = e
-        t%tq(t%tptr(i) + fill(i)) = q
+        k = t%tptr(i) + fill(i)
+        t%tq(k) = q
+        t%tg(:, k) = t%g(:, e)
+        if (with_gs) t%tgs(:, k) = t%gs(:, e)
         fill(i) = fill(i) + 1
       end do
     end do
-    call tables_transpose_values(t)
   end subroutine tables_transpose
 
   !> Copies of g, h (and gs when the tables have them) in the transpose's order. The force
@@ -153,7 +176,7 @@ contains
   !! the whole table (tens of MB, beyond the caches) at every entry, reading tg streams it:
   !! the internal-force pass fell from 270 to about 100 ns per particle-step on the free-bar
   !! benchmark (doc/benchmarks.md, per-pass model). Same values, same order of the sums:
-  !! the forces are the same to the bit.
+  !! the forces are the same to the bit. Needs tent (not built in 3D: tables_transpose).
   subroutine tables_transpose_values(t)
     type(solid_tables_t), intent(inout) :: t
     integer :: k, e, nnz
