@@ -21,7 +21,7 @@ module tet4_m
   use generators_m, only: section_triangles
   use dims_m, only: dims_3d
   use solid_tables_m, only: solid_tables_t, tables_finish_elements
-  use mesh_cells_m, only: check_cells
+  use mesh_cells_m, only: check_cells, tet_volume
   implicit none
   private
   public :: tet4_mesh_t, tet4_extruded, tet4_prisms, tet4_tables, tet4_boundary_faces, &
@@ -137,12 +137,7 @@ contains
   !! of the face (1, 2, 3) that its right-hand normal points to.
   pure real(wp) function tet4_volume(xt) result(v)
     real(wp), intent(in) :: xt(3, 4)
-    real(wp) :: e1(3), e2(3), e3(3)
-    e1 = xt(:, 2) - xt(:, 1)
-    e2 = xt(:, 3) - xt(:, 1)
-    e3 = xt(:, 4) - xt(:, 1)
-    v = (e1(1)*(e2(2)*e3(3) - e2(3)*e3(2)) - e1(2)*(e2(1)*e3(3) - e2(3)*e3(1)) &
-      + e1(3)*(e2(1)*e3(2) - e2(2)*e3(1)))/6.0_wp
+    v = tet_volume(xt, [1, 2, 3, 4])
   end function tet4_volume
 
   !> Gradients dn(:, k) = grad N_k (1/m) of the linear shape functions of the tetrahedron

@@ -848,6 +848,7 @@ contains
     type(tet4_mesh_t) :: mesh
     integer, allocatable :: faces(:, :), owner(:), zero(:)
     real(wp), allocatable :: vol(:), v(:)
+    real(wp) :: len_e
     integer :: np, ne, e, k, i, j, nover
     np = size(x, 2)
     ne = size(tet, 2)
@@ -866,8 +867,9 @@ contains
       do k = 1, 3
         do j = k + 1, 4
           i = tet(k, e)
-          local(i) = max(local(i), norm2(x(:, i) - x(:, tet(j, e))))
-          local(tet(j, e)) = max(local(tet(j, e)), norm2(x(:, i) - x(:, tet(j, e))))
+          len_e = norm2(x(:, i) - x(:, tet(j, e)))
+          local(i) = max(local(i), len_e)
+          local(tet(j, e)) = max(local(tet(j, e)), len_e)
         end do
       end do
     end do
