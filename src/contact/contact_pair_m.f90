@@ -826,11 +826,6 @@ contains
     type(solid_t), intent(in) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, e
-    if (p%side(1)%ndim == 3) then
-      call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
-        trim(p%side(2)%name)//"': contact in 3D runs on one rank only (mfcd, not mfcd_mpi)")
-      return
-    end if
     if (p%both_ways .or. p%self .or. p%side(2)%isolid /= 0) then
       call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
         trim(p%side(2)%name)//"': a rank's part of a solid takes rigid masters only")
@@ -853,6 +848,7 @@ contains
       s%rho = s%rho(:, nglob)
       s%x_ref = s%x_ref(:, nglob)
       s%vol = s%vol(nglob)
+      if (allocated(s%bary)) s%bary = s%bary(:, nglob)
       s%imass = 1.0_wp/sol%t%mass
       where (all(sol%pres, dim=1)) s%imass = 0.0_wp
       if (allocated(s%due)) then

@@ -451,18 +451,16 @@ contains
         "with MPI; set subcycle = .false. or run mfcd")
       return
     end if
-    if (deck%run%ndim == 3 .and. any(deck%bodies(1:deck%nbodies)%discretization == 'fem' &
-      .and. deck%bodies(1:deck%nbodies)%role == 'deformable')) then
-      call set_error(err, what//deck%path//"', group &body, variable discretization: 3D "// &
-        "elements (tetrahedra with averaged nodal pressure) are not yet on ranks; run mfcd "// &
-        "(serial), or give discretization = 'rkpm'")
-      return
-    end if
-    if (deck%run%ndim == 3 .and. deck%ncontacts > 0) then
-      call set_error(err, what//deck%path//"', group &contact: contact between 3D bodies "// &
-        "is not yet on ranks; run mfcd (serial), or leave out the &contact groups")
-      return
-    end if
+    do k = 1, deck%ncontacts
+      if (deck%run%ndim /= 3) exit
+      associate (c => deck%contacts(k))
+        if (deck%bodies(c%imaster)%role == 'rigid') cycle
+        call set_error(err, what//deck%path//"', group &contact, variable master: contact "// &
+          "of 3D bodies against the deforming master '"//trim(c%master)//"' is not yet "// &
+          "with MPI (a rigid master is); run mfcd (serial)")
+        return
+      end associate
+    end do
     do k = 1, deck%ncontacts
       associate (c => deck%contacts(k))
         if (deck%bodies(c%imaster)%role == 'rigid') cycle
