@@ -35,8 +35,8 @@ contains
     ! (self-contact: both sides are the same solid, owner1 = owner2)
     character(len=:), allocatable :: what
     what = "contact of '"//trim(p%side(1)%name)//"' on '"//trim(p%side(2)%name)//"': "
-    if (p%side(1)%ndim == 3) then
-      call set_error(err, what//"contact in 3D runs on one rank only (mfcd, not mfcd_mpi)")
+    if (p%side(1)%ndim == 3 .and. p%self) then
+      call set_error(err, what//"self-contact in 3D is not yet with MPI")
     else if (.not. p%both_ways) then
       call set_error(err, what//"the master is rigid: a rank's part takes it whole "// &
         "(contact_pair_localize)")
@@ -76,7 +76,7 @@ contains
       type(side_t), intent(inout) :: s
       type(dist_side_t), intent(inout) :: ds
       integer, intent(in) :: owner(:), nglob(:), npart
-      integer :: i, k, kk, q, n
+      integer :: i, k, kk, q, n, e
       integer, allocatable :: kown(:), cnt(:)
       ds%owner = owner
       ds%own = pack([(i, i = 1, s%np)], owner == comm%me)
@@ -88,7 +88,13 @@ contains
           itoa(comm%me)//" is not a node of its part")
         return
       end if
-      ds%full = s%surface
+      if (s%ndim == 3) then
+        ds%full3 = s%surf3
+        allocate(ds%glo(3), ds%ghi(3))
+      else
+        ds%full = s%surface
+        allocate(ds%glo(2), ds%ghi(2))
+      end if
       ds%rmax = s%cloud%rmax(1:size(s%lo))
       s%listed = .true.
       s%list = ds%own
@@ -96,15 +102,18 @@ contains
       allocate(ds%f(size(s%x_pred, 1), npart), ds%mptr(comm%nranks + 1), &
         ds%nptr(comm%nranks + 1))
       allocate(ds%sbuf(0), ds%rbuf(0))
-      ! static partners: the ranks owning the first end of a segment whose second end is
-      ! an own particle (they sum the segment's midpoint and reach)
+      ! static partners: the ranks owning the first end of a segment (the first vertex of
+      ! a facet) whose other end (vertex) is an own particle (they sum the segment's
+      ! midpoint and reach, the facet's edges)
       allocate(kown(s%np), cnt(size(ds%own) + 1))
       kown = 0
       kown(ds%own) = [(k, k = 1, size(ds%own))]
       cnt = 0
-      do kk = 1, ds%full%nseg
-        k = kown(ds%full%i1(kk))
-        if (k > 0 .and. owner(ds%full%i0(kk)) /= comm%me) cnt(k + 1) = cnt(k + 1) + 1
+      do kk = 1, nfacet(ds)
+        do e = 2, nvert(ds)
+          k = kown(vert(ds, kk, e))
+          if (k > 0 .and. owner(vert(ds, kk, 1)) /= comm%me) cnt(k + 1) = cnt(k + 1) + 1
+        end do
       end do
       allocate(ds%pptr(size(ds%own) + 1))
       ds%pptr(1) = 1
@@ -113,13 +122,15 @@ contains
       end do
       allocate(ds%prank(ds%pptr(size(ds%own) + 1) - 1))
       cnt = 0
-      do kk = 1, ds%full%nseg
-        k = kown(ds%full%i1(kk))
-        q = owner(ds%full%i0(kk))
-        if (k == 0 .or. q == comm%me) cycle
-        n = ds%pptr(k) + cnt(k + 1)
-        ds%prank(n) = q
-        cnt(k + 1) = cnt(k + 1) + 1
+      do kk = 1, nfacet(ds)
+        do e = 2, nvert(ds)
+          k = kown(vert(ds, kk, e))
+          q = owner(vert(ds, kk, 1))
+          if (k == 0 .or. q == comm%me) cycle
+          n = ds%pptr(k) + cnt(k + 1)
+          ds%prank(n) = q
+          cnt(k + 1) = cnt(k + 1) + 1
+        end do
       end do
     end subroutine init_side
   end procedure contact_pair_distribute
@@ -170,7 +181,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: jj, j
     integer(i64) :: neval, ndet, ncon
-    real(wp) :: t0, v(1), g, nrm(2), tng(2)
+    real(wp) :: t0, v(1), g, nrm(2), tng(2), gmax
     logical :: found
     call dist_master(p, ib, ia, solids, .true., err)
     if (allocated(err)) return
@@ -181,6 +192,14 @@ contains
         ! (the first pass is self_correct's lower_only pass; the candidates counted once)
         call detect_self(a, b, count_stats, neval, ndet)
         if (count_stats) p%count%screened = p%count%screened + size(a%cand)
+      else if (a%ndim == 3) then
+        ! the closest facet of every flagged particle, and the facets around its features,
+        ! must be among the rank's: else a wider refresh and the search again
+        do
+          call detect_det_m_3d(a, b, neval, ndet, gmax)
+          if (dist_covered(p, ib, ia, gmax, .true., err)) exit
+          if (allocated(err)) return
+        end do
       else
         call detect_det_m(a, b, neval, ndet)
       end if
@@ -188,7 +207,11 @@ contains
       ! (the positions at the step start, self_old_positions' in the serial pass, are there:
       ! the own particles' from dist_correct, the ghosts' from their owners)
       if (p%shared_mass) call route_shares(p, ia, ib)
-      call pass_forces(p, a, b, dt, count_stats, neval, ndet, ncon)
+      if (a%ndim == 3) then
+        call pass_forces_3d(p, a, b, dt, count_stats, neval, ndet, ncon)
+      else
+        call pass_forces(p, a, b, dt, count_stats, neval, ndet, ncon)
+      end if
       ! no contact on any rank: nothing to correct (as the serial pass)
       v = real(ncon, wp)
       call p%dist%comm%max_real(v)
@@ -212,6 +235,10 @@ contains
       ! penetration left after the correction, against the master's corrected surface
       call dist_master(p, ib, ia, solids, .false., err)
       if (allocated(err)) return
+      if (a%ndim == 3) then
+        call pen_after_3d(p, ia, ib, err)
+        return
+      end if
       do jj = 1, a%nlist
         j = a%list(jj)
         if (.not. a%active(j)) cycle
@@ -225,6 +252,74 @@ contains
       end do
     end associate
   end subroutine dist_pass
+
+  !> The penetration left after the correction (3D): the gaps of side ia's own particles
+  !! that had a force, against the master's corrected surface (contact_pass_3d's), with the
+  !! same check of the ghost width as the detection's. Collective.
+  subroutine pen_after_3d(p, ia, ib, err)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ia, ib
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: jj, j, jf
+    real(wp) :: g, nrm(3), bary(3), gm, pen
+    associate (a => p%side(ia), b => p%side(ib))
+      do
+        gm = 0.0_wp
+        pen = 0.0_wp
+        do jj = 1, a%nlist
+          j = a%list(jj)
+          if (.not. a%active(j)) cycle
+          call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary)
+          gm = max(gm, merge(abs(g), huge(1.0_wp), jf > 0))
+          if (jf > 0) pen = max(pen, -g)
+        end do
+        if (dist_covered(p, ib, ia, gm, .false., err)) exit
+        if (allocated(err)) return
+      end do
+      p%step%pen_after = max(p%step%pen_after, pen)
+    end associate
+  end subroutine pen_after_3d
+
+  !> Does the ghost width of side ib (3D) cover the gap search of side ia's own particles,
+  !! whose largest |g| on this rank is gmax? The closest point q of a particle at x lies
+  !! within |g| of x; every facet the brute-force search compares with it there, and every
+  !! facet around q's vertex or edge (their pseudo-normals), has its vertices within
+  !! |g| + 2 dmax of x, so the rank holds them all while that radius, plus the motion since
+  !! the refresh, stays below the ghost width (the same argument as det(M)'s support in
+  !! dist_master). When it does not, on any rank, every rank refreshes with a width that
+  !! covers it (kept for the later refreshes, gcov), its cloud and surface are moved, and
+  !! the caller searches again (.false.). Collective.
+  logical function dist_covered(p, ib, ia, gmax, with_det, err) result(ok)
+    type(contact_pair_t), intent(inout), target :: p
+    integer, intent(in) :: ib, ia
+    real(wp), intent(in) :: gmax
+    logical, intent(in) :: with_det
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: v(1), r
+    integer :: k, nd
+    associate (b => p%side(ib), db => p%dist%side(ib))
+      v = gmax
+      call p%dist%comm%max_real(v)
+      ! (a particle that found no facet: the whole master, capped to stay finite)
+      r = min(v(1), 1.0e30_wp) + 2.0_wp*db%dmax
+      ok = r + db%moved < db%width .or. .not. p%dist%refresh
+      if (ok) return
+      db%gcov = max(db%gcov, r)
+      call make_plan(p, ib, ia, max(db%width, r*(1.0_wp + p%dist%margin)), err)
+      if (allocated(err)) return
+      db%moved = 0.0_wp
+      call exchange_positions(p, ib)
+      nd = size(b%lo)
+      if (with_det) then
+        do k = 1, size(db%loc)
+          db%xl(:, k) = b%x_pred(:, db%loc(k))
+        end do
+        call cloud_move(b%cloud, db%xl, err, db%glo(1:nd), db%ghi(1:nd))
+        if (allocated(err)) return
+      end if
+      call surface3d_update(b%surf3, b%x_pred)
+    end associate
+  end function dist_covered
 
   !> Point forces ds%f on the nodes of side s's part solid (own entries; the ghosts' from
   !! their owners when eq. 98 spreads them) added to the solid, a_n and the prediction
@@ -252,77 +347,104 @@ contains
     type(solid_t), intent(in) :: solids(:)
     logical, intent(in) :: with_det
     type(error_t), allocatable, intent(inout) :: err
-    real(wp) :: v(12), glo(2), ghi(2), mlo(2), mhi(2), reach(2), cell(2), need, mid(2)
-    integer :: k, kk, i0, i1, d
+    real(wp) :: v(17), mlo(3), mhi(3), reach(3), cell(3), need, mid(3)
+    integer :: k, kk, i0, i1, nd, im, e
     associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
       db => p%dist%side(ib))
+      nd = size(b%lo)
+      im = 5*nd
       ! (after a correction only the slave particles with a force are looked at again, as
       ! in the serial pass: only theirs are needed, and only their displacements count)
       call own_positions(a, da, solids(a%isolid), at_prediction, active_only=.not. with_det)
       call own_positions(b, db, solids(b%isolid), at_prediction)
       call exchange_positions(p, ib)
-      ! the whole master's extremes, its segments' midpoints and reach (each segment by the
-      ! owner of its first end), and the largest displacements since the refresh
+      ! the whole master's extremes; in the plane its segments' midpoints and reach (each
+      ! segment by the owner of its first end), in 3D its longest facet edge (each facet by
+      ! the owner of its first vertex); the largest displacements since the refresh
       v = -huge(1.0_wp)
-      do d = 1, 2
-        do k = 1, size(db%own)
-          v(d) = max(v(d), -b%x_pred(d, db%own(k)))
-          v(2 + d) = max(v(2 + d), b%x_pred(d, db%own(k)))
+      do k = 1, size(db%own)
+        v(1:nd) = max(v(1:nd), -b%x_pred(:, db%own(k)))
+        v(nd + 1:2*nd) = max(v(nd + 1:2*nd), b%x_pred(:, db%own(k)))
+      end do
+      if (nd == 3) then
+        do kk = 1, db%full3%nf
+          if (db%owner(db%full3%tri(1, kk)) /= p%dist%comm%me) cycle
+          do e = 1, 3
+            i0 = db%full3%tri(e, kk)
+            i1 = db%full3%tri(modulo(e, 3) + 1, kk)
+            v(7) = max(v(7), norm2(b%x_pred(:, i1) - b%x_pred(:, i0)))
+          end do
         end do
-      end do
-      do kk = 1, db%full%nseg
-        i0 = db%full%i0(kk)
-        if (db%owner(i0) /= p%dist%comm%me) cycle
-        i1 = db%full%i1(kk)
-        mid = 0.5_wp*(b%x_pred(:, i0) + b%x_pred(:, i1))
-        v(5:6) = max(v(5:6), -mid)
-        v(7:8) = max(v(7:8), mid)
-        v(9:10) = max(v(9:10), 0.5_wp*abs(b%x_pred(:, i1) - b%x_pred(:, i0)))
-      end do
+      else
+        do kk = 1, db%full%nseg
+          i0 = db%full%i0(kk)
+          if (db%owner(i0) /= p%dist%comm%me) cycle
+          i1 = db%full%i1(kk)
+          mid(1:2) = 0.5_wp*(b%x_pred(:, i0) + b%x_pred(:, i1))
+          v(5:6) = max(v(5:6), -mid(1:2))
+          v(7:8) = max(v(7:8), mid(1:2))
+          v(9:10) = max(v(9:10), 0.5_wp*abs(b%x_pred(:, i1) - b%x_pred(:, i0)))
+        end do
+      end if
       ! (squared, then the root of the largest)
-      v(11:12) = 0.0_wp
+      v(im + 1:im + 2) = 0.0_wp
       if (db%width >= 0.0_wp) then
         do k = 1, size(db%own)
-          v(11) = max(v(11), (b%x_pred(1, db%own(k)) - db%xr_m(1, k))**2 + &
-            (b%x_pred(2, db%own(k)) - db%xr_m(2, k))**2)
+          v(im + 1) = max(v(im + 1), sum((b%x_pred(:, db%own(k)) - db%xr_m(:, k))**2))
         end do
         do k = 1, size(da%own)
           if (.not. with_det) then
             if (.not. a%active(da%own(k))) cycle
           end if
-          v(12) = max(v(12), (a%x_pred(1, da%own(k)) - db%xr_s(1, k))**2 + &
-            (a%x_pred(2, da%own(k)) - db%xr_s(2, k))**2)
+          v(im + 2) = max(v(im + 2), sum((a%x_pred(:, da%own(k)) - db%xr_s(:, k))**2))
         end do
       end if
-      v(11:12) = sqrt(v(11:12))
-      call p%dist%comm%max_real(v)
-      glo = -v(1:2)
-      ghi = v(3:4)
-      mlo = -v(5:6)
-      mhi = v(7:8)
-      reach = max(v(9:10), 0.0_wp)
-      ! the reach contact needs: det(M) takes the master particles within their support;
-      ! the gap (eq. 89) the segments with a midpoint in a cell within the slave particle's
-      ! support and the reach (surface_gap), so ends within twice the reach and a cell
-      cell = bins_cell_size(mhi - mlo, max(2.0_wp*reach, tiny(1.0_wp)))
-      need = maxval(max(db%rmax, da%rmax + 2.0_wp*reach + cell))
-      if (db%width < 0.0_wp .or. (p%dist%refresh .and. .not. (v(11) + v(12) + need < &
+      v(im + 1:im + 2) = sqrt(v(im + 1:im + 2))
+      call p%dist%comm%max_real(v(1:im + 2))
+      db%glo = -v(1:nd)
+      db%ghi = v(nd + 1:2*nd)
+      db%moved = v(im + 1) + v(im + 2)
+      if (nd == 3) then
+        ! the reach contact needs: det(M) takes the master particles within their support;
+        ! the gap search the facets near a flagged particle: one within the support of a
+        ! master particle is within 2 dmax of one of that particle's facets (the search's
+        ! radius |g| + 2 dmax, dist_covered), or as far as a search has needed (gcov)
+        db%dmax = max(v(7), 0.0_wp)
+        need = max(maxval(db%rmax) + 2.0_wp*db%dmax, db%gcov)
+      else
+        mlo(1:2) = -v(5:6)
+        mhi(1:2) = v(7:8)
+        reach(1:2) = max(v(9:10), 0.0_wp)
+        ! the reach contact needs: det(M) takes the master particles within their support;
+        ! the gap (eq. 89) the segments with a midpoint in a cell within the slave
+        ! particle's support and the reach (surface_gap), so ends within twice the reach
+        ! and a cell
+        cell(1:2) = bins_cell_size(mhi(1:2) - mlo(1:2), max(2.0_wp*reach(1:2), &
+          tiny(1.0_wp)))
+        need = maxval(max(db%rmax, da%rmax + 2.0_wp*reach(1:2) + cell(1:2)))
+      end if
+      if (db%width < 0.0_wp .or. (p%dist%refresh .and. .not. (db%moved + need < &
         db%width))) then
         call make_plan(p, ib, ia, need*(1.0_wp + p%dist%margin), err)
         if (allocated(err)) return
+        db%moved = 0.0_wp
         call exchange_positions(p, ib)
       end if
       if (with_det) then
         do k = 1, size(db%loc)
           db%xl(:, k) = b%x_pred(:, db%loc(k))
         end do
-        call cloud_move(b%cloud, db%xl, err, glo, ghi)
+        call cloud_move(b%cloud, db%xl, err, db%glo, db%ghi)
         if (allocated(err)) return
       end if
-      call surface_update(b%surface, b%x_pred, err, mlo, mhi, reach)
-      if (allocated(err)) return
-      b%lo = glo - b%cloud%rmax(1:size(glo))
-      b%hi = ghi + b%cloud%rmax(1:size(ghi))
+      if (nd == 3) then
+        call surface3d_update(b%surf3, b%x_pred)
+      else
+        call surface_update(b%surface, b%x_pred, err, mlo(1:2), mhi(1:2), reach(1:2))
+        if (allocated(err)) return
+      end if
+      b%lo = db%glo - b%cloud%rmax(1:nd)
+      b%hi = db%ghi + b%cloud%rmax(1:nd)
       db%nghost_sum = db%nghost_sum + size(db%rids)
       db%npass = db%npass + 1
     end associate
@@ -372,31 +494,33 @@ contains
   subroutine exchange_positions(p, ib)
     type(contact_pair_t), intent(inout), target :: p
     integer, intent(in) :: ib
-    integer :: k, m
+    integer :: k, m, nd, w
     associate (b => p%side(ib), db => p%dist%side(ib))
-      call ensure(db%sbuf, 4*size(db%sids))
+      nd = size(b%lo)
+      w = 2*nd
+      call ensure(db%sbuf, w*size(db%sids))
       do k = 1, size(db%sids)
-        db%sbuf(4*k - 3:4*k) = [b%x_old(:, db%sids(k)), b%x_pred(:, db%sids(k))]
+        db%sbuf(w*(k - 1) + 1:w*k) = [b%x_old(:, db%sids(k)), b%x_pred(:, db%sids(k))]
       end do
-      db%mptr(1:size(db%to) + 1) = 4*db%sptr - 3
+      db%mptr(1:size(db%to) + 1) = w*(db%sptr - 1) + 1
       call p%dist%comm%sparse_exchange(db%to, db%mptr(1:size(db%to) + 1), db%sbuf, db%from, &
         db%nptr(1:size(db%from) + 1), db%rbuf)
       do m = 1, size(db%rids)
-        b%x_old(:, db%rids(m)) = db%rbuf(4*m - 3:4*m - 2)
-        b%x_pred(:, db%rids(m)) = db%rbuf(4*m - 1:4*m)
+        b%x_old(:, db%rids(m)) = db%rbuf(w*(m - 1) + 1:w*(m - 1) + nd)
+        b%x_pred(:, db%rids(m)) = db%rbuf(w*(m - 1) + nd + 1:w*m)
       end do
     end associate
   end subroutine exchange_positions
 
   !> The reactions of side ia's own active particles on the ends of the master segments
-  !! they hit (eq. 98's point forces on side ib), each sent to the owner of its master
-  !! particle, and summed there into db%f in the order of the slave particles, as the
-  !! serial pass sums them.
+  !! (the vertices of the facets) they hit (eq. 98's point forces on side ib), each sent
+  !! to the owner of its master particle, and summed there into db%f in the order of the
+  !! slave particles, as the serial pass sums them.
   subroutine route_reactions(p, ia, ib)
     type(contact_pair_t), intent(inout), target :: p
     integer, intent(in) :: ia, ib
     integer :: nl, n0, n
-    call route_to_owners(p, ia, ib, 4, reaction, n0, n)
+    call route_to_owners(p, ia, ib, 2 + size(p%side(ib)%lo), reaction, n0, n)
     associate (db => p%dist%side(ib))
       nl = db%nptr(size(db%to) + 1) - 1
       db%f = 0.0_wp
@@ -405,14 +529,12 @@ contains
 
   contains
 
-    !> (master particle, slave particle, its share of the force) for end e of j's segment.
+    !> (master particle, slave particle, its share of the force) for end (vertex) e of j's
+    !! segment (facet).
     subroutine reaction(j, e, i, rec)
       integer, intent(in) :: j, e, i
       real(wp), intent(out) :: rec(:)
-      real(wp) :: w
-      w = p%side(ia)%xi(j)
-      if (e == 0) w = 1.0_wp - w
-      rec = [real(i, wp), real(j, wp), w*p%side(ia)%fphys(:, j)]
+      rec = [real(i, wp), real(j, wp), end_weight(p%side(ia), j, e)*p%side(ia)%fphys(:, j)]
     end subroutine reaction
   end subroutine route_reactions
 
@@ -461,19 +583,17 @@ contains
 
   contains
 
-    !> (master particle, slave particle, weight) for end e of j's segment.
+    !> (master particle, slave particle, weight) for end (vertex) e of j's segment (facet).
     subroutine share(j, e, i, rec)
       integer, intent(in) :: j, e, i
       real(wp), intent(out) :: rec(:)
-      real(wp) :: w
-      w = p%side(ia)%xi(j)
-      if (e == 0) w = 1.0_wp - w
-      rec = [real(i, wp), real(j, wp), w]
+      rec = [real(i, wp), real(j, wp), end_weight(p%side(ia), j, e)]
     end subroutine share
   end subroutine route_shares
 
-  !> Records of width nw about the two segment ends of each own active particle of side ia
-  !! (make(j, e, i, rec): end e, 0 or 1, master particle i), each sent to the owner of its
+  !> Records of width nw about the two segment ends (three facet vertices) of each own
+  !! active particle of side ia (make(j, e, i, rec): end e from 0, master particle i), each
+  !! sent to the owner of its
   !! master particle (back along the ghost plan, to the ranks the ghosts came from). On
   !! return the records this rank owns are db%sbuf(n0:n-1) (its own, in the order of its
   !! slave particles) and db%rbuf(1:db%nptr(size(db%to)+1)-1) (the other ranks'). Collective.
@@ -488,10 +608,11 @@ contains
       end subroutine make
     end interface
     integer, intent(out) :: n0, n
-    integer :: jj, j, e, i, q, k, nloc
+    integer :: jj, j, e, i, q, k, nloc, nv
     integer :: slot(0:p%dist%comm%nranks - 1), cnt(size(p%dist%side(ib)%from))
     real(wp) :: rec(nw)
     associate (a => p%side(ia), db => p%dist%side(ib), me => p%dist%comm%me)
+      nv = merge(3, 2, a%ndim == 3)
       slot = 0
       do k = 1, size(db%from)
         slot(db%from(k)) = k
@@ -501,7 +622,7 @@ contains
       do jj = 1, a%nlist
         j = a%list(jj)
         if (.not. a%active(j)) cycle
-        do e = 0, 1
+        do e = 0, nv - 1
           q = db%owner(seg_end(j, e))
           if (q == me) then
             nloc = nloc + 1
@@ -522,7 +643,7 @@ contains
       do jj = 1, a%nlist
         j = a%list(jj)
         if (.not. a%active(j)) cycle
-        do e = 0, 1
+        do e = 0, nv - 1
           i = seg_end(j, e)
           call make(j, e, i, rec)
           q = db%owner(i)
@@ -542,10 +663,13 @@ contains
 
   contains
 
-    !> End e (0: first, 1: second) of the master segment slave particle j hit.
+    !> End e (0: first, 1: second) of the master segment slave particle j hit (in 3D
+    !! vertex e + 1 of the facet).
     integer function seg_end(j, e) result(i)
       integer, intent(in) :: j, e
-      if (e == 0) then
+      if (p%side(ia)%ndim == 3) then
+        i = p%side(ib)%surf3%tri(e + 1, p%side(ia)%seg(j))
+      else if (e == 0) then
         i = p%side(ib)%surface%i0(p%side(ia)%seg(j))
       else
         i = p%side(ib)%surface%i1(p%side(ia)%seg(j))
@@ -558,18 +682,62 @@ contains
   subroutine sum_records(ds, rl, rr)
     type(dist_side_t), intent(inout) :: ds
     real(wp), intent(in) :: rl(:), rr(:)
-    real(wp) :: key(size(rl)/4 + size(rr)/4), rec(4, size(rl)/4 + size(rr)/4)
-    integer :: idx(size(key)), k, m, nl
-    nl = size(rl)/4
-    rec(:, 1:nl) = reshape(rl, [4, nl])
-    rec(:, nl + 1:) = reshape(rr, [4, size(rr)/4])
+    real(wp) :: key(size(rl)/(2 + size(ds%f, 1)) + size(rr)/(2 + size(ds%f, 1)))
+    real(wp) :: rec(2 + size(ds%f, 1), size(key))
+    integer :: idx(size(key)), k, m, nl, nw
+    nw = 2 + size(ds%f, 1)
+    nl = size(rl)/nw
+    rec(:, 1:nl) = reshape(rl, [nw, nl])
+    rec(:, nl + 1:) = reshape(rr, [nw, size(rr)/nw])
     key = rec(2, :)
     call sort_index(key, idx)
     do k = 1, size(idx)
       m = ds%gl(nint(rec(1, idx(k))))
-      ds%f(:, m) = ds%f(:, m) - rec(3:4, idx(k))
+      ds%f(:, m) = ds%f(:, m) - rec(3:nw, idx(k))
     end do
   end subroutine sum_records
+
+  !> The weight of end (vertex) e, from 0, of the segment (facet) slave particle j of side
+  !! a hit: 1 - xi and xi in the plane, the barycentric coordinates in 3D.
+  pure real(wp) function end_weight(a, j, e) result(w)
+    type(side_t), intent(in) :: a
+    integer, intent(in) :: j, e
+    if (a%ndim == 3) then
+      w = a%bary(e + 1, j)
+    else
+      w = a%xi(j)
+      if (e == 0) w = 1.0_wp - w
+    end if
+  end function end_weight
+
+  !> The number of segments (facets) of the whole surface ds%full (ds%full3).
+  pure integer function nfacet(ds)
+    type(dist_side_t), intent(in) :: ds
+    if (ds%full3%nf > 0) then
+      nfacet = ds%full3%nf
+    else
+      nfacet = ds%full%nseg
+    end if
+  end function nfacet
+
+  !> Ends of a segment (2), vertices of a facet (3).
+  pure integer function nvert(ds)
+    type(dist_side_t), intent(in) :: ds
+    nvert = merge(3, 2, ds%full3%nf > 0)
+  end function nvert
+
+  !> End (vertex) e, from 1, of segment (facet) kk of the whole surface.
+  pure integer function vert(ds, kk, e) result(i)
+    type(dist_side_t), intent(in) :: ds
+    integer, intent(in) :: kk, e
+    if (ds%full3%nf > 0) then
+      i = ds%full3%tri(e, kk)
+    else if (e == 1) then
+      i = ds%full%i0(kk)
+    else
+      i = ds%full%i1(kk)
+    end if
+  end function vert
 
   !> A new ghost plan of side ib as the master of side ia's own particles, for the ghost
   !! width w (< 0: the static partners only), with the rank's cloud and surface of its own
@@ -579,16 +747,18 @@ contains
     integer, intent(in) :: ib, ia
     real(wp), intent(in) :: w
     type(error_t), allocatable, intent(inout) :: err
-    real(wp) :: mine(8), boxes(8, 0:p%dist%comm%nranks - 1), grown(4)
-    integer :: q, k, i, n, nto, nfrom, me, nr
+    real(wp), allocatable :: mine(:), boxes(:, :), grown(:)
+    integer :: q, k, i, n, nto, nfrom, me, nr, nd, m
     logical :: dyn, take
-    logical, allocatable :: mask(:)
+    logical, allocatable :: mask(:), keep(:)
     integer, allocatable :: to(:), sptr(:), sids(:), from(:)
     associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
       db => p%dist%side(ib), comm => p%dist%comm)
       me = comm%me
       nr = comm%nranks
-      ! the boxes of every rank's own slave and own master particles
+      nd = size(b%lo)
+      ! the boxes of every rank's own slave and own master particles (lo, hi each)
+      allocate(mine(4*nd), boxes(4*nd, 0:nr - 1), grown(2*nd))
       boxes = 0.0_wp
       if (w >= 0.0_wp) then
         mine = [box_of(a%x_pred, da%own), box_of(b%x_pred, db%own)]
@@ -602,16 +772,16 @@ contains
       n = 0
       do q = 0, nr - 1
         if (q == me) cycle
-        grown = [boxes(1:2, q) - w, boxes(3:4, q) + w]
-        dyn = w >= 0.0_wp .and. overlap(boxes(5:8, me), grown)
+        grown = [boxes(1:nd, q) - w, boxes(nd + 1:2*nd, q) + w]
+        dyn = w >= 0.0_wp .and. overlap(boxes(2*nd + 1:4*nd, me), grown)
         if (.not. (dyn .or. any(db%prank == q))) cycle
         nto = nto + 1
         to(nto) = q
         do k = 1, size(db%own)
           i = db%own(k)
           take = any(db%prank(db%pptr(k):db%pptr(k + 1) - 1) == q)
-          if (dyn .and. .not. take) take = all(b%x_pred(:, i) >= grown(1:2)) .and. &
-            all(b%x_pred(:, i) <= grown(3:4))
+          if (dyn .and. .not. take) take = all(b%x_pred(:, i) >= grown(1:nd)) .and. &
+            all(b%x_pred(:, i) <= grown(nd + 1:2*nd))
           if (.not. take) cycle
           if (n == size(sids)) sids = [sids, sids]
           n = n + 1
@@ -623,12 +793,11 @@ contains
       ! or that owns a partner of its own surface particles (the same tests as the sender's)
       allocate(from(nr))
       nfrom = 0
-      grown = [boxes(1:2, me) - w, boxes(3:4, me) + w]
+      grown = [boxes(1:nd, me) - w, boxes(nd + 1:2*nd, me) + w]
       do q = 0, nr - 1
         if (q == me) cycle
-        dyn = w >= 0.0_wp .and. overlap(boxes(5:8, q), grown)
-        if (.not. (dyn .or. any(db%owner(db%full%i1) == q .and. &
-          db%owner(db%full%i0) == me))) cycle
+        dyn = w >= 0.0_wp .and. overlap(boxes(2*nd + 1:4*nd, q), grown)
+        if (.not. (dyn .or. partner_of(q))) cycle
         nfrom = nfrom + 1
         from(nfrom) = q
       end do
@@ -653,7 +822,16 @@ contains
       b%cloud%rmax(1:size(db%rmax)) = db%rmax
       ! self-contact: det(M) without a point's reference neighbours (cloud_det_excluding)
       if (p%self) call cloud_set_reference(b%cloud, b%x_ref(:, db%loc))
-      call surface_subset(db%full, mask, b%surface)
+      if (nd == 3) then
+        ! the facets whose three vertices the rank holds
+        allocate(keep(db%full3%nf))
+        do m = 1, db%full3%nf
+          keep(m) = all(mask(db%full3%tri(:, m)))
+        end do
+        call surface3d_subset(db%full3, keep, b%x_pred, b%surf3)
+      else
+        call surface_subset(db%full, mask, b%surface)
+      end if
       if (allocated(db%xl)) deallocate(db%xl)
       allocate(db%xl(size(b%x_pred, 1), size(db%loc)))
       if (w < 0.0_wp) return
@@ -662,27 +840,50 @@ contains
       db%xr_m = b%x_pred(:, db%own)
       db%xr_s = a%x_pred(:, da%own)
     end associate
+
+  contains
+
+    !> Does rank q own an end (vertex) of a segment (facet) whose first this rank owns?
+    !! (It sends that end's position along: the static partners.)
+    logical function partner_of(q)
+      integer, intent(in) :: q
+      integer :: kk, e
+      associate (db => p%dist%side(ib))
+        partner_of = .true.
+        do kk = 1, nfacet(db)
+          if (db%owner(vert(db, kk, 1)) /= p%dist%comm%me) cycle
+          do e = 2, nvert(db)
+            if (db%owner(vert(db, kk, e)) == q) return
+          end do
+        end do
+        partner_of = .false.
+      end associate
+    end function partner_of
   end subroutine make_plan
 
-  !> The box [lo(2), hi(2)] of the particles ids of x (empty, lo > hi, when there are none).
+  !> The box [lo(nd), hi(nd)] of the particles ids of x (nd, :) (empty, lo > hi, when there
+  !! are none).
   pure function box_of(x, ids) result(box)
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: ids(:)
-    real(wp) :: box(4)
-    integer :: k
-    box(1:2) = huge(1.0_wp)
-    box(3:4) = -huge(1.0_wp)
+    real(wp) :: box(2*size(x, 1))
+    integer :: k, nd
+    nd = size(x, 1)
+    box(1:nd) = huge(1.0_wp)
+    box(nd + 1:) = -huge(1.0_wp)
     do k = 1, size(ids)
-      box(1:2) = min(box(1:2), x(:, ids(k)))
-      box(3:4) = max(box(3:4), x(:, ids(k)))
+      box(1:nd) = min(box(1:nd), x(:, ids(k)))
+      box(nd + 1:) = max(box(nd + 1:), x(:, ids(k)))
     end do
   end function box_of
 
-  !> Do boxes [lo, hi] (4: lo(2), hi(2)) overlap? (An empty box, lo > hi, overlaps none.)
+  !> Do boxes [lo, hi] (lo(nd), hi(nd)) overlap? (An empty box, lo > hi, overlaps none.)
   pure logical function overlap(x, y)
-    real(wp), intent(in) :: x(4), y(4)
-    overlap = all(x(1:2) <= x(3:4)) .and. all(y(1:2) <= y(3:4)) .and. &
-      all(x(1:2) <= y(3:4)) .and. all(y(1:2) <= x(3:4))
+    real(wp), intent(in) :: x(:), y(:)
+    integer :: nd
+    nd = size(x)/2
+    overlap = all(x(1:nd) <= x(nd + 1:)) .and. all(y(1:nd) <= y(nd + 1:)) .and. &
+      all(x(1:nd) <= y(nd + 1:)) .and. all(y(1:nd) <= x(nd + 1:))
   end function overlap
 
   !> a allocated with at least n entries (contents lost when reallocated).

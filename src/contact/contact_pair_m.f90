@@ -41,7 +41,8 @@ module contact_pair_m
   use detection_m, only: body_plateau, detection_threshold, body_cloud
   use contact_m, only: master_surface_t, surface_build, surface_update, surface_gap, &
     contact_point_force, contact_counters_t, surface_subset, contact_point_force_3d
-  use surface3d_m, only: surface3d_t, surface3d_build, surface3d_update, surface3d_gap
+  use surface3d_m, only: surface3d_t, surface3d_build, surface3d_update, surface3d_gap, &
+    surface3d_subset
   use contact_nts_m, only: nts_buckets_t, nts_build, nts_update, nts_gap
   use omp_lib, only: omp_get_wtime
   use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
@@ -55,7 +56,7 @@ module contact_pair_m
   public :: contact_pair_localize, contact_pair_distribute, contact_dist_report
   ! (public for the submodule contact_dist_sm only: gfortran 12 leaves out a private module
   ! procedure the submodule calls, even one the module calls too)
-  public :: detect_det_m, pass_forces, detect_self, spreads
+  public :: detect_det_m, pass_forces, detect_self, spreads, detect_det_m_3d, pass_forces_3d
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
@@ -202,6 +203,15 @@ module contact_pair_m
     integer, allocatable :: own(:)       !< the particles this rank owns, ascending
     integer, allocatable :: gl(:)        !< each particle's node in the rank's part solid, or 0
     type(master_surface_t) :: full       !< the whole surface (its segments' ends)
+    !> 3D: the whole closed triangle surface (its facets' vertices and edge partners); the
+    !! rank's surf3 is the subset of the facets whose vertices are all own or ghosts
+    type(surface3d_t) :: full3
+    !> 3D: the largest facet edge over the whole master (m), the motion since the refresh
+    !! D_s + D_m (m), and the largest radius the gap search has needed, |g| + 2 dmax (m):
+    !! the ghost width covers it, or the rank refreshes and searches again (dist_covered)
+    real(wp) :: dmax = 0.0_wp, moved = 0.0_wp, gcov = 0.0_wp
+    !> the whole master's extremes at this pass (the cloud's bins' grid) (m)
+    real(wp), allocatable :: glo(:), ghi(:)
     real(wp), allocatable :: rmax(:)     !< the whole side's largest support (ndim) (m)
     !> static partners: for each own particle (own order, CSR pptr), the ranks owning the
     !! first end of a surface segment whose second end it is (they need its position)
@@ -1208,7 +1218,9 @@ contains
     call detect_det_m_3d(a, b, neval, ndet)
     p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
     call pass_forces_3d(p, a, b, dt, count_stats, neval, ndet, ncon)
-    if (ncon == 0) return
+    ! (a rank's part of an RKPM slave exchanges its ghosts' forces below, with or without
+    ! contacts of its own: the other ranks' spread over its nodes)
+    if (ncon == 0 .and. .not. spreads(a, solids)) return
     ! reactions on b at the vertices of the facets hit (serial: few particles)
     if (b%isolid > 0) then
       b%fphys = 0.0_wp
@@ -1223,8 +1235,12 @@ contains
       call solid_add_point_forces(solids(b%isolid), b%fphys)
       call solid_correct(solids(b%isolid), dt)
     end if
+    ! (on ranks, eq. 98 spreads the ghost particles' forces too, and the corrected ghost
+    ! nodes come from their owners, as in the plane pass)
+    if (spreads(a, solids)) call solids(a%isolid)%part%halo%nodes(a%fphys)
     call solid_add_point_forces(solids(a%isolid), a%fphys)
     call solid_correct(solids(a%isolid), dt)
+    if (spreads(a, solids)) call solid_share_corrections(solids(a%isolid))
     ! penetration left after the correction (eq. 98 spreads the forces): the corrected
     ! positions of the particles that had a force (and b's surface when it moves)
     if (b%isolid > 0) call side_positions(b, solids, .true., .false., .false., err)
@@ -1244,17 +1260,20 @@ contains
   !! closest point over the facets, found through their bins, the sign from the
   !! pseudo-normal of the feature it lies on), and those with g < 0 are marked active with
   !! the outward normal, the facet and the barycentric coordinates of the closest point.
-  subroutine detect_det_m_3d(a, b, neval, ndet)
+  subroutine detect_det_m_3d(a, b, neval, ndet, gmax)
     type(side_t), intent(inout) :: a
     type(side_t), intent(in) :: b
     integer(i64), intent(out) :: neval, ndet
+    !> the largest |g| of the flagged particles (huge when one found no facet)
+    real(wp), intent(out), optional :: gmax
     integer :: j, jj, jf
-    real(wp) :: det, g, nrm(3), bary(3), xq(3)
+    real(wp) :: det, g, nrm(3), bary(3), xq(3), gm
     neval = 0
     ndet = 0
+    gm = 0.0_wp
     !$omp parallel do default(none) shared(a, b) &
     !$omp private(j, det, g, nrm, jf, bary, xq) reduction(+: neval, ndet) &
-    !$omp schedule(static)
+    !$omp reduction(max: gm) schedule(static)
     do jj = 1, a%nlist
       j = side_particle(a, jj)
       a%active(j) = .false.
@@ -1267,6 +1286,7 @@ contains
       if (.not. (det > b%threshold)) cycle
       ndet = ndet + 1
       call surface3d_gap(b%surf3, xq, g, nrm, jf, bary)
+      gm = max(gm, merge(abs(g), huge(1.0_wp), jf > 0))
       if (jf == 0 .or. .not. (g < 0.0_wp)) cycle
       a%active(j) = .true.
       a%gap(j) = g
@@ -1275,6 +1295,7 @@ contains
       a%bary(:, j) = bary
     end do
     !$omp end parallel do
+    if (present(gmax)) gmax = gm
   end subroutine detect_det_m_3d
 
   !> pass_forces for 3D bodies: the forces of eqs. (93)-(96) at side a's particles marked
@@ -1308,8 +1329,9 @@ contains
     ! the step's first pass pushes the slave's particles, the second the master's (their
     ! forces act on the slave with the opposite sign)
     sgn = merge(1.0_wp, -1.0_wp, count_stats)
-    ! shared effective mass: how much of each master vertex the particles load together
-    if (p%shared_mass .and. b%isolid > 0) then
+    ! shared effective mass: how much of each master vertex the particles load together (on
+    ! ranks, route_shares has summed them over the ranks' slave particles)
+    if (p%shared_mass .and. b%isolid > 0 .and. .not. allocated(p%dist)) then
       b%share = 0.0_wp
       do j = 1, a%np
         if (.not. a%active(j)) cycle

@@ -27,7 +27,7 @@ module surface3d_m
   use sorting_m, only: sort_index
   implicit none
   private
-  public :: surface3d_t, surface3d_build, surface3d_update, surface3d_gap
+  public :: surface3d_t, surface3d_build, surface3d_update, surface3d_gap, surface3d_subset
 
   type :: surface3d_t
     integer :: nf = 0
@@ -38,6 +38,7 @@ module surface3d_m
                                              !! (from its vertex k to k + 1)
     real(wp), allocatable :: vn(:, :)        !< (3, np) vertex pseudo-normals
     integer, allocatable :: partner(:, :)    !< (3, nf) the other facet of edge k of facet
+                                             !! (0 in a subset without it: surface3d_subset)
     !> the bins: the grid's corner lo (m), its cell size (m) and cells per axis, and the
     !! facets whose boxes touch cell c, cfac(cptr(c) : cptr(c + 1) - 1) (c numbered x
     !! fastest from 1)
@@ -108,15 +109,63 @@ contains
     call surface3d_update(s, x)
   end subroutine surface3d_build
 
+  !> The facets of full kept by keep (nf), in their order, as a surface of their own over
+  !! the vertices' positions x (3, np) (m): a rank's share of a deforming master on ranks
+  !! (contact_dist_sm). The vertex numbers stay full's; an edge partner left out is 0, and
+  !! a vertex or an edge whose facets are not all kept gets a partial pseudo-normal, so
+  !! only a point whose closest point and the facets around that point's features are all
+  !! kept gets full's gap, normal, facet (numbered in the subset, in full's order, so that
+  !! ties fall the same way) and barycentric coordinates, to the bit.
+  subroutine surface3d_subset(full, keep, x, s)
+    type(surface3d_t), intent(in) :: full
+    logical, intent(in) :: keep(:)
+    real(wp), intent(in) :: x(:, :)
+    type(surface3d_t), intent(inout) :: s
+    integer :: m, k, n
+    integer, allocatable :: new(:)
+    allocate(new(full%nf))
+    new = 0
+    n = 0
+    do m = 1, full%nf
+      if (.not. keep(m)) cycle
+      n = n + 1
+      new(m) = n
+    end do
+    s%nf = n
+    if (allocated(s%tri)) deallocate(s%tri, s%partner, s%fn, s%en)
+    allocate(s%tri(3, n), s%partner(3, n), s%fn(3, n), s%en(3, 3, n))
+    do m = 1, full%nf
+      if (new(m) == 0) cycle
+      s%tri(:, new(m)) = full%tri(:, m)
+      do k = 1, 3
+        s%partner(k, new(m)) = new(full%partner(k, m))
+      end do
+    end do
+    if (.not. allocated(s%vn)) allocate(s%vn(3, size(x, 2)))
+    s%cell = full%cell
+    call surface3d_update(s, x)
+  end subroutine surface3d_subset
+
   !> The facets binned by their boxes in the current configuration s%x (surface3d_m's
-  !! header): the grid over the vertices' box, cells of s%cell grown until there are at
+  !! header): the grid over the facets' box, cells of s%cell grown until there are at
   !! most bin_cap per facet.
   subroutine bin_facets(s)
     type(surface3d_t), intent(inout) :: s
     real(wp) :: hi(3), bl(3), bh(3), h
     integer :: m, i, j, k, c, ncell, il(3), ih(3), n
-    s%lo = minval(s%x, dim=2)
-    hi = maxval(s%x, dim=2)
+    ! (the box of the facets' vertices: a subset's vertex array holds other points too)
+    s%lo = huge(1.0_wp)
+    hi = -huge(1.0_wp)
+    do m = 1, s%nf
+      do k = 1, 3
+        s%lo = min(s%lo, s%x(:, s%tri(k, m)))
+        hi = max(hi, s%x(:, s%tri(k, m)))
+      end do
+    end do
+    if (s%nf == 0) then
+      s%lo = 0.0_wp
+      hi = 0.0_wp
+    end if
     h = s%cell
     if (.not. (h > 0.0_wp)) h = max(maxval(hi - s%lo), tiny(1.0_wp))
     do
@@ -202,10 +251,15 @@ contains
         s%vn(:, s%tri(k, m)) = s%vn(:, s%tri(k, m)) + ang*s%fn(:, m)
       end do
     end do
-    ! an edge's pseudo-normal: the sum of its two facets' normals
+    ! an edge's pseudo-normal: the sum of its two facets' normals (in a subset, an edge
+    ! whose other facet is left out takes its one facet's)
     do m = 1, s%nf
       do k = 1, 3
-        s%en(:, k, m) = s%fn(:, m) + s%fn(:, s%partner(k, m))
+        if (s%partner(k, m) > 0) then
+          s%en(:, k, m) = s%fn(:, m) + s%fn(:, s%partner(k, m))
+        else
+          s%en(:, k, m) = s%fn(:, m)
+        end if
       end do
     end do
     call bin_facets(s)

@@ -129,8 +129,9 @@ contains
     do k = 1, nk
       call make_part(dom, k, solids(k), own(k)%owner, err)
       if (dom%any_error(err)) return
-      if (restarted) call restart_part(dom, k, solids(k))
+      ! (the halo first: a restart's averaged nodal pressure takes the ghosts' J through it)
       solids(k)%part%halo => dom%halos(k)
+      if (restarted) call restart_part(dom, k, solids(k))
     end do
     ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
     ! the snapshots (drawn from the gathered state: contact_det_fields, contact_self_det)

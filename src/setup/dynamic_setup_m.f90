@@ -452,16 +452,6 @@ contains
       return
     end if
     do k = 1, deck%ncontacts
-      if (deck%run%ndim /= 3) exit
-      associate (c => deck%contacts(k))
-        if (deck%bodies(c%imaster)%role == 'rigid') cycle
-        call set_error(err, what//deck%path//"', group &contact, variable master: contact "// &
-          "of 3D bodies against the deforming master '"//trim(c%master)//"' is not yet "// &
-          "with MPI (a rigid master is); run mfcd (serial)")
-        return
-      end associate
-    end do
-    do k = 1, deck%ncontacts
       associate (c => deck%contacts(k))
         if (deck%bodies(c%imaster)%role == 'rigid') cycle
         ! a deforming master (or self-contact): its ghost particles (contact_dist_sm)
