@@ -114,6 +114,9 @@ class Body:
     #: finite-element bodies only: triangles (ne, 3), 0-based node indices (rows of x),
     #: counter-clockwise; None for particle bodies
     triangles: Optional[np.ndarray] = None
+    #: 3D bodies: the closed boundary surface (nf, 3), 0-based particle indices (rows of
+    #: x), counter-clockwise seen from outside; None in 1D and 2D
+    facets: Optional[np.ndarray] = None
 
     @property
     def ndim(self) -> int:
@@ -572,6 +575,8 @@ class MfcdFile:
         loops = [idx[ptr[k] - 1:ptr[k + 1] - 1] - 1 for k in range(ptr.size - 1)]
         tri = np.asarray(g["triangles"][()], dtype=int).reshape(-1, 3) \
             if "triangles" in g else None
+        fac = np.asarray(g["facets"][()], dtype=int).reshape(-1, 3) \
+            if "facets" in g else None
         return Body(
             name=name,
             x=x,
@@ -581,6 +586,7 @@ class MfcdFile:
             loops=loops,
             attrs=decode_attrs(g),
             triangles=tri,
+            facets=fac,
         )
 
     def triangles(self, name: str) -> Optional[np.ndarray]:

@@ -35,9 +35,7 @@ contains
     ! (self-contact: both sides are the same solid, owner1 = owner2)
     character(len=:), allocatable :: what
     what = "contact of '"//trim(p%side(1)%name)//"' on '"//trim(p%side(2)%name)//"': "
-    if (p%side(1)%ndim == 3 .and. p%self) then
-      call set_error(err, what//"self-contact in 3D is not yet with MPI")
-    else if (.not. p%both_ways) then
+    if (.not. p%both_ways) then
       call set_error(err, what//"the master is rigid: a rank's part takes it whole "// &
         "(contact_pair_localize)")
     else if (p%detector /= detector_det_m .or. p%compare) then
@@ -188,7 +186,15 @@ contains
     associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
       db => p%dist%side(ib))
       t0 = omp_get_wtime()
-      if (p%self) then
+      if (p%self .and. a%ndim == 3) then
+        ! (as below, with the check of the ghost width of the 3D detection)
+        do
+          call detect_self_3d(a, b, count_stats, neval, ndet, gmax)
+          if (dist_covered(p, ib, ia, gmax, .true., err)) exit
+          if (allocated(err)) return
+        end do
+        if (count_stats) p%count%screened = p%count%screened + size(a%cand)
+      else if (p%self) then
         ! (the first pass is self_correct's lower_only pass; the candidates counted once)
         call detect_self(a, b, count_stats, neval, ndet)
         if (count_stats) p%count%screened = p%count%screened + size(a%cand)
@@ -269,7 +275,12 @@ contains
         do jj = 1, a%nlist
           j = a%list(jj)
           if (.not. a%active(j)) cycle
-          call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary)
+          if (p%self) then
+            call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
+              xc=a%x_ref(:, j), rex=a%rex(j))
+          else
+            call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary)
+          end if
           gm = max(gm, merge(abs(g), huge(1.0_wp), jf > 0))
           if (jf > 0) pen = max(pen, -g)
         end do
@@ -797,7 +808,8 @@ contains
       do q = 0, nr - 1
         if (q == me) cycle
         dyn = w >= 0.0_wp .and. overlap(boxes(2*nd + 1:4*nd, q), grown)
-        if (.not. (dyn .or. partner_of(q))) cycle
+        if (.not. dyn) dyn = partner_of(q)
+        if (.not. dyn) cycle
         nfrom = nfrom + 1
         from(nfrom) = q
       end do

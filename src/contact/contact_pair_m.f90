@@ -57,6 +57,7 @@ module contact_pair_m
   ! (public for the submodule contact_dist_sm only: gfortran 12 leaves out a private module
   ! procedure the submodule calls, even one the module calls too)
   public :: detect_det_m, pass_forces, detect_self, spreads, detect_det_m_3d, pass_forces_3d
+  public :: detect_self_3d
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
@@ -407,10 +408,9 @@ contains
     end if
   end subroutine contact_pair_init
 
-  !> What a 3D pair (slave body bs) cannot do yet: the node-to-segment detector and the
+  !> What a 3D pair (slave body bs) cannot do: the node-to-segment detector and the
   !! detectors' comparison (a 3D closest-facet search binned like contact_nts_m's buckets
-  !! is not written), self-contact (det(M) of the non-neighbours and the candidates come
-  !! from the surface polylines), axisymmetry (a 2D geometry).
+  !! is not written), axisymmetry (a 2D geometry).
   subroutine check_3d(prm, bs, axisym, err)
     type(contact_params_t), intent(in) :: prm
     type(body_t), intent(in) :: bs
@@ -424,8 +424,6 @@ contains
     else if (prm%compare) then
       call set_error(err, "variable compare_detectors: "//what//"the node-to-segment "// &
         "detector it compares with is 2D only; give .false.")
-    else if (prm%self_contact) then
-      call set_error(err, what//"self-contact is 2D only; give a master other than the slave")
     else if (axisym) then
       call set_error(err, what//"axisymmetry is a 2D geometry; give a plane or 3D run")
     end if
@@ -548,10 +546,17 @@ contains
     integer :: k, n, j
     allocate(on(s%np))
     on = .false.
-    do k = 1, s%surface%nseg
-      on(s%surface%i0(k)) = .true.
-      on(s%surface%i1(k)) = .true.
-    end do
+    if (s%ndim == 3) then
+      ! (the vertices of the closed triangle surface)
+      do k = 1, s%surf3%nf
+        on(s%surf3%tri(:, k)) = .true.
+      end do
+    else
+      do k = 1, s%surface%nseg
+        on(s%surface%i0(k)) = .true.
+        on(s%surface%i1(k)) = .true.
+      end do
+    end if
     allocate(s%cand(count(on)), s%rex(s%np))
     n = 0
     do j = 1, s%np
@@ -716,7 +721,11 @@ contains
     b%x_pred = a%x_pred
     call cloud_move(b%cloud, b%x_pred, err)
     if (allocated(err)) return
-    call surface_update(b%surface, b%x_pred, err)
+    if (b%ndim == 3) then
+      call surface3d_update(b%surf3, b%x_pred)
+    else
+      call surface_update(b%surface, b%x_pred, err)
+    end if
   end subroutine self_positions
 
   !> For self-contact, the positions at the start of the step of a's active particles and of the
@@ -724,10 +733,18 @@ contains
   subroutine self_old_positions(a, b, sol)
     type(side_t), intent(inout) :: a, b
     type(solid_t), intent(in) :: sol
-    integer :: j, i0, i1
+    integer :: j, i0, i1, k
     do j = 1, a%np
       if (.not. a%active(j)) cycle
       call solid_point_position(sol, j, a%x_old(:, j), at_step_start)
+      if (a%ndim == 3) then
+        ! (the facet's three vertices)
+        do k = 1, 3
+          i0 = b%surf3%tri(k, a%seg(j))
+          call solid_point_position(sol, i0, b%x_old(:, i0), at_step_start)
+        end do
+        cycle
+      end if
       i0 = b%surface%i0(a%seg(j))
       i1 = b%surface%i1(a%seg(j))
       call solid_point_position(sol, i0, b%x_old(:, i0), at_step_start)
@@ -992,7 +1009,7 @@ contains
     logical :: found
     real(wp) :: t0
     if (a%ndim == 3) then
-      call contact_pass_3d(p, a, b, solids, dt, count_stats, err)
+      call contact_pass_3d(p, a, b, solids, dt, count_stats, err, lower_only)
       return
     end if
     ! detection: which of a's particles penetrate b, with gap, normal, segment, projection
@@ -1204,19 +1221,28 @@ contains
   !! barycentric coordinates of its closest point (the 3D form of the plane pass's (1 - xi,
   !! xi) on a segment's ends), so their sum is minus the particle's force and their moment
   !! about the closest point vanishes.
-  subroutine contact_pass_3d(p, a, b, solids, dt, count_stats, err)
+  !! Self-contact (both sides views of one body, self_correct): detect_self_3d, the
+  !! reactions added to the one solid, corrected once with the particles' forces.
+  subroutine contact_pass_3d(p, a, b, solids, dt, count_stats, err, lower_only)
     type(contact_pair_t), intent(inout) :: p
     type(side_t), intent(inout) :: a, b
     type(solid_t), intent(inout) :: solids(:)
     real(wp), intent(in) :: dt
     logical, intent(in) :: count_stats
     type(error_t), allocatable, intent(inout) :: err
+    !> in self-contact, only particles numbered below the three vertices of the facet hit
+    logical, intent(in), optional :: lower_only
     integer :: j, jj, k, i, jf
     integer(i64) :: neval, ndet, ncon
     real(wp) :: g, nrm(3), bary(3), t0
     t0 = omp_get_wtime()
-    call detect_det_m_3d(a, b, neval, ndet)
+    if (p%self) then
+      call detect_self_3d(a, b, present(lower_only), neval, ndet)
+    else
+      call detect_det_m_3d(a, b, neval, ndet)
+    end if
     p%count%t_detect = p%count%t_detect + (omp_get_wtime() - t0)
+    if (p%self) call self_old_positions(a, b, solids(a%isolid))
     call pass_forces_3d(p, a, b, dt, count_stats, neval, ndet, ncon)
     ! (a rank's part of an RKPM slave exchanges its ghosts' forces below, with or without
     ! contacts of its own: the other ranks' spread over its nodes)
@@ -1233,7 +1259,8 @@ contains
         end do
       end do
       call solid_add_point_forces(solids(b%isolid), b%fphys)
-      call solid_correct(solids(b%isolid), dt)
+      ! (self-contact: one solid, corrected once below)
+      if (b%isolid /= a%isolid) call solid_correct(solids(b%isolid), dt)
     end if
     ! (on ranks, eq. 98 spreads the ghost particles' forces too, and the corrected ghost
     ! nodes come from their owners, as in the plane pass)
@@ -1249,10 +1276,71 @@ contains
       j = side_particle(a, jj)
       if (.not. a%active(j)) cycle
       call solid_point_position(solids(a%isolid), j, a%x_pred(:, j))
-      call surface3d_gap(b%surf3, a%x_pred(:, j) - b%shift, g, nrm, jf, bary)
+      if (p%self) then
+        call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
+          xc=a%x_ref(:, j), rex=a%rex(j))
+      else
+        call surface3d_gap(b%surf3, a%x_pred(:, j) - b%shift, g, nrm, jf, bary)
+      end if
       if (jf > 0) p%step%pen_after = max(p%step%pen_after, -g)
     end do
   end subroutine contact_pass_3d
+
+  !> detect_self for 3D bodies: a's candidates (the vertices of its surface facets) with
+  !! det(M) of the same body (b's cloud) from the particles that are not their reference
+  !! neighbours (beyond rex) above the threshold are flagged (ndet of neval evaluated); the
+  !! flagged ones get the signed gap to the closest facet none of whose vertices is a
+  !! reference neighbour, and those with g < 0 are marked active with it. lower_only (the
+  !! first pass of self_correct): only a particle numbered below the facet's three vertices;
+  !! the second pass takes the rest, not those the first put on the surface.
+  subroutine detect_self_3d(a, b, lower_only, neval, ndet, gmax)
+    type(side_t), intent(inout) :: a
+    type(side_t), intent(in) :: b
+    logical, intent(in) :: lower_only
+    integer(i64), intent(out) :: neval, ndet
+    !> the largest |g| of the flagged particles (huge when one found no facet)
+    real(wp), intent(out), optional :: gmax
+    integer :: k, j, jf
+    real(wp) :: det, g, nrm(3), bary(3), gm
+    neval = 0
+    ndet = 0
+    gm = 0.0_wp
+    a%active = .false.
+    !$omp parallel do default(none) shared(a, b, lower_only) &
+    !$omp private(j, det, g, nrm, jf, bary) reduction(+: neval, ndet) reduction(max: gm) &
+    !$omp schedule(dynamic, 16)
+    do k = 1, size(a%cand)
+      j = a%cand(k)
+      if (.not. a%near(j)) cycle   ! skipping: no non-neighbour can reach it yet
+      if (.not. lower_only) then
+        if (b%active(j)) cycle     ! put on the surface by the first pass
+      end if
+      neval = neval + 1
+      det = cloud_det_excluding(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j))
+      ! skipping: when it is screened again (as detect_self)
+      if (a%skip_far) then
+        a%due(j) = a%travel
+        if (det == 0.0_wp) a%due(j) = a%travel + (1.0_wp - skip_rounding)*max(0.0_wp, &
+          cloud_clearance(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j), a%rex(j)))
+      end if
+      if (.not. (det > b%threshold)) cycle
+      ndet = ndet + 1
+      call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
+        xc=a%x_ref(:, j), rex=a%rex(j))
+      gm = max(gm, merge(abs(g), huge(1.0_wp), jf > 0))
+      if (jf == 0 .or. .not. (g < 0.0_wp)) cycle
+      if (lower_only) then
+        if (j >= minval(b%surf3%tri(:, jf))) cycle
+      end if
+      a%active(j) = .true.
+      a%gap(j) = g
+      a%nrm(:, j) = nrm
+      a%seg(j) = jf
+      a%bary(:, j) = bary
+    end do
+    !$omp end parallel do
+    if (present(gmax)) gmax = gm
+  end subroutine detect_self_3d
 
   !> detect_det_m for 3D bodies: a's particles in b's grown box with det(M_b) above the
   !! threshold at their predicted positions are flagged (ndet of neval evaluated); the

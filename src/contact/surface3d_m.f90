@@ -270,14 +270,21 @@ contains
   !! the surface), the facet jf and the barycentric coordinates bary of q on it. every
   !! (optional, .false. by default): search every facet instead of the bins (the reference
   !! the bins must give bit for bit, test_surface3d).
-  pure subroutine surface3d_gap(s, p, g, nrm, jf, bary, every)
+  !! Self-contact: with xr (3, np) (the reference positions of the vertices), xc and rex, a
+  !! facet is left out when one of its vertices lies within rex of xc in the reference
+  !! configuration (the point's own neighbourhood, Sections 1 and 7); the sign still comes
+  !! from the whole surface's pseudo-normals.
+  pure subroutine surface3d_gap(s, p, g, nrm, jf, bary, every, xr, xc, rex)
     type(surface3d_t), intent(in) :: s
     real(wp), intent(in) :: p(3)
     real(wp), intent(out) :: g, nrm(3), bary(3)
     integer, intent(out) :: jf
     logical, intent(in), optional :: every
+    real(wp), intent(in), optional :: xr(:, :), xc(3), rex
     integer :: m, rbest, r, i, j, k, c, l, ijk(3), rmax
     real(wp) :: best, qbest(3), pn(3), dist
+    logical :: excl
+    excl = present(xr) .and. present(xc) .and. present(rex)
     best = huge(1.0_wp)
     jf = 0
     rbest = 0
@@ -289,6 +296,9 @@ contains
       if (every) then
         rmax = -1
         do m = 1, s%nf
+          if (excl) then
+            if (near_vertex(m)) cycle
+          end if
           call try_facet(s, p, m, best, jf, qbest, bary, rbest)
         end do
       end if
@@ -303,6 +313,9 @@ contains
             if (max(abs(i - ijk(1)), abs(j - ijk(2)), abs(k - ijk(3))) /= r) cycle
             c = i + s%nc(1)*((j - 1) + s%nc(2)*(k - 1))
             do l = s%cptr(c), s%cptr(c + 1) - 1
+              if (excl) then
+                if (near_vertex(s%cfac(l))) cycle
+              end if
               call try_facet(s, p, s%cfac(l), best, jf, qbest, bary, rbest)
             end do
           end do
@@ -331,6 +344,18 @@ contains
     else
       nrm = pn/norm2(pn)
     end if
+
+  contains
+
+    !> Has facet m a vertex within rex of xc in the reference configuration?
+    pure logical function near_vertex(m)
+      integer, intent(in) :: m
+      integer :: kk
+      near_vertex = .false.
+      do kk = 1, 3
+        if (sum((xr(:, s%tri(kk, m)) - xc)**2) < rex*rex) near_vertex = .true.
+      end do
+    end function near_vertex
   end subroutine surface3d_gap
 
   !> Facet m of s against the best so far for point p (squared distance best, facet jf,

@@ -104,6 +104,10 @@ contains
           'CSR pointer of boundary polylines (1-based, nloops + 1)')
         if (.not. allocated(err)) call h5_write(f, g//'/loop_idx', b%loop_idx, '1', err, &
           'particle indices (1-based) along each counter-clockwise boundary polyline')
+        if (allocated(b%facets) .and. b%ndim == 3 .and. .not. allocated(err)) &
+          call h5_write(f, g//'/facets', b%facets - 1, '1', err, 'the closed boundary '// &
+          'surface: particle (node) indices (0-based) of each triangle, counter-clockwise '// &
+          'seen from outside (3, nf)')
         if (allocated(b%cells) .and. b%ndim == 3 .and. .not. allocated(err)) then
           call h5_write(f, g//'/tetrahedra', b%cells - 1, '1', err, 'linear tetrahedra '// &
             '(averaged nodal pressure): node indices (0-based, as XDMF reads them), '// &

@@ -300,8 +300,8 @@ contains
     if (.not. allocated(err)) call check_3d(deck, err)
   end subroutine read_deck
 
-  !> What a 3D dynamic run does not have yet (doc/3d.md): self-contact, the node-to-segment
-  !! detector; RKPM bodies integrated otherwise than by SCNI.
+  !> What a 3D dynamic run does not have (doc/3d.md): the node-to-segment detector; RKPM
+  !! bodies integrated otherwise than by SCNI.
   subroutine check_3d(deck, err)
     type(deck_t), intent(in) :: deck
     type(error_t), allocatable, intent(inout) :: err
@@ -319,10 +319,7 @@ contains
     end do
     do k = 1, deck%ncontacts
       associate (c => deck%contacts(k))
-        if (c%imaster == c%islave) then
-          call bad(deck, 'contact', 'master', "'"//trim(c%master)//"' (= slave)", &
-            "self-contact in 3D is not in this version: leave out this &contact group", err)
-        else if (c%detector /= 'det_m' .or. c%compare_detectors) then
+        if (c%detector /= 'det_m' .or. c%compare_detectors) then
           call bad(deck, 'contact', 'detector', "'"//trim(c%detector)//"'", "3D contact "// &
             "detects by det(M) of the master: give detector = 'det_m' and "// &
             "compare_detectors = .false.", err)

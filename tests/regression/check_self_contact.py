@@ -38,11 +38,14 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "post"))
 from mfcd_h5 import MfcdFile  # noqa: E402
-from self_overlap import overlap  # noqa: E402
+from self_overlap import body_overlap  # noqa: E402
 
 TOL_DEPTH = 0.25     # overlap depth allowed with self-contact, in supports (docstring)
 ENERGY_TOL = 1.0e-3  # |energy residual| / energy scale (docstring)
 STEP_FRACTION = 0.05  # raster step of the overlap measure, fraction of the spacing
+# (3D: 1/4 of the spacing, a raster 125 times coarser in points; an overlap thinner than
+# 0.25 spacing = 0.125 support reads as zero, half of TOL_DEPTH)
+STEP_FRACTION_3D = 0.25
 results = []
 
 
@@ -88,20 +91,21 @@ def energy_ok(name, summary):
           % (abs(res) / scale, ENERGY_TOL), abs(res) <= ENERGY_TOL * scale)
 
 
-def depths(path, name=None):
-    """Overlap depth at every snapshot (m) of the body name (default: the self-contact
-    body), its support radius (m), its name, the run's summary and its self-contact pair
-    (self_pair)."""
+def depths(path, name=None, last_only=False):
+    """Overlap depth at every snapshot (m) (last_only: at the last) of the body name
+    (default: the self-contact body), its support radius (m), its name, the run's summary
+    and its self-contact pair (self_pair). 2D: the boundary loops; 3D: the closed facet
+    surface (post/self_overlap.py)."""
     with MfcdFile(path) as f:
         name = name or self_body(f)
         b = f.body(name)
         rho = float(np.max(b.support))
-        step = STEP_FRACTION * float(np.min(np.atleast_1d(b.attrs["spacing"])[:2]))
+        frac = STEP_FRACTION_3D if b.ndim == 3 else STEP_FRACTION
+        step = frac * float(np.min(np.atleast_1d(b.attrs["spacing"])[:2]))
         out = []
-        for lab in f.snapshot_labels():
-            if lab == "failure":
-                continue
-            _, d, _ = overlap(b.polylines(x=f.snapshot(lab).bodies[name].x), step)
+        labels = [lab for lab in f.snapshot_labels() if lab != "failure"]
+        for lab in labels[-1:] if last_only else labels:
+            _, d, _ = body_overlap(b, f.snapshot(lab).bodies[name].x, step)
             out.append(d)
         return np.array(out), rho, name, f.summary, self_pair(f)
 
@@ -119,7 +123,7 @@ def folding_case(mfcd, tmp, with_deck, free_deck):
           "%.3f support)" % (TOL_DEPTH, 1e3 * d.max(), d.max() / rho),
           d.max() <= TOL_DEPTH * rho, d)
     energy_ok(name, summary)
-    d_free, rho_free, _, summary_free, (k_free, _) = depths(path_free, body)
+    d_free, rho_free, _, summary_free, (k_free, _) = depths(path_free, body, last_only=True)
     check(name_free + ": no self-contact pair", k_free is None)
     check(name_free + ": passes through itself (overlap depth %.3f mm = %.2f support > %.2f)"
           % (1e3 * d_free[-1], d_free[-1] / rho_free, 2 * TOL_DEPTH),
