@@ -4,6 +4,8 @@ against the number of ranks, for 10^5 nodes per rank (10^8 at 10^3 ranks), from 
 measured on this machine, with the measured 2-rank points beside it.
 
     .venv/bin/python bench/mpi_model.py [OUT.png]   (default doc/figures/mpi_scaling_model.png)
+    .venv/bin/python bench/mpi_model.py --3d [OUT.png]
+                     (3D, with the output and the set-up's memory: mpi_scaling_model_3d.png)
 
 Per step and rank (CST4 part of n nodes in a square; doc/parallel.md, "A model"):
   work      113 ns per triangle-step (measured: 4.9 ms for the 43,200 triangles of the
@@ -52,7 +54,110 @@ def step_times(p, contact):
     return work, comm
 
 
+# ---- 3D (issue 24): TL-RKPM parts of n particles in a cube, from the 3D Taylor bench ----
+# (bench/mpi_scaling.sh's taylor_bar_3d_rkpm_bench.nml on 1 and 2 ranks; doc/parallel.md,
+# "A model in 3D"). Measured values are marked so; the rest is assumed.
+# measured 2026-11-27 (bench/results/mpi_scaling_2026-11-27_165018.md, AMD EPYC guest):
+# 31.08 s for 300 steps of 37,467 particles on 1 rank; on 2 ranks 828 ghost nodes and 828
+# ghost points across a cut of 207 particles, 1.392e5 B and 1.196e5 B moved per step; a
+# snapshot of the bar 5,994,720 B
+NS_PER_PARTICLE_3D = 2.77e-6  # s per particle-step, 1 rank, 1 thread (measured)
+GHOST_LAYERS_3D = (4.0, 4.0)  # ghost nodes, points per particle of a cut face (measured)
+BYTES_GHOST_3D = (168.0, 144.0)  # B per ghost node, point and step (measured)
+SNAP_BYTES_3D = 160.0         # B per particle of a snapshot's gathered fields (measured)
+MEASURED_3D = 0.82            # weak-scaling efficiency on 2 ranks (measured, this guest)
+SETUP_BYTES_3D = 15.3e3       # B per particle of the set-up's peak (doc/3d.md, measured)
+FS_BANDWIDTH = 100.0e9        # B/s of a parallel file system, aggregate (assumed)
+MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
+STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)
+
+
+def step_times_3d(p, n):
+    """Work and halo/reduction time of one 3D step on p ranks of n particles each (s): a
+    part is a cube, its ghosts the layers on its six faces (fewer faces on few ranks: the
+    faces are cut only where another part lies, min(6, 2 log2 p) of them)."""
+    work = NS_PER_PARTICLE_3D * n
+    if p == 1:
+        return work, 0.0
+    faces = min(6.0, 2.0 * math.log2(p))
+    area = n ** (2.0 / 3.0)
+    halo_bytes = faces * area * (GHOST_LAYERS_3D[0] * BYTES_GHOST_3D[0]
+                                 + GHOST_LAYERS_3D[1] * BYTES_GHOST_3D[1])
+    comm = 3 * LATENCY + halo_bytes / BANDWIDTH
+    comm += 5 * math.ceil(math.log2(p)) * LATENCY
+    return work, comm
+
+
+def output_times_3d(p, n):
+    """(the snapshot gathered to rank 0, written collectively with MPI-IO) in s: the gather
+    funnels P n particles through rank 0's link; MPI-IO writes each rank's rows in parallel
+    up to the file system's aggregate bandwidth."""
+    total = p * n * SNAP_BYTES_3D
+    return total / BANDWIDTH, total / min(p * BANDWIDTH, FS_BANDWIDTH)
+
+
+def main_3d(out):
+    """The 3D model: a table for 10^5 and 10^6 particles per rank, 1 to 1,024 ranks, and
+    its figure (efficiency of the steps, the share of the snapshots' output, and the
+    set-up's memory per rank against MEM_PER_RANK)."""
+    ranks = [2 ** k for k in range(0, 11)]
+    plt.rcParams.update(figure_style(savefig_dpi=120))
+    fig, axs = plt.subplots(1, 2, figsize=(10.0, 4.0))
+    for n, mk in ((1.0e5, "o"), (1.0e6, "s")):
+        print(f"\n3D, {n:.0e} particles per rank")
+        print("| ranks | step (ms) | halos + reductions (ms) | efficiency | snapshot, "
+              "gather (s) | snapshot, MPI-IO (s) | output share, gather | whole-body "
+              "set-up per rank (GiB) | rank 0's gathered snapshot (GiB) |")
+        print("|---|---|---|---|---|---|---|---|---|")
+        eff, share_g, share_io, mem = [], [], [], []
+        for p in ranks:
+            w, c = step_times_3d(p, n)
+            g, io = output_times_3d(p, n)
+            per = STEPS_PER_SNAPSHOT * (w + c)
+            eff.append(100 * w / (w + c))
+            share_g.append(100 * g / (per + g))
+            share_io.append(100 * io / (per + io))
+            mem.append(p * n * SETUP_BYTES_3D / 2 ** 30)
+            print(f"| {p} | {1e3 * w:.0f} | {1e3 * c:.3f} | {eff[-1]:.2f}% | {g:.2f} | "
+                  f"{io:.3f} | {share_g[-1]:.1f}% | {mem[-1]:.1f} | "
+                  f"{p * n * SNAP_BYTES_3D / 2 ** 30:.2f} |")
+        lab = f"{n:.0e} particles per rank"
+        axs[0].semilogx(ranks, eff, mk + "-", base=2, label=f"steps, {lab}")
+        axs[0].semilogx(ranks, [100 - x for x in share_g], mk + "--", base=2,
+                        label=f"with snapshots gathered to rank 0, {lab}")
+        axs[0].semilogx(ranks, [100 - x for x in share_io], mk + ":", base=2,
+                        label=f"with snapshots by MPI-IO, {lab}")
+        axs[1].loglog(ranks, mem, mk + "-", base=2, label=f"whole-body set-up, {lab}")
+        axs[1].loglog(ranks, [n * SETUP_BYTES_3D / 2 ** 30] * len(ranks), mk + ":", base=2,
+                      label=f"set-up of one part, {lab}")
+        axs[1].loglog(ranks, [p * n * SNAP_BYTES_3D / 2 ** 30 for p in ranks], mk + "--",
+                      base=2, label=f"rank 0's gathered snapshot, {lab}")
+    axs[0].plot([2], [100 * MEASURED_3D], "^", ms=9,
+                label="measured, 2 ranks (3D Taylor quarter, 37,467 particles per rank)")
+    axs[1].axhline(MEM_PER_RANK / 2 ** 30, color="k", lw=1.0,
+                   label=f"memory per rank ({MEM_PER_RANK / 2 ** 30:.0f} GiB, assumed)")
+    axs[0].set_xlabel("MPI ranks")
+    axs[0].set_ylabel("efficiency (%)")
+    axs[0].set_ylim(75, 101)
+    axs[0].grid(True, which="both", alpha=0.3)
+    axs[0].legend(loc="lower left", fontsize=7)
+    axs[0].set_title(f"3D weak scaling; a snapshot every {STEPS_PER_SNAPSHOT} steps", fontsize=9)
+    axs[1].set_xlabel("MPI ranks")
+    axs[1].set_ylabel("memory per rank (GiB)")
+    axs[1].grid(True, which="both", alpha=0.3)
+    axs[1].legend(loc="upper left", fontsize=7)
+    axs[1].set_title("what breaks first: every rank builds the whole body", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out)
+    print(f"wrote {os.path.normpath(out)}")
+
+
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "--3d":
+        main_3d(sys.argv[2] if len(sys.argv) > 2 else os.path.join(
+            os.path.dirname(os.path.abspath(__file__)), "..", "doc", "figures",
+            "mpi_scaling_model_3d.png"))
+        return
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
         os.path.dirname(os.path.abspath(__file__)), "..", "doc", "figures",
         "mpi_scaling_model.png")

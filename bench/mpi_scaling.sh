@@ -6,9 +6,13 @@
 #   strong: the paper's FEM Taylor mesh, 1,000 steps (bench/decks/taylor_bar_fem_1000.nml),
 #           and a slab striking a deforming block (slab_on_block_bench.nml: contact with
 #           ghost master particles), by serial mfcd, and mfcd_mpi on 1 and 2 ranks;
+#           and the 3D Taylor bar's quarter by TL-RKPM at 1/3 mm, 300 steps
+#           (taylor_bar_3d_rkpm_bench.nml: 37,000 particles, symmetry planes, contact);
 #   weak:   the same per rank on 2 ranks: the bar twice as long, the slab and block twice
-#           as wide (taylor_bar_fem_1000_long.nml, slab_on_block_bench_wide.nml).
-# One OpenMP thread per rank. Writes bench/results/mpi_scaling_<date>.md (git-ignored) and
+#           as wide (taylor_bar_fem_1000_long.nml, slab_on_block_bench_wide.nml,
+#           taylor_bar_3d_rkpm_bench_long.nml);
+#   hybrid: 1 rank with 2 OpenMP threads, against 2 ranks of 1 thread.
+# One OpenMP thread per rank but in the hybrid runs. Writes bench/results/mpi_scaling_<date>.md (git-ignored) and
 # prints it; the figures in doc/parallel.md come from it.
 set -euo pipefail
 
@@ -40,17 +44,19 @@ time_loop() {
 mpi() { local n=$1; shift; mpirun --bind-to none -np "$n" "$build/bin/mfcd_mpi" "$@"; }
 
 declare -A t
-cases=(fem contact)
+cases=(fem contact 3d)
 declare -A deck=([fem]=bench/decks/taylor_bar_fem_1000.nml
-  [contact]=bench/decks/slab_on_block_bench.nml)
+  [contact]=bench/decks/slab_on_block_bench.nml [3d]=bench/decks/taylor_bar_3d_rkpm_bench.nml)
 declare -A wide=([fem]=bench/decks/taylor_bar_fem_1000_long.nml
-  [contact]=bench/decks/slab_on_block_bench_wide.nml)
+  [contact]=bench/decks/slab_on_block_bench_wide.nml
+  [3d]=bench/decks/taylor_bar_3d_rkpm_bench_long.nml)
 for r in $(seq "$rounds"); do
   for c in "${cases[@]}"; do
     t[$c,serial]+="$(time_loop "$build/bin/mfcd" "${deck[$c]}") "
     t[$c,1]+="$(time_loop mpi 1 "${deck[$c]}") "
     t[$c,2]+="$(time_loop mpi 2 "${deck[$c]}") "
     t[$c,w2]+="$(time_loop mpi 2 "${wide[$c]}") "
+    t[$c,h]+="$(OMP_NUM_THREADS=2 time_loop mpi 1 "${deck[$c]}") "
   done
 done
 
@@ -65,14 +71,16 @@ best() { tr ' ' '\n' <<< "$1" | grep -v '^$' | sort -g | head -1; }
   echo "- compiler: $(gfortran --version | head -1); $(mpirun --version | head -1)"
   echo "- command: bash bench/mpi_scaling.sh $rounds (one thread per rank; the time loop of each round, s; the ratios from the fastest of each)"
   echo
-  echo "| case | serial mfcd | 1 rank | 2 ranks | strong speed-up (1 rank / 2 ranks) | 2 ranks, twice the size | weak efficiency (1 rank / 2 ranks, twice the size) |"
-  echo "|---|---|---|---|---|---|---|"
+  echo "| case | serial mfcd | 1 rank | 2 ranks | strong speed-up (1 rank / 2 ranks) | 2 ranks, twice the size | weak efficiency (1 rank / 2 ranks, twice the size) | 1 rank x 2 threads | speed-up (1 rank / 1 rank x 2 threads) |"
+  echo "|---|---|---|---|---|---|---|---|---|"
   for c in "${cases[@]}"; do
     s=$(best "${t[$c,serial]}"); one=$(best "${t[$c,1]}"); two=$(best "${t[$c,2]}")
-    w=$(best "${t[$c,w2]}")
-    printf '| %s | %s| %s| %s| %sx | %s| %s%% |\n' "${deck[$c]##*/}" "${t[$c,serial]}" \
-      "${t[$c,1]}" "${t[$c,2]}" "$(awk "BEGIN { printf \"%.2f\", $one / $two }")" \
-      "${t[$c,w2]}" "$(awk "BEGIN { printf \"%.0f\", 100 * $one / $w }")"
+    w=$(best "${t[$c,w2]}"); hy=$(best "${t[$c,h]}")
+    printf '| %s | %s| %s| %s| %sx | %s| %s%% | %s| %sx |\n' "${deck[$c]##*/}" \
+      "${t[$c,serial]}" "${t[$c,1]}" "${t[$c,2]}" \
+      "$(awk "BEGIN { printf \"%.2f\", $one / $two }")" "${t[$c,w2]}" \
+      "$(awk "BEGIN { printf \"%.0f\", 100 * $one / $w }")" "${t[$c,h]}" \
+      "$(awk "BEGIN { printf \"%.2f\", $one / $hy }")"
   done
 } | tee "$out"
 echo "# written: $out"
