@@ -243,7 +243,7 @@ def colour_scale(values: list, vmax_user):
     if vmax_user is not None:
         vmax = vmax_user
     else:
-        p999 = float(np.percentile(allv, 99.9))
+        p999 = float(np.percentile(allv, 99.9)) if allv.size else 0.0
         if p999 > 0 and vmax > 1.5 * p999:        # a few outliers would wash the field out
             mag = 10.0 ** np.floor(np.log10(p999))
             vmax = float(np.ceil(p999 / mag * 10) * mag / 10)

@@ -71,6 +71,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mfcd_style import figure_style  # noqa: E402
 from mfcd_h5 import negative_values, MfcdFile  # noqa: E402
 from self_overlap import default_step_fraction, overlap_3d  # noqa: E402
+import plot_self_contact as plane  # noqa: E402  (the plane script's helpers)
+from plot_self_contact import (Fail, colour_scale, fmt_us, marker_sizes,  # noqa: E402
+                               small_overlaps, spacing_of)
 
 PROG = "plot_self_contact_3d"
 SC = 1e3                      # lengths in mm
@@ -82,15 +85,6 @@ FEATURE_DEG = 30.0            # a reference facet edge folding more than this is
 NROWS = 3                     # snapshots drawn by default
 
 
-class Fail(Exception):
-    """A reason to stop with exit status 1 (the message says why)."""
-
-
-def fmt_us(t: float) -> str:
-    return f"{t * 1e6:.1f}".rstrip("0").rstrip(".")
-
-
-# ------------------------------------------------------------------------------- geometry
 def facet_normals(x: np.ndarray, facets: np.ndarray) -> np.ndarray:
     """Unit normals (nf, 3) of the facets (counter-clockwise from outside: outward)."""
     n = np.cross(x[facets[:, 1]] - x[facets[:, 0]], x[facets[:, 2]] - x[facets[:, 0]])
@@ -255,29 +249,16 @@ class Run:
 
 
 def pick_body(fw: MfcdFile, fo: MfcdFile, name: str | None) -> str:
+    """The plane script's choice of the self-contact body, for two 3D runs whose body has
+    its facets."""
     for f in (fw, fo):
         if f.ndim != 3:
             raise Fail(f"{f.path} is a {f.ndim}D run: use post/plot_self_contact.py")
-    selfb = fw.self_contact_bodies()
-    if name is None:
-        if not selfb:
-            raise Fail(f"{fw.path} has no self-contact body (no det_self in its snapshots: "
-                       "no &contact with master = slave); is it the run *with* self-contact?")
-        if len(selfb) > 1:
-            print(f"{PROG}: self-contact bodies {', '.join(selfb)}: drawing {selfb[0]} "
-                  "(--body to choose)")
-        name = selfb[0]
+    name = plane.pick_body(fw, fo, name)
     for f in (fw, fo):
-        if name not in f.body_names():
-            raise Fail(f"no body {name!r} in {f.path} (bodies: {', '.join(f.body_names())})")
         if "facets" not in f.h5["bodies"][name]:
             raise Fail(f"body {name!r} of {f.path} has no facets (its closed boundary "
                        "surface; written by mfcd since its 3D self-contact)")
-        labs = f.snapshot_labels()
-        if not labs or name not in f.snapshot_body_names(labs[0]):
-            raise Fail(f"body {name!r} is not in the snapshots of {f.path} (a rigid body?)")
-    if name not in selfb:
-        raise Fail(f"body {name!r} of {fw.path} has no det_self: it is not in self-contact")
     return name
 
 
@@ -303,18 +284,6 @@ def default_labels(rw: Run, ro: Run, common: list) -> tuple:
 
 
 # ------------------------------------------------------------------------------- drawing
-def marker_sizes(fig, ax, colls):
-    """Set scatter marker sizes to diameters given in data units (mm), once the layout is
-    final: colls is [(collection, diameters (n,) in mm)]."""
-    fig.canvas.draw()
-    bb = ax.get_window_extent()
-    x0, x1 = ax.get_xlim()
-    ppu = bb.width * 72.0 / fig.dpi / abs(x1 - x0)   # points per mm
-    for c, d in colls:
-        dp = np.maximum(np.asarray(d) * ppu, 0.8)
-        c.set_sizes(dp * dp)
-
-
 def draw_others(ax, surfaces):
     for x, fac in surfaces:
         ax.add_collection(PolyCollection(x[fac][:, :, :2] * SC, facecolors=C_OTHER_FACE,
@@ -339,50 +308,6 @@ def draw_overlap(ax, pts: np.ndarray, step: float):
     hi = lo + np.array([img.shape[1], img.shape[0]]) * step * SC
     ax.imshow(img, extent=(lo[0], hi[0], lo[1], hi[1]), origin="lower",
               interpolation="nearest", zorder=4)
-
-
-def small_overlaps(pts: np.ndarray, cluster: float, size: float) -> np.ndarray:
-    """Centres (k, 2) in x-y of the patches of overlap points (grouped on a grid of step
-    cluster) that span less than size: too small to see at the figure's scale, so they are
-    circled."""
-    if pts.shape[0] == 0:
-        return np.zeros((0, 2))
-    xy = pts[:, :2]
-    key = np.floor(xy / cluster).astype(int)
-    _, inv = np.unique(key, axis=0, return_inverse=True)
-    out = []
-    for k in range(inv.max() + 1):
-        c = xy[inv.ravel() == k]
-        m = c.mean(axis=0)
-        # one circle for a patch that straddles a grid line
-        if np.ptp(c, axis=0).max() < size and \
-                all(np.hypot(*(m - o)) > cluster for o in out):
-            out.append(m)
-    return np.array(out).reshape(-1, 2)
-
-
-def colour_scale(values: list, vmax_user):
-    allv = np.concatenate([v[np.isfinite(v)] for v in values])
-    vmax = float(allv.max()) if allv.size else 1e-3
-    if vmax_user is not None:
-        vmax = vmax_user
-    else:
-        p999 = float(np.percentile(allv, 99.9)) if allv.size else 0.0
-        if p999 > 0 and vmax > 1.5 * p999:        # a few outliers would wash the field out
-            mag = 10.0 ** np.floor(np.log10(p999))
-            vmax = float(np.ceil(p999 / mag * 10) * mag / 10)
-            print(f"{PROG}: note: the largest epsbar ({allv.max():.3g}) is far above the "
-                  f"99.9th percentile ({p999:.3g}); the colour scale ends at {vmax:.3g}")
-    if vmax <= 0:
-        vmax = 1e-3
-    extend = "max" if allv.size and allv.max() > vmax * (1 + 1e-12) else "neither"
-    return Normalize(0.0, vmax), extend
-
-
-def spacing_of(body) -> float:
-    sp = np.atleast_1d(body.attrs.get("spacing", [0.0]))[:2]
-    s = float(np.min(sp)) if sp.size else 0.0
-    return s if s > 0 else float(np.median(body.support[:, :2])) / 2.0
 
 
 def section_of(body):
@@ -462,7 +387,8 @@ def to_palette(path: str):
 
 
 def circle_small(ax, pts, rw: Run, ext) -> bool:
-    small = small_overlaps(pts, 4.0 * float(rw.body.support.max()), 0.03 * ext[0] / SC)
+    small = small_overlaps(pts[:, :2], 4.0 * float(rw.body.support.max()),
+                           0.03 * ext[0] / SC)
     if small.size:
         ax.scatter(small[:, 0] * SC, small[:, 1] * SC, s=200, facecolors="none",
                    edgecolors=C_OVERLAP, linewidths=1.4, zorder=6)
