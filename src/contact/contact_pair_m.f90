@@ -1316,13 +1316,7 @@ contains
         if (b%active(j)) cycle     ! put on the surface by the first pass
       end if
       neval = neval + 1
-      det = cloud_det_excluding(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j))
-      ! skipping: when it is screened again (as detect_self)
-      if (a%skip_far) then
-        a%due(j) = a%travel
-        if (det == 0.0_wp) a%due(j) = a%travel + (1.0_wp - skip_rounding)*max(0.0_wp, &
-          cloud_clearance(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j), a%rex(j)))
-      end if
+      call self_det(a, b, j, det)
       if (.not. (det > b%threshold)) cycle
       ndet = ndet + 1
       call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
@@ -1534,15 +1528,7 @@ contains
         if (b%active(j)) cycle     ! put on the surface by the first pass
       end if
       neval = neval + 1
-      det = cloud_det_excluding(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j))
-      ! skipping: when it is screened again (pass 1 keeps the schedule): next step if a
-      ! non-neighbour covers it (det > 0), else once they may have closed its clearance
-      ! (searched up to rex; less a relative 1e-9 for the rounding of the sums)
-      if (a%skip_far) then
-        a%due(j) = a%travel
-        if (det == 0.0_wp) a%due(j) = a%travel + (1.0_wp - skip_rounding)*max(0.0_wp, &
-          cloud_clearance(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j), a%rex(j)))
-      end if
+      call self_det(a, b, j, det)
       if (.not. (det > b%threshold)) cycle
       ndet = ndet + 1
       call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, jseg, xi, &
@@ -1610,6 +1596,24 @@ contains
     end do
     !$omp end parallel do
   end subroutine detect_node_to_segment
+
+  !> det M_self at candidate j of side a (det(M) of b's particles that are not j's reference
+  !! neighbours, at j's predicted position) and, when skipping, when j is screened again
+  !! (pass 1 keeps the schedule): next step if a non-neighbour covers it (det > 0), else once
+  !! they may have closed its clearance (searched up to rex; less a relative 1e-9 for the
+  !! rounding of the sums). Called for distinct j from the threads of detect_self(_3d).
+  subroutine self_det(a, b, j, det)
+    type(side_t), intent(inout) :: a
+    type(side_t), intent(in) :: b
+    integer, intent(in) :: j
+    real(wp), intent(out) :: det
+    det = cloud_det_excluding(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j))
+    if (a%skip_far) then
+      a%due(j) = a%travel
+      if (det == 0.0_wp) a%due(j) = a%travel + (1.0_wp - skip_rounding)*max(0.0_wp, &
+        cloud_clearance(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j), a%rex(j)))
+    end if
+  end subroutine self_det
 
   pure subroutine mark_active(a, j, g, nrm, tng, jseg, xi)
     type(side_t), intent(inout) :: a
