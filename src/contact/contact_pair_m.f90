@@ -1326,11 +1326,7 @@ contains
       if (lower_only) then
         if (j >= minval(b%surf3%tri(:, jf))) cycle
       end if
-      a%active(j) = .true.
-      a%gap(j) = g
-      a%nrm(:, j) = nrm
-      a%seg(j) = jf
-      a%bary(:, j) = bary
+      call mark_active_3d(a, j, g, nrm, jf, bary)
     end do
     !$omp end parallel do
     if (present(gmax)) gmax = gm
@@ -1370,11 +1366,7 @@ contains
       call surface3d_gap(b%surf3, xq, g, nrm, jf, bary)
       gm = max(gm, merge(abs(g), huge(1.0_wp), jf > 0))
       if (jf == 0 .or. .not. (g < 0.0_wp)) cycle
-      a%active(j) = .true.
-      a%gap(j) = g
-      a%nrm(:, j) = nrm
-      a%seg(j) = jf
-      a%bary(:, j) = bary
+      call mark_active_3d(a, j, g, nrm, jf, bary)
     end do
     !$omp end parallel do
     if (present(gmax)) gmax = gm
@@ -1614,6 +1606,19 @@ contains
         cloud_clearance(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j), a%rex(j)))
     end if
   end subroutine self_det
+
+  !> Particle j of side a penetrates (3D): its gap, normal, facet and the barycentric
+  !! coordinates of its closest point there.
+  pure subroutine mark_active_3d(a, j, g, nrm, jf, bary)
+    type(side_t), intent(inout) :: a
+    integer, intent(in) :: j, jf
+    real(wp), intent(in) :: g, nrm(3), bary(3)
+    a%active(j) = .true.
+    a%gap(j) = g
+    a%nrm(:, j) = nrm
+    a%seg(j) = jf
+    a%bary(:, j) = bary
+  end subroutine mark_active_3d
 
   pure subroutine mark_active(a, j, g, nrm, tng, jseg, xi)
     type(side_t), intent(inout) :: a
