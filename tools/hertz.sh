@@ -16,8 +16,9 @@
 # contact half-width b = 0.185 mm), table output/hertz_cylinder.md. The decks, with hc (the
 # first of their geo_values) and the output file swapped in, and the outputs go to
 # output/hertz/; the tables are printed too. Sphere in 3D (sphere3d, not part of the default
-# run: about 20 minutes on 2 cores): input/hertz_sphere_3d.nml (linear tetrahedra of
-# input/hertz_sphere_3d.geo) beside the axisymmetric input/hertz_sphere_fem.nml, at
+# run: about 40 minutes on 2 cores): input/hertz_sphere_3d.nml (linear tetrahedra of
+# input/hertz_sphere_3d.geo) and input/hertz_sphere_3d_rkpm.nml (RKPM on their nodes)
+# beside the axisymmetric input/hertz_sphere_fem.nml, at
 # hc = 0.2, 0.133 and 0.1 mm (a/2, a/3, a/4), table output/hertz_sphere_3d.md. No mesh
 # file is written. Exits non-zero when a step fails.
 set -euo pipefail
@@ -74,5 +75,5 @@ if [ "$which" = all ] || [ "$which" = cylinder ]; then
 fi
 if [ "$which" = sphere3d ]; then
   run hertz_sphere_3d "contact radius a = 0.40 mm, full 3D" \
-    "hertz_sphere_3d hertz_sphere_fem" 0.2 0.133 0.1
+    "hertz_sphere_3d hertz_sphere_3d_rkpm hertz_sphere_fem" 0.2 0.133 0.1
 fi

@@ -57,5 +57,9 @@ module body_m
     !! counter-clockwise seen from outside (the outward normal is (x2 - x1) x (x3 - x1)),
     !! closed; unallocated when the generator cannot close it (contact in 3D needs it)
     integer, allocatable :: facets(:, :)
+    !> A 3D RKPM body from a tetrahedral mesh (a gmsh script's volumes): the tetrahedra
+    !! (4, ne) over its particles, positive volume, whose median-dual cells are the
+    !! particles' integration cells (rkpm_tl3d_m); unallocated for every other body
+    integer, allocatable :: tets(:, :)
   end type body_t
 end module body_m

@@ -1,6 +1,8 @@
 !> Total-Lagrangian RKPM tables in three dimensions (Section 4 of the paper, stated for any
 !! dimension; issue 23): stabilized conforming nodal integration (SCNI) over the particles'
-!! lattice cells, computed once from the reference configuration.
+!! lattice cells, or over the median-dual cells of a tetrahedral mesh whose nodes are the
+!! particles (a gmsh script's volumes: dual_cell_integrals), computed once from the
+!! reference configuration.
 !!
 !! A 3D body extruded along z (generators_m extrude_body: a box, a polygon, a cylinder) gives
 !! each particle a right prism over its x-y cell between two z levels (its layer's slab,
@@ -49,6 +51,7 @@ module rkpm_tl3d_m
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape_values
   use neighbour_bins_m, only: bins_candidates
   use rkpm_tl_m, only: cell_area_points
+  use tet4_m, only: tet4_mesh_t, tet4_face_neighbours
   implicit none
   private
   public :: tl_build_3d, symmetry_planes_3d
@@ -84,6 +87,21 @@ module rkpm_tl3d_m
     integer, allocatable :: twin(:)
     real(wp), allocatable :: sgn(:, :)
   end type fold_t
+
+  !> The connectivity the median-dual cells of a tetrahedral mesh need (dual_mesh): the
+  !! tetrahedra at each particle (idx(ptr(i) : ptr(i+1)-1), in mesh order), the one across
+  !! each face (nbr(f, e), face f opposite node f, 0 on the boundary), the smallest height
+  !! of a tetrahedron (the time step's length, as tet4_m's) and the longest edge (m).
+  type :: dual_mesh_t
+    integer, allocatable :: ptr(:), idx(:), nbr(:, :)
+    real(wp) :: hmin = 0.0_wp, lmax = 0.0_wp
+  end type dual_mesh_t
+
+  !> The centroid of the piece of a tetrahedron that is its node a's median-dual cell (the
+  !! points where a's barycentric coordinate is the largest): a's coordinate there has the
+  !! mean of the largest of four uniform spacings, (1 + 1/2 + 1/3 + 1/4)/4 = 25/48, each
+  !! other node's (1 - 25/48)/3 = 23/144.
+  real(wp), parameter :: piece_own = 25.0_wp/48.0_wp, piece_other = 23.0_wp/144.0_wp
 
 contains
 
@@ -178,9 +196,11 @@ contains
     real(wp), intent(in) :: rho0
     type(solid_tables_t), intent(out) :: t
     type(error_t), allocatable, intent(inout) :: err
-    if (b%ndim /= 3 .or. (b%geom%kind /= geom_prism .and. b%geom%kind /= geom_cylinder)) then
+    if (b%ndim /= 3 .or. (b%geom%kind /= geom_prism .and. b%geom%kind /= geom_cylinder &
+      .and. .not. allocated(b%tets))) then
       call set_error(err, "body '"//trim(b%name)//"': the 3D RKPM tables need a 3D body "// &
-        "extruded along z (shape 'box', 'cylinder', or a 'polygon' with extrude)")
+        "extruded along z (shape 'box', 'cylinder', or a 'polygon' with extrude) or a "// &
+        "tetrahedral mesh (shape 'geo')")
       return
     end if
     if (allocated(b%merged_ptr)) then
@@ -217,8 +237,10 @@ contains
     type(rk_cloud_t) :: c
     type(fold_t) :: f
     type(rows_t), allocatable :: rows(:), cells(:)
+    type(dual_mesh_t) :: dm
     integer, allocatable :: nl(:), cand(:)
     integer :: np, maxk, i, n, bad, ng, kb, i0, i1
+    real(wp) :: reach(3)
     np = b%np
     call folded_cloud(b, c, f, err)
     if (allocated(err)) return
@@ -226,12 +248,20 @@ contains
     if (f%ncg == 3) t%dims = dims_3d_folded
     ng = 3*f%ncg
     t%hmin = minval(b%spacing(1:3))
-    ! the most particles one cell's points can touch: those within rmax + half a cell
+    reach = 0.5_wp*b%spacing(1:3)
+    if (allocated(b%tets)) then
+      ! median-dual cells: the particle's tetrahedra, their connectivity; a cell reaches
+      ! no farther than the longest edge of the mesh from its particle
+      call dual_mesh(b, dm)
+      t%hmin = dm%hmin
+      reach = dm%lmax
+    end if
+    ! the most particles one cell's points can touch: those within rmax + the cell's reach
     ! (the cloud holds the mirror images too)
     allocate(cand(c%np))
     maxk = 1
     do i = 1, np
-      call bins_candidates(c%bins, b%x(:, i), c%rmax(1:3) + 0.5_wp*b%spacing(1:3), cand, n)
+      call bins_candidates(c%bins, b%x(:, i), c%rmax(1:3) + reach, cand, n)
       maxk = max(maxk, n)
     end do
     deallocate(cand)
@@ -246,8 +276,13 @@ contains
     do kb = 1, size(rows)
       i0 = (kb - 1)*block_np + 1
       i1 = min(np, kb*block_np)
-      call cell_integrals(b, c, f, i0, maxk, cells(1:i1 - i0 + 1), t%wgt(i0:i1), &
-        t%ws(:, i0:i1), bad)
+      if (allocated(b%tets)) then
+        call dual_cell_integrals(b, dm, c, f, i0, maxk, cells(1:i1 - i0 + 1), &
+          t%wgt(i0:i1), t%ws(:, i0:i1), bad)
+      else
+        call cell_integrals(b, c, f, i0, maxk, cells(1:i1 - i0 + 1), t%wgt(i0:i1), &
+          t%ws(:, i0:i1), bad)
+      end if
       ! (the first block with such a cell stops the build: its largest such particle)
       if (bad > 0) then
         call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined in "// &
@@ -415,35 +450,265 @@ contains
             slot, nl, idl, gl, ml, sl, bad)
         end do
       end if
-      if (vol(j) > 0.0_wp) gl(:, 1:nl(1), 1) = gl(:, 1:nl(1), 1)/vol(j)
-      do dir = 1, 3
-        ! (rows dir, dir + 3, dir + 6 when the components are folded)
-        if (vh(dir) > empty_half*vol(j) .and. vol(j) - vh(dir) > empty_half*vol(j)) then
-          do q = dir, 3*f%ncg, 3
-            sl(q, 1:nl(1), 1) = sl(q, 1:nl(1), 1)/vh(dir) - gl(q, 1:nl(1), 1)
-          end do
-          ws(dir, j) = vh(dir)*(1.0_wp + vh(dir)/(vol(j) - vh(dir)))
-        else
-          do q = dir, 3*f%ncg, 3
-            sl(q, 1:nl(1), 1) = 0.0_wp
-          end do
-          ws(dir, j) = 0.0_wp
-        end if
-      end do
-      allocate(cells(j)%id(nl(1)), cells(j)%a(3*f%ncg, nl(1)), cells(j)%b(3*f%ncg, nl(1)), &
-        cells(j)%m(nl(1)))
-      cells(j)%id = idl(1:nl(1), 1)
-      cells(j)%a = gl(:, 1:nl(1), 1)
-      cells(j)%b = sl(:, 1:nl(1), 1)
-      cells(j)%m = ml(1:nl(1), 1)
-      do q = 1, nl(1)
-        slot(idl(q, 1)) = 0
-      end do
+      call finish_cell(f%ncg, vol(j), vh, nl(1), idl(:, 1), gl(:, :, 1), ml(:, 1), &
+        sl(:, :, 1), slot, ws(:, j), cells(j))
     end do
     !$omp end do
     deallocate(slot, gl, ml, sl, idl)
     !$omp end parallel
   end subroutine cell_integrals
+
+  !> The connectivity of body b's tetrahedra b%tets for their median-dual cells
+  !! (dual_mesh_t).
+  subroutine dual_mesh(b, dm)
+    type(body_t), intent(in) :: b
+    type(dual_mesh_t), intent(out) :: dm
+    type(tet4_mesh_t) :: mesh
+    real(wp) :: xt(3, 4), v, amax
+    integer :: ne, e, k, l, i
+    ne = size(b%tets, 2)
+    allocate(dm%ptr(b%np + 1), dm%idx(4*ne))
+    dm%ptr = 0
+    do e = 1, ne
+      do k = 1, 4
+        dm%ptr(b%tets(k, e) + 1) = dm%ptr(b%tets(k, e) + 1) + 1
+      end do
+    end do
+    dm%ptr(1) = 1
+    do i = 1, b%np
+      dm%ptr(i + 1) = dm%ptr(i + 1) + dm%ptr(i)
+    end do
+    do e = 1, ne
+      do k = 1, 4
+        i = b%tets(k, e)
+        dm%idx(dm%ptr(i)) = e
+        dm%ptr(i) = dm%ptr(i) + 1
+      end do
+    end do
+    do i = b%np, 1, -1
+      dm%ptr(i + 1) = dm%ptr(i)
+    end do
+    dm%ptr(1) = 1
+    mesh%ne = ne
+    mesh%tet = b%tets
+    call tet4_face_neighbours(mesh, b%np, dm%nbr)
+    dm%hmin = huge(1.0_wp)
+    dm%lmax = 0.0_wp
+    do e = 1, ne
+      xt = b%x(:, b%tets(:, e))
+      v = abs(tet_volume6(xt))/6.0_wp
+      ! the smallest height, 3 V over the largest face
+      amax = 0.0_wp
+      do k = 1, 4
+        amax = max(amax, norm2(face_area(xt, k)))
+        do l = k + 1, 4
+          dm%lmax = max(dm%lmax, norm2(xt(:, l) - xt(:, k)))
+        end do
+      end do
+      dm%hmin = min(dm%hmin, 3.0_wp*v/amax)
+    end do
+  end subroutine dual_mesh
+
+  !> Six times the signed volume of the tetrahedron xt (3, 4).
+  pure real(wp) function tet_volume6(xt) result(v6)
+    real(wp), intent(in) :: xt(3, 4)
+    v6 = dot_product(xt(:, 2) - xt(:, 1), cross(xt(:, 3) - xt(:, 1), xt(:, 4) - xt(:, 1)))
+  end function tet_volume6
+
+  !> The area vector of the face of xt (3, 4) opposite its node k (either orientation).
+  pure function face_area(xt, k) result(a)
+    real(wp), intent(in) :: xt(3, 4)
+    integer, intent(in) :: k
+    real(wp) :: a(3), p(3, 3)
+    p = xt(:, pack([1, 2, 3, 4], [1, 2, 3, 4] /= k))
+    a = 0.5_wp*cross(p(:, 2) - p(:, 1), p(:, 3) - p(:, 1))
+  end function face_area
+
+  pure function cross(a, b) result(c)
+    real(wp), intent(in) :: a(3), b(3)
+    real(wp) :: c(3)
+    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+  end function cross
+
+  !> The centroid of the face of xt (3, 4) opposite its node k, its nodes summed in the
+  !! tetrahedron's order (the same bits from every particle's cell).
+  pure function face_centroid(xt, k) result(p)
+    real(wp), intent(in) :: xt(3, 4)
+    integer, intent(in) :: k
+    real(wp) :: p(3)
+    integer :: l
+    p = 0.0_wp
+    do l = 1, 4
+      if (l /= k) p = p + xt(:, l)
+    end do
+    p = p/3.0_wp
+  end function face_centroid
+
+  !> The midpoint of the edge of xt between its nodes k and l, in the tetrahedron's order.
+  pure function edge_midpoint(xt, k, l) result(p)
+    real(wp), intent(in) :: xt(3, 4)
+    integer, intent(in) :: k, l
+    real(wp) :: p(3)
+    p = 0.5_wp*(xt(:, min(k, l)) + xt(:, max(k, l)))
+  end function edge_midpoint
+
+  !> As cell_integrals, for a body of tetrahedra (b%tets): particle i's cell is its
+  !! median-dual cell, the union over its tetrahedra of the piece where its barycentric
+  !! coordinate is the largest (bounded by the edge midpoints, the face centroids and the
+  !! centroid: a quarter of the tetrahedron's volume, convex), so the cells tile the mesh.
+  !! Per piece:
+  !!  - the volume integral: one point, the piece's centroid (exact for linear N; the
+  !!    masses are row sums, their total exact by the partition of unity);
+  !!  - the faces between the cell and its neighbours' cells: for each edge at the particle,
+  !!    the two triangles (edge midpoint, face centroid, centroid), the normal towards the
+  !!    edge's other node; computed from the tetrahedron's nodes in its own order, so the
+  !!    neighbour's cell integrates the same triangle at the same points with the opposite
+  !!    normal, and a uniform stress leaves no force on an interior particle;
+  !!  - on the mesh's boundary, the piece's part of the boundary face (the particle, two
+  !!    edge midpoints, the face centroid: two triangles), the face's outward normal.
+  !! One point per triangle, its centroid: exact for linear N, which is what the patch
+  !! test needs; a cell has some 60 to 150 triangles, each small beside the supports (the
+  !! rule at 2/3, 1/6, 1/6 of the vertices, three points, moved the 3D Hertz sphere's
+  !! measures by 0.1% at most and took 2.4 times the set-up: doc/verification.md).
+  !! The half cell along X_j (the sub-cell stabilization) is the union of the pieces whose
+  !! tetrahedron's centroid lies beyond the particle along X_j: its faces are those of the
+  !! cell on its pieces and the pieces' faces towards a piece of the same cell outside it.
+  subroutine dual_cell_integrals(b, dm, c, f, i0, maxk, cells, vol, ws, bad)
+    type(body_t), intent(in) :: b
+    type(dual_mesh_t), intent(in) :: dm
+    type(rk_cloud_t), intent(in) :: c
+    type(fold_t), intent(in) :: f
+    integer, intent(in) :: i0, maxk
+    type(rows_t), intent(inout) :: cells(:)
+    real(wp), intent(out) :: vol(:), ws(:, :)
+    integer, intent(inout) :: bad
+    real(wp) :: xt(3, 4), ct(3), cn(3), v, vh(3), mask(3), hm(3), fc(3), pm(3)
+    integer :: i, j, k, e, en, ka, q, r, s, q1, q2, nl(1), np
+    logical :: inside(3)
+    integer, allocatable :: slot(:), idl(:, :)
+    real(wp), allocatable :: gl(:, :, :), ml(:, :), sl(:, :, :)
+    np = b%np
+    !$omp parallel default(none) shared(b, dm, c, f, i0, maxk, cells, vol, ws, np) &
+    !$omp private(xt, ct, cn, v, vh, mask, hm, fc, pm, i, k, e, en, ka, q, r, s, q1, q2, &
+    !$omp nl, inside, slot, gl, ml, sl, idl) reduction(max: bad)
+    allocate(slot(np), gl(3*f%ncg, maxk, 1), ml(maxk, 1), sl(3*f%ncg, maxk, 1), idl(maxk, 1))
+    slot = 0
+    !$omp do schedule(dynamic, 16)
+    do j = 1, size(cells)
+      i = i0 + j - 1
+      nl(1) = 0
+      vol(j) = 0.0_wp
+      vh = 0.0_wp
+      do k = dm%ptr(i), dm%ptr(i + 1) - 1
+        e = dm%idx(k)
+        xt = b%x(:, b%tets(:, e))
+        ka = findloc(b%tets(:, e), i, 1)
+        v = abs(tet_volume6(xt))/6.0_wp
+        ct = 0.25_wp*((xt(:, 1) + xt(:, 2)) + (xt(:, 3) + xt(:, 4)))
+        inside = ct > xt(:, ka)
+        mask = merge(1.0_wp, 0.0_wp, inside)
+        vol(j) = vol(j) + 0.25_wp*v
+        vh = vh + 0.25_wp*v*mask
+        pm = piece_own*xt(:, ka) + piece_other*(sum(xt, dim=2) - xt(:, ka))
+        call shape_at(c, f, pm, 0.25_wp*v, zero3, zero3, i, 1, slot, nl, idl, gl, ml, sl, &
+          bad)
+        ! the faces towards the neighbours' cells: edge (ka, q), in the faces (ka, q, r)
+        do q = 1, 4
+          if (q == ka) cycle
+          do r = 1, 4
+            if (r == ka .or. r == q) cycle
+            s = 10 - ka - q - r
+            call dual_triangle(c, f, edge_midpoint(xt, ka, q), face_centroid(xt, s), ct, &
+              xt(:, q) - xt(:, ka), 1.0_wp, mask, i, slot, nl, idl, gl, ml, sl, bad)
+          end do
+        end do
+        ! the tetrahedron's faces at the particle (opposite its node r): the body's
+        ! boundary, or (for the half cells only) a face towards a piece outside the half
+        do r = 1, 4
+          if (r == ka) cycle
+          en = dm%nbr(r, e)
+          if (en == 0) then
+            hm = mask
+          else
+            cn = 0.25_wp*((b%x(:, b%tets(1, en)) + b%x(:, b%tets(2, en))) + &
+              (b%x(:, b%tets(3, en)) + b%x(:, b%tets(4, en))))
+            hm = merge(1.0_wp, 0.0_wp, inside .and. .not. cn > xt(:, ka))
+            if (all(hm == 0.0_wp)) cycle
+          end if
+          fc = face_centroid(xt, r)
+          q1 = merge(1, 2, ka /= 1 .and. r /= 1)
+          if (q1 == 2 .and. (ka == 2 .or. r == 2)) q1 = 3
+          q2 = 10 - ka - r - q1
+          call dual_triangle(c, f, xt(:, ka), edge_midpoint(xt, ka, q1), fc, fc - xt(:, r), &
+            merge(1.0_wp, 0.0_wp, en == 0), hm, i, slot, nl, idl, gl, ml, sl, bad)
+          call dual_triangle(c, f, xt(:, ka), fc, edge_midpoint(xt, ka, q2), fc - xt(:, r), &
+            merge(1.0_wp, 0.0_wp, en == 0), hm, i, slot, nl, idl, gl, ml, sl, bad)
+        end do
+      end do
+      call finish_cell(f%ncg, vol(j), vh, nl(1), idl(:, 1), gl(:, :, 1), ml(:, 1), &
+        sl(:, :, 1), slot, ws(:, j), cells(j))
+    end do
+    !$omp end do
+    deallocate(slot, gl, ml, sl, idl)
+    !$omp end parallel
+  end subroutine dual_cell_integrals
+
+  !> The triangle p1, p2, p3 of a cell's boundary, its area vector turned to have a
+  !! positive component along dir (outward), at one point, its centroid (summed in the
+  !! order given: the same point from each cell that has it): N_I n dA times wc into the
+  !! cell's face integrals, times wh(j) into the half cell j's.
+  subroutine dual_triangle(c, f, p1, p2, p3, dir, wc, wh, i, slot, nl, idl, gl, ml, sl, bad)
+    type(rk_cloud_t), intent(in) :: c
+    type(fold_t), intent(in) :: f
+    real(wp), intent(in) :: p1(3), p2(3), p3(3), dir(3), wc, wh(3)
+    integer, intent(in) :: i
+    integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
+    real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
+    real(wp) :: a(3)
+    a = 0.5_wp*cross(p2 - p1, p3 - p1)
+    if (dot_product(a, dir) < 0.0_wp) a = -a
+    call shape_at(c, f, (p1 + p2 + p3)/3.0_wp, 0.0_wp, wc*a, wh*a, i, 1, slot, nl, idl, gl, &
+      ml, sl, bad)
+  end subroutine dual_triangle
+
+  !> Cell j's row from its unnormalised integrals (cell_integrals, dual_cell_integrals):
+  !! the face integrals gl divided by the cell's volume vol (the smoothed gradients); each
+  !! half cell's (volume vh(dir), direction dir; rows dir, dir + 3, dir + 6 when the ncg = 3
+  !! components are folded) divided by its volume minus the cell's, and its weight
+  !! ws(dir) = V_h (1 + V_h/(V_L - V_h)); a half that is (nearly) empty or (nearly) the
+  !! whole cell gets none. The nl entries (ids idl, gl, sl and the volume integrals ml) go
+  !! into cell, and their slots are cleared.
+  subroutine finish_cell(ncg, vol, vh, nl, idl, gl, ml, sl, slot, ws, cell)
+    integer, intent(in) :: ncg, nl, idl(:)
+    real(wp), intent(in) :: vol, vh(3), ml(:)
+    real(wp), intent(inout) :: gl(:, :), sl(:, :)
+    integer, intent(inout) :: slot(:)
+    real(wp), intent(out) :: ws(3)
+    type(rows_t), intent(inout) :: cell
+    integer :: dir, q
+    if (vol > 0.0_wp) gl(:, 1:nl) = gl(:, 1:nl)/vol
+    do dir = 1, 3
+      if (vh(dir) > empty_half*vol .and. vol - vh(dir) > empty_half*vol) then
+        do q = dir, 3*ncg, 3
+          sl(q, 1:nl) = sl(q, 1:nl)/vh(dir) - gl(q, 1:nl)
+        end do
+        ws(dir) = vh(dir)*(1.0_wp + vh(dir)/(vol - vh(dir)))
+      else
+        do q = dir, 3*ncg, 3
+          sl(q, 1:nl) = 0.0_wp
+        end do
+        ws(dir) = 0.0_wp
+      end if
+    end do
+    allocate(cell%id(nl), cell%a(3*ncg, nl), cell%b(3*ncg, nl), cell%m(nl))
+    cell%id = idl(1:nl)
+    cell%a = gl(:, 1:nl)
+    cell%b = sl(:, 1:nl)
+    cell%m = ml(1:nl)
+    do q = 1, nl
+      slot(idl(q)) = 0
+    end do
+  end subroutine finish_cell
 
   !> The side faces of the prism polygon cv (ncv) x [za, zb], 2 x 2 Gauss points each:
   !! N_I n dS into gl (the cell), and N_I n_j dS into sl(j) where the edge is whole in the

@@ -25,13 +25,18 @@ module tet4_m
   implicit none
   private
   public :: tet4_mesh_t, tet4_extruded, tet4_prisms, tet4_tables, tet4_boundary_faces, &
-    tet4_volume
+    tet4_volume, tet4_face_neighbours
 
   !> Tetrahedra over the nodes of a body_t.
   type :: tet4_mesh_t
     integer :: ne = 0                  !< tetrahedra
     integer, allocatable :: tet(:, :)  !< (4, ne) node numbers, positive volume
   end type tet4_mesh_t
+
+  !> The faces of (1, 2, 3, 4) with a positive volume, face f opposite node f, each
+  !! counter-clockwise seen from the side away from that node
+  integer, parameter :: face_nodes(3, 4) = reshape([2, 3, 4, 1, 4, 3, 1, 2, 4, 1, 3, 2], &
+    [3, 4])
 
 contains
 
@@ -273,18 +278,52 @@ contains
     integer, intent(in) :: np
     integer, allocatable, intent(out) :: faces(:, :), owner(:)
     integer, intent(out), optional :: shared, over
-    ! the faces of (1, 2, 3, 4) with a positive volume, each counter-clockwise seen from
-    ! the side away from the opposite node
-    integer, parameter :: fn(3, 4) = reshape([2, 3, 4, 1, 4, 3, 1, 2, 4, 1, 3, 2], [3, 4])
-    integer, allocatable :: ptr(:), fid(:), cnt(:)
-    integer :: e, f, n, k, a, l, key(3), other(3), nshared, nover, nb
+    integer, allocatable :: nbr(:, :), cnt(:, :)
+    integer :: e, f, nb
+    call face_pairs(mesh, np, nbr, cnt)
+    nb = count(cnt == 0)
+    allocate(faces(3, nb), owner(nb))
+    nb = 0
+    do e = 1, mesh%ne
+      do f = 1, 4
+        if (cnt(f, e) /= 0) cycle
+        nb = nb + 1
+        faces(:, nb) = mesh%tet(face_nodes(:, f), e)
+        owner(nb) = e
+      end do
+    end do
+    if (present(shared)) shared = count(cnt == 1)/2
+    if (present(over)) over = count(cnt > 1)
+  end subroutine tet4_boundary_faces
+
+  !> The tetrahedron across each face of each tetrahedron of the mesh over np nodes:
+  !! nbr(f, e) across face f of e (the face opposite its node f; face_nodes), 0 on the
+  !! boundary. A face in more than two tetrahedra (a mesh that is not conforming) is an
+  !! error the callers report (tet4_boundary_faces' over); here it keeps the last match.
+  subroutine tet4_face_neighbours(mesh, np, nbr)
+    type(tet4_mesh_t), intent(in) :: mesh
+    integer, intent(in) :: np
+    integer, allocatable, intent(out) :: nbr(:, :)
+    integer, allocatable :: cnt(:, :)
+    call face_pairs(mesh, np, nbr, cnt)
+  end subroutine tet4_face_neighbours
+
+  !> The faces of the mesh's tetrahedra matched in pairs: cnt(f, e) the other faces equal
+  !! to face f of e (0: a boundary face, 1: shared, more: not conforming), nbr(f, e) the
+  !! tetrahedron of the last one found (0: none). Faces are bucketed by their smallest node
+  !! (CSR), then compared within a bucket.
+  subroutine face_pairs(mesh, np, nbr, cnt)
+    type(tet4_mesh_t), intent(in) :: mesh
+    integer, intent(in) :: np
+    integer, allocatable, intent(out) :: nbr(:, :), cnt(:, :)
+    integer, allocatable :: ptr(:), fid(:)
+    integer :: e, f, n, k, a, l, key(3), other(3), ek, fk, el, fl
     n = 4*mesh%ne
-    ! faces bucketed by their smallest node (CSR), then compared within a bucket
-    allocate(ptr(np + 1), fid(n), cnt(n))
+    allocate(ptr(np + 1), fid(n), cnt(4, mesh%ne), nbr(4, mesh%ne))
     ptr = 0
     do e = 1, mesh%ne
       do f = 1, 4
-        a = minval(mesh%tet(fn(:, f), e))
+        a = minval(mesh%tet(face_nodes(:, f), e))
         ptr(a + 1) = ptr(a + 1) + 1
       end do
     end do
@@ -294,7 +333,7 @@ contains
     end do
     do e = 1, mesh%ne
       do f = 1, 4
-        a = minval(mesh%tet(fn(:, f), e))
+        a = minval(mesh%tet(face_nodes(:, f), e))
         fid(ptr(a)) = 4*(e - 1) + f
         ptr(a) = ptr(a) + 1
       end do
@@ -304,45 +343,35 @@ contains
     end do
     ptr(1) = 1
     cnt = 0
-    nshared = 0
-    nover = 0
+    nbr = 0
     do a = 1, np
       do k = ptr(a), ptr(a + 1) - 1
         key = face_key(fid(k))
+        ek = (fid(k) - 1)/4 + 1
+        fk = fid(k) - 4*(ek - 1)
         do l = k + 1, ptr(a + 1) - 1
           other = face_key(fid(l))
           if (all(key == other)) then
-            cnt(fid(k)) = cnt(fid(k)) + 1
-            cnt(fid(l)) = cnt(fid(l)) + 1
+            el = (fid(l) - 1)/4 + 1
+            fl = fid(l) - 4*(el - 1)
+            cnt(fk, ek) = cnt(fk, ek) + 1
+            cnt(fl, el) = cnt(fl, el) + 1
+            nbr(fk, ek) = el
+            nbr(fl, el) = ek
           end if
         end do
       end do
     end do
-    nb = count(cnt == 0)
-    allocate(faces(3, nb), owner(nb))
-    nb = 0
-    do k = 1, n
-      if (cnt(k) == 1) nshared = nshared + 1
-      if (cnt(k) > 1) nover = nover + 1
-      if (cnt(k) /= 0) cycle
-      e = (k - 1)/4 + 1
-      f = k - 4*(e - 1)
-      nb = nb + 1
-      faces(:, nb) = mesh%tet(fn(:, f), e)
-      owner(nb) = e
-    end do
-    if (present(shared)) shared = nshared/2
-    if (present(over)) over = nover
   contains
     pure function face_key(id) result(s)
       integer, intent(in) :: id
       integer :: s(3), ee, ff
       ee = (id - 1)/4 + 1
       ff = id - 4*(ee - 1)
-      s = mesh%tet(fn(:, ff), ee)
+      s = mesh%tet(face_nodes(:, ff), ee)
       if (s(1) > s(2)) s([1, 2]) = s([2, 1])
       if (s(2) > s(3)) s([2, 3]) = s([3, 2])
       if (s(1) > s(2)) s([1, 2]) = s([2, 1])
     end function face_key
-  end subroutine tet4_boundary_faces
+  end subroutine face_pairs
 end module tet4_m

@@ -264,7 +264,9 @@ contains
       if (tets) then
         ! linear tetrahedra of the script's volumes: the body of their nodes
         if (.not. allocated(e2)) call tet_mesh_body(what, xs, tri, s%discretization == &
-          'fem' .and. s%role == 'deformable' .and. deck%run%mode == 'dynamic', b, local, e2)
+          'fem' .and. s%role == 'deformable' .and. deck%run%mode == 'dynamic', &
+          s%discretization == 'rkpm' .and. s%role == 'deformable' .and. &
+          deck%run%mode == 'dynamic', b, local, e2)
       else
         if (.not. allocated(e2)) call check_file_values(what, xs, vols, e2)
         if (.not. allocated(e2)) call make_from_arrays(b, xs, vols, loop, order, e2)
@@ -277,7 +279,7 @@ contains
         deck%run%mode == 'dynamic', has_tri, tri, has_cells, ptr, xy, b, local, e2)
       if (.not. allocated(e2) .and. deck%run%mode == 'dynamic' .and. s%role == &
         'deformable' .and. s%discretization == 'rkpm' .and. s%integration /= 'direct' .and. &
-        .not. allocated(b%cell_ptr)) then
+        .not. allocated(b%cell_ptr) .and. .not. allocated(b%tets)) then
         call set_error(err, where//", variable integration = '"//trim(s%integration)// &
           "': "//trim(s%integration)//" integrates over each particle's cell, and the "// &
           "particle file '"//trim(s%file)//"' has no /cells (ptr, xy); give a file with "// &
@@ -834,14 +836,15 @@ contains
   !! turn; its facets (the closed surface contact needs) are the faces of one tetrahedron
   !! only, and their nodes the boundary particles; the nominal spacing is the cube root of
   !! the mean volume, and local(np) the longest edge at each node (the det(M) supports, as
-  !! a 2D mesh's). elements: the body is a finite-element body (its cells the tetrahedra).
+  !! a 2D mesh's). elements: the body is a finite-element body (its cells the tetrahedra);
+  !! dual: an RKPM body integrated over the tetrahedra's median-dual cells (b%tets).
   !! A face in more than two tetrahedra (a mesh that is not conforming) is an error (every
   !! node is in a tetrahedron: mesh_from_tags kept those only); what names the mesh.
-  subroutine tet_mesh_body(what, x, tet, elements, b, local, err)
+  subroutine tet_mesh_body(what, x, tet, elements, dual, b, local, err)
     character(len=*), intent(in) :: what
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: tet(:, :)
-    logical, intent(in) :: elements
+    logical, intent(in) :: elements, dual
     type(body_t), intent(inout) :: b
     real(wp), allocatable, intent(inout) :: local(:)
     type(error_t), allocatable, intent(inout) :: err
@@ -892,6 +895,7 @@ contains
     end do
     call move_alloc(faces, b%facets)
     if (elements) call move_alloc(mesh%tet, b%cells)
+    if (dual) call move_alloc(mesh%tet, b%tets)
     call log_print("  its surface: "//itoa(size(b%facets, 2))//" triangles over "// &
       itoa(count(b%boundary))//" nodes")
   end subroutine tet_mesh_body

@@ -1163,18 +1163,12 @@ contains
       s%discretization == 'rkpm') then
       ! what the RKPM tables would refuse at set-up (rkpm_tl_m), named here
       ! (a 'file' body brings its cells, or the body set-up says it has none)
-      if (nd == 3 .and. s%shape == 'geo') then
-        call bad(deck, grp, 'discretization', "'rkpm'", "a deformable 3D body meshed "// &
-          "from a gmsh script is made of its tetrahedra: give discretization = 'fem' (3D "// &
-          "RKPM particles are integrated over the prism cells of an extruded body: shape "// &
-          "= 'box', 'cylinder' or 'polygon' with extrude)", err)
-        return
-      end if
       if (nd == 3 .and. s%shape /= 'box' .and. s%shape /= 'polygon' .and. &
-        s%shape /= 'cylinder') then
-        call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", "a deformable 3D body is "// &
-          "integrated over the prism cells of an extruded body: use shape = 'box', "// &
-          "'cylinder' or 'polygon' (with extrude)", err)
+        s%shape /= 'cylinder' .and. s%shape /= 'geo') then
+        call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", "a deformable 3D RKPM body "// &
+          "is integrated over the prism cells of an extruded body or the median-dual "// &
+          "cells of a gmsh script's tetrahedra: use shape = 'box', 'cylinder', 'polygon' "// &
+          "(with extrude) or 'geo'", err)
         return
       end if
       if (nd == 2 .and. s%integration /= 'direct' .and. s%shape /= 'rectangle' .and. &
