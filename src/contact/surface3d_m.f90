@@ -25,6 +25,7 @@ module surface3d_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
   use sorting_m, only: sort_index
+  use geometry_m, only: cross => cross3
   implicit none
   private
   public :: surface3d_t, surface3d_build, surface3d_update, surface3d_gap, surface3d_subset
@@ -451,10 +452,4 @@ contains
     bary = [1.0_wp - v - w, v, w]
     region = 0
   end subroutine closest_on_triangle
-
-  pure function cross(u, v) result(w)
-    real(wp), intent(in) :: u(3), v(3)
-    real(wp) :: w(3)
-    w = [u(2)*v(3) - u(3)*v(2), u(3)*v(1) - u(1)*v(3), u(1)*v(2) - u(2)*v(1)]
-  end function cross
 end module surface3d_m

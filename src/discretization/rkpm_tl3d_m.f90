@@ -47,7 +47,8 @@ module rkpm_tl3d_m
   use body_m, only: body_t, max_cell_vertices
   use dims_m, only: dims_3d, dims_3d_folded
   use solid_tables_m, only: solid_tables_t, tables_transpose
-  use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box, polygon_area
+  use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box, polygon_area, &
+    cross => cross3
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape_values
   use neighbour_bins_m, only: bins_candidates
   use rkpm_tl_m, only: cell_area_points
@@ -523,12 +524,6 @@ contains
     p = xt(:, pack([1, 2, 3, 4], [1, 2, 3, 4] /= k))
     a = 0.5_wp*cross(p(:, 2) - p(:, 1), p(:, 3) - p(:, 1))
   end function face_area
-
-  pure function cross(a, b) result(c)
-    real(wp), intent(in) :: a(3), b(3)
-    real(wp) :: c(3)
-    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-  end function cross
 
   !> The centroid of the face of xt (3, 4) opposite its node k, its nodes summed in the
   !! tetrahedron's order (the same bits from every particle's cell).

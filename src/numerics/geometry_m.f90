@@ -9,7 +9,7 @@ module geometry_m
   public :: geometry_t, geom_none, geom_segment, geom_polygon, geom_annulus, geom_prism
   public :: geom_cylinder
   public :: signed_distance, polygon_area, clip_polygon_box, segment_distance
-  public :: polygon_crossing, full_turn_tol
+  public :: polygon_crossing, full_turn_tol, cross3
 
   integer, parameter :: geom_none = 0, geom_segment = 1, geom_polygon = 2, geom_annulus = 3
   integer, parameter :: geom_prism = 4
@@ -353,4 +353,11 @@ contains
       end select
     end function cross_t
   end subroutine clip_half
+
+  !> The cross product a x b of two 3-vectors.
+  pure function cross3(a, b) result(c)
+    real(wp), intent(in) :: a(3), b(3)
+    real(wp) :: c(3)
+    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+  end function cross3
 end module geometry_m

@@ -28,6 +28,7 @@ module geo_script_m
   use kinds_m, only: wp
   use hash_map_m, only: name_map_t, tag_map_t
   use strings_m, only: itoa, rtoa, edit_distance
+  use geometry_m, only: cross => cross3
   implicit none
   private
   public :: geo_model_t, geo_parse, geo_min_triangles, geo_field_type, geo_field_option, &
@@ -2469,10 +2470,4 @@ contains
     e%ns = e%ns + 1
     e%x(:, e%ns) = x
   end subroutine add_sample
-
-  pure function cross(a, b) result(c)
-    real(wp), intent(in) :: a(3), b(3)
-    real(wp) :: c(3)
-    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-  end function cross
 end module geo_script_m
