@@ -49,7 +49,7 @@ module rkpm_tl3d_m
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box, polygon_area, &
     cross => cross3
-  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape_values
+  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape_values, cloud_candidates
   use neighbour_bins_m, only: bins_candidates
   use rkpm_tl_m, only: cell_area_points
   use tet4_m, only: tet4_mesh_t, tet4_face_neighbours
@@ -88,6 +88,17 @@ module rkpm_tl3d_m
     integer, allocatable :: twin(:)
     real(wp), allocatable :: sgn(:, :)
   end type fold_t
+
+  !> One thread's work space for one cell's integrals (cell_integrals, dual_cell_integrals):
+  !! the slot of each particle touching the cell (slot, over the particles; 0: none), their
+  !! ids (idl(1:nl)), face integrals (gl), volume integrals (ml) and half cells' (sl), at
+  !! most maxk of them; and the particles whose supports may reach the cell
+  !! (cand(1:ncand), cloud_candidates: the only ones its points scan).
+  type :: cell_work_t
+    integer :: nl = 0, ncand = 0
+    integer, allocatable :: slot(:), idl(:), cand(:)
+    real(wp), allocatable :: gl(:, :), ml(:), sl(:, :)
+  end type cell_work_t
 
   !> The connectivity the median-dual cells of a tetrahedral mesh need (dual_mesh): the
   !! tetrahedra at each particle (idx(ptr(i) : ptr(i+1)-1), in mesh order), the one across
@@ -378,22 +389,20 @@ contains
     integer, intent(inout) :: bad
     real(wp) :: cv(2, max_cv), half(3), o(3), za, zb, zm, area, vh(3), hcs(2, max_cv, 2)
     real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), lo(2), hi(2), xc(2, max_cv), wc(max_cv)
-    integer :: ncv, ngp, i, j, q, r, np, dir, nhs(2), nc, nl(1)
-    integer, allocatable :: slot(:), idl(:, :)
-    real(wp), allocatable :: gl(:, :, :), ml(:, :), sl(:, :, :)
+    integer :: ncv, ngp, i, j, q, r, np, dir, nhs(2), nc
+    type(cell_work_t) :: w
     real(wp), parameter :: big = huge(1.0_wp)/4.0_wp
     np = b%np
     half = 0.5_wp*b%spacing(1:3)
     !$omp parallel default(none) shared(b, c, f, i0, maxk, cells, vol, ws, half, np) &
     !$omp private(cv, o, za, zb, zm, area, vh, hcs, xg, wg, lo, hi, xc, wc, ncv, ngp, &
-    !$omp i, q, r, dir, nhs, nc, slot, gl, ml, sl, idl, nl) reduction(max: bad)
-    allocate(slot(np), gl(3*f%ncg, maxk, 1), ml(maxk, 1), sl(3*f%ncg, maxk, 1), idl(maxk, 1))
-    slot = 0
+    !$omp i, q, r, dir, nhs, nc, w) reduction(max: bad)
+    call work_init(w, np, c%np, 3*f%ncg, maxk)
     ! (chunks of 16: a block of 4096 cells still keeps 16 threads busy to its end)
     !$omp do schedule(dynamic, 16)
     do j = 1, size(cells)
       i = i0 + j - 1
-      nl(1) = 0
+      w%nl = 0
       o = b%x(:, i)
       if (allocated(b%cell_ptr)) then
         ncv = min(b%cell_ptr(i + 1) - b%cell_ptr(i), max_cv)
@@ -403,6 +412,9 @@ contains
       end if
       za = max(b%geom%z0, o(3) - half(3))
       zb = min(b%geom%z1, o(3) + half(3))
+      ! the particles whose supports may reach the prism (every point below is in it)
+      call cell_candidates(c, [minval(cv(1, 1:ncv)), minval(cv(2, 1:ncv)), za], &
+        [maxval(cv(1, 1:ncv)), maxval(cv(2, 1:ncv)), zb], w)
       call cell_area_points(cv, ncv, xg, wg, ngp)
       area = sum(wg(1:ngp))
       vol(j) = area*(zb - za)
@@ -420,19 +432,17 @@ contains
       do r = 1, 2
         do q = 1, nc
           call shape_at(c, f, [xc(:, q), za + gx(r)*(zb - za)], 0.5_wp*wc(q)*(zb - za), zero3, &
-            zero3, i, 1, slot, nl, idl, gl, ml, sl, bad)
+            zero3, i, w, bad)
         end do
       end do
       ! the end faces, n = -e3 at za and +e3 at zb (the top face is the X3 half cell's too)
       do q = 1, ngp
-        call shape_at(c, f, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], zero3, i, 1, &
-          slot, nl, idl, gl, ml, sl, bad)
+        call shape_at(c, f, [xg(:, q), za], 0.0_wp, [0.0_wp, 0.0_wp, -wg(q)], zero3, i, w, bad)
         call shape_at(c, f, [xg(:, q), zb], 0.0_wp, [0.0_wp, 0.0_wp, wg(q)], &
-          merge([0.0_wp, 0.0_wp, wg(q)], zero3, zb > zm), i, 1, slot, nl, idl, gl, ml, sl, bad)
+          merge([0.0_wp, 0.0_wp, wg(q)], zero3, zb > zm), i, w, bad)
       end do
       ! the side faces; an edge that is whole in a half cell is that half cell's face too
-      call side_faces(c, f, cv, ncv, za, zb, hcs, nhs, .true., i, 1, slot, nl, idl, gl, ml, &
-        sl, bad)
+      call side_faces(c, f, cv, ncv, za, zb, hcs, nhs, .true., i, w, bad)
       ! the half cells' own faces: their edges that are not whole edges of the cell (the
       ! cut at x = X1 or y = X2, pieces of edges it splits)
       do dir = 1, 2
@@ -440,22 +450,18 @@ contains
         if (nhs(dir) < 3) cycle
         ! (its volume only: the shoelace area, no quadrature points)
         vh(dir) = polygon_area(hcs(:, :, dir), nhs(dir))*(zb - za)
-        call half_faces(c, f, hcs(:, :, dir), nhs(dir), cv, ncv, dir, za, zb, i, 1, slot, nl, &
-          idl, gl, ml, sl, bad)
+        call half_faces(c, f, hcs(:, :, dir), nhs(dir), cv, ncv, dir, za, zb, i, w, bad)
       end do
       ! the half cell along X3: the polygon times [zm, zb]; its face at zm (-e3)
       vh(3) = area*(zb - zm)
       if (zb > zm) then
         do q = 1, ngp
-          call shape_at(c, f, [xg(:, q), zm], 0.0_wp, zero3, [0.0_wp, 0.0_wp, -wg(q)], i, 1, &
-            slot, nl, idl, gl, ml, sl, bad)
+          call shape_at(c, f, [xg(:, q), zm], 0.0_wp, zero3, [0.0_wp, 0.0_wp, -wg(q)], i, w, bad)
         end do
       end if
-      call finish_cell(f%ncg, vol(j), vh, nl(1), idl(:, 1), gl(:, :, 1), ml(:, 1), &
-        sl(:, :, 1), slot, ws(:, j), cells(j))
+      call finish_cell(f%ncg, vol(j), vh, w, ws(:, j), cells(j))
     end do
     !$omp end do
-    deallocate(slot, gl, ml, sl, idl)
     !$omp end parallel
   end subroutine cell_integrals
 
@@ -577,23 +583,31 @@ contains
     type(rows_t), intent(inout) :: cells(:)
     real(wp), intent(out) :: vol(:), ws(:, :)
     integer, intent(inout) :: bad
-    real(wp) :: xt(3, 4), ct(3), cn(3), v, vh(3), mask(3), hm(3), fc(3), pm(3)
-    integer :: i, j, k, e, en, ka, q, r, s, q1, q2, nl(1), np
+    real(wp) :: xt(3, 4), ct(3), cn(3), v, vh(3), mask(3), hm(3), fc(3), pm(3), lo(3), hi(3)
+    integer :: i, j, k, e, en, ka, q, r, s, q1, q2, np
     logical :: inside(3)
-    integer, allocatable :: slot(:), idl(:, :)
-    real(wp), allocatable :: gl(:, :, :), ml(:, :), sl(:, :, :)
+    type(cell_work_t) :: w
     np = b%np
     !$omp parallel default(none) shared(b, dm, c, f, i0, maxk, cells, vol, ws, np) &
-    !$omp private(xt, ct, cn, v, vh, mask, hm, fc, pm, i, k, e, en, ka, q, r, s, q1, q2, &
-    !$omp nl, inside, slot, gl, ml, sl, idl) reduction(max: bad)
-    allocate(slot(np), gl(3*f%ncg, maxk, 1), ml(maxk, 1), sl(3*f%ncg, maxk, 1), idl(maxk, 1))
-    slot = 0
+    !$omp private(xt, ct, cn, v, vh, mask, hm, fc, pm, lo, hi, i, k, e, en, ka, q, r, s, q1, q2, &
+    !$omp inside, w) reduction(max: bad)
+    call work_init(w, np, c%np, 3*f%ncg, maxk)
     !$omp do schedule(dynamic, 16)
     do j = 1, size(cells)
       i = i0 + j - 1
-      nl(1) = 0
+      w%nl = 0
       vol(j) = 0.0_wp
       vh = 0.0_wp
+      ! the particles whose supports may reach the cell (it lies in its tetrahedra)
+      lo = b%x(:, i)
+      hi = b%x(:, i)
+      do k = dm%ptr(i), dm%ptr(i + 1) - 1
+        do q = 1, 4
+          lo = min(lo, b%x(:, b%tets(q, dm%idx(k))))
+          hi = max(hi, b%x(:, b%tets(q, dm%idx(k))))
+        end do
+      end do
+      call cell_candidates(c, lo, hi, w)
       do k = dm%ptr(i), dm%ptr(i + 1) - 1
         e = dm%idx(k)
         xt = b%x(:, b%tets(:, e))
@@ -605,8 +619,7 @@ contains
         vol(j) = vol(j) + 0.25_wp*v
         vh = vh + 0.25_wp*v*mask
         pm = piece_own*xt(:, ka) + piece_other*(sum(xt, dim=2) - xt(:, ka))
-        call shape_at(c, f, pm, 0.25_wp*v, zero3, zero3, i, 1, slot, nl, idl, gl, ml, sl, &
-          bad)
+        call shape_at(c, f, pm, 0.25_wp*v, zero3, zero3, i, w, bad)
         ! the faces towards the neighbours' cells: edge (ka, q), in the faces (ka, q, r)
         do q = 1, 4
           if (q == ka) cycle
@@ -614,7 +627,7 @@ contains
             if (r == ka .or. r == q) cycle
             s = 10 - ka - q - r
             call dual_triangle(c, f, edge_midpoint(xt, ka, q), face_centroid(xt, s), ct, &
-              xt(:, q) - xt(:, ka), 1.0_wp, mask, i, slot, nl, idl, gl, ml, sl, bad)
+              xt(:, q) - xt(:, ka), 1.0_wp, mask, i, w, bad)
           end do
         end do
         ! the tetrahedron's faces at the particle (opposite its node r): the body's
@@ -635,16 +648,14 @@ contains
           if (q1 == 2 .and. (ka == 2 .or. r == 2)) q1 = 3
           q2 = 10 - ka - r - q1
           call dual_triangle(c, f, xt(:, ka), edge_midpoint(xt, ka, q1), fc, fc - xt(:, r), &
-            merge(1.0_wp, 0.0_wp, en == 0), hm, i, slot, nl, idl, gl, ml, sl, bad)
+            merge(1.0_wp, 0.0_wp, en == 0), hm, i, w, bad)
           call dual_triangle(c, f, xt(:, ka), fc, edge_midpoint(xt, ka, q2), fc - xt(:, r), &
-            merge(1.0_wp, 0.0_wp, en == 0), hm, i, slot, nl, idl, gl, ml, sl, bad)
+            merge(1.0_wp, 0.0_wp, en == 0), hm, i, w, bad)
         end do
       end do
-      call finish_cell(f%ncg, vol(j), vh, nl(1), idl(:, 1), gl(:, :, 1), ml(:, 1), &
-        sl(:, :, 1), slot, ws(:, j), cells(j))
+      call finish_cell(f%ncg, vol(j), vh, w, ws(:, j), cells(j))
     end do
     !$omp end do
-    deallocate(slot, gl, ml, sl, idl)
     !$omp end parallel
   end subroutine dual_cell_integrals
 
@@ -652,19 +663,40 @@ contains
   !! positive component along dir (outward), at one point, its centroid (summed in the
   !! order given: the same point from each cell that has it): N_I n dA times wc into the
   !! cell's face integrals, times wh(j) into the half cell j's.
-  subroutine dual_triangle(c, f, p1, p2, p3, dir, wc, wh, i, slot, nl, idl, gl, ml, sl, bad)
+  subroutine dual_triangle(c, f, p1, p2, p3, dir, wc, wh, i, w, bad)
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     real(wp), intent(in) :: p1(3), p2(3), p3(3), dir(3), wc, wh(3)
     integer, intent(in) :: i
-    integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
-    real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
+    type(cell_work_t), intent(inout) :: w
+    integer, intent(inout) :: bad
     real(wp) :: a(3)
     a = 0.5_wp*cross(p2 - p1, p3 - p1)
     if (dot_product(a, dir) < 0.0_wp) a = -a
-    call shape_at(c, f, (p1 + p2 + p3)/3.0_wp, 0.0_wp, wc*a, wh*a, i, 1, slot, nl, idl, gl, &
-      ml, sl, bad)
+    call shape_at(c, f, (p1 + p2 + p3)/3.0_wp, 0.0_wp, wc*a, wh*a, i, w, bad)
   end subroutine dual_triangle
+
+  !> The candidates of w (cloud_candidates) for a cell in the box [lo, hi]: the box grown
+  !! by a relative 1e-9 of its size and of the largest support, so that rounding in the
+  !! test cannot drop a particle that covers a point of the cell.
+  subroutine cell_candidates(c, lo, hi, w)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: lo(3), hi(3)
+    type(cell_work_t), intent(inout) :: w
+    real(wp) :: r(3)
+    r = 0.5_wp*(hi - lo)*(1.0_wp + 1.0e-9_wp) + 1.0e-9_wp*maxval(c%rmax)
+    call cloud_candidates(c, 0.5_wp*(lo + hi), r, w%cand, w%ncand)
+  end subroutine cell_candidates
+
+  !> One thread's work space (cell_work_t) over np particles and a cloud of ncloud (with
+  !! the mirror images), ng rows of gradients, at most maxk particles touching a cell.
+  subroutine work_init(w, np, ncloud, ng, maxk)
+    type(cell_work_t), intent(out) :: w
+    integer, intent(in) :: np, ncloud, ng, maxk
+    allocate(w%slot(np), w%idl(maxk), w%cand(ncloud), w%gl(ng, maxk), w%ml(maxk), &
+      w%sl(ng, maxk))
+    w%slot = 0
+  end subroutine work_init
 
   !> Cell j's row from its unnormalised integrals (cell_integrals, dual_cell_integrals):
   !! the face integrals gl divided by the cell's volume vol (the smoothed gradients); each
@@ -673,51 +705,50 @@ contains
   !! ws(dir) = V_h (1 + V_h/(V_L - V_h)); a half that is (nearly) empty or (nearly) the
   !! whole cell gets none. The nl entries (ids idl, gl, sl and the volume integrals ml) go
   !! into cell, and their slots are cleared.
-  subroutine finish_cell(ncg, vol, vh, nl, idl, gl, ml, sl, slot, ws, cell)
-    integer, intent(in) :: ncg, nl, idl(:)
-    real(wp), intent(in) :: vol, vh(3), ml(:)
-    real(wp), intent(inout) :: gl(:, :), sl(:, :)
-    integer, intent(inout) :: slot(:)
+  subroutine finish_cell(ncg, vol, vh, w, ws, cell)
+    integer, intent(in) :: ncg
+    real(wp), intent(in) :: vol, vh(3)
+    type(cell_work_t), intent(inout) :: w
     real(wp), intent(out) :: ws(3)
     type(rows_t), intent(inout) :: cell
-    integer :: dir, q
-    if (vol > 0.0_wp) gl(:, 1:nl) = gl(:, 1:nl)/vol
+    integer :: dir, q, nl
+    nl = w%nl
+    if (vol > 0.0_wp) w%gl(:, 1:nl) = w%gl(:, 1:nl)/vol
     do dir = 1, 3
       if (vh(dir) > empty_half*vol .and. vol - vh(dir) > empty_half*vol) then
         do q = dir, 3*ncg, 3
-          sl(q, 1:nl) = sl(q, 1:nl)/vh(dir) - gl(q, 1:nl)
+          w%sl(q, 1:nl) = w%sl(q, 1:nl)/vh(dir) - w%gl(q, 1:nl)
         end do
         ws(dir) = vh(dir)*(1.0_wp + vh(dir)/(vol - vh(dir)))
       else
         do q = dir, 3*ncg, 3
-          sl(q, 1:nl) = 0.0_wp
+          w%sl(q, 1:nl) = 0.0_wp
         end do
         ws(dir) = 0.0_wp
       end if
     end do
     allocate(cell%id(nl), cell%a(3*ncg, nl), cell%b(3*ncg, nl), cell%m(nl))
-    cell%id = idl(1:nl)
-    cell%a = gl(:, 1:nl)
-    cell%b = sl(:, 1:nl)
-    cell%m = ml(1:nl)
+    cell%id = w%idl(1:nl)
+    cell%a = w%gl(:, 1:nl)
+    cell%b = w%sl(:, 1:nl)
+    cell%m = w%ml(1:nl)
     do q = 1, nl
-      slot(idl(q)) = 0
+      w%slot(w%idl(q)) = 0
     end do
   end subroutine finish_cell
 
   !> The side faces of the prism polygon cv (ncv) x [za, zb], 2 x 2 Gauss points each:
   !! N_I n dS into gl (the cell), and N_I n_j dS into sl(j) where the edge is whole in the
   !! half cell j (hcs(:, :, j), nhs(j): an edge of it with the same two vertices).
-  subroutine side_faces(c, f, cv, ncv, za, zb, hcs, nhs, whole, i, j, slot, nl, idl, gl, ml, &
-    sl, bad)
+  subroutine side_faces(c, f, cv, ncv, za, zb, hcs, nhs, whole, i, w, bad)
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     real(wp), intent(in) :: cv(:, :), za, zb, hcs(:, :, :)
-    integer, intent(in) :: ncv, nhs(2), i, j
+    integer, intent(in) :: ncv, nhs(2), i
     logical, intent(in) :: whole
-    integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
-    real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
-    real(wp) :: e(2), len_e, nrm(3), w, p(3), hmask(3)
+    type(cell_work_t), intent(inout) :: w
+    integer, intent(inout) :: bad
+    real(wp) :: e(2), len_e, nrm(3), wq, p(3), hmask(3)
     integer :: k, q, r, k1, dir
     do k = 1, ncv
       k1 = modulo(k, ncv) + 1
@@ -731,12 +762,11 @@ contains
           if (has_edge(hcs(:, 1:nhs(dir), dir), cv(:, k), cv(:, k1))) hmask(dir) = 1.0_wp
         end if
       end do
-      w = 0.25_wp*len_e*(zb - za)
+      wq = 0.25_wp*len_e*(zb - za)
       do q = 1, 2
         do r = 1, 2
           p = [cv(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
-          call shape_at(c, f, p, 0.0_wp, w*nrm, w*nrm*hmask, i, j, slot, nl, idl, gl, ml, sl, &
-            bad)
+          call shape_at(c, f, p, 0.0_wp, wq*nrm, wq*nrm*hmask, i, w, bad)
         end do
       end do
     end do
@@ -744,15 +774,14 @@ contains
 
   !> The faces of the half cell hc (nhc) x [za, zb] along X_dir that are not whole edges of
   !! the cell cv (those side_faces added): N_I n_dir dS into sl(dir), 2 x 2 Gauss points.
-  subroutine half_faces(c, f, hc, nhc, cv, ncv, dir, za, zb, i, j, slot, nl, idl, gl, ml, &
-    sl, bad)
+  subroutine half_faces(c, f, hc, nhc, cv, ncv, dir, za, zb, i, w, bad)
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     real(wp), intent(in) :: hc(:, :), cv(:, :), za, zb
-    integer, intent(in) :: nhc, ncv, dir, i, j
-    integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
-    real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
-    real(wp) :: e(2), len_e, nrm(3), w, p(3)
+    integer, intent(in) :: nhc, ncv, dir, i
+    type(cell_work_t), intent(inout) :: w
+    integer, intent(inout) :: bad
+    real(wp) :: e(2), len_e, nrm(3), wq, p(3)
     integer :: k, q, r, k1
     do k = 1, nhc
       k1 = modulo(k, nhc) + 1
@@ -763,11 +792,11 @@ contains
       nrm(dir) = merge(e(2), -e(1), dir == 1)/len_e
       if (nrm(dir) == 0.0_wp) cycle
       if (has_edge(cv(:, 1:ncv), hc(:, k), hc(:, k1))) cycle
-      w = 0.25_wp*len_e*(zb - za)
+      wq = 0.25_wp*len_e*(zb - za)
       do q = 1, 2
         do r = 1, 2
           p = [hc(:, k) + gx(q)*e, za + gx(r)*(zb - za)]
-          call shape_at(c, f, p, 0.0_wp, zero3, w*nrm, i, j, slot, nl, idl, gl, ml, sl, bad)
+          call shape_at(c, f, p, 0.0_wp, zero3, wq*nrm, i, w, bad)
         end do
       end do
     end do
@@ -811,41 +840,41 @@ contains
   !! particle I whose shape function reaches pp; folded (f%ncg = 3): per component c, rows
   !! 3 (c - 1) + 1..3, an image's N added to its twin's with the component's sign. bad: i
   !! when they are undefined there.
-  subroutine shape_at(c, f, pp, wm, wn, wh, i, j, slot, nl, idl, gl, ml, sl, bad)
+  subroutine shape_at(c, f, pp, wm, wn, wh, i, w, bad)
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     real(wp), intent(in) :: pp(3), wm, wn(3), wh(3)
-    integer, intent(in) :: i, j
-    integer, intent(inout) :: slot(:), nl(:), idl(:, :), bad
-    real(wp), intent(inout) :: gl(:, :, :), ml(:, :), sl(:, :, :)
+    integer, intent(in) :: i
+    type(cell_work_t), intent(inout) :: w
+    integer, intent(inout) :: bad
     real(wp) :: n(max_nb)
     integer :: ids(max_nb), nnb, kk, jj, s, cc
     logical :: ok
-    call cloud_shape_values(c, pp, nnb, ids, n, ok)
+    call cloud_shape_values(c, pp, nnb, ids, n, ok, w%cand(1:w%ncand))
     if (.not. ok) then
       bad = max(bad, i)
       return
     end if
     do kk = 1, nnb
       jj = f%twin(ids(kk))
-      s = slot(jj)
+      s = w%slot(jj)
       if (s == 0) then
-        nl(j) = nl(j) + 1
-        s = nl(j)
-        slot(jj) = s
-        idl(s, j) = jj
-        gl(:, s, j) = 0.0_wp
-        ml(s, j) = 0.0_wp
-        sl(:, s, j) = 0.0_wp
+        w%nl = w%nl + 1
+        s = w%nl
+        w%slot(jj) = s
+        w%idl(s) = jj
+        w%gl(:, s) = 0.0_wp
+        w%ml(s) = 0.0_wp
+        w%sl(:, s) = 0.0_wp
       end if
-      ml(s, j) = ml(s, j) + wm*n(kk)
+      w%ml(s) = w%ml(s) + wm*n(kk)
       if (f%ncg == 1) then
-        gl(:, s, j) = gl(:, s, j) + wn*n(kk)
-        sl(:, s, j) = sl(:, s, j) + wh*n(kk)
+        w%gl(:, s) = w%gl(:, s) + wn*n(kk)
+        w%sl(:, s) = w%sl(:, s) + wh*n(kk)
       else
         do cc = 1, 3
-          gl(3*cc - 2:3*cc, s, j) = gl(3*cc - 2:3*cc, s, j) + f%sgn(cc, ids(kk))*wn*n(kk)
-          sl(3*cc - 2:3*cc, s, j) = sl(3*cc - 2:3*cc, s, j) + f%sgn(cc, ids(kk))*wh*n(kk)
+          w%gl(3*cc - 2:3*cc, s) = w%gl(3*cc - 2:3*cc, s) + f%sgn(cc, ids(kk))*wn*n(kk)
+          w%sl(3*cc - 2:3*cc, s) = w%sl(3*cc - 2:3*cc, s) + f%sgn(cc, ids(kk))*wh*n(kk)
         end do
       end if
     end do

@@ -10,12 +10,13 @@ module rk_cloud_m
     basis_linear_3d
   use moment_matrix_m, only: moment_add, chol_small, chol_det, chol_solve, moment_symmetrize, &
     singular_pivot
-  use neighbour_bins_m, only: bins_t, bins_build, bins_cell_block
+  use neighbour_bins_m, only: bins_t, bins_build, bins_cell_block, bins_candidates
   implicit none
   private
   public :: rk_cloud_t, cloud_init, cloud_det, cloud_moment, cloud_shape, cloud_count_cover, &
     cloud_shape_values
-  public :: cloud_move, cloud_set_reference, cloud_det_excluding, cloud_clearance
+  public :: cloud_move, cloud_set_reference, cloud_det_excluding, cloud_clearance, &
+    cloud_candidates
 
   type :: rk_cloud_t
     integer :: ndim = 0, np = 0
@@ -491,45 +492,48 @@ contains
   !! numbers) whose supports cover p; ok false where M(p) is singular or more particles
   !! cover p than ids holds. A quarter of cloud_shape's work in 3D (no moment-matrix
   !! derivatives, one window evaluation per particle): what integration tables need where
-  !! only N enters (the face and volume integrals of the 3D SCNI builder).
-  pure subroutine cloud_shape_values(c, p, nnb, ids, n, ok)
+  !! only N enters (the face and volume integrals of the 3D SCNI builder). With cand: the
+  !! particles scanned are cand(1:size(cand)) (packed cloud indices in the bins' order,
+  !! e.g. cloud_candidates' for a region holding p) instead of the bins' block around p:
+  !! every particle covering p among them, in the same order, so the same sums to the bit.
+  subroutine cloud_shape_values(c, p, nnb, ids, n, ok, cand)
     type(rk_cloud_t), intent(in) :: c
     real(wp), intent(in) :: p(:)
     integer, intent(out) :: nnb
     integer, intent(inout) :: ids(:)
     real(wp), intent(inout) :: n(:)
     logical, intent(out) :: ok
+    integer, intent(in), optional :: cand(:)
     integer :: clo(3), chi(3), i, j, k, cc, q, nd, m, l
-    logical :: empty
+    logical :: empty, full
     real(wp) :: d(3), pv(mmax), phi, mm(mmax, mmax), b(mmax)
     integer :: slot(size(ids))
     nd = c%ndim
     m = c%m
     nnb = 0
     ok = .false.
+    full = .false.
     mm = 0.0_wp
-    call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
-    if (empty) return
-    do k = clo(3), chi(3)
-      do j = clo(2), chi(2)
-        cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
-        do i = clo(1), chi(1)
-          do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
-            d(1:nd) = c%x(:, q) - p(1:nd)
-            if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
-            call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
-            if (phi <= 0.0_wp) cycle
-            if (nnb >= size(ids)) return
-            nnb = nnb + 1
-            slot(nnb) = q
-            ! (n holds phi V until the coefficients are known)
-            n(nnb) = phi*c%vol(q)
-            call basis_eval(c%bid, d(1:nd)*c%hinv(1:nd), pv)
-            call moment_add(m, pv, n(nnb), mm)
+    if (present(cand)) then
+      do l = 1, size(cand)
+        call take(cand(l))
+        if (full) return
+      end do
+    else
+      call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
+      if (empty) return
+      do k = clo(3), chi(3)
+        do j = clo(2), chi(2)
+          cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
+          do i = clo(1), chi(1)
+            do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
+              call take(q)
+              if (full) return
+            end do
           end do
         end do
       end do
-    end do
+    end if
     if (nnb == 0) return
     call moment_symmetrize(m, mm)
     call chol_small(m, mm, ok)
@@ -544,7 +548,46 @@ contains
       call basis_eval(c%bid, d(1:nd)*c%hinv(1:nd), pv)
       n(l) = dot_product(b(1:m), pv(1:m))*n(l)
     end do
+  contains
+    !> Particle q into the moment matrix when its support covers p (full: no room).
+    subroutine take(q)
+      integer, intent(in) :: q
+      d(1:nd) = c%x(:, q) - p(1:nd)
+      if (any(abs(d(1:nd)) >= c%rho(:, q))) return
+      call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
+      if (phi <= 0.0_wp) return
+      if (nnb >= size(ids)) then
+        full = .true.
+        return
+      end if
+      nnb = nnb + 1
+      slot(nnb) = q
+      ! (n holds phi V until the coefficients are known)
+      n(nnb) = phi*c%vol(q)
+      call basis_eval(c%bid, d(1:nd)*c%hinv(1:nd), pv)
+      call moment_add(m, pv, n(nnb), mm)
+    end subroutine take
   end subroutine cloud_shape_values
+
+  !> The particles of cloud c (packed indices, in the bins' order) whose supports may
+  !! cover a point of the box [p - r, p + r]: |x_q - p| < rho_q + r in every direction;
+  !! cand must hold them (c%np is enough).
+  pure subroutine cloud_candidates(c, p, r, cand, ncand)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:), r(:)
+    integer, intent(inout) :: cand(:)
+    integer, intent(out) :: ncand
+    integer :: k, q, n, nd
+    nd = c%ndim
+    call bins_candidates(c%bins, p, c%rmax(1:nd) + r(1:nd), cand, n)
+    ncand = 0
+    do k = 1, n
+      q = cand(k)
+      if (any(abs(c%x(:, q) - p(1:nd)) >= c%rho(:, q) + r(1:nd))) cycle
+      ncand = ncand + 1
+      cand(ncand) = q
+    end do
+  end subroutine cloud_candidates
 
   !> Upper triangle of dm += (dp p^T + p dp^T) w + p p^T dw.
   pure subroutine add_dm(m, p, dp, w, dw, dm)
