@@ -47,7 +47,12 @@ and the logarithm at P = 0). The measures are those of the sphere; contact_radiu
 /history is the largest x of a particle in contact, so the half-width on the x > 0 side.
 
     .venv/bin/python post/hertz_impact.py output/hertz_sphere_fem.h5 [more.h5 ...] \\
-        [--radius 5e-3] [--speed 5] [--table output/hertz_sphere.md]
+        [--radius 5e-3] [--speed 5] [--table output/hertz_sphere.md] \\
+        [--plot doc/figures/hertz.png --labels NAME ...]
+
+--plot draws each run's contact force against the time since its first contact and, for
+spheres, Hertz's quasi-static history (m delta'' = -K delta^(3/2) integrated by RK4 for the
+first run's mass and speed).
 """
 import argparse
 import math
@@ -126,6 +131,64 @@ def measure(path, radius, speed=None):
             "hertz": ref, "energy": energy, "rebound": rebound}
 
 
+def hertz_history(m, radius, v, e, nu, n=4000):
+    """Hertz's quasi-static impact as a history: m delta'' = -K delta^(3/2), K = 4/3 E*
+    sqrt(R), from delta = 0 at speed v until delta returns to 0 (RK4 in n steps of the
+    closed form's contact time, a little past it). Times (s) and forces (N)."""
+    k = 4.0 / 3.0 * e / (1.0 - nu * nu) * math.sqrt(radius)
+    tc = hertz(m, radius, v, e, nu)["time"]
+    h = 1.02 * tc / n
+
+    def acc(d):
+        return -k * max(d, 0.0) ** 1.5 / m
+    t, d, u = [0.0], 0.0, v
+    f = [0.0]
+    for _ in range(n):
+        k1d, k1u = u, acc(d)
+        k2d, k2u = u + 0.5 * h * k1u, acc(d + 0.5 * h * k1d)
+        k3d, k3u = u + 0.5 * h * k2u, acc(d + 0.5 * h * k2d)
+        k4d, k4u = u + h * k3u, acc(d + h * k3d)
+        d += h / 6.0 * (k1d + 2 * k2d + 2 * k3d + k4d)
+        u += h / 6.0 * (k1u + 2 * k2u + 2 * k3u + k4u)
+        t.append(t[-1] + h)
+        f.append(k * max(d, 0.0) ** 1.5)
+        if d < 0.0:
+            break
+    return np.array(t), np.array(f)
+
+
+def plot(runs, labels, path, radius):
+    """The contact force of each run against the time since its first contact, and Hertz's
+    quasi-static history for the first run's mass and speed (spheres)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from mfcd_style import figure_style
+    plt.rcParams.update(figure_style(savefig_dpi=150))
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    for (p, r), label in zip(runs, labels):
+        with MfcdFile(p) as f:
+            h = f.history()
+        on = np.nonzero(h["n_contact"] > 0)[0]
+        t0 = h["time"][on[0]]
+        ax.plot((h["time"] - t0) * 1e6, h["f_contact"] * 1e-3, lw=1.2, label=label)
+    r0 = runs[0][1]
+    if r0["geometry"] != "plane":
+        with MfcdFile(runs[0][0]) as f:
+            mat = deck_group(f.deck, "material") or {}
+        th, fh = hertz_history(r0["mass"], radius, r0["speed"],
+                               float(mat.get("youngs_modulus", 211e9)),
+                               float(mat.get("poisson_ratio", 0.3)))
+        ax.plot(th * 1e6, fh * 1e-3, "k--", lw=1.0, label="Hertz (quasi-static)")
+    ax.set_xlim(left=-0.5)
+    ax.set_xlabel("time since first contact (us)")
+    ax.set_ylabel("contact force (kN)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
 def table(runs):
     """Markdown table of [(path, measure(...)), ...], one geometry."""
     def cell(r, k, scale, fmt):
@@ -164,6 +227,10 @@ def main(argv=None):
     ap.add_argument("--speed", type=float, default=None,
                     help="impact speed (m/s; default from the deck's &body velocity)")
     ap.add_argument("--table", default=None, help="also write the Markdown table here")
+    ap.add_argument("--plot", default=None,
+                    help="also draw the contact forces against time (and Hertz's) here")
+    ap.add_argument("--labels", nargs="+", default=None,
+                    help="the runs' names in the plot (default: the file names)")
     a = ap.parse_args(argv)
     runs = [(path, measure(path, a.radius, a.speed)) for path in a.files]
     if len({r["geometry"] == "plane" for _, r in runs}) > 1:
@@ -173,6 +240,11 @@ def main(argv=None):
     if a.table:
         with open(a.table, "w") as f:
             f.write("\n".join(lines) + "\n")
+    if a.plot:
+        labels = a.labels or [p.rsplit("/", 1)[-1] for p in a.files]
+        if len(labels) != len(runs):
+            ap.error("give one label per file")
+        plot(runs, labels, a.plot, a.radius)
     return 0
 
 

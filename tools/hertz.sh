@@ -76,4 +76,10 @@ fi
 if [ "$which" = sphere3d ]; then
   run hertz_sphere_3d "contact radius a = 0.40 mm, full 3D" \
     "hertz_sphere_3d hertz_sphere_3d_rkpm hertz_sphere_fem" 0.2 0.133 0.1
+  # the force histories of doc/3d.md's figure
+  $py post/hertz_impact.py output/hertz/hertz_sphere_3d_hc0.2.h5 \
+    output/hertz/hertz_sphere_3d_rkpm_hc0.2.h5 output/hertz/hertz_sphere_3d_rkpm_hc0.1.h5 \
+    --plot doc/figures/hertz_sphere_3d_force.png \
+    --labels "tetrahedra, a/2" "RKPM, a/2" "RKPM, a/4" > /dev/null
+  echo "hertz: figure doc/figures/hertz_sphere_3d_force.png"
 fi
