@@ -375,8 +375,8 @@ contains
   !! and volume integrals \int N_I dV (ml) of the particles I touching it (idl, nl), then
   !! gl divided by the volume; the half cells' smoothed gradients minus the cell's (sl) and
   !! their weights (ws); the cell's row into cells(j) (id, a = gl, b = sl, m = ml). gl, ml,
-  !! sl, idl are one thread's, for one cell of at most maxk candidates: they stay in its
-  !! caches (a block's padded cells did not: 5-10% slower). Each cell is its own (any thread
+  !! sl, idl are one thread's (cell_work_t), for one cell of at most maxk candidates: they
+  !! stay in its caches (a block's padded cells did not: 5-10% slower). Each cell is its own (any thread
   !! count gives the same). bad: the largest particle whose cell has a point where the
   !! shape functions are undefined (0: none).
   subroutine cell_integrals(b, c, f, i0, maxk, cells, vol, ws, bad)
