@@ -9,11 +9,12 @@
 #
 # Builds the Release solver only when build/bin/mfcd is missing (tools/build.sh Release).
 # Runs input/tube_crush.nml and input/tube_crush_free.nml (34 and 7 minutes on one core of
-# an AMD EPYC guest shared with other runs: doc/self_contact.md), each writing output/<deck>.h5 and its log
-# output/<deck>.log, prints the energy line of each log, then post/tube_crush.py: the crush
-# force against the ram's displacement and its mean against Abramowicz & Jones's estimate,
-# the folds, the overlap with and without self-contact, the energy balance, each check with
-# ok or FAIL, and the figures in output/figures/ (git-ignored; copy them into doc/figures/):
+# an AMD EPYC guest shared with other runs: doc/self_contact.md), each writing
+# output/<deck>.h5 and its log output/<deck>.log, prints the energy line of each log,
+# then post/tube_crush.py: the crush force against the ram's displacement and its mean
+# against Abramowicz & Jones's estimate, the folds, the overlap with and without
+# self-contact, the energy balance, each check with ok or FAIL, and the figures in
+# output/figures/ (git-ignored; copy them into doc/figures/):
 #   tube_crush_force.png     the crush force, its mean and the estimates
 #   tube_crush_shapes.png    the deformed tube (half of it) at four times
 #   tube_crush_section.png   the wall in the plane y = 0, with and without self-contact
