@@ -9,8 +9,9 @@ without it. Measures, prints, checks and draws:
 - the mean crush force over the stroke, P_m = int P dd / d (the energy the tube took
   over the ram's displacement: the crashworthiness definition), against Abramowicz &
   Jones (1984), "Dynamic axial crushing of circular tubes", Int. J. Impact Eng. 2(3)
-  263-281, axisymmetric (concertina) mode, in the form they found to agree with tests,
-  with the effective crushing distance:
+  263-281, axisymmetric (concertina) mode, in the form their summary reports agreeing with
+  their tests, with the effective crushing distance (coefficients as Jones, Structural
+  Impact, 1989, ch. 7, quotes them):
       P_m / M_0 = (25.23 sqrt(D/t) + 15.09) / (0.86 - 0.568 sqrt(t/D)),
       M_0 = (2/sqrt 3) sigma_0 t^2 / 4
   (D the mean diameter, t the wall; von Mises plane strain); printed beside it, their
@@ -22,22 +23,26 @@ without it. Measures, prints, checks and draws:
   (for the linear hardening sigma_y0 + H epsbar: sigma_y0 + H <epsbar^2> / (2 <epsbar>));
   its sum V_e int sigma_y deps is checked against /history/w_plastic;
 - the folds: the outer generator of the wall in the symmetry plane y = 0 (its nodes sorted
-  by reference z), its radial excursion dr(Z) = r - R_ref; a fold is an outward lobe (a
-  maximum of dr more than a wall thickness above the minima either side) whose material
-  between those minima (the inner hinges) has shortened along z to less than half its
-  length (the arms rotated past 60 degrees: a closed fold, not a wave);
-- the material left covering itself (post/self_overlap.py, overlap_3d: the winding number
-  of the deformed facet surface on a raster of a quarter of the mesh size), with and
-  without self-contact;
+  by reference z), its radial excursion dr(Z) = r - R_ref; a lobe is an extreme of dr
+  (outwards or inwards) more than a wall thickness beyond the extremes either side, its
+  arms the generator from it to those (or to the tube's ends); a fold is closed when both
+  arms have shortened along z to less than half their length (rotated past 60 degrees
+  from the axis: a fold, not a wave); the mode: the generators in y = 0 and in x = 0
+  differ by at most 25% of the largest excursion (axisymmetric, the estimates' mode);
+- the material left covering itself (post/self_overlap.py's raster and rule, as in
+  overlap_3d: the winding number of the deformed facet surface on a raster of a quarter
+  of the mesh size; the depth from the deepest cells only, overlap() below), with and
+  without self-contact: with it at most a tenth of the control's, at most h/2 deep;
 - the energy balance: /summary's residual against its scale and the largest of the
   /history residual; the kinetic energy against the plastic work (inertia).
 
     python post/tube_crush.py output/tube_crush.h5 output/tube_crush_free.h5
-        [--out doc/figures] [--name tube_crush] [--min-folds 2] [--force-tol 0.25]
-        [--no-force-check] [--no-figures]
+        [--out output/figures] [--name tube_crush] [--min-folds 2] [--force-tol 0.25]
+        [--no-force-check] [--overlap-last 3] [--control-folds N] [--energy-tol 1e-2]
+    python post/tube_crush.py output/tube_crush_coarse.h5 --control-only --min-folds 1
 
 Exit status 0 when every check holds, 1 when one fails (each printed with FAIL), 2 for bad
-arguments. Figures (--out): <name>_shapes.png (the deformed surface, a half tube, at four
+arguments. Figures (only with --out): <name>_shapes.png (the deformed surface, a half tube, at four
 times), <name>_section.png (the wall in the plane y = 0, with and without self-contact),
 <name>_force.png (P against d, the mean and the estimates).
 File layout: doc/output.md; reader: post/mfcd_h5.py.
