@@ -376,9 +376,9 @@ contains
   !! gl divided by the volume; the half cells' smoothed gradients minus the cell's (sl) and
   !! their weights (ws); the cell's row into cells(j) (id, a = gl, b = sl, m = ml). gl, ml,
   !! sl, idl are one thread's (cell_work_t), for one cell of at most maxk candidates: they
-  !! stay in its caches (a block's padded cells did not: 5-10% slower). Each cell is its own (any thread
-  !! count gives the same). bad: the largest particle whose cell has a point where the
-  !! shape functions are undefined (0: none).
+  !! stay in its caches (a block's padded cells did not: 5-10% slower). Each cell is its
+  !! own (any thread count gives the same). bad: the largest particle whose cell has a
+  !! point where the shape functions are undefined (0: none).
   subroutine cell_integrals(b, c, f, i0, maxk, cells, vol, ws, bad)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
