@@ -70,7 +70,7 @@ from matplotlib.patches import Patch  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mfcd_style import figure_style  # noqa: E402
 from mfcd_h5 import negative_values, MfcdFile  # noqa: E402
-from self_overlap import default_step_fraction, overlap_3d  # noqa: E402
+from self_overlap import default_step_fraction, facet_cells, overlap_3d  # noqa: E402
 import plot_self_contact as plane  # noqa: E402  (the plane script's helpers)
 from plot_self_contact import (Fail, colour_scale, fmt_us, marker_sizes,  # noqa: E402
                                small_overlaps, spacing_of)
@@ -116,25 +116,6 @@ def feature_edges(x: np.ndarray, facets: np.ndarray, deg: float = FEATURE_DEG) -
     if (count == 1).any():
         out.append(e[start[count == 1]])
     return np.concatenate(out) if out else np.zeros((0, 2), dtype=int)
-
-
-def facet_cells(facets: np.ndarray, tets: np.ndarray, nnode: int) -> np.ndarray:
-    """The tetrahedron (row of tets) each facet is a face of, -1 where none is."""
-    faces = np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 3]],
-                            tets[:, [1, 2, 3]]])
-    owner = np.tile(np.arange(tets.shape[0]), 4)
-    n = int(nnode) + 1
-
-    def code(t):
-        t = np.sort(t, axis=1).astype(np.int64)
-        return (t[:, 0] * n + t[:, 1]) * n + t[:, 2]
-
-    fk = code(faces)
-    order = np.argsort(fk)
-    fk, owner = fk[order], owner[order]
-    q = code(facets)
-    i = np.clip(np.searchsorted(fk, q), 0, fk.size - 1)
-    return np.where(fk[i] == q, owner[i], -1)
 
 
 def node_means(cells: np.ndarray, values: np.ndarray, nnode: int) -> np.ndarray:

@@ -176,6 +176,35 @@ def distance_to_facets(x: np.ndarray, facets: np.ndarray, pts: np.ndarray) -> np
     return out
 
 
+def facet_cells(facets: np.ndarray, tets: np.ndarray, nnode: int) -> np.ndarray:
+    """The tetrahedron (row of tets) each facet is a face of, -1 where none is."""
+    faces = np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 3]],
+                            tets[:, [1, 2, 3]]])
+    owner = np.tile(np.arange(tets.shape[0]), 4)
+    n = int(nnode) + 1
+
+    def code(t):
+        t = np.sort(t, axis=1).astype(np.int64)
+        return (t[:, 0] * n + t[:, 1]) * n + t[:, 2]
+
+    fk = code(faces)
+    order = np.argsort(fk)
+    fk, owner = fk[order], owner[order]
+    q = code(facets)
+    i = np.clip(np.searchsorted(fk, q), 0, fk.size - 1)
+    return np.where(fk[i] == q, owner[i], -1)
+
+
+def raster_axes(x: np.ndarray, step: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The raster of overlap_3d for points x (n, 3): the bounding box grown by a step,
+    shifted by irrational fractions of a step so that no column passes through a vertex or
+    an edge of a lattice-aligned surface; its x, y and z coordinates."""
+    lo = x.min(axis=0) - step
+    hi = x.max(axis=0) + step
+    shift = step * np.array([0.5 + 0.0618034, 0.5 + 0.0414214, 0.5 + 0.0732051])
+    return tuple(np.arange(lo[k] + shift[k], hi[k], step) for k in range(3))
+
+
 def overlap_3d(x: np.ndarray, facets: np.ndarray, step: float
                ) -> Tuple[float, float, np.ndarray]:
     """(overlap volume [m^3], overlap depth [m], centres of the doubly covered cells
@@ -183,12 +212,7 @@ def overlap_3d(x: np.ndarray, facets: np.ndarray, step: float
     bounding box: the 3D form of overlap(), the winding number counted along vertical
     columns (raster_winding). The raster is shifted by irrational fractions of a step so
     that no column passes through a vertex or an edge of a lattice-aligned surface."""
-    lo = x.min(axis=0) - step
-    hi = x.max(axis=0) + step
-    shift = step * np.array([0.5 + 0.0618034, 0.5 + 0.0414214, 0.5 + 0.0732051])
-    xs = np.arange(lo[0] + shift[0], hi[0], step)
-    ys = np.arange(lo[1] + shift[1], hi[1], step)
-    zs = np.arange(lo[2] + shift[2], hi[2], step)
+    xs, ys, zs = raster_axes(x, step)
     w = raster_winding(x, facets, xs, ys, zs)
     ii, jj, kk = np.nonzero(w >= 2)
     if ii.size == 0:

@@ -58,7 +58,8 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mfcd_h5 import MfcdFile, deck_group  # noqa: E402
-from self_overlap import distance_to_facets, raster_winding  # noqa: E402
+from self_overlap import (distance_to_facets, facet_cells, raster_axes,  # noqa: E402
+                          raster_winding)
 
 SQ3 = np.sqrt(3.0)
 
@@ -235,12 +236,7 @@ def overlap(x, facets, step):
     cells): here the covered cells are eroded layer by layer (6 neighbours) and only those
     of the last two layers, the deepest within a raster step, are measured exactly (the
     depth is twice their largest distance to the surface)."""
-    lo = x.min(axis=0) - step
-    hi = x.max(axis=0) + step
-    shift = step * np.array([0.5 + 0.0618034, 0.5 + 0.0414214, 0.5 + 0.0732051])
-    xs = np.arange(lo[0] + shift[0], hi[0], step)
-    ys = np.arange(lo[1] + shift[1], hi[1], step)
-    zs = np.arange(lo[2] + shift[2], hi[2], step)
+    xs, ys, zs = raster_axes(x, step)
     m = raster_winding(x, facets, xs, ys, zs) >= 2
     ii, jj, kk = np.nonzero(m)
     if ii.size == 0:
@@ -314,7 +310,7 @@ def draw(rw: Run, ro: Run | None, out: str, name: str, d, P, Pf, i0, Pm, est, ov
     fac = rw.body.facets
     labs = rw.labels
     pick = [labs[int(round(k * (len(labs) - 1) / 3))] for k in range(4)]
-    cells = _facet_cells(fac, rw.tets, rw.body.np)
+    cells = facet_cells(fac, rw.tets, rw.body.np)
     emax = max(float(np.max(rw.epsbar_cells(lab))) for lab in pick)
     norm = Normalize(0.0, min(emax, 1.0))
     cmap = plt.get_cmap("YlGnBu")
@@ -356,7 +352,7 @@ def draw(rw: Run, ro: Run | None, out: str, name: str, d, P, Pf, i0, Pm, est, ov
         fac = r.body.facets
         X = r.body.x
         face = fac[np.all(np.abs(X[fac, 1]) < 1e-9, axis=1)]
-        cf = _facet_cells(face, r.tets, r.body.np)
+        cf = facet_cells(face, r.tets, r.body.np)
         x = r.x(lab) * mm
         col = cmap(norm(np.asarray(r.epsbar_cells(lab))[np.maximum(cf, 0)]))
         ax.add_collection(PolyCollection(x[face][:, :, [0, 2]], facecolors=col,
@@ -381,24 +377,6 @@ def draw(rw: Run, ro: Run | None, out: str, name: str, d, P, Pf, i0, Pm, est, ov
     plt.close(fig)
     paths.append(p)
     return paths
-
-
-def _facet_cells(facets, tets, nnode):
-    faces = np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 3]],
-                            tets[:, [1, 2, 3]]])
-    owner = np.tile(np.arange(tets.shape[0]), 4)
-    n = int(nnode) + 1
-
-    def code(t):
-        t = np.sort(t, axis=1).astype(np.int64)
-        return (t[:, 0] * n + t[:, 1]) * n + t[:, 2]
-
-    fk = code(faces)
-    order = np.argsort(fk)
-    fk, owner = fk[order], owner[order]
-    q = code(facets)
-    i = np.clip(np.searchsorted(fk, q), 0, fk.size - 1)
-    return np.where(fk[i] == q, owner[i], -1)
 
 
 # ----------------------------------------------------------------------------------- main
