@@ -9,8 +9,9 @@
 !! narrows each contact pair to it: against a rigid master each rank holds the master whole;
 !! against a deforming master (self-contact too) each rank its own and ghost master
 !! particles (contact_dist_sm). Nodal values are the serial ones to the bit for any number of
-!! ranks; energies and the contact force are sums of per-rank sums (round-off); kappa, and
-!! with it the step, is a maximum (exact).
+!! ranks; energies and the contact force are sums of per-rank sums (round-off); kappa is a
+!! maximum (exact), and the critical step at t = 0 is calibrated on the parts with exact
+!! sums (stable_step_m): the step is the serial one to the bit.
 !!
 !! Rank 0 writes the one HDF5 file (and XDMF) a serial run writes: for a snapshot, a failure,
 !! a checkpoint and the summary it gathers the whole solids (the parts' owned values), and
@@ -185,6 +186,7 @@ contains
           g%pres(:, n), g%vpres(:, n), err)
         if (allocated(err)) return
         call solid_set_owned(p, lp%own_point, lp%own_node)
+        p%part%nglob = lp%nglob
         ! the whole solid's options: RKPM's SCNI stabilization (elements have none), the
         ! health limits
         p%opt = g%opt
@@ -296,6 +298,8 @@ contains
     call unpack_fields(g, kn, rin, rn)
     call unpack_fields(g, kq, riq, rq)
     g%state%ipoint_time = p%state%ipoint_time
+    ! (calibrated on the parts, after the split: the same on every rank)
+    g%dt_cal = p%dt_cal
   end subroutine gather_solid
 
   !> buf(:, j): the state fields ks of solid s at entry idx(j), one after another.

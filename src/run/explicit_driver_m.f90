@@ -87,6 +87,8 @@ contains
     end if
     call dom%split(solids, pairs, present(restart), err)
     if (dom%any_error(err)) return
+    ! the step from the power iteration on the parts (a restart's is the checkpoint's)
+    if (.not. present(restart)) call run_first_step(deck, solids, r, dom)
     ckpt_every = deck%output%checkpoint_every
     call output_intervals(deck, r%nsteps_est, log_every, hist_every)
     allocate(row(history_width(size(solids), size(pairs), deck%nbcs, &
@@ -205,8 +207,8 @@ contains
       r%reason, 1)
   end subroutine run_dynamic
 
-  !> The set-up's solids, body-to-solid map and pairs moved out of su, the step control and
-  !! health limits set, and the run record started: the first step, the step estimate.
+  !> The set-up's solids, body-to-solid map and pairs moved out of su, the health limits
+  !! set, and the run record started.
   subroutine run_take_setup(deck, su, solids, isolid, pairs, r)
     type(deck_t), intent(in) :: deck
     type(dynamic_setup_t), intent(inout) :: su
@@ -219,12 +221,21 @@ contains
     call move_alloc(su%solids, solids)
     call move_alloc(su%isolid, isolid)
     call move_alloc(su%pairs, pairs)
-    call setup_time_step(deck, solids, r%step)
     call set_health_limits(solids)
     r%t_end = deck%solver%t_end
+  end subroutine run_take_setup
+
+  !> The step control calibrated on the parts (collective), the first step and the step
+  !! estimate.
+  subroutine run_first_step(deck, solids, r, dom)
+    type(deck_t), intent(in) :: deck
+    type(solid_t), intent(inout) :: solids(:)
+    type(run_record_t), intent(inout) :: r
+    class(run_domain_t), intent(inout) :: dom
+    call setup_time_step(deck, solids, r%step, dom%comm)
     r%dt = step_control_next(r%step, 0.0_wp, next_stop(deck, 0.0_wp))
     r%nsteps_est = ceiling(r%t_end/r%dt - count_slack)
-  end subroutine run_take_setup
+  end subroutine run_first_step
 
   !> Steps between log lines and between history rows: the deck's, or by default about 50
   !! log lines a run and a history row every 10 steps (a row costs about one pass over the

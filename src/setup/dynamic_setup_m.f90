@@ -11,6 +11,7 @@ module dynamic_setup_m
   use strings_m, only: itoa, rtoa
   use deck_m, only: deck_t, body_spec_t
   use body_m, only: body_t
+  use rank_comm_m, only: rank_comm_t
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d
@@ -405,18 +406,24 @@ contains
   end subroutine setup_contacts
 
   !> The time-step policy: the deck's fixed dt, or (dt = 0) cfl x the critical step that
-  !! follows the deformation; calibrated once against the power iteration.
-  subroutine setup_time_step(deck, solids, ctl)
+  !! follows the deformation; calibrated once against the power iteration, on the ranks'
+  !! parts (comm: the ranks; collective).
+  subroutine setup_time_step(deck, solids, ctl, comm)
     type(deck_t), intent(in) :: deck
     type(solid_t), intent(inout) :: solids(:)
     type(step_control_t), intent(out) :: ctl
-    real(wp) :: dts
+    class(rank_comm_t), intent(inout) :: comm
+    real(wp) :: dts, v(1)
     integer :: k
-    call step_control_calibrate(ctl, solids)
+    call step_control_calibrate(ctl, solids, comm)
     dts = huge(1.0_wp)
     do k = 1, size(solids)
       dts = min(dts, spacing_step(solids(k)))
     end do
+    ! (h_min of the part: the smallest over the ranks)
+    v = -dts
+    call comm%max_real(v)
+    dts = -v(1)
     ctl%cfl = deck%solver%cfl
     ctl%adaptive = .not. (deck%solver%dt > 0.0_wp)
     if (.not. ctl%adaptive) then

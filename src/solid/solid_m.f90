@@ -155,6 +155,7 @@ module solid_m
   type :: solid_part_t
     logical :: on = .false.                      !< a rank's part (else the whole solid)
     integer, allocatable :: own_q(:), own_n(:)   !< owned points, owned nodes (local numbers)
+    integer, allocatable :: nglob(:)             !< the local nodes' numbers in the whole solid
     !> the part's exchanges with the neighbour ranks (none for a serial solid)
     class(part_halo_t), pointer :: halo => null()
   end type solid_part_t

@@ -18,9 +18,10 @@ module stable_step_m
   use kinds_m, only: wp
   use strings_m, only: itoa, rtoa
   use solid_m, only: solid_t, solid_step_estimate
-  use tl_kinematics_m, only: linear_elastic_piola, deformation_gradient, internal_force, &
-    stabilization_force, &
-    jacobian
+  use tl_kinematics_m, only: linear_elastic_piola, deformation_gradient_list, &
+    internal_force_list, jacobian
+  use exact_sum_m, only: exact_sum_t, exact_add, exact_value, exact_allsum
+  use rank_comm_m, only: rank_comm_t
   implicit none
   private
   public :: critical_step, spacing_step
@@ -66,54 +67,141 @@ contains
   !! is close to the highest mode of a lattice); prescribed components are held at zero.
   !! The Rayleigh quotient converges from below, so the step is padded by 2% (the result
   !! of 60 iterations is within 1% of a converged value on lattice bodies).
-  function critical_step(tb) result(dt)
+  !!
+  !! On a rank's part (tb%part%on; comm its ranks, collective) each rank iterates on its own
+  !! nodes and points: the ghost nodes' x and the ghost points' P (and SCNI stabilization
+  !! stresses) come from their owners, so K x at the owned nodes is the serial one to the bit
+  !! (as the time loop's forces are), and the two dot products of an iteration are exact
+  !! sums (exact_sum_m) over the owned nodes: the step is the same bits on any number of
+  !! ranks, and no rank needs the whole solid's tables. The start is a function of the
+  !! global node number (tb%part%nglob).
+  function critical_step(tb, comm) result(dt)
     type(solid_t), intent(in) :: tb
+    class(rank_comm_t), intent(inout), optional :: comm
     real(wp) :: dt
     real(wp), allocatable :: x(:, :), y(:, :), f(:, :), p(:, :), sw(:, :)
+    integer, allocatable :: own_n(:), own_q(:)
+    type(exact_sum_t) :: acc
     real(wp) :: lam, mu, omega2, nrm, es
-    integer :: it, q, i, c, nd
+    integer :: it, q, i, c, nd, k, ig, nn, nq, free(1)
+    logical :: stab
     nd = tb%t%dims%ndim
+    stab = tb%opt%stab_normal > 0.0_wp
     allocate(x(nd, tb%np), y(nd, tb%np), f(tb%t%dims%nf, tb%nq), p(tb%t%dims%nf, tb%nq), &
       sw(tb%t%dims%nstab, tb%nq))
+    if (tb%part%on) then
+      own_n = tb%part%own_n
+      own_q = tb%part%own_q
+    else
+      own_n = [(i, i = 1, tb%np)]
+      own_q = [(q, q = 1, tb%nq)]
+    end if
+    nn = size(own_n)
+    nq = size(own_q)
     lam = tb%mat%lambda
     mu = tb%mat%g
     do i = 1, tb%np
-      x(:, i) = real(1 - 2*mod(i, 2), wp)*[(real(1 - 2*mod(c + 1, 2), wp), c = 1, nd)] &
-        + 0.1_wp*real(mod(i, 7), wp)
+      ig = i
+      if (tb%part%on) ig = tb%part%nglob(i)
+      x(:, i) = real(1 - 2*mod(ig, 2), wp)*[(real(1 - 2*mod(c + 1, 2), wp), c = 1, nd)] &
+        + 0.1_wp*real(mod(ig, 7), wp)
     end do
     where (tb%pres) x = 0.0_wp
+    y = 0.0_wp
+    f = 0.0_wp
+    p = 0.0_wp
+    sw = 0.0_wp
     omega2 = 0.0_wp
     ! every component prescribed (a driven plate): no free mode limits the step
     dt = huge(1.0_wp)
-    if (all(tb%pres)) return
+    free = 0
+    do k = 1, nn
+      if (.not. all(tb%pres(:, own_n(k)))) free = 1
+    end do
+    if (present(comm)) then
+      free = -free
+      call comm%min_int(free)
+      free = -free
+    end if
+    if (free(1) == 0) return
     do it = 1, 60
-      nrm = sqrt(sum(spread(tb%t%mass, 1, nd)*x*x))
+      acc = exact_sum_t()
+      do k = 1, nn
+        i = own_n(k)
+        do c = 1, nd
+          call exact_add(acc, tb%t%mass(i)*x(c, i)*x(c, i))
+        end do
+      end do
+      nrm = sqrt(total(acc))
       x = x/nrm
-      call deformation_gradient(tb%t, x, f)
-      do q = 1, tb%nq
+      if (associated(tb%part%halo)) call tb%part%halo%nodes(x)
+      if (stab) then
+        call deformation_gradient_list(tb%t, x, f, own_q, nq, &
+          [tb%opt%stab_normal, tb%opt%stab_shear], sw, es)
+      else
+        call deformation_gradient_list(tb%t, x, f, own_q, nq)
+      end if
+      do k = 1, nq
+        q = own_q(k)
         call linear_elastic_piola(lam, mu, f(:, q), p(:, q))
       end do
-      call internal_force(tb%t, p, y)
-      if (tb%opt%stab_normal > 0.0_wp) call stabilization_force(tb%t, x, tb%opt%stab_normal, &
-        tb%opt%stab_shear, sw, y, es)
+      if (associated(tb%part%halo)) then
+        call tb%part%halo%points(p)
+        if (stab) call tb%part%halo%points(sw)
+      end if
+      if (stab) then
+        call internal_force_list(tb%t, p, y, own_n, nn, sw)
+      else
+        call internal_force_list(tb%t, p, y, own_n, nn)
+      end if
       where (tb%pres) y = 0.0_wp
-      omega2 = sum(x*y)
-      do c = 1, nd
-        x(c, :) = y(c, :)/tb%t%mass
+      acc = exact_sum_t()
+      do k = 1, nn
+        i = own_n(k)
+        do c = 1, nd
+          call exact_add(acc, x(c, i)*y(c, i))
+        end do
+      end do
+      omega2 = total(acc)
+      do k = 1, nn
+        i = own_n(k)
+        x(:, i) = y(:, i)/tb%t%mass(i)
       end do
     end do
     dt = 2.0_wp/sqrt(1.02_wp*omega2)
+  contains
+    real(wp) function total(a)
+      type(exact_sum_t), intent(in) :: a
+      if (present(comm)) then
+        total = exact_allsum(a, comm)
+      else
+        total = exact_value(a)
+      end if
+    end function total
   end function critical_step
 
   !> Calibrate each solid's estimate against its power-iteration critical step and set the
-  !! starting values of c: dt_cal = dt_crit(0) sqrt(kappa(0)).
-  subroutine step_control_calibrate(c, solids)
+  !! starting values of c: dt_cal = dt_crit(0) sqrt(kappa(0)). On ranks' parts (comm
+  !! present; collective) kappa(0) is the largest over the owned points of all the ranks.
+  subroutine step_control_calibrate(c, solids, comm)
     type(step_control_t), intent(inout) :: c
     type(solid_t), intent(inout) :: solids(:)
+    class(rank_comm_t), intent(inout), optional :: comm
     integer :: k
-    real(wp) :: dtk
+    real(wp) :: dtk, v(1)
     do k = 1, size(solids)
-      dtk = critical_step(solids(k))
+      if (present(comm)) then
+        dtk = critical_step(solids(k), comm)
+        if (solids(k)%part%on) then
+          v = 0.0_wp
+          if (size(solids(k)%part%own_q) > 0) v = maxval(solids(k)%kap0(solids(k)%part%own_q))
+          call comm%max_real(v)
+          solids(k)%kappa0 = v(1)
+          solids(k)%kappa = v(1)
+        end if
+      else
+        dtk = critical_step(solids(k))
+      end if
       solids(k)%dt_cal = huge(1.0_wp)
       if (dtk < huge(1.0_wp)) solids(k)%dt_cal = dtk*sqrt(solids(k)%kappa0)
     end do
