@@ -23,7 +23,7 @@ program mfcd_mpi
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
   use log_m, only: log_print, log_flush
-  use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic, mpi_scene_check
+  use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic, mpi_scene_check, setup_part_t
   use explicit_driver_m, only: run_dynamic
   use mpi_domain_m, only: mpi_domain_t, mpi_domain_init, ghost_margin_default
   use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t
@@ -90,7 +90,9 @@ program mfcd_mpi
   call read_deck(trim(arg), deck, err)
   if (.not. allocated(err)) call mpi_scene_check(deck, err)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
-  if (.not. allocated(err)) call setup_dynamic(deck, bodies, su, err)
+  ! (ranks other than 0 keep only their region's rows of 3D RKPM tables)
+  if (.not. allocated(err)) call setup_dynamic(deck, bodies, su, err, &
+    part=setup_part_t(me, nranks))
   if (.not. allocated(err) .and. len(restart_path) > 0) then
     call checkpoint_check(restart_path, deck, bodies, ckpt, err)
     if (.not. allocated(err)) call log_print("restart: checkpoint '"//restart_path// &

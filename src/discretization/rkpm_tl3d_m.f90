@@ -203,11 +203,19 @@ contains
   end subroutine folded_cloud
 
   !> The SCNI tables of 3D lattice body b (reference configuration); rho0: density (kg/m^3).
-  subroutine tl_build_3d(b, rho0, t, err)
+  !! box (3, 2), a rank's box of the decomposition (lower, upper corner; doc/parallel.md):
+  !! the rows are kept only for the cells whose particles' supports can reach into the box
+  !! (its own points and every ghost point it can have; the others' rows are empty). Every
+  !! cell is still integrated, so the masses, volumes and stabilization weights of all
+  !! particles are the whole body's, to the bit, and the position table is whole. Such
+  !! tables are only cut into a part (decomposition_m local_part_build): they get no
+  !! transpose, so no force is evaluated on them.
+  subroutine tl_build_3d(b, rho0, t, err, box)
     type(body_t), intent(in) :: b
     real(wp), intent(in) :: rho0
     type(solid_tables_t), intent(out) :: t
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: box(3, 2)
     if (b%ndim /= 3 .or. (b%geom%kind /= geom_prism .and. b%geom%kind /= geom_cylinder &
       .and. .not. allocated(b%tets))) then
       call set_error(err, "body '"//trim(b%name)//"': the 3D RKPM tables need a 3D body "// &
@@ -227,10 +235,11 @@ contains
     t%nq = b%np
     t%axisym = .false.
     t%scheme = 1
-    call scni_tables_3d(b, rho0, t, err)
+    call scni_tables_3d(b, rho0, t, err, box)
     if (allocated(err)) return
-    ! (the cloud is gone by now: the transpose's arrays take its place at the build's peak)
-    call tables_transpose(t)
+    ! (the cloud is gone by now: the transpose's arrays take its place at the build's peak;
+    ! a region's rows are only cut into a rank's part, whose own tables get their transpose)
+    if (.not. present(box)) call tables_transpose(t)
     t%total_mass = sum(t%mass)
     t%total_volume = sum(t%wgt)
   end subroutine tl_build_3d
@@ -241,16 +250,18 @@ contains
   !! the blocks. The tables are those of one pass over all the cells with padded (maxk, np)
   !! arrays, to the bit: the same entries in the same order, the masses summed in the same
   !! order.
-  subroutine scni_tables_3d(b, rho0, t, err)
+  subroutine scni_tables_3d(b, rho0, t, err, box)
     type(body_t), intent(in) :: b
     real(wp), intent(in) :: rho0
     type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: box(3, 2)
     type(rk_cloud_t) :: c
     type(fold_t) :: f
     type(rows_t), allocatable :: rows(:), cells(:)
     type(dual_mesh_t) :: dm
     integer, allocatable :: nl(:), cand(:)
+    logical, allocatable :: keep(:)
     integer :: np, maxk, i, n, bad, ng, kb, i0, i1
     real(wp) :: reach(3)
     np = b%np
@@ -277,6 +288,18 @@ contains
       maxk = max(maxk, n)
     end do
     deallocate(cand)
+    ! the cells whose rows are kept: with a box, those whose particle lies within the
+    ! candidates' reach (rmax + the cell's reach, per axis) of it: a cell's row holds only
+    ! particles within that reach of the cell's particle (bins_candidates above), so every
+    ! cell touching a particle in the box is kept
+    allocate(keep(np))
+    keep = .true.
+    if (present(box)) then
+      do i = 1, np
+        keep(i) = all(b%x(:, i) >= box(:, 1) - (c%rmax(1:3) + reach)) .and. &
+          all(b%x(:, i) <= box(:, 2) + (c%rmax(1:3) + reach))
+      end do
+    end if
     ! the arrays of np entries before the blocks: on the heap (when not mapped) the blocks
     ! then lie above them, and gather_rows frees them from the top down
     allocate(t%xq(3, np), t%owner(np), t%wgt(np), t%fix1(np), t%ws(3, np), t%mass(np), &
@@ -302,8 +325,10 @@ contains
           "larger support_factor mends it)")
         return
       end if
-      call pack_rows(cells(1:i1 - i0 + 1), ng, rho0, rows(kb), nl(i0:i1), t%mass)
+      call pack_rows(cells(1:i1 - i0 + 1), ng, rho0, rows(kb), nl(i0:i1), t%mass, &
+        keep(i0:i1))
     end do
+    deallocate(keep)
     t%xq = b%x
     t%owner = [(i, i = 1, np)]
     t%ptr(1) = 1
@@ -318,30 +343,34 @@ contains
     call positions_3d(b, c, f, t, err)
   end subroutine scni_tables_3d
 
-  !> One block's cells packed into r (each freed once copied): their entries in order
-  !! (ids, gradients g, half-cell differences gs; nl of each cell), their lumped masses
-  !! rho0 \int N dV added to mass cell by cell, entry by entry, as the whole table's rows
-  !! give them (the same sums in the same order).
-  subroutine pack_rows(cells, ng, rho0, r, nl, mass)
+  !> One block's cells packed into r (each freed once copied): the entries of the kept
+  !! cells in order (ids, gradients g, half-cell differences gs; nl of each cell, 0 for a
+  !! cell not kept), the lumped masses rho0 \int N dV of every cell added to mass cell by
+  !! cell, entry by entry, as the whole table's rows give them (the same sums in the same
+  !! order).
+  subroutine pack_rows(cells, ng, rho0, r, nl, mass, keep)
     type(rows_t), intent(inout) :: cells(:)
     integer, intent(in) :: ng
     real(wp), intent(in) :: rho0
     type(rows_t), intent(out) :: r
     integer, intent(out) :: nl(:)
     real(wp), intent(inout) :: mass(:)
+    logical, intent(in) :: keep(:)
     integer :: j, k, e
     do j = 1, size(cells)
-      nl(j) = size(cells(j)%id)
+      nl(j) = 0
+      if (keep(j)) nl(j) = size(cells(j)%id)
     end do
     allocate(r%id(sum(nl)), r%a(ng, sum(nl)), r%b(ng, sum(nl)))
     e = 0
     do j = 1, size(cells)
-      do k = 1, nl(j)
+      do k = 1, size(cells(j)%id)
+        mass(cells(j)%id(k)) = mass(cells(j)%id(k)) + rho0*cells(j)%m(k)
+        if (.not. keep(j)) cycle
         e = e + 1
         r%id(e) = cells(j)%id(k)
         r%a(:, e) = cells(j)%a(:, k)
         r%b(:, e) = cells(j)%b(:, k)
-        mass(cells(j)%id(k)) = mass(cells(j)%id(k)) + rho0*cells(j)%m(k)
       end do
       deallocate(cells(j)%id, cells(j)%a, cells(j)%b, cells(j)%m)
     end do

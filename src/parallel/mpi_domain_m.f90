@@ -2,10 +2,13 @@
 !! (explicit_driver_m) for the ranks of an MPI communicator. The driver's loop is the serial
 !! one; this is what differs on ranks.
 !!
-!! Every rank builds the whole set-up (bodies, solids, contact pairs: as a serial run), then
-!! split keeps its part of each solid (decomposition_m: recursive coordinate bisection of the
-!! reference configuration) with its halo (halo_m, as the part's part_halo_t: the part
-!! exchanges its ghosts inside solid_internal_force, solid_update and contact itself), and
+!! Every rank builds the set-up (bodies, solids, contact pairs: as a serial run, but for a
+!! 3D RKPM solid the ranks other than 0 keep only the table rows of their region:
+!! dynamic_setup_m's setup_part_t), then split keeps its part of each solid
+!! (decomposition_m: recursive coordinate bisection of the reference configuration) with
+!! its halo (halo_m, as the part's part_halo_t: the part exchanges its ghosts inside
+!! solid_internal_force, solid_update and contact itself), frees the whole solids on the
+!! ranks other than 0, and
 !! narrows each contact pair to it: against a rigid master each rank holds the master whole;
 !! against a deforming master (self-contact too) each rank its own and ghost master
 !! particles (contact_dist_sm). Nodal values are the serial ones to the bit for any number of
@@ -68,7 +71,9 @@ module mpi_domain_m
     type(mpi_ranks_t) :: ranks
     real(wp) :: ghost_margin = ghost_margin_default
     logical :: ghost_refresh = .true.
-    type(solid_t), allocatable :: gs(:)           !< the whole solids (rank 0's, for output)
+    !> the whole solids: rank 0's for output; on the other ranks their sizes only, after
+    !! the split (and their tables, for a 3D RKPM solid, the rows of the rank's region)
+    type(solid_t), allocatable :: gs(:)
     type(local_part_t), allocatable :: lp(:)      !< each solid's part
     type(mpi_halo_t), allocatable :: halos(:)     !< each part's halo (its solid points here)
     type(contact_pair_t), allocatable :: pairs_whole(:)   !< rank 0: the pairs as set up
@@ -152,7 +157,23 @@ contains
       end associate
       if (dom%any_error(err)) return
     end do
+    ! only rank 0 draws on the whole solids (output); the others keep their sizes only
+    if (.not. dom%root) then
+      do k = 1, nk
+        call release_whole(dom%gs(k))
+      end do
+    end if
   end subroutine mpi_split
+
+  !> The whole solid g reduced to its name and sizes (the arrays freed).
+  subroutine release_whole(g)
+    type(solid_t), intent(inout) :: g
+    type(solid_t) :: shell
+    shell%name = g%name
+    shell%np = g%np
+    shell%nq = g%nq
+    g = shell
+  end subroutine release_whole
 
   !> Solid k's part on this rank: the bisection of the whole solid's nodes and points, the
   !! part's tables, its halo plan, the part solid (its velocities, kinetic energy at t = 0 of

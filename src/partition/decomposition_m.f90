@@ -24,7 +24,7 @@ module decomposition_m
   use solid_tables_m, only: solid_tables_t, tables_transpose, tables_copy_scalars
   implicit none
   private
-  public :: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
+  public :: rcb_tree_t, rcb_build, rcb_part, rcb_box, local_part_t, local_part_build
 
   !> The bisection tree: node k (1 the root) is a leaf of part part(k), or cuts along axis
   !! axis(k) at cut(k), with the points below the cut in child lo(k), the others in hi(k).
@@ -123,6 +123,34 @@ contains
     end do
     p = tree%part(k)
   end function rcb_part
+
+  !> The box of part p of the tree: lo(:) <= x < hi(:) for every point x rcb_part puts in
+  !! p (a side with no cut is at -huge or huge).
+  subroutine rcb_box(tree, p, lo, hi)
+    type(rcb_tree_t), intent(in) :: tree
+    integer, intent(in) :: p
+    real(wp), intent(out) :: lo(:), hi(:)
+    logical :: found
+    lo = -huge(1.0_wp)
+    hi = huge(1.0_wp)
+    found = walk(1)
+  contains
+    !> Is p's leaf below tree node k? On the way back, each cut on its path bounds the box.
+    recursive logical function walk(k) result(below)
+      integer, intent(in) :: k
+      if (tree%part(k) /= 0) then
+        below = tree%part(k) == p
+        return
+      end if
+      below = walk(tree%lo(k))
+      if (below) then
+        hi(tree%axis(k)) = min(hi(tree%axis(k)), tree%cut(k))
+        return
+      end if
+      below = walk(tree%hi(k))
+      if (below) lo(tree%axis(k)) = max(lo(tree%axis(k)), tree%cut(k))
+    end function walk
+  end subroutine rcb_box
 
   !> Rank r's local share of the tables t, with node_part (np) and point_part (nq) the
   !! owners of t's nodes and points (see the module's header).

@@ -12,6 +12,7 @@ module dynamic_setup_m
   use deck_m, only: deck_t, body_spec_t
   use body_m, only: body_t
   use rank_comm_m, only: rank_comm_t
+  use decomposition_m, only: rcb_tree_t, rcb_build, rcb_box
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d
@@ -25,7 +26,16 @@ module dynamic_setup_m
   implicit none
   private
   public :: setup_solids, setup_contacts, setup_time_step, dynamic_setup_t, setup_dynamic
-  public :: mpi_scene_check
+  public :: mpi_scene_check, setup_part_t
+
+  !> The rank a set-up is for (mfcd_mpi): rank me (from 0) of nranks. Ranks other than 0
+  !! keep, of a 3D RKPM solid's tables, only the rows their box of the decomposition can
+  !! need (rkpm_tl3d_m tl_build_3d's box; the box is decomposition_m's, the one the split
+  !! cuts the solid with); rank 0 keeps the whole tables, which its output still draws on.
+  type :: setup_part_t
+    integer :: me = 0
+    integer :: nranks = 1
+  end type setup_part_t
 
   !> What the set-up of a dynamic run builds before anything is written: the solids of the
   !! deformable bodies (isolid(k): body k's solid, 0 if rigid) and the contact pairs.
@@ -41,19 +51,20 @@ contains
   !> The whole set-up of a dynamic run (solids, kinematic conditions, contact pairs), made
   !! once, before anything is written, by a run and by --check alike; its errors are bad
   !! input. quiet: without its log lines.
-  subroutine setup_dynamic(deck, bodies, su, err, quiet)
+  subroutine setup_dynamic(deck, bodies, su, err, quiet, part)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(dynamic_setup_t), intent(out) :: su
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: quiet
+    type(setup_part_t), intent(in), optional :: part
     su%wall0 = omp_get_wtime()
     if (.not. present(quiet)) then
       call log_materials(deck)
     else if (.not. quiet) then
       call log_materials(deck)
     end if
-    call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet)
+    call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet, part)
     if (.not. allocated(err)) call setup_contacts(deck, bodies, su%solids, su%isolid, &
       su%pairs, err, quiet)
     if (allocated(err)) return
@@ -141,13 +152,14 @@ contains
 
   !> The solids of the deck's deformable bodies, in deck order; isolid(k) is body k's solid
   !! (0 for a rigid body). quiet: no log lines (a set-up made only for its checks).
-  subroutine setup_solids(deck, bodies, solids, isolid, err, quiet)
+  subroutine setup_solids(deck, bodies, solids, isolid, err, quiet, part)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(solid_t), allocatable, intent(out) :: solids(:)
     integer, allocatable, intent(out) :: isolid(:)
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: quiet
+    type(setup_part_t), intent(in), optional :: part
     integer :: k, n, ndef
     logical :: axisym
     axisym = deck%run%geometry == 'axisymmetric'
@@ -168,7 +180,7 @@ contains
     do k = 1, deck%nbodies
       n = isolid(k)
       if (n == 0) cycle
-      call setup_solid(deck, k, bodies(k), axisym, solids(n), err)
+      call setup_solid(deck, k, bodies(k), axisym, solids(n), err, part)
       if (allocated(err)) return
       if (present(quiet)) then
         if (quiet) cycle
@@ -200,13 +212,14 @@ contains
   end function discretization_text
 
   !> The solid of deformable body k.
-  subroutine setup_solid(deck, k, b, axisym, s, err)
+  subroutine setup_solid(deck, k, b, axisym, s, err, part)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
     type(body_t), intent(in) :: b
     logical, intent(in) :: axisym
     type(solid_t), intent(out) :: s
     type(error_t), allocatable, intent(inout) :: err
+    type(setup_part_t), intent(in), optional :: part
     type(body_spec_t) :: bs
     type(solid_tables_t) :: t
     type(error_t), allocatable :: e2
@@ -216,7 +229,9 @@ contains
     character(len=:), allocatable :: where
     type(cst4_mesh_t) :: mesh
     type(tet4_mesh_t) :: tmesh
-    real(wp) :: alpha
+    type(rcb_tree_t) :: tree
+    real(wp) :: alpha, box(3, 2)
+    logical :: own_box
     bs = deck%bodies(k)
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
     if (allocated(b%cells) .and. b%ndim == 3) then
@@ -231,7 +246,16 @@ contains
       call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2)
       alpha = 0.0_wp    ! the SCNI stabilization is a particle method's; elements need none
     else if (b%ndim == 3) then
-      call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
+      own_box = .false.
+      if (present(part)) own_box = part%nranks > 1 .and. part%me > 0
+      if (own_box) then
+        ! a rank's region: the bisection the split will make (mpi_domain_m make_part)
+        call rcb_build(b%x, part%nranks, tree)
+        call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
+        call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2, box)
+      else
+        call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
+      end if
       alpha = bs%stabilization
     else
       call tl_build(b, axisym, scheme_id(bs%integration), &
