@@ -19,7 +19,8 @@ module exact_sum_m
   use rank_comm_m, only: rank_comm_t
   implicit none
   private
-  public :: exact_sum_t, exact_add, exact_merge, exact_value, exact_normalize, exact_allsum
+  public :: exact_sum_t, exact_add, exact_merge, exact_value, exact_normalize, exact_allsum, &
+    exact_allsum_many
 
   !> limbs: 72 of 32 bits from 2^-1152 (below the smallest subnormal's 2^-1074, with room for
   !! a 53-bit mantissa's shift) to 2^1152 (above huge's 2^1024, with room for carries)
@@ -157,6 +158,32 @@ contains
     end if
     x = exact_value(b)
   end function exact_allsum
+
+  !> exact_allsum of each of the sums a(:) (collective; one reduction for all of them).
+  function exact_allsum_many(a, comm) result(x)
+    type(exact_sum_t), intent(in) :: a(:)
+    class(rank_comm_t), intent(inout) :: comm
+    real(wp) :: x(size(a))
+    type(exact_sum_t) :: b
+    integer(i64), allocatable :: v(:)
+    integer :: k, o
+    allocate(v((nlimb + 1)*size(a)))
+    do k = 1, size(a)
+      b = a(k)
+      call exact_normalize(b)
+      o = (k - 1)*(nlimb + 1)
+      v(o + 1:o + nlimb) = b%limb
+      v(o + nlimb + 1) = b%nonfinite
+    end do
+    if (comm%nranks > 1) call comm%sum_i8(v)
+    do k = 1, size(a)
+      o = (k - 1)*(nlimb + 1)
+      b%limb = v(o + 1:o + nlimb)
+      b%nonfinite = v(o + nlimb + 1)
+      b%nadd = 0
+      x(k) = exact_value(b)
+    end do
+  end function exact_allsum_many
 
   !> A quiet NaN.
   function ieee_nan() result(x)

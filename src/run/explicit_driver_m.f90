@@ -17,6 +17,7 @@ module explicit_driver_m
   use omp_lib, only: omp_get_wtime
   use kinds_m, only: wp
   use dims_m, only: max_dim
+  use exact_sum_m, only: exact_sum_t, exact_allsum_many
   use errors_m, only: error_t, set_error
   use deck_m, only: deck_t
   use body_m, only: body_t
@@ -318,16 +319,18 @@ contains
     integer :: k, nd, nv, c, o, geo, npc
     ! per solid (solid_body_sums): ke, M, P(nd), sum M x (nd), L_o (1 or 3)
     real(wp) :: v(solid_sums_size(size(solids(1)%state%d, 1))*size(solids)), xc(max_dim)
+    type(exact_sum_t) :: vs(size(v))
     real(wp) :: wf(size(pairs)), lcm(3), p(3)
     hm = dom%measures(solids(1))
     row(1:size(history_names)) = history_row_measured(r, en, hm)
     nd = size(solids(1)%state%d, 1)
     nv = solid_sums_size(nd)
     geo = history_geometry(nd, solids(1)%t%axisym)
+    ! (exact sums over the ranks' parts: the serial values to the bit)
     do k = 1, size(solids)
-      call solid_body_sums(solids(k), v((k - 1)*nv + 1:k*nv))
+      call solid_body_sums(solids(k), vs((k - 1)*nv + 1:k*nv))
     end do
-    if (dom%comm%nranks > 1) call dom%comm%sum_real(v)
+    v = exact_allsum_many(vs, dom%comm)
     c = size(history_names)
     do k = 1, size(solids)
       o = (k - 1)*nv

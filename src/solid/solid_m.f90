@@ -23,6 +23,7 @@ module solid_m
   use strings_m, only: itoa
   use material_m, only: material_t, material_state_t, material_params_t, make_material
   use dims_m, only: dims_plane, dims_3d, max_dim
+  use exact_sum_m, only: exact_sum_t, exact_add
   use solid_tables_m, only: solid_tables_t, tables_move
   use tl_kinematics_m, only: f_identity, deformation_gradient, rate_of_deformation, piola_stress, &
     internal_force, physical_positions, jacobian, deformation_gradient_list, &
@@ -1490,15 +1491,14 @@ contains
   !! v(2) the mass, v(3:2+nd) the momentum sum M v, v(3+nd:2+2nd) sum M x with x = X + d,
   !! and then the angular momentum about the origin, sum M x (x) v: its one component out
   !! of the plane (x1 v2 - x2 v1), or its three in 3D. size(v) = solid_sums_size(ndim).
-  !! Sums, so that the ranks' parts add up to the whole.
+  !! Exact sums (exact_sum_m), so that the ranks' parts add up to the whole to the bit.
   subroutine solid_body_sums(s, v)
     type(solid_t), intent(in) :: s
-    real(wp), intent(out) :: v(:)
-    integer :: k, i, n, nd, o
+    type(exact_sum_t), intent(inout) :: v(:)
+    integer :: k, i, n, nd, o, c
     real(wp) :: m, x(max_dim), u(max_dim)
     nd = s%t%dims%ndim
     o = 2 + 2*nd
-    v = 0.0_wp
     n = s%np
     if (s%part%on) n = size(s%part%own_n)
     do k = 1, n
@@ -1507,15 +1507,18 @@ contains
       m = s%t%mass(i)
       x(:nd) = s%x0(:, i) + s%state%d(:, i)
       u(:nd) = s%state%v(:, i)
-      v(1) = v(1) + 0.5_wp*m*sum(u(:nd)**2)
-      v(2) = v(2) + m
-      v(3:2 + nd) = v(3:2 + nd) + m*u(:nd)
-      v(3 + nd:o) = v(3 + nd:o) + m*x(:nd)
+      call exact_add(v(1), 0.5_wp*m*sum(u(:nd)**2))
+      call exact_add(v(2), m)
+      do c = 1, nd
+        call exact_add(v(2 + c), m*u(c))
+        call exact_add(v(2 + nd + c), m*x(c))
+      end do
       if (nd == dims_plane%ndim) then
-        v(o + 1) = v(o + 1) + m*(x(1)*u(2) - x(2)*u(1))
+        call exact_add(v(o + 1), m*(x(1)*u(2) - x(2)*u(1)))
       else
-        v(o + 1:o + 3) = v(o + 1:o + 3) + m*[x(2)*u(3) - x(3)*u(2), x(3)*u(1) - x(1)*u(3), &
-          x(1)*u(2) - x(2)*u(1)]
+        call exact_add(v(o + 1), m*(x(2)*u(3) - x(3)*u(2)))
+        call exact_add(v(o + 2), m*(x(3)*u(1) - x(1)*u(3)))
+        call exact_add(v(o + 3), m*(x(1)*u(2) - x(2)*u(1)))
       end if
     end do
   end subroutine solid_body_sums
