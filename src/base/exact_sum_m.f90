@@ -3,7 +3,7 @@
 !! long fixed-point accumulator (Kulisch's), integer limbs of 32 bits that cover every
 !! exponent a double has, and the exact total is rounded once, when it is read.
 !!
-!! A double is m 2^e with an integer |m| < 2^53 (fraction and exponent, subnormals too);
+!! A double is m 2^e with an integer |m| < 2^53 (read from its bits, subnormals too);
 !! limb k weighs 2^(32 k + emin). Adding m 2^e puts its 85 bits at most into three limbs,
 !! each gets less than 2^33 in magnitude, so an int64 limb takes 2^29 terms before its carries
 !! must be pushed up (exact_normalize, done then by exact_add itself). Normalized, every limb
@@ -41,24 +41,33 @@ module exact_sum_m
 
 contains
 
-  !> a = a + x, exactly.
+  !> a = a + x, exactly. x's fields are read from its bits (integer operations only: no
+  !! intrinsic that touches the floating-point state, about 2 ns a term).
   subroutine exact_add(a, x)
-    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     type(exact_sum_t), intent(inout) :: a
     real(wp), intent(in) :: x
-    integer(i64) :: m, lo, hi, s
+    integer(i64) :: bits, m, lo, hi, s
     integer :: e, off, k, r
-    if (x == 0.0_wp) return
-    if (.not. ieee_is_finite(x)) then
+    bits = transfer(x, bits)
+    e = int(iand(ishft(bits, -52), 2047_i64))
+    m = iand(bits, 2_i64**52 - 1)
+    if (e == 2047) then
+      ! infinite or NaN
       a%nonfinite = a%nonfinite + 1
       return
     end if
-    m = int(scale(fraction(abs(x)), digits(x)), i64)
-    e = exponent(x) - digits(x)
+    if (e == 0) then
+      ! zero or subnormal: m 2^-1074
+      if (m == 0) return
+      e = -1074
+    else
+      m = ior(m, 2_i64**52)
+      e = e - 1075
+    end if
     off = e - emin
     k = off/limb_bits
     r = mod(off, limb_bits)
-    s = merge(-1_i64, 1_i64, x < 0.0_wp)
+    s = merge(-1_i64, 1_i64, bits < 0)
     lo = ishft(iand(m, mask), r)               ! < 2^63
     hi = ishft(ishft(m, -limb_bits), r)        ! < 2^52
     a%limb(k) = a%limb(k) + s*iand(lo, mask)
