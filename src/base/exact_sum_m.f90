@@ -153,19 +153,9 @@ contains
     type(exact_sum_t), intent(in) :: a
     class(rank_comm_t), intent(inout) :: comm
     real(wp) :: x
-    type(exact_sum_t) :: b
-    integer(i64) :: v(nlimb + 1)
-    b = a
-    call exact_normalize(b)
-    if (comm%nranks > 1) then
-      ! normalized limbs are below 2^32: 2^31 ranks' sums fit an int64
-      v(1:nlimb) = b%limb
-      v(nlimb + 1) = b%nonfinite
-      call comm%sum_i8(v)
-      b%limb = v(1:nlimb)
-      b%nonfinite = v(nlimb + 1)
-    end if
-    x = exact_value(b)
+    real(wp) :: xs(1)
+    xs = exact_allsum_many([a], comm)
+    x = xs(1)
   end function exact_allsum
 
   !> exact_allsum of each of the sums a(:) (collective; one reduction for all of them).
@@ -184,6 +174,7 @@ contains
       v(o + 1:o + nlimb) = b%limb
       v(o + nlimb + 1) = b%nonfinite
     end do
+    ! (normalized limbs are below 2^32: 2^31 ranks' sums fit an int64)
     if (comm%nranks > 1) call comm%sum_i8(v)
     do k = 1, size(a)
       o = (k - 1)*(nlimb + 1)
