@@ -33,9 +33,10 @@ serial run's as above (a checkpoint holds the whole state, so the rank count may
 With --refused DECK (repeatable): a deck the MPI driver does not take yet (self-contact...)
 must exit 2 on 2 ranks, saying so, before anything is written.
 
-Usage: check_mpi_run.py [--t-end T] [--no-refresh-differs N] [--restart N1:N2:EVERY]
-                        [--refused DECK]... MFCD MFCD_MPI MPIEXEC DECK...
-(--t-end: every deck run to T seconds, snapshots at 0 and T.)
+Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N]
+                        [--restart N1:N2:EVERY] [--refused DECK]... MFCD MFCD_MPI MPIEXEC DECK...
+(--ranks: the rank counts each deck runs on, 1,2,3,4 by default; --t-end: every deck run to
+T seconds, snapshots at 0 and T.)
 """
 import os
 import re
@@ -50,6 +51,11 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from mfcd_h5 import MfcdFile  # noqa: E402
 
 ARGS = sys.argv[1:]
+RANKS = (1, 2, 3, 4)
+if "--ranks" in ARGS:
+    i = ARGS.index("--ranks")
+    RANKS = tuple(int(v) for v in ARGS[i + 1].split(","))
+    del ARGS[i:i + 2]
 T_END = None
 if "--t-end" in ARGS:
     i = ARGS.index("--t-end")
@@ -190,7 +196,7 @@ def main():
         check(f"{name}: serial run exits 0", p.returncode == 0, p.stdout[-1500:] + p.stderr)
         if p.returncode:
             continue
-        for n in (1, 2, 3, 4):
+        for n in RANKS:
             deck = deck_copy(src, work, f"{name}_np{n}.h5")
             p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI, deck],
                                cwd=work, env=env, capture_output=True, text=True)
