@@ -18,7 +18,9 @@
 !! r cells, closer than any facet outside the rings visited. The facet chosen is the
 !! brute-force search's (the smallest squared distance, the lowest facet number among
 !! equal ones): the stop is strict, so every facet not visited lies farther, and equal
-!! distances compare by number. A deforming master's surface is moved each step by
+!! distances compare by number. Within the rings a facet whose bounding sphere lies
+!! strictly farther than the best distance so far is not examined (it can neither be
+!! closer nor tie), and a ring visits only its shell's cells. A deforming master's surface is moved each step by
 !! surface3d_update, which bins the facets again on the same cell size (the grid's arrays
 !! grow only when it needs more cells or entries than it had).
 module surface3d_m
@@ -46,6 +48,11 @@ module surface3d_m
     real(wp) :: lo(3) = 0.0_wp, cell = 1.0_wp
     integer :: nc(3) = 1
     integer, allocatable :: cptr(:), cfac(:)
+    !> each facet's bounding sphere in the current configuration: centre fc (3, nf) (m) and
+    !! radius fr (nf) (m), grown by a relative 1e-9 and 1e-9 cells so that rounding never
+    !! lets it cut the facet: the search skips a facet whose sphere lies farther than the
+    !! best distance found (it cannot be closer, nor equal and win on its number)
+    real(wp), allocatable :: fc(:, :), fr(:)
   end type surface3d_t
 
   !> The most grid cells per facet (the cell size grows for a sparse surface in a large box)
@@ -219,6 +226,18 @@ contains
       s%cptr(c) = s%cptr(c - 1)
     end do
     s%cptr(1) = 1
+    if (allocated(s%fr)) then
+      if (size(s%fr) /= s%nf) deallocate(s%fc, s%fr)
+    end if
+    if (.not. allocated(s%fr)) allocate(s%fc(3, s%nf), s%fr(s%nf))
+    do m = 1, s%nf
+      s%fc(:, m) = (s%x(:, s%tri(1, m)) + s%x(:, s%tri(2, m)) + s%x(:, s%tri(3, m)))/3.0_wp
+      h = 0.0_wp
+      do k = 1, 3
+        h = max(h, norm2(s%x(:, s%tri(k, m)) - s%fc(:, m)))
+      end do
+      s%fr(m) = h*(1.0_wp + 1.0e-9_wp) + 1.0e-9_wp*s%cell
+    end do
   end subroutine bin_facets
 
   !> The grid cell (i, j, k) holding point p, clamped to the grid.
@@ -282,7 +301,7 @@ contains
     integer, intent(out) :: jf
     logical, intent(in), optional :: every
     real(wp), intent(in), optional :: xr(:, :), xc(3), rex
-    integer :: m, rbest, r, i, j, k, c, l, ijk(3), rmax
+    integer :: m, rbest, r, i, j, k, c, l, ijk(3), rmax, istep
     real(wp) :: best, qbest(3), pn(3), dist
     logical :: excl
     excl = present(xr) .and. present(xc) .and. present(rex)
@@ -310,10 +329,17 @@ contains
     do r = 0, rmax
       do k = max(1, ijk(3) - r), min(s%nc(3), ijk(3) + r)
         do j = max(1, ijk(2) - r), min(s%nc(2), ijk(2) + r)
-          do i = max(1, ijk(1) - r), min(s%nc(1), ijk(1) + r)
-            if (max(abs(i - ijk(1)), abs(j - ijk(2)), abs(k - ijk(3))) /= r) cycle
+          ! (off the shell in y and z, only the shell's two cells in x: i steps by 2r)
+          istep = 1
+          if (max(abs(j - ijk(2)), abs(k - ijk(3))) < r) istep = 2*r
+          do i = ijk(1) - r, ijk(1) + r, istep
+            if (i < 1 .or. i > s%nc(1)) cycle
             c = i + s%nc(1)*((j - 1) + s%nc(2)*(k - 1))
             do l = s%cptr(c), s%cptr(c + 1) - 1
+              ! (the sphere test first: cheaper than the exclusion and the closest point,
+              ! it leaves out most facets once one is found; the brute-force search above,
+              ! every, makes no such test and must give the same facet, test_surface3d)
+              if (skip_facet(s, p, s%cfac(l), best)) cycle
               if (excl) then
                 if (near_vertex(s%cfac(l))) cycle
               end if
@@ -382,6 +408,17 @@ contains
       rbest = region
     end if
   end subroutine try_facet
+
+  !> Can facet m of s be left out for p, the best squared distance so far being best? Its
+  !! bounding sphere lies strictly farther than sqrt(best) (s%fr is grown against rounding).
+  pure logical function skip_facet(s, p, m, best) result(skip)
+    type(surface3d_t), intent(in) :: s
+    real(wp), intent(in) :: p(3), best
+    integer, intent(in) :: m
+    skip = .false.
+    if (.not. (best < huge(1.0_wp))) return
+    skip = sum((p - s%fc(:, m))**2) > (s%fr(m) + sqrt(best))**2
+  end function skip_facet
 
   !> The point q of triangle (a, b, c) closest to p, its barycentric coordinates (of a, b,
   !! c) and its Voronoi region: 0 the face, k = 1, 2, 3 vertex k, 3 + k the edge from vertex

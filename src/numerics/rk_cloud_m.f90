@@ -223,6 +223,12 @@ contains
     real(wp) :: mm(mmax, mmax)
     integer :: ncover
     logical :: ok
+    if (c%ndim == 3 .and. c%bid == basis_linear_3d .and. c%wshape == window_tensor) then
+      ! (3D self-contact's screen: the hot path with the exclusion, fewer than 4 left is 0)
+      call det_3d_linear(c, p, det, ncover, xc, rex)
+      if (ncover < c%m) det = 0.0_wp
+      return
+    end if
     call cloud_moment(c, p, mm, ncover, xc, rex)
     det = 0.0_wp
     if (ncover < c%m) return
@@ -316,11 +322,33 @@ contains
   pure real(wp) function det_3d_linear_tensor(c, p) result(det)
     type(rk_cloud_t), intent(in) :: c
     real(wp), intent(in) :: p(:)
-    integer :: clo(3), chi(3), j, k, cc, q
-    logical :: empty, cubic
-    real(wp) :: dx, dy, dz, w, z1, z2, z3, h1, h2, h3, r1, r2, r3
+    integer :: ncover
+    call det_3d_linear(c, p, det, ncover)
+  end function det_3d_linear_tensor
+
+  !> det_3d_linear_tensor's loop; with xc and rex (self-contact's cloud_det_excluding) the
+  !! particles whose reference position lies within rex of xc are left out, and ncover
+  !! counts the particles that remain (0 without them)
+  pure subroutine det_3d_linear(c, p, det, ncover, xc, rex)
+    type(rk_cloud_t), intent(in) :: c
+    real(wp), intent(in) :: p(:)
+    real(wp), intent(out) :: det
+    integer, intent(out) :: ncover
+    real(wp), intent(in), optional :: xc(:), rex
+    integer :: clo(3), chi(3), j, k, cc, q, nc
+    logical :: empty, cubic, excl
+    real(wp) :: dx, dy, dz, w, z1, z2, z3, h1, h2, h3, r1, r2, r3, rex2, c1, c2, c3
     real(wp) :: m11, m12, m13, m14, m22, m23, m24, m33, m34, m44
     det = 0.0_wp
+    nc = 0
+    ncover = 0
+    excl = present(xc) .and. present(rex)
+    rex2 = 0.0_wp
+    c1 = 0.0_wp; c2 = 0.0_wp; c3 = 0.0_wp
+    if (excl) then
+      rex2 = rex*rex
+      c1 = xc(1); c2 = xc(2); c3 = xc(3)
+    end if
     cubic = c%kid == kernel_cubic
     call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
     if (empty) return
@@ -338,6 +366,11 @@ contains
           dz = c%x(3, q) - p(3)
           if (abs(dx) >= c%rho(1, q) .or. abs(dy) >= c%rho(2, q) .or. &
             abs(dz) >= c%rho(3, q)) cycle
+          if (excl) then
+            if ((c%xr(1, q) - c1)**2 + (c%xr(2, q) - c2)**2 + (c%xr(3, q) - c3)**2 < rex2) &
+              cycle
+            nc = nc + 1
+          end if
           r1 = c%rinv(1, q)
           r2 = c%rinv(2, q)
           r3 = c%rinv(3, q)
@@ -364,8 +397,9 @@ contains
         end do
       end do
     end do
+    ncover = nc
     det = det4_chol(m11, m12, m13, m14, m22, m23, m24, m33, m34, m44)
-  end function det_3d_linear_tensor
+  end subroutine det_3d_linear
 
   !> det of the symmetric 4x4 moment matrix given by its upper triangle, by an unrolled
   !! Cholesky factorization, column by column (the hot paths'); 0 when a pivot falls to
