@@ -268,6 +268,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: jj, j, jf
     real(wp) :: g, nrm(3), bary(3), gm, pen
+    logical :: sure
     associate (a => p%side(ia), b => p%side(ib))
       do
         gm = 0.0_wp
@@ -275,14 +276,15 @@ contains
         do jj = 1, a%nlist
           j = a%list(jj)
           if (.not. a%active(j)) cycle
+          sure = .true.
           if (p%self) then
             call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
-              xc=a%x_ref(:, j), rex=a%rex(j))
+              xc=a%x_ref(:, j), rex=a%rex(j), sure=sure)
           else
             call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary)
           end if
           gm = max(gm, merge(abs(g), huge(1.0_wp), jf > 0))
-          if (jf > 0) pen = max(pen, -g)
+          if (jf > 0 .and. sure) pen = max(pen, -g)
         end do
         if (dist_covered(p, ib, ia, gm, .false., err)) exit
         if (allocated(err)) return

@@ -1235,6 +1235,7 @@ contains
     integer :: j, jj, k, i, jf
     integer(i64) :: neval, ndet, ncon
     real(wp) :: g, nrm(3), bary(3), t0
+    logical :: sure
     t0 = omp_get_wtime()
     if (p%self) then
       call detect_self_3d(a, b, present(lower_only), neval, ndet)
@@ -1276,13 +1277,14 @@ contains
       j = side_particle(a, jj)
       if (.not. a%active(j)) cycle
       call solid_point_position(solids(a%isolid), j, a%x_pred(:, j))
+      sure = .true.
       if (p%self) then
         call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
-          xc=a%x_ref(:, j), rex=a%rex(j))
+          xc=a%x_ref(:, j), rex=a%rex(j), sure=sure)
       else
         call surface3d_gap(b%surf3, a%x_pred(:, j) - b%shift, g, nrm, jf, bary)
       end if
-      if (jf > 0) p%step%pen_after = max(p%step%pen_after, -g)
+      if (jf > 0 .and. sure) p%step%pen_after = max(p%step%pen_after, -g)
     end do
   end subroutine contact_pass_3d
 
@@ -1302,12 +1304,13 @@ contains
     real(wp), intent(out), optional :: gmax
     integer :: k, j, jf
     real(wp) :: det, g, nrm(3), bary(3), gm
+    logical :: sure
     neval = 0
     ndet = 0
     gm = 0.0_wp
     a%active = .false.
     !$omp parallel do default(none) shared(a, b, lower_only) &
-    !$omp private(j, det, g, nrm, jf, bary) reduction(+: neval, ndet) reduction(max: gm) &
+    !$omp private(j, det, g, nrm, jf, bary, sure) reduction(+: neval, ndet) reduction(max: gm) &
     !$omp schedule(dynamic, 16)
     do k = 1, size(a%cand)
       j = a%cand(k)
@@ -1320,9 +1323,12 @@ contains
       if (.not. (det > b%threshold)) cycle
       ndet = ndet + 1
       call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
-        xc=a%x_ref(:, j), rex=a%rex(j))
+        xc=a%x_ref(:, j), rex=a%rex(j), sure=sure)
       gm = max(gm, merge(abs(g), huge(1.0_wp), jf > 0))
       if (jf == 0 .or. .not. (g < 0.0_wp)) cycle
+      ! (a sign not sure: the closest point's edge or vertex has a facet among the
+      ! particle's reference neighbours, and the particle may lie outside: no contact)
+      if (.not. sure) cycle
       if (lower_only) then
         if (j >= minval(b%surf3%tri(:, jf))) cycle
       end if

@@ -20,9 +20,9 @@
 !! equal ones): the stop is strict, so every facet not visited lies farther, and equal
 !! distances compare by number. Within the rings a facet whose bounding sphere lies
 !! strictly farther than the best distance so far is not examined (it can neither be
-!! closer nor tie), and a ring visits only its shell's cells. A deforming master's surface is moved each step by
-!! surface3d_update, which bins the facets again on the same cell size (the grid's arrays
-!! grow only when it needs more cells or entries than it had).
+!! closer nor tie), and a ring visits only its shell's cells. A deforming master's surface
+!! is moved each step by surface3d_update, which bins the facets again on the same cell
+!! size (the grid's arrays grow only when it needs more cells or entries than it had).
 module surface3d_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
@@ -294,13 +294,19 @@ contains
   !! facet is left out when one of its vertices lies within rex of xc in the reference
   !! configuration (the point's own neighbourhood, Sections 1 and 7); the sign still comes
   !! from the whole surface's pseudo-normals.
-  pure subroutine surface3d_gap(s, p, g, nrm, jf, bary, every, xr, xc, rex)
+  pure subroutine surface3d_gap(s, p, g, nrm, jf, bary, every, xr, xc, rex, sure)
     type(surface3d_t), intent(in) :: s
     real(wp), intent(in) :: p(3)
     real(wp), intent(out) :: g, nrm(3), bary(3)
     integer, intent(out) :: jf
     logical, intent(in), optional :: every
     real(wp), intent(in), optional :: xr(:, :), xc(3), rex
+    !> with the exclusion: is the sign of g sure? The pseudo-normal tells inside from
+    !! outside for the closest point of the whole surface, or of the facets around its
+    !! feature; when q lies on an edge or a vertex one of whose facets was left out, p may
+    !! lie on the outer side of the facets kept and still get g < 0 (at a fold's tip,
+    !! beside the end of another layer): sure is then .false. (.true. without exclusion)
+    logical, intent(out), optional :: sure
     integer :: m, rbest, r, i, j, k, c, l, ijk(3), rmax, istep
     real(wp) :: best, qbest(3), pn(3), dist
     logical :: excl
@@ -352,7 +358,9 @@ contains
     end do
     g = huge(1.0_wp)
     nrm = 0.0_wp
+    if (present(sure)) sure = .true.
     if (jf == 0) return
+    if (present(sure) .and. excl) sure = feature_kept()
     ! the pseudo-normal of the feature: region 0 the face, 1-3 vertex k, 4-6 edge k
     select case (rbest)
     case (1:3)
@@ -373,6 +381,35 @@ contains
     end if
 
   contains
+
+    !> Are all the facets around the closest point's feature kept (none left out by the
+    !! exclusion)? The face: its facet; an edge: its two facets; a vertex: the fan of facets
+    !! around it, walked across the edges from it (a facet whose edge partner is missing, in
+    !! a rank's subset, ends the walk: the ranks hold every facet around a feature they use).
+    pure logical function feature_kept() result(kept)
+      integer :: v, mm, kk, n
+      kept = .true.
+      select case (rbest)
+      case (4:6)
+        mm = s%partner(rbest - 3, jf)
+        if (mm > 0) kept = .not. near_vertex(mm)
+      case (1:3)
+        v = s%tri(rbest, jf)
+        mm = jf
+        kk = rbest
+        do n = 1, 4*s%nf
+          ! leave facet mm across its edge from v to the next vertex; in the next facet
+          ! (oriented alike) that edge ends at v, so its edge from v is the next to cross
+          mm = s%partner(kk, mm)
+          if (mm == 0 .or. mm == jf) exit
+          if (near_vertex(mm)) then
+            kept = .false.
+            exit
+          end if
+          kk = findloc(s%tri(:, mm), v, dim=1)
+        end do
+      end select
+    end function feature_kept
 
     !> Has facet m a vertex within rex of xc in the reference configuration?
     pure logical function near_vertex(m)
