@@ -6,7 +6,8 @@
 #   bash tools/setup.sh           what the build, the main job and the tests need
 #   bash tools/setup.sh --gmsh    also gmsh (PyPI) in .venv and the X11/OpenGL libraries its
 #                                 wheel links against: for meshing .geo bodies (tools/mesh_body.py)
-#   bash tools/setup.sh --mpi     also Debian's OpenMPI (libopenmpi-dev, openmpi-bin): for the
+#   bash tools/setup.sh --mpi     also Debian's OpenMPI (libopenmpi-dev, openmpi-bin) and
+#                                 HDF5's parallel library (libhdf5-openmpi-dev): for the
 #                                 distributed-memory build, -DMFCD_MPI=ON (doc/parallel.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -42,6 +43,8 @@ fi
 if [ "$mpi" = 1 ]; then
   have_pkg libopenmpi-dev || pkgs+=(libopenmpi-dev)
   have_pkg openmpi-bin || pkgs+=(openmpi-bin)
+  # HDF5's parallel library for the MPI build's collective snapshots (beside the serial one)
+  have_pkg libhdf5-openmpi-dev || pkgs+=(libhdf5-openmpi-dev)
 fi
 
 if [ ${#pkgs[@]} -gt 0 ]; then

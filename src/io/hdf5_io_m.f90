@@ -16,17 +16,29 @@ module hdf5_io_m
     H5P_DATASET_CREATE_F, H5S_UNLIMITED_F, h5dset_extent_f, h5sselect_hyperslab_f, &
     H5S_SELECT_SET_F, h5fflush_f, H5F_SCOPE_GLOBAL_F, h5fis_hdf5_f, h5aopen_f, h5aread_f, &
     h5aexists_f, h5aget_type_f, h5aget_space_f, h5dget_type_f, h5tget_size_f, &
-    h5kind_to_type, H5_INTEGER_KIND
+    h5kind_to_type, H5_INTEGER_KIND, H5F_ACC_RDWR_F, H5P_DEFAULT_F, H5S_SELECT_OR_F, &
+    h5sselect_none_f
   implicit none
   private
   public :: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text
   public :: read_particle_file_h5, h5_series_create, h5_series_append, h5_flush
   public :: h5_open_read, h5_has, h5_has_attr, h5_shape, h5_read, h5_read_attr, h5_read_text
+  public :: h5_open_rw, h5_write_rows
 
   type :: h5file_t
     integer(hid_t) :: id = -1
     character(len=:), allocatable :: path
+    !> the data transfer property list of h5_write_rows (-1: the default; a file opened on
+    !! MPI ranks sets a collective one, mpi_output_m)
+    integer(hid_t) :: xfer = -1
   end type h5file_t
+
+  !> Rows of a dataset of n rows written by their global numbers (h5_write_rows): each rank
+  !! of a file opened with MPI-IO writes its own rows, collectively, into one dataset whose
+  !! layout is a serial run's (rows in global order).
+  interface h5_write_rows
+    module procedure rows_r1, rows_r2
+  end interface h5_write_rows
 
   !> Dataset writers: real and integer arrays of rank 1 and 2, each with its units.
   interface h5_write
@@ -151,6 +163,100 @@ contains
     if (st == 0) call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a, dims, st)
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine write_r2
+
+  !> a(i) into row gid(i) of the new dataset path (n), gid ascending; see rows_r2.
+  subroutine rows_r1(f, path, a, gid, n, units, err, descr)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, units
+    real(wp), intent(in) :: a(:)
+    integer, intent(in) :: gid(:), n
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: descr
+    call rows_write(f, path, 1, 1, a, gid, n, units, err, descr)
+  end subroutine rows_r1
+
+  !> a(:, i) into column gid(i) of the new dataset path (size(a, 1), n), gid ascending: in
+  !! a serial file with gid = 1..n the same dataset as h5_write; in a file opened with
+  !! MPI-IO every rank calls it with its own rows (none is fine), collectively.
+  subroutine rows_r2(f, path, a, gid, n, units, err, descr)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, units
+    real(wp), intent(in) :: a(:, :)
+    integer, intent(in) :: gid(:), n
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: descr
+    call rows_write(f, path, 2, size(a, 1), a, gid, n, units, err, descr)
+  end subroutine rows_r2
+
+  !> rows_r1 (rk = 1, m = 1) and rows_r2 (rk = 2): the file's selection is the runs of
+  !! consecutive numbers in gid, so the m x size(gid) values of a (column after column)
+  !! fill them in the file's order.
+  subroutine rows_write(f, path, rk, m, a, gid, n, units, err, descr)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, units
+    integer, intent(in) :: rk, m, gid(:), n
+    real(wp), intent(in) :: a(m, *)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: descr
+    integer(hid_t) :: space, dset, mspace, xfer
+    integer(hsize_t) :: dims(2), mdims(2), start(2), cnt(2)
+    integer :: st, s2, i, j, op
+    real(wp) :: none(1)
+    if (any(gid(2:) <= gid(:size(gid) - 1)) .or. any(gid < 1 .or. gid > n)) then
+      call set_error(err, "output file '"//f%path//"': rows of "//path//" not in order "// &
+        "(an internal error)", 1)
+      return
+    end if
+    dims = [int(m, hsize_t), int(n, hsize_t)]
+    mdims = [int(m, hsize_t), max(1_hsize_t, size(gid, kind=hsize_t))]
+    if (rk == 1) then
+      dims(1) = dims(2)
+      mdims(1) = mdims(2)
+    end if
+    none = 0.0_wp
+    xfer = H5P_DEFAULT_F
+    if (f%xfer >= 0) xfer = f%xfer
+    call h5screate_simple_f(rk, dims, space, st)
+    call h5dcreate_f(f%id, path, H5T_NATIVE_DOUBLE, space, dset, st)
+    if (st /= 0) then
+      call finish_dataset(f, path, dset, space, units, descr, st, err)
+      return
+    end if
+    call h5screate_simple_f(rk, mdims, mspace, st)
+    if (size(gid) == 0) then
+      call h5sselect_none_f(space, st)
+      call h5sselect_none_f(mspace, s2)
+    else
+      op = H5S_SELECT_SET_F
+      i = 1
+      do while (i <= size(gid))
+        j = i
+        do while (j < size(gid))
+          if (gid(j + 1) /= gid(j) + 1) exit
+          j = j + 1
+        end do
+        start = [0_hsize_t, int(gid(i) - 1, hsize_t)]
+        cnt = [int(m, hsize_t), int(j - i + 1, hsize_t)]
+        if (rk == 1) then
+          start(1) = start(2)
+          cnt(1) = cnt(2)
+        end if
+        call h5sselect_hyperslab_f(space, op, start(:rk), cnt(:rk), st)
+        if (st /= 0) exit
+        op = H5S_SELECT_OR_F
+        i = j + 1
+      end do
+    end if
+    if (st == 0 .and. size(gid) > 0) then
+      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a(:, 1:size(gid)), mdims(:rk), st, mspace, &
+        space, xfer)
+    else if (st == 0) then
+      ! no rows here: the collective write still takes part, with nothing selected
+      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, none, [1_hsize_t], st, mspace, space, xfer)
+    end if
+    call h5sclose_f(mspace, s2)
+    call finish_dataset(f, path, dset, space, units, descr, st, err)
+  end subroutine rows_write
 
   subroutine write_i1(f, path, a, units, err, descr)
     type(h5file_t), intent(in) :: f
@@ -506,6 +612,29 @@ contains
     end if
     f%path = path
   end subroutine h5_open_read
+
+  !> Open an existing HDF5 file of this run for writing (a run's file reopened after its
+  !! snapshot was written collectively; with fapl, on every rank with MPI-IO).
+  subroutine h5_open_rw(f, path, err, fapl)
+    type(h5file_t), intent(out) :: f
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t), intent(in), optional :: fapl
+    integer :: st
+    call h5open_f(st)
+    call h5eset_auto_f(0, st)
+    if (present(fapl)) then
+      call h5fopen_f(path, H5F_ACC_RDWR_F, f%id, st, fapl)
+    else
+      call h5fopen_f(path, H5F_ACC_RDWR_F, f%id, st)
+    end if
+    if (st /= 0) then
+      f%id = -1
+      call set_error(err, "output file '"//path//"' cannot be opened for writing", 1)
+      return
+    end if
+    f%path = path
+  end subroutine h5_open_rw
 
   !> Whether the object path ('/a/b/c') exists, every group on the way included.
   logical function h5_has(f, path) result(yes)

@@ -8,7 +8,7 @@ module dynamic_output_m
   use strings_m, only: itoa
   use solid_m, only: solid_t, solid_positions, at_prediction
   use tl_kinematics_m, only: physical_positions, jacobian
-  use hdf5_io_m, only: h5file_t, h5_group, h5_write, h5_attr, h5_series_create, &
+  use hdf5_io_m, only: h5file_t, h5_write_rows, h5_group, h5_write, h5_attr, h5_series_create, &
     h5_series_append, h5_flush
   implicit none
   private
@@ -19,7 +19,7 @@ module dynamic_output_m
   !> The geometries whose history columns differ: plane strain (per unit thickness),
   !! axisymmetry (per radian... the whole body: J, N), three dimensions (history_geometry).
   integer, parameter :: hist_plane = 1, hist_axisym = 2, hist_3d = 3
-  public :: rigid_snapshot_write
+  public :: rigid_snapshot_write, output_rows
 
   !> A rigid body as the output shows it: a fixed one on its reference positions
   !! /bodies/<name>/x at every time step (no snapshot data); a moving one (a ram: its &body
@@ -292,7 +292,11 @@ contains
   !! particles, Cauchy stress, effective plastic strain and J (averaged over each particle's
   !! integration points with their weights; for SCNI the particle's own point), and the
   !! mean contact force on each particle's physical point since the previous snapshot
-  !! (its impulse over the time between; the impulse is then restarted).
+  !! (its impulse over the time between; the impulse is then restarted). A solid that is a
+  !! rank's part (a file opened on every rank with MPI-IO, collectively) writes the rows of
+  !! its own nodes and points into the whole solid's datasets, by their global numbers: its
+  !! ghost points' stresses come from their owners first, and each own node's mean visits
+  !! its points in global order, as the whole solid's does (the same bits).
   subroutine snapshot_write(f, label, time, step, solids, err)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: label
@@ -301,9 +305,10 @@ contains
     type(solid_t), intent(inout) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: g, gb
-    real(wp), allocatable :: vphys(:, :), sig(:, :), eps(:), jj(:), w(:), fc(:, :)
-    integer :: k, q, np, e, i, nd
-    real(wp) :: jq
+    real(wp), allocatable :: vphys(:, :), sig(:, :), eps(:), jj(:), w(:), fc(:, :), pv(:, :)
+    real(wp), allocatable :: xo(:, :), so(:, :), ro(:)
+    integer, allocatable :: on(:), gn(:), oq(:), gq(:)
+    integer :: k, q, np, e, i, nd, nc, nn, nqw
     character(len=:), allocatable :: vec, ten
     g = '/snapshots/'//label
     call h5_group(f, g, err)
@@ -314,64 +319,83 @@ contains
       associate (tb => solids(k))
         np = tb%np
         nd = tb%t%dims%ndim
+        nc = tb%t%dims%ncomp
         vec = ' ('//itoa(nd)//', np)'
-        ten = ' ('//itoa(tb%t%dims%ncomp)//', np)'
+        ten = ' ('//itoa(nc)//', np)'
         gb = g//'/'//trim(tb%name)
+        call output_rows(tb, on, gn, nn, oq, gq, nqw)
         call solid_positions(tb, at_prediction, tb%x)
-        allocate(vphys(nd, np), sig(tb%t%dims%ncomp, np), eps(np), jj(np), w(np), fc(nd, np))
+        allocate(vphys(nd, np), sig(nc, np), eps(np), jj(np), w(np), fc(nd, np))
         call physical_positions(tb%t, 0.0_wp*tb%x0, tb%state%v, vphys)
+        ! each point's tau, epsbar and J (a part's ghost points' from their owners)
+        allocate(pv(nc + 2, tb%nq))
+        do q = 1, tb%nq
+          pv(1:nc, q) = tb%state%st%tau(:, q)
+          pv(nc + 1, q) = tb%state%st%epsbar(q)
+          pv(nc + 2, q) = jacobian(tb%state%f(:, q))
+        end do
+        if (tb%part%on) call tb%part%halo%points(pv)
         sig = 0.0_wp
         eps = 0.0_wp
         jj = 0.0_wp
         w = 0.0_wp
         ! nodal values: the weighted mean over the points a node owns (an SCNI cell), or
-        ! over the points it belongs to when points have no owner (elements)
+        ! over the points it belongs to when points have no owner (elements); a part's
+        ! ghost point whose owner node is elsewhere adds to none of its nodes
         do q = 1, tb%nq
-          jq = jacobian(tb%state%f(:, q))
           if (tb%t%owner(q) > 0) then
             call accumulate(tb%t%owner(q))
-          else
+          else if (tb%t%owner(q) == 0) then
             do e = tb%t%ptr(q), tb%t%ptr(q + 1) - 1
               call accumulate(tb%t%nbr(e))
             end do
           end if
         end do
-        do i = 1, np
-          sig(:, i) = sig(:, i)/w(i)
-          eps(i) = eps(i)/w(i)
-          jj(i) = jj(i)/w(i)
+        do i = 1, size(on)
+          sig(:, on(i)) = sig(:, on(i))/w(on(i))
+          eps(on(i)) = eps(on(i))/w(on(i))
+          jj(on(i)) = jj(on(i))/w(on(i))
         end do
         fc = 0.0_wp
         if (tb%state%ipoint_time > 0.0_wp) fc = tb%state%ipoint/tb%state%ipoint_time
         tb%state%ipoint = 0.0_wp
         tb%state%ipoint_time = 0.0_wp
+        ! (the rows into arrays of their own: a vector subscript as an argument would be a
+        ! temporary each)
+        xo = tb%x(:, on)
         call h5_group(f, gb, err)
-        if (.not. allocated(err)) call h5_write(f, gb//'/x', tb%x, 'm', err, &
+        if (.not. allocated(err)) call h5_write_rows(f, gb//'/x', xo, gn, nn, 'm', err, &
           'physical particle positions'//vec)
-        if (.not. allocated(err)) call h5_write(f, gb//'/u', tb%x - tb%x0, 'm', err, &
+        xo = xo - tb%x0(:, on)
+        if (.not. allocated(err)) call h5_write_rows(f, gb//'/u', xo, gn, nn, 'm', err, &
           'particle displacements'//vec)
-        if (.not. allocated(err)) call h5_write(f, gb//'/v', vphys, 'm/s', err, &
+        xo = vphys(:, on)
+        if (.not. allocated(err)) call h5_write_rows(f, gb//'/v', xo, gn, nn, 'm/s', err, &
           'particle velocities'//vec)
-        if (.not. allocated(err)) call h5_write(f, gb//'/stress', sig, 'Pa', err, &
+        so = sig(:, on)
+        if (.not. allocated(err)) call h5_write_rows(f, gb//'/stress', so, gn, nn, 'Pa', err, &
           'Cauchy stress '//tensor_list(tb%t%dims)//hoop_note(tb)//ten)
-        if (.not. allocated(err)) call h5_write(f, gb//'/epsbar', eps, '1', err, &
+        ro = eps(on)
+        if (.not. allocated(err)) call h5_write_rows(f, gb//'/epsbar', ro, gn, nn, '1', err, &
           'effective plastic strain')
-        if (.not. allocated(err)) call h5_write(f, gb//'/J', jj, '1', err, &
+        ro = jj(on)
+        if (.not. allocated(err)) call h5_write_rows(f, gb//'/J', ro, gn, nn, '1', err, &
           'volume ratio det F')
-        if (.not. allocated(err)) call h5_write(f, gb//'/f_contact', fc, &
+        xo = fc(:, on)
+        if (.not. allocated(err)) call h5_write_rows(f, gb//'/f_contact', xo, gn, nn, &
           trim(merge('N  ', 'N/m', tb%t%axisym)), err, 'mean contact force on the particle''s '// &
           'physical point since the previous snapshot (impulse / time)'//vec)
         if (tb%t%interpolating .and. .not. allocated(err)) call cell_fields(tb, gb)
-        deallocate(vphys, sig, eps, jj, w, fc)
+        deallocate(vphys, sig, eps, jj, w, fc, pv)
       end associate
     end do
     call h5_flush(f)
   contains
     subroutine accumulate(i)
       integer, intent(in) :: i
-      sig(:, i) = sig(:, i) + solids(k)%t%wgt(q)*solids(k)%state%st%tau(:, q)/jq
-      eps(i) = eps(i) + solids(k)%t%wgt(q)*solids(k)%state%st%epsbar(q)
-      jj(i) = jj(i) + solids(k)%t%wgt(q)*jq
+      sig(:, i) = sig(:, i) + solids(k)%t%wgt(q)*pv(1:nc, q)/pv(nc + 2, q)
+      eps(i) = eps(i) + solids(k)%t%wgt(q)*pv(nc + 1, q)
+      jj(i) = jj(i) + solids(k)%t%wgt(q)*pv(nc + 2, q)
       w(i) = w(i) + solids(k)%t%wgt(q)
     end subroutine accumulate
 
@@ -379,22 +403,49 @@ contains
     subroutine cell_fields(s, gb)
       type(solid_t), intent(in) :: s
       character(len=*), intent(in) :: gb
-      real(wp), allocatable :: sc(:, :), jc(:)
-      integer :: qq
-      allocate(sc(s%t%dims%ncomp, s%nq), jc(s%nq))
-      do qq = 1, s%nq
-        jc(qq) = jacobian(s%state%f(:, qq))
-        sc(:, qq) = s%state%st%tau(:, qq)/jc(qq)
+      real(wp), allocatable :: sc(:, :), jc(:), ec(:)
+      integer :: qq, j
+      allocate(sc(s%t%dims%ncomp, size(oq)), jc(size(oq)))
+      ec = s%state%st%epsbar(oq)
+      do j = 1, size(oq)
+        qq = oq(j)
+        jc(j) = jacobian(s%state%f(:, qq))
+        sc(:, j) = s%state%st%tau(:, qq)/jc(j)
       end do
-      call h5_write(f, gb//'/stress_cells', sc, 'Pa', err, &
+      call h5_write_rows(f, gb//'/stress_cells', sc, gq, nqw, 'Pa', err, &
         'Cauchy stress '//tensor_list(s%t%dims)//' of each element ('// &
         itoa(s%t%dims%ncomp)//', ne)')
-      if (.not. allocated(err)) call h5_write(f, gb//'/epsbar_cells', s%state%st%epsbar, '1', err, &
-        'effective plastic strain of each element')
-      if (.not. allocated(err)) call h5_write(f, gb//'/J_cells', jc, '1', err, &
+      if (.not. allocated(err)) call h5_write_rows(f, gb//'/epsbar_cells', ec, gq, nqw, '1', &
+        err, 'effective plastic strain of each element')
+      if (.not. allocated(err)) call h5_write_rows(f, gb//'/J_cells', jc, gq, nqw, '1', err, &
         'volume ratio det F of each element')
     end subroutine cell_fields
   end subroutine snapshot_write
+
+  !> The rows a file takes from solid s: its nodes on (local numbers) as numbers gn of the
+  !! nn nodes of the whole solid, and its points oq as gq of nqw: all of them, or a rank's
+  !! part's own.
+  subroutine output_rows(s, on, gn, nn, oq, gq, nqw)
+    type(solid_t), intent(in) :: s
+    integer, allocatable, intent(out) :: on(:), gn(:), oq(:), gq(:)
+    integer, intent(out) :: nn, nqw
+    integer :: i
+    if (s%part%on) then
+      on = s%part%own_n
+      gn = s%part%nglob(on)
+      nn = s%part%np_whole
+      oq = s%part%own_q
+      gq = s%part%qglob(oq)
+      nqw = s%part%nq_whole
+    else
+      on = [(i, i = 1, s%np)]
+      gn = on
+      nn = s%np
+      oq = [(i, i = 1, s%nq)]
+      gq = oq
+      nqw = s%nq
+    end if
+  end subroutine output_rows
 
   !> The moving rigid bodies of rigid in snapshot label at time (s): positions x + vel t,
   !! displacements and velocities, as a deformable body's (without its fields).

@@ -35,14 +35,16 @@ module run_checkpoint_m
     solid_get_field, solid_put_field, solid_state_derived, solid_energies, solid_set_energies
   use contact_pair_m, only: contact_pair_t
   use run_report_m, only: run_record_t
-  use dynamic_output_m, only: history_t, history_width, history_geometry
+  use dynamic_output_m, only: history_t, history_width, history_geometry, output_rows
   use run_output_m, only: timestamp
   use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text, &
+    h5_write_rows, &
     h5_open_read, h5_has, h5_has_attr, h5_shape, h5_read, h5_read_attr, h5_read_text
   use log_m, only: log_print
   implicit none
   private
-  public :: checkpoint_write, checkpoint_check, checkpoint_read, checkpoint_info_t
+  public :: checkpoint_write, checkpoint_check, checkpoint_read, checkpoint_info_t, &
+    checkpoint_write_fields
 
   !> The root attribute 'format' of every checkpoint, and the layout version this mfcd
   !! writes and reads (raise it when the layout changes).
@@ -63,7 +65,7 @@ contains
   !! the caller renames it over the previous checkpoint). t_loop: seconds in the time loop
   !! so far; snap_times: the times of the deck snapshots written so far (nsnap_done of them).
   subroutine checkpoint_write(path, deck, bodies, r, solids, pairs, hist, nsnap_done, &
-    snap_times, t_loop, err)
+    snap_times, t_loop, err, fields)
     character(len=*), intent(in) :: path
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
@@ -74,9 +76,15 @@ contains
     integer, intent(in) :: nsnap_done
     real(wp), intent(in) :: snap_times(:), t_loop
     type(error_t), allocatable, intent(inout) :: err
+    !> .false.: without the solids' state fields, which the ranks write into the file
+    !! afterwards, each its part's rows (checkpoint_write_fields)
+    logical, intent(in), optional :: fields
     type(h5file_t) :: f
     type(error_t), allocatable :: e2
     integer :: k
+    logical :: with_fields
+    with_fields = .true.
+    if (present(fields)) with_fields = fields
     call h5_create(f, path, err)
     if (allocated(err)) return
     call h5_attr(f, '/', 'format', checkpoint_kind, err)
@@ -93,7 +101,7 @@ contains
     if (.not. allocated(err)) call write_record(f, r, t_loop, err)
     if (.not. allocated(err)) call h5_group(f, '/solids', err)
     do k = 1, size(solids)
-      if (.not. allocated(err)) call write_solid(f, solids(k), err)
+      if (.not. allocated(err)) call write_solid(f, solids(k), with_fields, err)
     end do
     if (.not. allocated(err)) call h5_group(f, '/contacts', err)
     do k = 1, size(pairs)
@@ -197,22 +205,20 @@ contains
     end associate
   end subroutine write_record
 
-  !> /solids/<name>: the state of one solid that carries over between steps.
-  subroutine write_solid(f, s, err)
+  !> /solids/<name>: the state of one solid that carries over between steps (with fields
+  !! its state fields, else its sizes and scalars only).
+  subroutine write_solid(f, s, fields, err)
     type(h5file_t), intent(in) :: f
     type(solid_t), intent(in) :: s
+    logical, intent(in) :: fields
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: g
-    integer :: k
     g = '/solids/'//trim(s%name)
     call h5_group(f, g, err)
     if (allocated(err)) return
     call h5_attr(f, g, 'np', s%np, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'nq', s%nq, err)
-    do k = 1, size(state_fields)
-      if (allocated(err)) return
-      call write_field(f, g, s, k, err)
-    end do
+    if (fields .and. .not. allocated(err)) call write_fields(f, g, s, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'contact_impulse_time', s%state%ipoint_time, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'energies', solid_energies(s), err)
     if (.not. allocated(err)) call h5_attr(f, g, 'kappa_dt_cal', [s%kappa, s%dt_cal], err)
@@ -230,32 +236,61 @@ contains
     end if
   end subroutine write_solid
 
-  !> State field k (state_fields) of solid s as dataset g/<name>: (rows, np) on nodes,
-  !! (rows, nq) on integration points, one row as a 1-D dataset.
-  subroutine write_field(f, g, s, k, err)
+  !> The state fields of the solids into their groups /solids/<name> (made by
+  !! checkpoint_write with fields = .false.): on MPI ranks, every rank its part's rows into
+  !! the file opened on all with MPI-IO, collectively.
+  subroutine checkpoint_write_fields(f, solids, err)
+    type(h5file_t), intent(in) :: f
+    type(solid_t), intent(in) :: solids(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    do k = 1, size(solids)
+      if (.not. allocated(err)) call write_fields(f, '/solids/'//trim(solids(k)%name), &
+        solids(k), err)
+    end do
+  end subroutine checkpoint_write_fields
+
+  !> Each state field (state_fields) of solid s as dataset g/<name>: (rows, np) on nodes,
+  !! (rows, nq) on integration points, one row as a 1-D dataset; the rows of the whole
+  !! solid, or of a rank's part's own nodes and points by their global numbers.
+  subroutine write_fields(f, g, s, err)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: g
     type(solid_t), intent(in) :: s
-    integer, intent(in) :: k
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: buf(:, :)
-    integer :: rows, n, i
+    real(wp), allocatable :: buf(:, :), row(:)
+    integer, allocatable :: on(:), gn(:), oq(:), gq(:)
+    integer :: rows, nn, nqw, k
     character(len=:), allocatable :: dims
-    rows = solid_field_rows(s, k)
-    n = merge(s%np, s%nq, state_fields(k)%nodal)
-    dims = merge('np', 'nq', state_fields(k)%nodal)
-    allocate(buf(rows, n))
-    call solid_get_field(s, k, buf, [(i, i = 1, n)])
-    associate (fk => state_fields(k))
-      if (rows == 1) then
-        call h5_write(f, g//'/'//trim(fk%name), buf(1, :), trim(fk%unit), err, &
-          trim(fk%what)//' ('//dims//')')
-      else
-        call h5_write(f, g//'/'//trim(fk%name), buf, trim(fk%unit), err, &
-          trim(fk%what)//' ('//itoa(rows)//', '//dims//')')
-      end if
-    end associate
-  end subroutine write_field
+    call output_rows(s, on, gn, nn, oq, gq, nqw)
+    do k = 1, size(state_fields)
+      if (allocated(err)) return
+      associate (fk => state_fields(k))
+        rows = solid_field_rows(s, k)
+        dims = merge('np', 'nq', fk%nodal)
+        if (fk%nodal) then
+          allocate(buf(rows, size(on)))
+          call solid_get_field(s, k, buf, on)
+        else
+          allocate(buf(rows, size(oq)))
+          call solid_get_field(s, k, buf, oq)
+        end if
+        if (rows == 1) then
+          row = buf(1, :)
+          if (fk%nodal) call h5_write_rows(f, g//'/'//trim(fk%name), row, gn, nn, &
+            trim(fk%unit), err, trim(fk%what)//' ('//dims//')')
+          if (.not. fk%nodal) call h5_write_rows(f, g//'/'//trim(fk%name), row, gq, nqw, &
+            trim(fk%unit), err, trim(fk%what)//' ('//dims//')')
+        else
+          if (fk%nodal) call h5_write_rows(f, g//'/'//trim(fk%name), buf, gn, nn, &
+            trim(fk%unit), err, trim(fk%what)//' ('//itoa(rows)//', '//dims//')')
+          if (.not. fk%nodal) call h5_write_rows(f, g//'/'//trim(fk%name), buf, gq, nqw, &
+            trim(fk%unit), err, trim(fk%what)//' ('//itoa(rows)//', '//dims//')')
+        end if
+        deallocate(buf)
+      end associate
+    end do
+  end subroutine write_fields
 
   !> /bodies/<name>: particle count and sums of positions and volumes of every body, to
   !! recognise a body that changed under an unchanged deck (a particle file).

@@ -26,8 +26,9 @@ module run_files_m
   use file_system_m, only: remove_file
   implicit none
   private
-  public :: run_files_t, run_files_open, snapshots_due, failure_snapshot, run_files_close, &
-    run_files_names, run_files_resume, run_files_checkpoint
+  public :: run_files_t, run_files_open, snapshot_due, snapshot_others, failure_snapshot, &
+    run_files_close, run_files_names, run_files_resume, run_files_checkpoint, &
+    snapshot_needs_state, run_files_checkpoint_commit, run_files_checkpoint_failed
 
   type :: run_files_t
     type(h5file_t) :: f
@@ -114,8 +115,9 @@ contains
   !> A checkpoint of the run after step r%n: written under its temporary name, then renamed
   !! over the previous checkpoint (output_path_m, checkpoint_commit). t_loop: seconds spent
   !! in the time loop so far. A failure fails the run (exit 1) and leaves the previous
-  !! checkpoint as it was.
-  subroutine run_files_checkpoint(out, bodies, r, solids, pairs, t_loop, err)
+  !! checkpoint as it was. fields = .false.: without the solids' state fields and not
+  !! renamed (on MPI ranks, which write the fields, then run_files_checkpoint_commit).
+  subroutine run_files_checkpoint(out, bodies, r, solids, pairs, t_loop, err, fields)
     type(run_files_t), intent(inout) :: out
     type(body_t), intent(in) :: bodies(:)
     type(run_record_t), intent(in) :: r
@@ -123,24 +125,45 @@ contains
     type(contact_pair_t), intent(in) :: pairs(:)
     real(wp), intent(in) :: t_loop
     type(error_t), allocatable, intent(inout) :: err
-    logical :: ok
+    logical, intent(in), optional :: fields
     call checkpoint_write(out%path%tmp_checkpoint, out%deck, bodies, r, solids, pairs, &
       out%hist, out%nsnap_done, [out%earlier_times, pack(out%times, out%labels /= 'failure')], &
-      t_loop, err)
+      t_loop, err, fields)
     if (allocated(err)) then
-      ok = remove_file(out%path%tmp_checkpoint)
-      err%message = 'checkpoint at step '//itoa(r%n)//': '//err%message// &
-        '; the previous checkpoint is unchanged'
-      err%code = exit_run_failed
+      call run_files_checkpoint_failed(out, r, err)
       return
     end if
+    if (present(fields)) then
+      if (.not. fields) return
+    end if
+    call run_files_checkpoint_commit(out, r, err)
+  end subroutine run_files_checkpoint
+
+  !> The checkpoint written under its temporary name renamed over the previous one.
+  subroutine run_files_checkpoint_commit(out, r, err)
+    type(run_files_t), intent(inout) :: out
+    type(run_record_t), intent(in) :: r
+    type(error_t), allocatable, intent(inout) :: err
     call checkpoint_commit(out%path, err)
     if (allocated(err)) return
     out%checkpoint_step = r%n
     out%checkpoint = out%path%checkpoint
     call log_print('dynamic: checkpoint at step '//itoa(r%n)//', t = '//rtoa(r%t)//' s: '// &
       out%path%checkpoint)
-  end subroutine run_files_checkpoint
+  end subroutine run_files_checkpoint_commit
+
+  !> A checkpoint that could not be written: its temporary file removed, the run failed
+  !! (exit 1), the previous checkpoint unchanged.
+  subroutine run_files_checkpoint_failed(out, r, err)
+    type(run_files_t), intent(inout) :: out
+    type(run_record_t), intent(in) :: r
+    type(error_t), allocatable, intent(inout) :: err
+    logical :: ok
+    ok = remove_file(out%path%tmp_checkpoint)
+    err%message = 'checkpoint at step '//itoa(r%n)//': '//err%message// &
+      '; the previous checkpoint is unchanged'
+    err%code = exit_run_failed
+  end subroutine run_files_checkpoint_failed
 
   !> A write failed before the run started: the files go to the failed-run names.
   subroutine abandon(out, err)
@@ -156,38 +179,59 @@ contains
     err%code = exit_run_failed
   end subroutine abandon
 
-  !> The deck's snapshots due by the record's time: the state of every solid, the det(M)
-  !! fields when the deck asks, the history so far, and the XDMF file.
-  subroutine snapshots_due(out, deck, r, pairs, solids, err)
+  !> The label ('0001', ...) of the deck's next snapshot if it is due by the record's time
+  !! (counted as done), else ''. Every rank keeps the count.
+  function snapshot_due(out, deck, r) result(lab)
     type(run_files_t), intent(inout) :: out
     type(deck_t), intent(in) :: deck
+    type(run_record_t), intent(in) :: r
+    character(len=8) :: lab
+    lab = ''
+    if (out%nsnap_done >= deck%solver%nsnap) return
+    if (deck%solver%snapshot_times(out%nsnap_done + 1) > r%t + 0.5_wp*r%dt) return
+    out%nsnap_done = out%nsnap_done + 1
+    write(lab, '(i4.4)') out%nsnap_done
+  end function snapshot_due
+
+  !> Snapshot lab after its solids' datasets (snapshot_write, written already): the moving
+  !! rigid bodies, the det(M) fields when the deck asks (from the whole solids' state),
+  !! the history so far, and the XDMF file.
+  subroutine snapshot_others(out, deck, lab, r, pairs, solids, err)
+    type(run_files_t), intent(inout) :: out
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: lab
     type(run_record_t), intent(in) :: r
     type(contact_pair_t), intent(in) :: pairs(:)
     type(solid_t), intent(inout) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
-    character(len=8) :: lab
     character(len=80) :: line
-    do while (out%nsnap_done < deck%solver%nsnap)
-      if (deck%solver%snapshot_times(out%nsnap_done + 1) > r%t + 0.5_wp*r%dt) exit
-      out%nsnap_done = out%nsnap_done + 1
-      write(lab, '(i4.4)') out%nsnap_done
-      call snapshot_write(out%f, trim(lab), r%t, r%n, solids, err)
-      if (.not. allocated(err)) call rigid_snapshot_write(out%f, trim(lab), r%t, out%rigid, err)
-      if (.not. allocated(err)) call self_det_out(out%f, trim(lab), pairs, solids, err)
-      if (allocated(err)) return
-      if (deck%output%det_fields) call det_fields_out(out%f, trim(lab), pairs, solids, &
-        deck%output%det_grid_lo, deck%output%det_grid_hi, deck%output%det_grid_n, err)
-      if (allocated(err)) return
-      out%labels = [character(len=8) :: out%labels, lab]
-      out%times = [out%times, r%t]
-      call history_flush(out%f, out%hist, err)
-      if (allocated(err)) return
-      call xdmf_write(out%path%tmp_xdmf, base_name(out%path%tmp_h5), out%labels, out%times, &
-        solids, out%rigid)
-      write(line, '(a,es12.5,a)') 'dynamic: snapshot '//trim(lab)//' at t = ', r%t, ' s'
-      call log_print(trim(line))
+    call rigid_snapshot_write(out%f, trim(lab), r%t, out%rigid, err)
+    if (.not. allocated(err)) call self_det_out(out%f, trim(lab), pairs, solids, err)
+    if (allocated(err)) return
+    if (deck%output%det_fields) call det_fields_out(out%f, trim(lab), pairs, solids, &
+      deck%output%det_grid_lo, deck%output%det_grid_hi, deck%output%det_grid_n, err)
+    if (allocated(err)) return
+    out%labels = [character(len=8) :: out%labels, lab]
+    out%times = [out%times, r%t]
+    call history_flush(out%f, out%hist, err)
+    if (allocated(err)) return
+    call xdmf_write(out%path%tmp_xdmf, base_name(out%path%tmp_h5), out%labels, out%times, &
+      solids, out%rigid)
+    write(line, '(a,es12.5,a)') 'dynamic: snapshot '//trim(lab)//' at t = ', r%t, ' s'
+    call log_print(trim(line))
+  end subroutine snapshot_others
+
+  !> Whether a snapshot needs the whole solids' state besides their own datasets: the
+  !! det(M) fields the deck asks for, and self-contact's det_self.
+  pure logical function snapshot_needs_state(deck, pairs) result(yes)
+    type(deck_t), intent(in) :: deck
+    type(contact_pair_t), intent(in) :: pairs(:)
+    integer :: k
+    yes = deck%output%det_fields
+    do k = 1, size(pairs)
+      if (pairs(k)%self) yes = .true.
     end do
-  end subroutine snapshots_due
+  end function snapshot_needs_state
 
   !> The diagnostic snapshot of a failed run, /snapshots/failure, with its XDMF entry.
   subroutine failure_snapshot(out, r, solids, err)

@@ -40,7 +40,12 @@ module mpi_domain_m
   use contact_m, only: contact_counters_t
   use body_measures_m, only: measures_t, body_measures_part
   use run_report_m, only: run_record_t
-  use run_files_m, only: run_files_t, run_files_checkpoint
+  use run_files_m, only: run_files_t, run_files_checkpoint, run_files_checkpoint_commit, &
+    run_files_checkpoint_failed
+  use run_checkpoint_m, only: checkpoint_write_fields
+  use hdf5_io_m, only: h5file_t, h5_open_rw, h5_close
+  use dynamic_output_m, only: snapshot_write
+  use mpi_output_m, only: h5_open_collective, h5_close_collective
   use run_domain_m, only: run_domain_t
   implicit none
   private
@@ -89,6 +94,7 @@ module mpi_domain_m
     procedure :: counters => mpi_counters
     procedure :: impulses_restarted => mpi_impulses
     procedure :: checkpoint => mpi_checkpoint
+    procedure :: snapshot_solids => mpi_snapshot
     procedure :: finish => mpi_finish
   end type mpi_domain_t
 
@@ -208,6 +214,9 @@ contains
         if (allocated(err)) return
         call solid_set_owned(p, lp%own_point, lp%own_node)
         p%part%nglob = lp%nglob
+        p%part%qglob = lp%qglob
+        p%part%np_whole = g%np
+        p%part%nq_whole = g%nq
         ! the whole solid's options: RKPM's SCNI stabilization (elements have none), the
         ! health limits
         p%opt = g%opt
@@ -256,17 +265,23 @@ contains
     end associate
   end subroutine restart_part
 
-  !> Every part's owned values into rank 0's whole solids (for output and measures).
-  function mpi_whole(dom, solids, full) result(w)
+  !> Every part's owned values into rank 0's whole solids (for output and measures); with
+  !! state = .false. rank 0's whole solids as they are (sizes and tables), no gather.
+  function mpi_whole(dom, solids, full, state) result(w)
     class(mpi_domain_t), intent(inout), target :: dom
     type(solid_t), intent(inout), target :: solids(:)
     logical, intent(in) :: full
+    logical, intent(in), optional :: state
     type(solid_t), pointer :: w(:)
     integer :: k
+    w => dom%gs
+    if (present(state)) then
+      if (.not. state) return
+    end if
+    dom%gathers = dom%gathers + 1
     do k = 1, size(solids)
       call gather_solid(dom, solids(k), dom%lp(k), dom%gs(k), full)
     end do
-    w => dom%gs
   end function mpi_whole
 
   !> The owned values of part p into rank 0's whole solid g: what output and the measures
@@ -475,10 +490,37 @@ contains
     end do
   end subroutine mpi_impulses
 
-  !> A checkpoint of the state after step r%n, written by rank 0 from the whole solids
-  !! gathered, the solids' energies and the pairs' counters summed over the ranks: the
-  !! serial layout, which any number of ranks can restart from (the ghost sets of contact
-  !! and skip_far's schedule start afresh, which is exact).
+  !> The solids' datasets of snapshot lab: rank 0 closes the run's file, every rank opens
+  !! it with MPI-IO and writes its part's rows collectively, and rank 0 opens it again (no
+  !! rank gathers the state).
+  subroutine mpi_snapshot(dom, out, lab, r, solids, err)
+    class(mpi_domain_t), intent(inout) :: dom
+    type(run_files_t), intent(inout) :: out
+    character(len=*), intent(in) :: lab
+    type(run_record_t), intent(in) :: r
+    type(solid_t), intent(inout) :: solids(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    character(len=:), allocatable :: path
+    path = ''
+    if (dom%root) path = out%f%path
+    call dom%ranks%bcast_text(0, path)
+    if (dom%root) call h5_close(out%f, err)
+    if (dom%any_error(err)) return
+    call h5_open_collective(f, path, dom%mcomm, err)
+    if (dom%any_error(err)) return
+    call snapshot_write(f, lab, r%t, r%n, solids, err)
+    call h5_close_collective(f, err)
+    if (dom%any_error(err)) return
+    if (dom%root) call h5_open_rw(out%f, path, err)
+  end subroutine mpi_snapshot
+
+  !> A checkpoint of the state after step r%n in the serial layout, which any number of
+  !! ranks can restart from (the ghost sets of contact and skip_far's schedule start
+  !! afresh, which is exact): rank 0 writes the record, the solids' sizes and scalars (the
+  !! energies and the pairs' counters summed over the ranks), the contacts and the history;
+  !! then every rank writes its part's rows of the state fields into it with MPI-IO,
+  !! collectively (no gather), and rank 0 renames it over the previous checkpoint.
   subroutine mpi_checkpoint(dom, out, bodies, r, solids, pairs, t_loop, err)
     class(mpi_domain_t), intent(inout), target :: dom
     type(run_files_t), intent(inout) :: out
@@ -488,18 +530,37 @@ contains
     type(contact_pair_t), intent(inout), target :: pairs(:)
     real(wp), intent(in) :: t_loop
     type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    character(len=:), allocatable :: path
     integer :: k
     real(wp) :: e(8), et(8)
     logical :: skip(size(pairs))
     do k = 1, size(solids)
-      call gather_solid(dom, solids(k), dom%lp(k), dom%gs(k), .true.)
       e = solid_energies(solids(k))
       call MPI_Reduce(e, et, 8, MPI_DOUBLE_PRECISION, MPI_SUM, 0, dom%mcomm)
       if (.not. dom%root) cycle
       call solid_set_energies(dom%gs(k), et)
       dom%gs(k)%kappa = solids(k)%kappa
+      dom%gs(k)%dt_cal = solids(k)%dt_cal
+      dom%gs(k)%state%ipoint_time = solids(k)%state%ipoint_time
     end do
     call counters_then_write()
+    if (dom%any_error(err)) return
+    path = ''
+    if (dom%root) path = out%path%tmp_checkpoint
+    call dom%ranks%bcast_text(0, path)
+    call h5_open_collective(f, path, dom%mcomm, err)
+    if (dom%any_error(err)) then
+      if (dom%root) call run_files_checkpoint_failed(out, r, err)
+      return
+    end if
+    call checkpoint_write_fields(f, solids, err)
+    call h5_close_collective(f, err)
+    if (dom%any_error(err)) then
+      if (dom%root) call run_files_checkpoint_failed(out, r, err)
+      return
+    end if
+    if (dom%root) call run_files_checkpoint_commit(out, r, err)
   contains
     !> The summed counters in the file, each rank's own kept for the run.
     subroutine counters_then_write()
@@ -513,7 +574,7 @@ contains
         do j = 1, size(pairs)
           pairs(j)%side(1)%skip_far = .false.
         end do
-        call run_files_checkpoint(out, bodies, r, dom%gs, pairs, t_loop, err)
+        call run_files_checkpoint(out, bodies, r, dom%gs, pairs, t_loop, err, fields=.false.)
         do j = 1, size(pairs)
           pairs(j)%side(1)%skip_far = skip(j)
         end do

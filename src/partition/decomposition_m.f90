@@ -221,7 +221,9 @@ contains
       if (with_gs) allocate(u%gs(t%dims%ngrad, nnz))
       u%xq = t%xq(:, lp%qglob)
       u%owner = t%owner(lp%qglob)
+      ! (a ghost point whose owner node is not local: -1; 0 is a point without an owner)
       where (u%owner > 0) u%owner = nloc(u%owner)
+      where (u%owner == 0 .and. t%owner(lp%qglob) > 0) u%owner = -1
       u%wgt = t%wgt(lp%qglob)
       if (allocated(t%ws)) u%ws = t%ws(:, lp%qglob)
       u%mass = t%mass(lp%nglob)

@@ -19,6 +19,8 @@ module explicit_driver_m
   use dims_m, only: max_dim
   use exact_sum_m, only: exact_sum_t, exact_allsum_many
   use errors_m, only: error_t, set_error
+  use strings_m, only: itoa
+  use log_m, only: log_print
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, &
@@ -35,8 +37,8 @@ module explicit_driver_m
     history_names, history_geometry, pair_columns, hist_axisym, hist_3d
   use run_report_m, only: run_record_t, record_contact, log_header, log_line, &
     history_row_measured, report_summary
-  use run_files_m, only: run_files_t, run_files_open, snapshots_due, failure_snapshot, &
-    run_files_close, run_files_names, run_files_resume
+  use run_files_m, only: run_files_t, run_files_open, snapshot_due, snapshot_others, &
+    failure_snapshot, run_files_close, run_files_names, run_files_resume, snapshot_needs_state
   use run_checkpoint_m, only: checkpoint_read
   use run_domain_m, only: run_domain_t
   implicit none
@@ -78,6 +80,8 @@ contains
     type(measures_t) :: hm
     real(wp), allocatable :: snap_times0(:), row(:)
     integer :: k, k_bad, log_every, hist_every, bad_q, nsnap0, ckpt_every, nbefore
+    logical :: needs_state
+    integer :: gathers0
     real(wp) :: tw, t_loop0, bad_j
     call run_take_setup(deck, su, solids, isolid, pairs, r)
     if (present(restart)) then
@@ -96,11 +100,16 @@ contains
       history_geometry(solids(1)%t%dims%ndim, solids(1)%t%axisym))))
     if (dom%root) call run_files_open(deck, bodies, out, err, restart)
     if (dom%any_error(err)) return
-    whole => dom%whole(solids, .false.)
+    ! rank 0's whole solids (their sizes and tables; their state when gathered, here for
+    ! det(M) fields at t = 0 only)
+    needs_state = snapshot_needs_state(deck, pairs)
+    whole => dom%whole(solids, .false., state=needs_state .and. .not. present(restart))
     if (present(restart)) then
       ! the state after step r%n, as the checkpoint holds it
       if (dom%root) call run_files_resume(out, restart, r, hist0, nsnap0, snap_times0, err)
       if (dom%any_error(err)) return
+      ! (every rank counts the snapshots: their solids' datasets are written by all)
+      out%nsnap_done = nsnap0
       call energies(dom, solids, en)
     else
       ! the state at t = 0: forces at u = 0
@@ -108,8 +117,7 @@ contains
         call solid_start(solids(k), r%dt, bad_q, bad_j)
       end do
       call energies(dom, solids, en)
-      whole => dom%whole(solids, .false.)
-      if (dom%root) call snapshots_due(out, deck, r, dom%output_pairs(pairs), whole, err)
+      call snapshots_due(dom, out, deck, r, pairs, solids, whole, err)
       call dom%impulses_restarted(solids, dom%root .and. out%nsnap_done > 0)
       if (dom%any_error(err)) then
         if (dom%root) call run_files_close(out, r, whole, err)
@@ -123,6 +131,7 @@ contains
       call log_line(r, en)
     end if
     t_loop0 = omp_get_wtime()
+    gathers0 = dom%gathers
     do while (r%t < r%t_end - 0.5_wp*r%dt .and. r%n < deck%solver%max_steps)
       ! the step, and with &solver subcycle its sub-steps (subcycle_m; one rank only)
       if (r%n > 0) r%dt = subcycle_next(r%step, solids, r%t, next_stop(deck, r%t), &
@@ -159,9 +168,11 @@ contains
       call energies(dom, solids, en)
       call check_energy(en, r%n, energy_warmup, deck%solver%energy_tol, solids, &
         r%energy_over, r%failed, r%reason)
-      ! the whole solids for a snapshot or a failure (on ranks, gathered to rank 0 then
-      ! only: a history row's measures are maxima over the ranks)
-      if (r%failed .or. snapshot_near(deck, r)) whole => dom%whole(solids, .false.)
+      ! the whole solids' state for a failure, or for a snapshot that draws det(M) fields
+      ! from it (on ranks, gathered to rank 0 then only: the solids' datasets are written
+      ! from the parts, and a history row's measures are maxima over the ranks)
+      if (r%failed .or. (snapshot_near(deck, r) .and. needs_state)) &
+        whole => dom%whole(solids, .false.)
       if (mod(r%n, hist_every) == 0 .or. r%failed) then
         call history_row_now(dom, solids, pairs, r, en, row)
         if (dom%root) call history_push(out%hist, row)
@@ -169,11 +180,8 @@ contains
       if (dom%root .and. (mod(r%n, log_every) == 0 .or. r%failed)) call log_line(r, en)
       if (r%failed) exit
       tw = omp_get_wtime()
-      nbefore = 0
-      if (dom%root) then
-        nbefore = out%nsnap_done
-        call snapshots_due(out, deck, r, dom%output_pairs(pairs), whole, err)
-      end if
+      nbefore = out%nsnap_done
+      call snapshots_due(dom, out, deck, r, pairs, solids, whole, err)
       call dom%impulses_restarted(solids, dom%root .and. out%nsnap_done > nbefore)
       if (dom%any_error(err)) exit
       if (ckpt_every > 0) then
@@ -185,6 +193,9 @@ contains
     end do
     ! a restarted run adds the loop time of the runs before it (from the checkpoint)
     r%t_loop = r%t_loop + (omp_get_wtime() - t_loop0)
+    if (dom%root .and. dom%comm%nranks > 1) call log_print('dynamic: the state gathered '// &
+      'to rank 0 '//itoa(dom%gathers - gathers0)//' time(s) in the time loop (det(M) '// &
+      'fields of snapshots, a failure)')
     whole => dom%whole(solids, .false.)
     ! (the last row before the counters are summed over the ranks: its friction work sums
     ! each rank's own)
@@ -207,6 +218,29 @@ contains
     if (r%failed .and. .not. allocated(err)) call set_error(err, 'run failed: '// &
       r%reason, 1)
   end subroutine run_dynamic
+
+  !> The deck's snapshots due by the record's time: the solids' datasets (on ranks each
+  !! writes its part's rows, collectively), then on rank 0 the rest (snapshot_others, the
+  !! det(M) fields from the whole solids, gathered when they are needed).
+  subroutine snapshots_due(dom, out, deck, r, pairs, solids, whole, err)
+    class(run_domain_t), intent(inout), target :: dom
+    type(run_files_t), intent(inout) :: out
+    type(deck_t), intent(in) :: deck
+    type(run_record_t), intent(in) :: r
+    type(contact_pair_t), intent(inout), target :: pairs(:)
+    type(solid_t), intent(inout) :: solids(:)
+    type(solid_t), pointer, intent(in) :: whole(:)   !< (serial: solids themselves)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=8) :: lab
+    do
+      lab = snapshot_due(out, deck, r)
+      if (lab == '') exit
+      call dom%snapshot_solids(out, trim(lab), r, solids, err)
+      if (dom%root .and. .not. allocated(err)) call snapshot_others(out, deck, trim(lab), &
+        r, dom%output_pairs(pairs), whole, err)
+      if (dom%any_error(err)) exit
+    end do
+  end subroutine snapshots_due
 
   !> The set-up's solids, body-to-solid map and pairs moved out of su, the health limits
   !! set, and the run record started.

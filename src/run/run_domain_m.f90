@@ -23,6 +23,7 @@ module run_domain_m
   use body_measures_m, only: measures_t, body_measures
   use run_report_m, only: run_record_t
   use run_files_m, only: run_files_t, run_files_checkpoint
+  use dynamic_output_m, only: snapshot_write
   implicit none
   private
   public :: run_domain_t, serial_domain_t, serial_domain_init
@@ -32,6 +33,9 @@ module run_domain_m
     class(rank_comm_t), pointer :: comm => null()
     !> this rank writes the output and the log (rank 0)
     logical :: root = .true.
+    !> the times the state was gathered to rank 0 after the split (snapshots' det(M)
+    !! fields, checkpoints, a failure, the summary; none on one rank)
+    integer :: gathers = 0
   contains
     procedure(split_i), deferred :: split
     procedure(whole_i), deferred :: whole
@@ -43,6 +47,7 @@ module run_domain_m
     procedure(counters_i), deferred :: counters
     procedure(impulses_i), deferred :: impulses_restarted
     procedure(checkpoint_i), deferred :: checkpoint
+    procedure(snapshot_i), deferred :: snapshot_solids
     procedure(finish_i), deferred :: finish
     procedure :: any_error => domain_any_error
     procedure :: agree_failure => domain_agree_failure
@@ -61,11 +66,15 @@ module run_domain_m
     end subroutine split_i
     !> The whole solids, for output on the root rank (collective): with full, all a
     !! checkpoint holds; else what snapshots and measures need.
-    function whole_i(dom, solids, full) result(w)
+    !> The whole solids on rank 0 (the parts' owned state gathered into them; with full
+    !! what a checkpoint holds besides the output's fields; with state = .false. not
+    !! gathered: their sizes and tables only).
+    function whole_i(dom, solids, full, state) result(w)
       import :: run_domain_t, solid_t
       class(run_domain_t), intent(inout), target :: dom
       type(solid_t), intent(inout), target :: solids(:)
       logical, intent(in) :: full
+      logical, intent(in), optional :: state
       type(solid_t), pointer :: w(:)
     end function whole_i
     !> The pairs as output draws their det(M) fields from the whole solids (root rank).
@@ -127,6 +136,17 @@ module run_domain_m
       type(error_t), allocatable, intent(inout) :: err
     end subroutine checkpoint_i
     !> The end of the loop: what the ranks report (collective).
+    !> The solids' datasets of snapshot lab in out's file (on ranks collectively, each
+    !! its part's rows).
+    subroutine snapshot_i(dom, out, lab, r, solids, err)
+      import :: run_domain_t, run_files_t, run_record_t, solid_t, error_t
+      class(run_domain_t), intent(inout) :: dom
+      type(run_files_t), intent(inout) :: out
+      character(len=*), intent(in) :: lab
+      type(run_record_t), intent(in) :: r
+      type(solid_t), intent(inout) :: solids(:)
+      type(error_t), allocatable, intent(inout) :: err
+    end subroutine snapshot_i
     subroutine finish_i(dom, solids, pairs, r)
       import :: run_domain_t, solid_t, contact_pair_t, run_record_t
       class(run_domain_t), intent(inout) :: dom
@@ -150,6 +170,7 @@ module run_domain_m
     procedure :: counters => serial_counters
     procedure :: impulses_restarted => serial_impulses
     procedure :: checkpoint => serial_checkpoint
+    procedure :: snapshot_solids => serial_snapshot
     procedure :: finish => serial_finish
   end type serial_domain_t
 
@@ -205,13 +226,14 @@ contains
       .not. dom%root .or. .not. allocated(solids) .or. restarted) continue
   end subroutine serial_split
 
-  function serial_whole(dom, solids, full) result(w)
+  function serial_whole(dom, solids, full, state) result(w)
     class(serial_domain_t), intent(inout), target :: dom
     type(solid_t), intent(inout), target :: solids(:)
     logical, intent(in) :: full
+    logical, intent(in), optional :: state
     type(solid_t), pointer :: w(:)
     w => solids
-    if (full .and. .not. dom%root) continue
+    if (full .and. .not. dom%root .and. present(state)) continue
   end function serial_whole
 
   function serial_pairs(dom, pairs) result(w)
@@ -268,6 +290,17 @@ contains
     ! the snapshot restarted the solids' sums itself: they are the whole solids
     if (.not. dom%root .or. size(solids) < 0 .or. written) continue
   end subroutine serial_impulses
+
+  subroutine serial_snapshot(dom, out, lab, r, solids, err)
+    class(serial_domain_t), intent(inout) :: dom
+    type(run_files_t), intent(inout) :: out
+    character(len=*), intent(in) :: lab
+    type(run_record_t), intent(in) :: r
+    type(solid_t), intent(inout) :: solids(:)
+    type(error_t), allocatable, intent(inout) :: err
+    if (.not. dom%root) continue
+    call snapshot_write(out%f, lab, r%t, r%n, solids, err)
+  end subroutine serial_snapshot
 
   subroutine serial_checkpoint(dom, out, bodies, r, solids, pairs, t_loop, err)
     class(serial_domain_t), intent(inout), target :: dom

@@ -157,6 +157,8 @@ module solid_m
     logical :: on = .false.                      !< a rank's part (else the whole solid)
     integer, allocatable :: own_q(:), own_n(:)   !< owned points, owned nodes (local numbers)
     integer, allocatable :: nglob(:)             !< the local nodes' numbers in the whole solid
+    integer, allocatable :: qglob(:)             !< the local points' numbers in the whole solid
+    integer :: np_whole = 0, nq_whole = 0        !< the whole solid's nodes and points
     !> the part's exchanges with the neighbour ranks (none for a serial solid)
     class(part_halo_t), pointer :: halo => null()
   end type solid_part_t

@@ -32,7 +32,9 @@ module solid_tables_m
     !! volume change by the mean of its nodes' before the material sees it (solid_m)
     logical :: anp = .false.
     real(wp), allocatable :: xq(:, :)    !< integration points, reference (m)
-    integer, allocatable :: owner(:)     !< node whose cell holds point L (0: none, e.g. an element)
+    !> node whose cell holds point L (0: none, e.g. an element; -1: on a rank's part, a
+    !! ghost point whose node is not local)
+    integer, allocatable :: owner(:)
     real(wp), allocatable :: wgt(:)      !< W_L (m^3 axisymmetric, m^2 per unit thickness)
     real(wp), allocatable :: mass(:)     !< lumped mass (kg, or kg/m in plane strain)
     integer, allocatable :: ptr(:)       !< CSR pointer over points (nq + 1)

@@ -15,7 +15,10 @@ not to the bit). Then:
     momentum (exact sums over the ranks' parts) equal to the bit; the energy columns and the contact
     force, sums of per-rank sums, within 1e-12 relative to the energy or force scale of the
     run (round-off: a few ulps per rank), the energy residual within 1e-12 of the scale;
-  - /summary: the same status and step count, the same body measures to the bit.
+  - /summary: the same status and step count, the same body measures to the bit;
+  - the time loop gathered no state to rank 0 (mfcd_mpi's log says how often it did) when
+    the deck draws no det(M) fields: every rank wrote its own rows of the snapshots'
+    datasets into the one file, collectively (MPI-IO).
 A decomposition that dropped a ghost, an exchange in the wrong order or a missed contact at a
 rank boundary breaks the bitwise checks at once.
 
@@ -28,7 +31,9 @@ that proves the refreshes, and this test, see a missed contact).
 With --restart N1:N2:EVERY: also run on N1 ranks with &output checkpoint_every = EVERY,
 then continue from its last checkpoint on N2 ranks (`mfcd_mpi --restart`): the snapshots the
 continuation wrote, its history from t = 0, body measures and contact counts must equal the
-serial run's as above (a checkpoint holds the whole state, so the rank count may change).
+serial run's as above (a checkpoint holds the whole state, so the rank count may change);
+and the same checkpoint continued by the serial mfcd must equal it too (the ranks write
+their rows of it collectively, in the serial layout).
 
 With --refused DECK (repeatable): a deck the MPI driver does not take yet (self-contact...)
 must exit 2 on 2 ranks, saying so, before anything is written.
@@ -185,6 +190,16 @@ def compare(tag, ref, new, record=True, continued=False):
     return all(c for _, c, _ in outcome)
 
 
+def draws_det(path):
+    """Whether a run's snapshots hold det(M) fields (drawn on rank 0 from the gathered
+    state): a det group or a det_self dataset."""
+    found = []
+    with h5py.File(path, "r") as f:
+        f["snapshots"].visit(lambda name: found.append(name)
+                             if name.split("/")[-1] in ("det", "det_self") else None)
+    return bool(found)
+
+
 def main():
     work = tempfile.mkdtemp(prefix="mfcd_mpi_")
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
@@ -202,6 +217,11 @@ def main():
                                cwd=work, env=env, capture_output=True, text=True)
             check(f"{name}, {n} rank(s): exits 0", p.returncode == 0,
                   p.stdout[-1500:] + p.stderr[-1500:])
+            if p.returncode == 0 and n > 1 and not draws_det(
+                    os.path.join(work, f"{name}_serial.h5")):
+                g = re.findall(r"state gathered to rank 0 (\d+) time", p.stdout)
+                check(f"{name}, {n} ranks: no gather to rank 0 in the time loop (the "
+                      "snapshots written from the parts)", g == ["0"], g or p.stdout[-800:])
             if p.returncode == 0:
                 compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial.h5"),
                         os.path.join(work, f"{name}_np{n}.h5"))
@@ -218,17 +238,22 @@ def main():
             if p.returncode == 0 and os.path.exists(ckpt):
                 kept = os.path.join(work, f"{name}_at_{step[-1]}.h5")
                 os.replace(ckpt, kept)
-                os.remove(os.path.join(work, f"{name}_ckpt.h5"))
-                p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n2), MFCD_MPI,
-                                    "--restart", kept, deck], cwd=work, env=env,
-                                   capture_output=True, text=True)
-                check(f"{name}, continued on {n2} ranks from the checkpoint of step "
-                      f"{step[-1]}: exits 0", p.returncode == 0,
-                      p.stdout[-1500:] + p.stderr[-1500:])
-                if p.returncode == 0:
-                    compare(f"{name}, {n1} ranks, continued on {n2} from step {step[-1]}",
-                            os.path.join(work, f"{name}_serial.h5"),
-                            os.path.join(work, f"{name}_ckpt.h5"), continued=True)
+                out = os.path.join(work, f"{name}_ckpt.h5")
+                # on n2 ranks; then the same checkpoint (each rank wrote its rows, MPI-IO)
+                # by the serial program: the layout of a serial checkpoint
+                for how, cmd in ((f"continued on {n2} ranks", [MPIEXEC, "--oversubscribe",
+                                                               "-n", str(n2), MFCD_MPI]),
+                                 ("continued by mfcd (serial)", [MFCD])):
+                    if os.path.exists(out):
+                        os.replace(out, out.replace(".h5", "_before.h5"))
+                    p = subprocess.run(cmd + ["--restart", kept, deck], cwd=work, env=env,
+                                       capture_output=True, text=True)
+                    check(f"{name}, {n1} ranks, {how} from the checkpoint of step "
+                          f"{step[-1]}: exits 0", p.returncode == 0,
+                          p.stdout[-1500:] + p.stderr[-1500:])
+                    if p.returncode == 0:
+                        compare(f"{name}, {n1} ranks, {how} from step {step[-1]}",
+                                os.path.join(work, f"{name}_serial.h5"), out, continued=True)
         if NO_REFRESH:
             n = NO_REFRESH
             deck = deck_copy(src, work, f"{name}_np{n}_norefresh.h5")
