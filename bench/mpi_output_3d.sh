@@ -9,7 +9,7 @@
 # Give another MPI_BIN_DIR (e.g. a build of an earlier commit) for a before/after pair.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-bin=${1:-$root/build-mpi-rel/bin}
+bin=$(cd "${1:-$root/build-mpi-rel/bin}" && pwd)
 shift || true
 ranks=("$@")
 [ ${#ranks[@]} -gt 0 ] || ranks=(1 2)
@@ -25,7 +25,7 @@ sed -e "s#file = 'output/#file = '$work/#" -e 's/t_end = 4.5e-6/t_end = 6.0e-7/'
   "$root/bench/decks/taylor_bar_3d_rkpm_bench.nml" > "$work/t.nml"
 echo "# mfcd_mpi output cost, 3D Taylor bench, 40 steps, 11 snapshots, 4 checkpoints"
 echo "- date: $(date -Iseconds); commit: $(git -C "$root" rev-parse --short HEAD 2>/dev/null); bin: $bin"
-echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc)"
+echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc --all)"
 for n in "${ranks[@]}"; do
   echo "== $n rank(s)"
   rm -f "$work"/taylor_bar_3d_rkpm_bench*

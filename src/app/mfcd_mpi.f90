@@ -23,7 +23,8 @@ program mfcd_mpi
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
   use log_m, only: log_print, log_flush
-  use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic, mpi_scene_check, setup_part_t
+  use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic, mpi_scene_check, setup_part_t, &
+    root_needs_whole
   use explicit_driver_m, only: run_dynamic
   use mpi_domain_m, only: mpi_domain_t, mpi_domain_init, ghost_margin_default
   use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t
@@ -90,9 +91,10 @@ program mfcd_mpi
   call read_deck(trim(arg), deck, err)
   if (.not. allocated(err)) call mpi_scene_check(deck, err)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
-  ! (ranks other than 0 keep only their region's rows of 3D RKPM tables)
+  ! (every rank keeps only its region's rows of 3D RKPM tables; rank 0 the whole ones when
+  ! its det(M) fields need them)
   if (.not. allocated(err)) call setup_dynamic(deck, bodies, su, err, &
-    part=setup_part_t(me, nranks))
+    part=setup_part_t(me, nranks, root_needs_whole(deck)))
   if (.not. allocated(err) .and. len(restart_path) > 0) then
     call checkpoint_check(restart_path, deck, bodies, ckpt, err)
     if (.not. allocated(err)) call log_print("restart: checkpoint '"//restart_path// &
@@ -101,7 +103,8 @@ program mfcd_mpi
   if (.not. allocated(err) .and. me == 0) call check_output_path(deck, err, restart_path)
   call agree_or_fail(exit_bad_input)
   ! the serial program's driver, given the ranks instead of one
-  call mpi_domain_init(ranks, MPI_COMM_WORLD, ghost_margin, ghost_refresh)
+  call mpi_domain_init(ranks, MPI_COMM_WORLD, ghost_margin, ghost_refresh, &
+    root_needs_whole(deck))
   if (len(restart_path) > 0) then
     call run_dynamic(deck, bodies, su, ranks, err, restart_path)
   else

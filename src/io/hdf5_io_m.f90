@@ -23,7 +23,7 @@ module hdf5_io_m
   public :: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text
   public :: read_particle_file_h5, h5_series_create, h5_series_append, h5_flush
   public :: h5_open_read, h5_has, h5_has_attr, h5_shape, h5_read, h5_read_attr, h5_read_text
-  public :: h5_open_rw, h5_write_rows
+  public :: h5_open_rw, h5_write_rows, h5_read_rows
 
   type :: h5file_t
     integer(hid_t) :: id = -1
@@ -199,8 +199,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in), optional :: descr
     integer(hid_t) :: space, dset, mspace, xfer
-    integer(hsize_t) :: dims(2), mdims(2), start(2), cnt(2)
-    integer :: st, s2, i, j, op
+    integer(hsize_t) :: dims(2), mdims(2)
+    integer :: st, s2
     real(wp) :: none(1)
     if (any(gid(2:) <= gid(:size(gid) - 1)) .or. any(gid < 1 .or. gid > n)) then
       call set_error(err, "output file '"//f%path//"': rows of "//path//" not in order "// &
@@ -223,30 +223,7 @@ contains
       return
     end if
     call h5screate_simple_f(rk, mdims, mspace, st)
-    if (size(gid) == 0) then
-      call h5sselect_none_f(space, st)
-      call h5sselect_none_f(mspace, s2)
-    else
-      op = H5S_SELECT_SET_F
-      i = 1
-      do while (i <= size(gid))
-        j = i
-        do while (j < size(gid))
-          if (gid(j + 1) /= gid(j) + 1) exit
-          j = j + 1
-        end do
-        start = [0_hsize_t, int(gid(i) - 1, hsize_t)]
-        cnt = [int(m, hsize_t), int(j - i + 1, hsize_t)]
-        if (rk == 1) then
-          start(1) = start(2)
-          cnt(1) = cnt(2)
-        end if
-        call h5sselect_hyperslab_f(space, op, start(:rk), cnt(:rk), st)
-        if (st /= 0) exit
-        op = H5S_SELECT_OR_F
-        i = j + 1
-      end do
-    end if
+    call select_rows(space, mspace, rk, m, gid, st)
     if (st == 0 .and. size(gid) > 0) then
       call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a(:, 1:size(gid)), mdims(:rk), st, mspace, &
         space, xfer)
@@ -612,6 +589,83 @@ contains
     end if
     f%path = path
   end subroutine h5_open_read
+
+  !> The file space's selection of the rows gid (ascending; runs of consecutive numbers
+  !! as hyperslabs) of a dataset of rank rk with m values a row, and none of either space
+  !! when gid is empty.
+  subroutine select_rows(space, mspace, rk, m, gid, st)
+    integer(hid_t), intent(in) :: space, mspace
+    integer, intent(in) :: rk, m, gid(:)
+    integer, intent(out) :: st
+    integer(hsize_t) :: start(2), cnt(2)
+    integer :: i, j, op, s2
+    st = 0
+    if (size(gid) == 0) then
+      call h5sselect_none_f(space, st)
+      call h5sselect_none_f(mspace, s2)
+      return
+    end if
+    op = H5S_SELECT_SET_F
+    i = 1
+    do while (i <= size(gid))
+      j = i
+      do while (j < size(gid))
+        if (gid(j + 1) /= gid(j) + 1) exit
+        j = j + 1
+      end do
+      start = [0_hsize_t, int(gid(i) - 1, hsize_t)]
+      cnt = [int(m, hsize_t), int(j - i + 1, hsize_t)]
+      if (rk == 1) then
+        start(1) = start(2)
+        cnt(1) = cnt(2)
+      end if
+      call h5sselect_hyperslab_f(space, op, start(:rk), cnt(:rk), st)
+      if (st /= 0) return
+      op = H5S_SELECT_OR_F
+      i = j + 1
+    end do
+  end subroutine select_rows
+
+  !> Rows gid (ascending) of the dataset path of n rows into a(:, i) (a dataset of rank 1
+  !! when m = size(a, 1) = 1 and one1), the stored shape checked: what a rank reads of a
+  !! checkpoint, its own and ghost rows only.
+  subroutine h5_read_rows(f, path, a, gid, n, one1, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    real(wp), intent(inout) :: a(:, :)
+    integer, intent(in) :: gid(:), n
+    logical, intent(in) :: one1
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: d, space, mspace
+    integer(hsize_t) :: mdims(2)
+    integer :: st, s2, rk, m
+    m = size(a, 1)
+    rk = merge(1, 2, one1)
+    if (any(gid(2:) <= gid(:size(gid) - 1)) .or. any(gid < 1 .or. gid > n) .or. &
+      size(a, 2) /= size(gid) .or. (one1 .and. m /= 1)) then
+      call read_fail(f, path, 'rows asked out of order (an internal error)', err)
+      return
+    end if
+    if (one1) then
+      call open_checked(f, path, [n], d, err)
+    else
+      call open_checked(f, path, [m, n], d, err)
+    end if
+    if (allocated(err) .or. size(gid) == 0) then
+      if (d >= 0) call h5dclose_f(d, s2)
+      return
+    end if
+    mdims = [int(m, hsize_t), size(gid, kind=hsize_t)]
+    if (one1) mdims(1) = mdims(2)
+    call h5dget_space_f(d, space, st)
+    call h5screate_simple_f(rk, mdims(:rk), mspace, st)
+    call select_rows(space, mspace, rk, m, gid, st)
+    if (st == 0) call h5dread_f(d, H5T_NATIVE_DOUBLE, a, mdims(:rk), st, mspace, space)
+    call h5sclose_f(mspace, s2)
+    call h5sclose_f(space, s2)
+    call h5dclose_f(d, s2)
+    if (st /= 0) call read_fail(f, path, 'rows cannot be read', err)
+  end subroutine h5_read_rows
 
   !> Open an existing HDF5 file of this run for writing (a run's file reopened after its
   !! snapshot was written collectively; with fapl, on every rank with MPI-IO).

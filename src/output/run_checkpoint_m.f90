@@ -38,13 +38,13 @@ module run_checkpoint_m
   use dynamic_output_m, only: history_t, history_width, history_geometry, output_rows
   use run_output_m, only: timestamp
   use hdf5_io_m, only: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text, &
-    h5_write_rows, &
+    h5_write_rows, h5_read_rows, &
     h5_open_read, h5_has, h5_has_attr, h5_shape, h5_read, h5_read_attr, h5_read_text
   use log_m, only: log_print
   implicit none
   private
   public :: checkpoint_write, checkpoint_check, checkpoint_read, checkpoint_info_t, &
-    checkpoint_write_fields
+    checkpoint_write_fields, checkpoint_read_part
 
   !> The root attribute 'format' of every checkpoint, and the layout version this mfcd
   !! writes and reads (raise it when the layout changes).
@@ -471,7 +471,7 @@ contains
   !! snap_times the deck snapshots already written. Refused as checkpoint_check refuses,
   !! and when the stored arrays do not fit the solids (exit 2); nothing is written.
   subroutine checkpoint_read(path, deck, bodies, r, solids, pairs, hist, nsnap_done, &
-    snap_times, err)
+    snap_times, err, fields)
     character(len=*), intent(in) :: path
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
@@ -482,6 +482,9 @@ contains
     integer, intent(out) :: nsnap_done
     real(wp), allocatable, intent(out) :: snap_times(:)
     type(error_t), allocatable, intent(inout) :: err
+    !> .false.: the solids' scalars only, not their state fields (MPI ranks read the rows
+    !! of their parts after the split: checkpoint_read_part)
+    logical, intent(in), optional :: fields
     type(h5file_t) :: f
     type(checkpoint_info_t) :: info
     type(error_t), allocatable :: e2
@@ -498,7 +501,7 @@ contains
     end if
     call read_record(f, r, err)
     do k = 1, size(solids)
-      if (.not. allocated(err)) call read_solid(f, solids(k), err)
+      if (.not. allocated(err)) call read_solid(f, solids(k), err, fields)
     end do
     do k = 1, size(pairs)
       if (allocated(err)) exit
@@ -669,13 +672,17 @@ contains
     r%reason = ''
   end subroutine read_record
 
-  subroutine read_solid(f, s, err)
+  subroutine read_solid(f, s, err, fields)
     type(h5file_t), intent(in) :: f
     type(solid_t), intent(inout) :: s
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: fields
     character(len=:), allocatable :: g
     real(wp) :: en(8), kd(2)
     integer :: k
+    logical :: with_fields
+    with_fields = .true.
+    if (present(fields)) with_fields = fields
     g = '/solids/'//trim(s%name)
     if (.not. h5_has(f, g)) then
       call set_error(err, "no state of body '"//trim(s%name)//"' (/solids/"// &
@@ -683,9 +690,10 @@ contains
       return
     end if
     do k = 1, size(state_fields)
-      if (allocated(err)) return
+      if (allocated(err) .or. .not. with_fields) exit
       call read_field(f, g, s, k, err)
     end do
+    if (allocated(err)) return
     if (.not. allocated(err)) call h5_read_attr(f, g, 'contact_impulse_time', &
       s%state%ipoint_time, err)
     en = 0.0_wp
@@ -698,9 +706,51 @@ contains
     call solid_set_energies(s, en)
     s%kappa = kd(1)
     s%dt_cal = kd(2)
+    if (.not. with_fields) return
     call solid_state_derived(s)
     if (s%quiet_on .and. .not. allocated(err)) call read_quiet(f, g, s, err)
   end subroutine read_solid
+
+  !> The state fields of solid p, a rank's part, from the checkpoint at path (checked
+  !! already by checkpoint_read, which read the scalars): the rows of its local nodes and
+  !! points, ghosts too (the exchanges need not run before the first step), by their
+  !! global numbers; no rank reads the whole state.
+  subroutine checkpoint_read_part(path, p, err)
+    character(len=*), intent(in) :: path
+    type(solid_t), intent(inout) :: p
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    real(wp), allocatable :: buf(:, :)
+    integer :: k, rows, j
+    character(len=:), allocatable :: g
+    call h5_open_read(f, path, err)
+    if (allocated(err)) return
+    g = '/solids/'//trim(p%name)//'/'
+    do k = 1, size(state_fields)
+      associate (fk => state_fields(k))
+        rows = solid_field_rows(p, k)
+        if (fk%nodal) then
+          allocate(buf(rows, size(p%part%nglob)))
+          call h5_read_rows(f, g//trim(fk%name), buf, p%part%nglob, p%part%np_whole, &
+            rows == 1, err)
+        else
+          allocate(buf(rows, size(p%part%qglob)))
+          call h5_read_rows(f, g//trim(fk%name), buf, p%part%qglob, p%part%nq_whole, &
+            rows == 1, err)
+        end if
+        if (.not. allocated(err)) call solid_put_field(p, k, buf, [(j, j = 1, size(buf, 2))])
+        deallocate(buf)
+      end associate
+      if (allocated(err)) exit
+    end do
+    call h5_close(f, e2)
+    if (allocated(err)) then
+      err%message = "--restart '"//path//"': "//err%message
+      return
+    end if
+    call solid_state_derived(p)
+  end subroutine checkpoint_read_part
 
   !> State field k (state_fields) of solid s from dataset g/<name> (write_field's shape).
   subroutine read_field(f, g, s, k, err)

@@ -233,15 +233,15 @@ contains
     end do
   end function snapshot_needs_state
 
-  !> The diagnostic snapshot of a failed run, /snapshots/failure, with its XDMF entry.
+  !> The diagnostic snapshot of a failed run, /snapshots/failure, after its solids'
+  !! datasets: the moving rigid bodies, and its XDMF entry.
   subroutine failure_snapshot(out, r, solids, err)
     type(run_files_t), intent(inout) :: out
     type(run_record_t), intent(in) :: r
     type(solid_t), intent(inout) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
-    call log_print('dynamic: FAILED at '//r%reason)
-    call snapshot_write(out%f, 'failure', r%t, r%n, solids, err)
-    if (.not. allocated(err)) call rigid_snapshot_write(out%f, 'failure', r%t, out%rigid, err)
+    ! (its solids' datasets are written already, snapshot_write: on ranks from the parts)
+    call rigid_snapshot_write(out%f, 'failure', r%t, out%rigid, err)
     out%labels = [character(len=8) :: out%labels, 'failure']
     out%times = [out%times, r%t]
     call xdmf_write(out%path%tmp_xdmf, base_name(out%path%tmp_h5), out%labels, out%times, &

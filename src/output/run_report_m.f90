@@ -210,13 +210,15 @@ contains
     share = share/max(r%t_loop, clock_tick)
   end function time_shares
 
-  !> The summary: on standard output and as attributes of /summary in f.
-  subroutine report_summary(f, r, en, pairs, solids, files, err)
+  !> The summary: on standard output and as attributes of /summary in f. bm: each solid's
+  !! measures (body_measures; on MPI ranks from the parts, the same values).
+  subroutine report_summary(f, r, en, pairs, solids, bm, files, err)
     type(h5file_t), intent(in) :: f
     type(run_record_t), intent(in) :: r
     type(energies_t), intent(in) :: en
     type(contact_pair_t), intent(in) :: pairs(:)
     type(solid_t), intent(inout) :: solids(:)
+    type(measures_t), intent(in) :: bm(:)
     character(len=*), intent(in) :: files
     type(error_t), allocatable, intent(inout) :: err
     integer :: k
@@ -312,7 +314,7 @@ contains
     end do
     if (.not. allocated(err)) call h5_group(f, '/summary/bodies', err)
     do k = 1, size(solids)
-      m = body_measures(solids(k))
+      m = bm(k)
       call open_group('/summary/bodies/'//trim(solids(k)%name))
       call put_r('length', m%length, 'm')
       call put_r('width', m%width, 'm')
@@ -322,7 +324,7 @@ contains
       call put_r('quiet_point_steps_skipped', real(solids(k)%acc%quiet_skipped, wp), '1')
       call close_group()
     end do
-    call summary_log(r, en, pairs, solids, files, wall, rate, sh, tl)
+    call summary_log(r, en, pairs, solids, bm, files, wall, rate, sh, tl)
   contains
     subroutine open_group(path)
       character(len=*), intent(in) :: path
@@ -360,11 +362,12 @@ contains
   !> The summary's lines in the log: steps, rates, steps taken, energy, skipping, contact,
   !! the bodies' measures, where the time loop's time went (wall, rate, sh, tl: as
   !! report_summary measured them).
-  subroutine summary_log(r, en, pairs, solids, files, wall, rate, sh, tl)
+  subroutine summary_log(r, en, pairs, solids, bm, files, wall, rate, sh, tl)
     type(run_record_t), intent(in) :: r
     type(energies_t), intent(in) :: en
     type(contact_pair_t), intent(in) :: pairs(:)
     type(solid_t), intent(inout) :: solids(:)
+    type(measures_t), intent(in) :: bm(:)
     character(len=*), intent(in) :: files
     real(wp), intent(in) :: wall, rate, sh(3), tl
     integer :: k
@@ -428,7 +431,7 @@ contains
       'particle: first contact ', r%t_edge_first, ' s, separation ', r%t_edge_sep, &
       ' s (-1: never)'
     do k = 1, size(solids)
-      m = body_measures(solids(k))
+      m = bm(k)
       if (solids(k)%t%axisym) then
         ! a body of revolution: the Taylor bar's measures (length along the axis, the
         ! largest radius, the foot's radius within one spacing of its lowest point)

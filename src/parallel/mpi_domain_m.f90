@@ -32,6 +32,7 @@ module mpi_domain_m
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
     solid_energies, solid_set_energies, solid_set_gravity
   use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
+  use solid_tables_m, only: tables_copy_scalars
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
   use rank_comm_m, only: rank_comm_t
   use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
@@ -42,7 +43,7 @@ module mpi_domain_m
   use run_report_m, only: run_record_t
   use run_files_m, only: run_files_t, run_files_checkpoint, run_files_checkpoint_commit, &
     run_files_checkpoint_failed
-  use run_checkpoint_m, only: checkpoint_write_fields
+  use run_checkpoint_m, only: checkpoint_write_fields, checkpoint_read_part
   use hdf5_io_m, only: h5file_t, h5_open_rw, h5_close
   use dynamic_output_m, only: snapshot_write
   use mpi_output_m, only: h5_open_collective, h5_close_collective
@@ -76,6 +77,9 @@ module mpi_domain_m
     type(mpi_ranks_t) :: ranks
     real(wp) :: ghost_margin = ghost_margin_default
     logical :: ghost_refresh = .true.
+    !> rank 0 keeps the whole solids after the split (its det(M) fields draw on them);
+    !! else every rank keeps only its part and the whole solids' sizes
+    logical :: root_whole = .true.
     !> the whole solids: rank 0's for output; on the other ranks their sizes only, after
     !! the split (and their tables, for a 3D RKPM solid, the rows of the rank's region)
     type(solid_t), allocatable :: gs(:)
@@ -104,17 +108,22 @@ contains
   !! communicator point into it). ghost_margin: the margin of the ghost width of contact
   !! with a deforming master, a fraction of the width contact needs; ghost_refresh
   !! .false.: testing only, the first ghost sets are kept (contacts they miss are missed).
-  subroutine mpi_domain_init(dom, comm, ghost_margin, ghost_refresh)
+  subroutine mpi_domain_init(dom, comm, ghost_margin, ghost_refresh, root_whole)
     type(mpi_domain_t), intent(inout), target :: dom
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(in) :: ghost_margin
     logical, intent(in) :: ghost_refresh
+    !> rank 0 keeps the whole solids after the split (for its det(M) fields; default)
+    logical, intent(in), optional :: root_whole
     dom%mcomm = comm
     call mpi_ranks_init(dom%ranks, comm)
     dom%comm => dom%ranks
     dom%root = dom%ranks%me == 0
     dom%ghost_margin = ghost_margin
     dom%ghost_refresh = ghost_refresh
+    dom%root_whole = .true.
+    if (present(root_whole)) dom%root_whole = root_whole
+    dom%reads_parts = .true.
   end subroutine mpi_domain_init
 
   !> solids (the whole set-up, and with restarted the state a checkpoint held) become this
@@ -143,11 +152,12 @@ contains
       if (dom%any_error(err)) return
       ! (the halo first: a restart's averaged nodal pressure takes the ghosts' J through it)
       solids(k)%part%halo => dom%halos(k)
-      if (restarted) call restart_part(dom, k, solids(k))
+      if (restarted) call restart_part(dom, k, solids(k), err)
+      if (dom%any_error(err)) return
     end do
     ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
     ! the snapshots (drawn from the gathered state: contact_det_fields, contact_self_det)
-    if (dom%root) allocate(dom%pairs_whole, source=pairs)
+    if (dom%root .and. dom%root_whole) allocate(dom%pairs_whole, source=pairs)
     comm_ptr => dom%ranks
     do k = 1, size(pairs)
       associate (s1 => pairs(k)%side(1)%isolid, s2 => pairs(k)%side(2)%isolid)
@@ -163,21 +173,24 @@ contains
       end associate
       if (dom%any_error(err)) return
     end do
-    ! only rank 0 draws on the whole solids (output); the others keep their sizes only
-    if (.not. dom%root) then
+    ! only rank 0 draws on the whole solids (the det(M) output), if at all; the others keep
+    ! their sizes only
+    if (.not. (dom%root .and. dom%root_whole)) then
       do k = 1, nk
         call release_whole(dom%gs(k))
       end do
     end if
   end subroutine mpi_split
 
-  !> The whole solid g reduced to its name and sizes (the arrays freed).
+  !> The whole solid g reduced to its name, sizes and the scalars of its tables (what the
+  !! XDMF file and the summary say of it; the arrays freed).
   subroutine release_whole(g)
     type(solid_t), intent(inout) :: g
     type(solid_t) :: shell
     shell%name = g%name
     shell%np = g%np
     shell%nq = g%nq
+    call tables_copy_scalars(g%t, shell%t)
     g = shell
   end subroutine release_whole
 
@@ -239,25 +252,15 @@ contains
   !> Part p of solid k from the whole solid read from a checkpoint (every local node and
   !! point, ghosts too: the exchanges need not run before the first step); the energies,
   !! sums over the ranks, on rank 0.
-  subroutine restart_part(dom, k, p)
+  subroutine restart_part(dom, k, p, err)
     type(mpi_domain_t), intent(in) :: dom
     integer, intent(in) :: k
     type(solid_t), intent(inout) :: p
-    real(wp), allocatable :: buf(:, :)
-    integer :: j, i
-    associate (g => dom%gs(k), n => dom%lp(k)%nglob, q => dom%lp(k)%qglob)
-      do j = 1, size(state_fields)
-        if (state_fields(j)%nodal) then
-          allocate(buf(solid_field_rows(g, j), size(n)))
-          call solid_get_field(g, j, buf, n)
-        else
-          allocate(buf(solid_field_rows(g, j), size(q)))
-          call solid_get_field(g, j, buf, q)
-        end if
-        call solid_put_field(p, j, buf, [(i, i = 1, size(buf, 2))])
-        deallocate(buf)
-      end do
-      call solid_state_derived(p)
+    type(error_t), allocatable, intent(inout) :: err
+    associate (g => dom%gs(k))
+      ! the rows of the part's own and ghost nodes and points, from the file
+      call checkpoint_read_part(dom%restart_from, p, err)
+      if (allocated(err)) return
       p%state%ipoint_time = g%state%ipoint_time
       p%kappa = g%kappa
       p%dt_cal = g%dt_cal
@@ -278,6 +281,8 @@ contains
     if (present(state)) then
       if (.not. state) return
     end if
+    ! (rank 0 kept no whole solids: nothing asks for their state then)
+    if (.not. dom%root_whole) return
     dom%gathers = dom%gathers + 1
     do k = 1, size(solids)
       call gather_solid(dom, solids(k), dom%lp(k), dom%gs(k), full)
@@ -370,7 +375,7 @@ contains
     class(mpi_domain_t), intent(inout), target :: dom
     type(contact_pair_t), intent(inout), target :: pairs(:)
     type(contact_pair_t), pointer :: w(:)
-    if (dom%root) then
+    if (allocated(dom%pairs_whole)) then
       w => dom%pairs_whole
     else
       w => pairs

@@ -78,16 +78,20 @@ contains
     type(contact_stats_t) :: cstep
     type(history_t) :: hist0
     type(measures_t) :: hm
+    type(measures_t), allocatable :: bms(:)
     real(wp), allocatable :: snap_times0(:), row(:)
     integer :: k, k_bad, log_every, hist_every, bad_q, nsnap0, ckpt_every, nbefore
-    logical :: needs_state
+    logical :: needs_state, snap_bad
     integer :: gathers0
     real(wp) :: tw, t_loop0, bad_j
     call run_take_setup(deck, su, solids, isolid, pairs, r)
+    allocate(bms(size(solids)))
     if (present(restart)) then
-      ! every rank reads the whole state; the split keeps each its part
+      ! the record, the solids' scalars, the pairs' counters, the history; the state fields
+      ! whole (serial) or each part its own rows in the split
+      dom%restart_from = restart
       call checkpoint_read(restart, deck, bodies, r, solids, pairs, hist0, nsnap0, &
-        snap_times0, err)
+        snap_times0, err, fields=.not. dom%reads_parts)
       if (dom%any_error(err)) return
     end if
     call dom%split(solids, pairs, present(restart), err)
@@ -168,11 +172,10 @@ contains
       call energies(dom, solids, en)
       call check_energy(en, r%n, energy_warmup, deck%solver%energy_tol, solids, &
         r%energy_over, r%failed, r%reason)
-      ! the whole solids' state for a failure, or for a snapshot that draws det(M) fields
-      ! from it (on ranks, gathered to rank 0 then only: the solids' datasets are written
-      ! from the parts, and a history row's measures are maxima over the ranks)
-      if (r%failed .or. (snapshot_near(deck, r) .and. needs_state)) &
-        whole => dom%whole(solids, .false.)
+      ! the whole solids' state for a snapshot that draws det(M) fields from it (on ranks,
+      ! gathered to rank 0 then only: the solids' datasets are written from the parts, and
+      ! a history row's measures are maxima over the ranks)
+      if (snapshot_near(deck, r) .and. needs_state) whole => dom%whole(solids, .false.)
       if (mod(r%n, hist_every) == 0 .or. r%failed) then
         call history_row_now(dom, solids, pairs, r, en, row)
         if (dom%root) call history_push(out%hist, row)
@@ -195,22 +198,32 @@ contains
     r%t_loop = r%t_loop + (omp_get_wtime() - t_loop0)
     if (dom%root .and. dom%comm%nranks > 1) call log_print('dynamic: the state gathered '// &
       'to rank 0 '//itoa(dom%gathers - gathers0)//' time(s) in the time loop (det(M) '// &
-      'fields of snapshots, a failure)')
-    whole => dom%whole(solids, .false.)
+      'fields of snapshots)')
     ! (the last row before the counters are summed over the ranks: its friction work sums
     ! each rank's own)
     if (.not. r%failed .and. mod(r%n, hist_every) /= 0) &
       call history_row_now(dom, solids, pairs, r, en, row)
     call dom%counters(pairs, .false.)
     call dom%finish(solids, pairs, r)
+    ! the bodies' measures for the summary (on ranks from the parts, collectively)
+    do k = 1, size(solids)
+      bms(k) = dom%measures(solids(k))
+    end do
+    ! a failed run's diagnostic snapshot: its solids' datasets (on ranks from the parts)
+    if (r%failed) then
+      if (dom%root) call log_print('dynamic: FAILED at '//r%reason)
+      call dom%snapshot_solids(out, 'failure', r, solids, err)
+      ! (every rank learns of a rank's write error: rank 0 then writes no more)
+      snap_bad = dom%any_error(err)
+    end if
     if (dom%root) then
       if (r%failed) then
-        call failure_snapshot(out, r, whole, err)
+        if (.not. allocated(err)) call failure_snapshot(out, r, whole, err)
       else if (mod(r%n, hist_every) /= 0) then
         call history_push(out%hist, row)
       end if
       if (.not. allocated(err)) call history_flush(out%f, out%hist, err)
-      if (.not. allocated(err)) call report_summary(out%f, r, en, pairs, whole, &
+      if (.not. allocated(err)) call report_summary(out%f, r, en, pairs, whole, bms, &
         run_files_names(out, r%failed), err)
       call run_files_close(out, r, whole, err)
     end if

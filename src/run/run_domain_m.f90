@@ -36,6 +36,10 @@ module run_domain_m
     !> the times the state was gathered to rank 0 after the split (snapshots' det(M)
     !! fields, checkpoints, a failure, the summary; none on one rank)
     integer :: gathers = 0
+    !> a restart's checkpoint (set before the split), and whether each part reads its own
+    !! rows of the state from it in the split (else the set-up's solids read it whole)
+    character(len=:), allocatable :: restart_from
+    logical :: reads_parts = .false.
   contains
     procedure(split_i), deferred :: split
     procedure(whole_i), deferred :: whole

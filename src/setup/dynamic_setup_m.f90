@@ -26,15 +26,17 @@ module dynamic_setup_m
   implicit none
   private
   public :: setup_solids, setup_contacts, setup_time_step, dynamic_setup_t, setup_dynamic
-  public :: mpi_scene_check, setup_part_t
+  public :: mpi_scene_check, setup_part_t, root_needs_whole
 
-  !> The rank a set-up is for (mfcd_mpi): rank me (from 0) of nranks. Ranks other than 0
-  !! keep, of a 3D RKPM solid's tables, only the rows their box of the decomposition can
-  !! need (rkpm_tl3d_m tl_build_3d's box; the box is decomposition_m's, the one the split
-  !! cuts the solid with); rank 0 keeps the whole tables, which its output still draws on.
+  !> The rank a set-up is for (mfcd_mpi): rank me (from 0) of nranks. A rank keeps, of a
+  !! 3D RKPM solid's tables, only the rows its box of the decomposition can need
+  !! (rkpm_tl3d_m tl_build_3d's box; the box is decomposition_m's, the one the split cuts
+  !! the solid with); rank 0 keeps the whole tables when root_whole: its det(M) fields are
+  !! drawn from the whole solids (root_needs_whole).
   type :: setup_part_t
     integer :: me = 0
     integer :: nranks = 1
+    logical :: root_whole = .true.
   end type setup_part_t
 
   !> What the set-up of a dynamic run builds before anything is written: the solids of the
@@ -47,6 +49,18 @@ module dynamic_setup_m
   end type dynamic_setup_t
 
 contains
+
+  !> Whether rank 0 of an MPI run needs the whole solids after the split: for the det(M)
+  !! fields its snapshots draw from the gathered state (&output det_fields, and det_self of
+  !! a self-contact). Otherwise every rank keeps its region only.
+  pure logical function root_needs_whole(deck) result(yes)
+    type(deck_t), intent(in) :: deck
+    integer :: k
+    yes = deck%output%det_fields
+    do k = 1, deck%ncontacts
+      if (deck%contacts(k)%imaster == deck%contacts(k)%islave) yes = .true.
+    end do
+  end function root_needs_whole
 
   !> The whole set-up of a dynamic run (solids, kinematic conditions, contact pairs), made
   !! once, before anything is written, by a run and by --check alike; its errors are bad
@@ -247,7 +261,8 @@ contains
       alpha = 0.0_wp    ! the SCNI stabilization is a particle method's; elements need none
     else if (b%ndim == 3) then
       own_box = .false.
-      if (present(part)) own_box = part%nranks > 1 .and. part%me > 0
+      if (present(part)) own_box = part%nranks > 1 .and. (part%me > 0 .or. &
+        .not. part%root_whole)
       if (own_box) then
         ! a rank's region: the bisection the split will make (mpi_domain_m make_part)
         call rcb_build(b%x, part%nranks, tree)

@@ -291,6 +291,9 @@ contains
       return
     end if
     txt = 'body '''//trim(solids(k)%name)//''', integration point '//itoa(q)
+    ! (an MPI run's rank 0 may hold only the whole solid's sizes: then the point alone)
+    if (.not. allocated(solids(k)%t%owner)) return
+    if (q > size(solids(k)%t%owner)) return
     if (solids(k)%t%owner(q) > 0) txt = txt//' (particle '//itoa(solids(k)%t%owner(q))//')'
     if (.not. smallest) txt = txt//', J = '//rtoa(jacobian(solids(k)%state%f(:, q)))
   end function step_limit_text

@@ -35,10 +35,14 @@ serial run's as above (a checkpoint holds the whole state, so the rank count may
 and the same checkpoint continued by the serial mfcd must equal it too (the ranks write
 their rows of it collectively, in the serial layout).
 
+With --fails: the decks go unstable; the serial run and every run on ranks must stop with
+exit 1 and their .failed.h5 files (with /snapshots/failure, written from the parts on ranks)
+compare as above.
+
 With --refused DECK (repeatable): a deck the MPI driver does not take yet (self-contact...)
 must exit 2 on 2 ranks, saying so, before anything is written.
 
-Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N]
+Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N] [--fails]
                         [--restart N1:N2:EVERY] [--refused DECK]... MFCD MFCD_MPI MPIEXEC DECK...
 (--ranks: the rank counts each deck runs on, 1,2,3,4 by default; --t-end: every deck run to
 T seconds, snapshots at 0 and T.)
@@ -76,6 +80,9 @@ if "--restart" in ARGS:
     i = ARGS.index("--restart")
     RESTART = [int(v) for v in ARGS[i + 1].split(":")]
     del ARGS[i:i + 2]
+FAILS = "--fails" in ARGS
+if FAILS:
+    ARGS.remove("--fails")
 REFUSED = []
 while "--refused" in ARGS:
     i = ARGS.index("--refused")
@@ -208,23 +215,26 @@ def main():
         name = os.path.basename(src).replace(".nml", "")
         ref = deck_copy(src, work, f"{name}_serial.h5")
         p = subprocess.run([MFCD, ref], cwd=work, env=env, capture_output=True, text=True)
-        check(f"{name}: serial run exits 0", p.returncode == 0, p.stdout[-1500:] + p.stderr)
-        if p.returncode:
+        rc = 1 if FAILS else 0
+        done = ".failed.h5" if FAILS else ".h5"
+        check(f"{name}: serial run exits {rc}", p.returncode == rc,
+              p.stdout[-1500:] + p.stderr)
+        if p.returncode != rc:
             continue
         for n in RANKS:
             deck = deck_copy(src, work, f"{name}_np{n}.h5")
             p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI, deck],
                                cwd=work, env=env, capture_output=True, text=True)
-            check(f"{name}, {n} rank(s): exits 0", p.returncode == 0,
+            check(f"{name}, {n} rank(s): exits {rc}", p.returncode == rc,
                   p.stdout[-1500:] + p.stderr[-1500:])
             if p.returncode == 0 and n > 1 and not draws_det(
-                    os.path.join(work, f"{name}_serial.h5")):
+                    os.path.join(work, f"{name}_serial{done}")):
                 g = re.findall(r"state gathered to rank 0 (\d+) time", p.stdout)
                 check(f"{name}, {n} ranks: no gather to rank 0 in the time loop (the "
                       "snapshots written from the parts)", g == ["0"], g or p.stdout[-800:])
-            if p.returncode == 0:
-                compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial.h5"),
-                        os.path.join(work, f"{name}_np{n}.h5"))
+            if p.returncode == rc:
+                compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial{done}"),
+                        os.path.join(work, f"{name}_np{n}{done}"))
         if RESTART:
             n1, n2, every = RESTART
             deck = deck_copy(src, work, f"{name}_ckpt.h5", every)
