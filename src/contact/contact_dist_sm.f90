@@ -178,7 +178,7 @@ contains
     logical, intent(in) :: count_stats
     type(error_t), allocatable, intent(inout) :: err
     integer :: jj, j
-    integer(i64) :: neval, ndet, ncon
+    integer(i64) :: neval, ndet, ncon, nunsure
     real(wp) :: t0, v(1), g, nrm(2), tng(2), gmax
     logical :: found
     call dist_master(p, ib, ia, solids, .true., err)
@@ -189,11 +189,12 @@ contains
       if (p%self .and. a%ndim == 3) then
         ! (as below, with the check of the ghost width of the 3D detection)
         do
-          call detect_self_3d(a, b, count_stats, neval, ndet, gmax)
+          call detect_self_3d(a, b, count_stats, neval, ndet, nunsure, gmax)
           if (dist_covered(p, ib, ia, gmax, .true., err)) exit
           if (allocated(err)) return
         end do
         if (count_stats) p%count%screened = p%count%screened + size(a%cand)
+        if (count_stats) p%count%self_unsure = p%count%self_unsure + nunsure
       else if (p%self) then
         ! (the first pass is self_correct's lower_only pass; the candidates counted once)
         call detect_self(a, b, count_stats, neval, ndet)

@@ -66,6 +66,10 @@ module contact_m
     !> the pair's friction work since t = 0 (J, J/m in plane strain; <= 0: dissipated):
     !! the sum of the steps' contact_stats_t%w_friction (this rank's particles on ranks)
     real(wp) :: w_friction = 0.0_wp
+    !> 3D self-contact: flagged particles with g < 0 whose sign was not sure (the closest
+    !! point's edge or vertex has a facet among the particle's reference neighbours): no
+    !! contact is made for them (contact_pair_m detect_self_3d)
+    integer(i64) :: self_unsure = 0
   end type contact_counters_t
 
   !> Two segments nearer a point than this fraction of the largest segment extent differ by

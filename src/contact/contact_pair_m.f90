@@ -1233,12 +1233,13 @@ contains
     !> in self-contact, only particles numbered below the three vertices of the facet hit
     logical, intent(in), optional :: lower_only
     integer :: j, jj, k, i, jf
-    integer(i64) :: neval, ndet, ncon
+    integer(i64) :: neval, ndet, ncon, nunsure
     real(wp) :: g, nrm(3), bary(3), t0
     logical :: sure
     t0 = omp_get_wtime()
     if (p%self) then
-      call detect_self_3d(a, b, present(lower_only), neval, ndet)
+      call detect_self_3d(a, b, present(lower_only), neval, ndet, nunsure)
+      if (count_stats) p%count%self_unsure = p%count%self_unsure + nunsure
     else
       call detect_det_m_3d(a, b, neval, ndet)
     end if
@@ -1295,23 +1296,26 @@ contains
   !! reference neighbour, and those with g < 0 are marked active with it. lower_only (the
   !! first pass of self_correct): only a particle numbered below the facet's three vertices;
   !! the second pass takes the rest, not those the first put on the surface.
-  subroutine detect_self_3d(a, b, lower_only, neval, ndet, gmax)
+  subroutine detect_self_3d(a, b, lower_only, neval, ndet, nunsure, gmax)
     type(side_t), intent(inout) :: a
     type(side_t), intent(in) :: b
     logical, intent(in) :: lower_only
-    integer(i64), intent(out) :: neval, ndet
+    !> evaluated, flagged, and flagged with g < 0 of a sign not sure (no contact)
+    integer(i64), intent(out) :: neval, ndet, nunsure
     !> the largest |g| of the flagged particles (huge when one found no facet)
     real(wp), intent(out), optional :: gmax
     integer :: k, j, jf
     real(wp) :: det, g, nrm(3), bary(3), gm
     logical :: sure
+    integer(i64) :: nu
     neval = 0
     ndet = 0
+    nu = 0
     gm = 0.0_wp
     a%active = .false.
     !$omp parallel do default(none) shared(a, b, lower_only) &
-    !$omp private(j, det, g, nrm, jf, bary, sure) reduction(+: neval, ndet) reduction(max: gm) &
-    !$omp schedule(dynamic, 16)
+    !$omp private(j, det, g, nrm, jf, bary, sure) reduction(+: neval, ndet, nu) &
+    !$omp reduction(max: gm) schedule(dynamic, 16)
     do k = 1, size(a%cand)
       j = a%cand(k)
       if (.not. a%near(j)) cycle   ! skipping: no non-neighbour can reach it yet
@@ -1328,13 +1332,17 @@ contains
       if (jf == 0 .or. .not. (g < 0.0_wp)) cycle
       ! (a sign not sure: the closest point's edge or vertex has a facet among the
       ! particle's reference neighbours, and the particle may lie outside: no contact)
-      if (.not. sure) cycle
+      if (.not. sure) then
+        nu = nu + 1
+        cycle
+      end if
       if (lower_only) then
         if (j >= minval(b%surf3%tri(:, jf))) cycle
       end if
       call mark_active_3d(a, j, g, nrm, jf, bary)
     end do
     !$omp end parallel do
+    nunsure = nu
     if (present(gmax)) gmax = gm
   end subroutine detect_self_3d
 

@@ -124,6 +124,9 @@ contains
           't = 0')
         if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
           '_w_friction', [c%w_friction], 'J', err, 'friction work since t = 0')
+        if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+          '_self_unsure', [c%self_unsure], '1', err, '3D self-contact flags with g < 0 '// &
+          'left without contact since t = 0, their sign not sure')
       end associate
       ! skip_far's state, so that a restarted run skips what the uninterrupted one skips
       associate (s => pairs(k)%side(1))
@@ -555,6 +558,11 @@ contains
       if (h5_has(f, '/contacts/contact'//itoa(k)//'_w_friction')) then
         call h5_read(f, '/contacts/contact'//itoa(k)//'_w_friction', tpair, err)
         if (.not. allocated(err)) pairs(k)%count%w_friction = tpair(1)
+      end if
+      ! 3D self-contact's flags of a sign not sure (absent from checkpoints before it)
+      if (h5_has(f, '/contacts/contact'//itoa(k)//'_self_unsure')) then
+        call h5_read(f, '/contacts/contact'//itoa(k)//'_self_unsure', nskip, err)
+        if (.not. allocated(err)) pairs(k)%count%self_unsure = nskip(1)
       end if
     end do
     if (.not. allocated(err)) call h5_read_attr(f, '/output', 'nsnap_done', nsnap_done, err)

@@ -309,6 +309,8 @@ contains
         call put_r('compare_gap_max', real(c%cmp_gap_max, wp), '1')
         call put_r('buffer_gap_mean', c%buffer_gap_sum/real(max(c%cmp_buffer, 1_i64), wp), 'm')
         call put_r('buffer_gap_max', c%buffer_gap_max, 'm')
+        if (p%self .and. p%side(1)%ndim == 3) call put_r('self_unsure', &
+          real(c%self_unsure, wp), '1')
       end associate
       call close_group()
     end do
@@ -416,6 +418,10 @@ contains
         'contact '//itoa(k)//': skip_far: ', pairs(k)%count%skipped, ' screenings ('// &
         '', 100.0_wp*real(pairs(k)%count%skipped, wp)/real(max(pairs(k)%count%screened, &
         1_i64), wp), '%) skipped: '//skip_reason(pairs(k)%self)
+      if (pairs(k)%self .and. pairs(k)%side(1)%ndim == 3) write(output_unit, '(a,i0,a)') &
+        'summary: contact '//itoa(k)//': self-contact: ', pairs(k)%count%self_unsure, &
+        ' flags with g < 0 left without contact, their sign not sure (the closest '// &
+        'point''s edge or vertex borders a reference neighbour''s facet)'
       if (.not. pairs(k)%compare) cycle
       associate (c => pairs(k)%count)
         write(output_unit, '(a,6(i0,a),es10.3,a,es10.3,a)') 'summary: contact '//itoa(k)// &

@@ -454,7 +454,7 @@ contains
     logical, intent(in) :: restore
     type(contact_counters_t), allocatable :: keep(:)
     integer :: k
-    integer(i64) :: a(5), b(5)
+    integer(i64) :: a(6), b(6)
     real(wp) :: w(1), wt(1)
     if (restore) allocate(keep(size(pairs)), source=[(pairs(k)%count, k = 1, size(pairs))])
     do k = 1, size(pairs)
@@ -462,13 +462,14 @@ contains
         w = c%w_friction
         call MPI_Allreduce(w, wt, 1, MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
         c%w_friction = wt(1)
-        a = [c%screened, c%evaluated, c%detected, c%contacts, c%skipped]
-        call MPI_Allreduce(a, b, 5, MPI_INTEGER8, MPI_SUM, dom%mcomm)
+        a = [c%screened, c%evaluated, c%detected, c%contacts, c%skipped, c%self_unsure]
+        call MPI_Allreduce(a, b, 6, MPI_INTEGER8, MPI_SUM, dom%mcomm)
         c%screened = b(1)
         c%evaluated = b(2)
         c%detected = b(3)
         c%contacts = b(4)
         c%skipped = b(5)
+        c%self_unsure = b(6)
         ! (the most flagged in one step over all ranks: mpi_stats)
         c%detected_max = dom%flag_max(k)
       end associate

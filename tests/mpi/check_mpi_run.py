@@ -186,11 +186,11 @@ def compare(tag, ref, new, record=True, continued=False):
     check(f"{tag}: /summary body measures equal, bit for bit", not diff, diff)
     # the detection counts are sums over the ranks of their own particles' counts (not the
     # det(M) evaluations: skip_far's schedule is each rank's own, exact either way)
-    counts = ("screened", "detected", "contacts", "detected_max_per_step")
+    counts = ("screened", "detected", "contacts", "detected_max_per_step", "self_unsure")
     cdiff = [(k, n, ca[k].get(n), cb.get(k, {}).get(n)) for k in ca for n in counts
              if n in ca[k] and ca[k][n] != cb.get(k, {}).get(n)]
     check(f"{tag}: /summary contact counts (screened, detected, contacts, most flagged in a "
-          "step) equal", not cdiff, cdiff)
+          "step, 3D self-contact's flags of a sign not sure) equal", not cdiff, cdiff)
     if record:
         for name, cond, detail in outcome:
             globals()["check"](name, cond, detail)
