@@ -6,8 +6,8 @@
 !! closes it, every rank opens it together, writes and closes it, and rank 0 opens it again.
 module mpi_output_m
   use mpi_f08, only: MPI_Comm, MPI_INFO_NULL
-  use hdf5, only: hid_t, h5open_f, h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, &
-    H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5FD_MPIO_COLLECTIVE_F
+  use hdf5, only: hid_t, h5open_f, h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, &
+    h5pset_dxpl_mpio_f, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5FD_MPIO_COLLECTIVE_F
   use errors_m, only: error_t, set_error
   use hdf5_io_m, only: h5file_t, h5_open_rw, h5_close
   implicit none
