@@ -143,6 +143,27 @@ contains
     end do
   end procedure contact_dist_report
 
+  module procedure dist_self_det
+    integer(i64) :: nsum, npass
+    integer :: k, j
+    ! (the ghost counts of the log are the passes')
+    nsum = p%dist%side(2)%nghost_sum
+    npass = p%dist%side(2)%npass
+    call dist_master(p, 2, 1, solids, .true., err)
+    p%dist%side(2)%nghost_sum = nsum
+    p%dist%side(2)%npass = npass
+    if (allocated(err)) return
+    own = p%dist%side(1)%own
+    allocate(det(size(own)))
+    !$omp parallel do default(none) shared(p, own, det) private(j) schedule(static)
+    do k = 1, size(own)
+      j = own(k)
+      det(k) = cloud_det_excluding(p%side(2)%cloud, p%side(1)%x_pred(:, j), &
+        p%side(1)%x_ref(:, j), p%side(1)%rex(j))
+    end do
+    !$omp end parallel do
+  end procedure dist_self_det
+
   module procedure dist_correct
     integer :: sd
     real(wp) :: v(1)

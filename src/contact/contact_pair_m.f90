@@ -292,6 +292,17 @@ module contact_pair_m
       type(error_t), allocatable, intent(inout) :: err
     end subroutine dist_correct
 
+    !> det(M) of distributed self-contact pair p's body at the rank's own particles own
+    !! (contact_self_det), from its contact cloud brought to the current positions
+    !! (dist_master: the same particles, bins and order as the serial cloud). Collective.
+    module subroutine dist_self_det(p, solids, det, own, err)
+      type(contact_pair_t), intent(inout) :: p
+      type(solid_t), intent(in) :: solids(:)
+      real(wp), allocatable, intent(out) :: det(:)
+      integer, allocatable, intent(out) :: own(:)
+      type(error_t), allocatable, intent(inout) :: err
+    end subroutine dist_self_det
+
     !> This rank's refreshes, mean ghost count and bytes of distributed pair p (for the
     !! log), per side as a master.
     module subroutine contact_dist_report(p, nrefresh, ghosts)
@@ -1548,18 +1559,27 @@ contains
     !$omp end parallel do
   end subroutine detect_self
 
-  !> det(M) of self-contact pair p's body at each of its particles (current positions, the
+  !> det(M) of self-contact pair p's body at its particles own (current positions, the
   !! prediction), assembled from the particles that are not the particle's neighbours in
   !! the reference configuration (detect_self): 0 away from any fold, above the threshold
-  !! where faces of the body meet. Work for output only, done at snapshots.
-  subroutine contact_self_det(p, solids, det, err)
-    type(contact_pair_t), intent(in) :: p
+  !! where faces of the body meet. own: every particle of a serial pair; a rank's own
+  !! particles of a distributed one (ascending, by the body's global numbers; collective,
+  !! from the rank's contact cloud: dist_self_det). Work for output only, done at snapshots.
+  subroutine contact_self_det(p, solids, det, own, err)
+    type(contact_pair_t), intent(inout) :: p
     type(solid_t), intent(in) :: solids(:)
-    real(wp), intent(out) :: det(:)
+    real(wp), allocatable, intent(out) :: det(:)
+    integer, allocatable, intent(out) :: own(:)
     type(error_t), allocatable, intent(inout) :: err
     type(rk_cloud_t) :: c
     real(wp), allocatable :: x(:, :)
     integer :: j
+    if (allocated(p%dist)) then
+      call dist_self_det(p, solids, det, own, err)
+      return
+    end if
+    own = [(j, j = 1, p%side(1)%np)]
+    allocate(det(p%side(1)%np))
     allocate(x, source=p%side(1)%x_ref)
     call solid_positions(solids(p%side(1)%isolid), at_prediction, x)
     call cloud_init(c, x, p%side(1)%rho, p%side(1)%vol, p%side(1)%kid, p%side(1)%wshape, &

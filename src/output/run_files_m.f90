@@ -21,7 +21,7 @@ module run_files_m
   use dynamic_output_m, only: history_t, history_create, history_flush, snapshot_write, &
     history_geometry, &
     xdmf_write, xdmf_body_t, rigid_snapshot_write
-  use run_report_m, only: run_record_t, det_fields_out, self_det_out
+  use run_report_m, only: run_record_t, det_fields_out
   use log_m, only: log_print
   use file_system_m, only: remove_file
   implicit none
@@ -206,7 +206,6 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     character(len=80) :: line
     call rigid_snapshot_write(out%f, trim(lab), r%t, out%rigid, err)
-    if (.not. allocated(err)) call self_det_out(out%f, trim(lab), pairs, solids, err)
     if (allocated(err)) return
     if (deck%output%det_fields) call det_fields_out(out%f, trim(lab), pairs, solids, &
       deck%output%det_grid_lo, deck%output%det_grid_hi, deck%output%det_grid_n, err)
@@ -222,15 +221,10 @@ contains
   end subroutine snapshot_others
 
   !> Whether a snapshot needs the whole solids' state besides their own datasets: the
-  !! det(M) fields the deck asks for, and self-contact's det_self.
-  pure logical function snapshot_needs_state(deck, pairs) result(yes)
+  !! det(M) fields on a plane grid the deck asks for.
+  pure logical function snapshot_needs_state(deck) result(yes)
     type(deck_t), intent(in) :: deck
-    type(contact_pair_t), intent(in) :: pairs(:)
-    integer :: k
     yes = deck%output%det_fields
-    do k = 1, size(pairs)
-      if (pairs(k)%self) yes = .true.
-    end do
   end function snapshot_needs_state
 
   !> The diagnostic snapshot of a failed run, /snapshots/failure, after its solids'

@@ -14,7 +14,7 @@ module run_report_m
   use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_det_fields, detector_name, &
     contact_self_det, &
     detector_det_m
-  use hdf5_io_m, only: h5file_t, h5_group, h5_attr, h5_write
+  use hdf5_io_m, only: h5file_t, h5_group, h5_attr, h5_write, h5_write_rows
   use dynamic_output_m, only: history_names
   use stable_step_m, only: step_control_t, step_limit_text, step_smallest
   use subcycle_m, only: subcycle_record_t
@@ -112,28 +112,29 @@ contains
 
   !> /snapshots/<lab>/<body>/det_self of every self-contact pair's body: det(M) at each
   !! particle from the particles that are not its reference neighbours (contact_self_det).
+  !! In a file opened with MPI-IO every rank writes its own particles' rows, collectively.
   subroutine self_det_out(f, lab, pairs, solids, err)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: lab
-    type(contact_pair_t), intent(in) :: pairs(:)
+    type(contact_pair_t), intent(inout) :: pairs(:)
     type(solid_t), intent(in) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: det(:)
+    integer, allocatable :: own(:)
     integer :: kp
     character(len=:), allocatable :: g
     do kp = 1, size(pairs)
       if (allocated(err)) return
       if (.not. pairs(kp)%self) cycle
-      allocate(det(pairs(kp)%side(1)%np))
-      call contact_self_det(pairs(kp), solids, det, err)
+      call contact_self_det(pairs(kp), solids, det, own, err)
       g = '/snapshots/'//lab//'/'//trim(pairs(kp)%side(1)%name)
-      if (.not. allocated(err)) call h5_write(f, g//'/det_self', det, '1', err, &
+      if (.not. allocated(err)) call h5_write_rows(f, g//'/det_self', det, own, &
+        pairs(kp)%side(1)%np, '1', err, &
         'det(M) at each particle from the particles that are not its neighbours in the '// &
         'reference configuration (self-contact of contact'//itoa(kp)//'): above '// &
         'det_self_threshold where faces of the body meet')
       if (.not. allocated(err)) call h5_attr(f, g, 'det_self_threshold', &
         pairs(kp)%side(2)%threshold, err)
-      deallocate(det)
     end do
   end subroutine self_det_out
 

@@ -40,7 +40,7 @@ module mpi_domain_m
     contact_pair_distribute, contact_dist_report
   use contact_m, only: contact_counters_t
   use body_measures_m, only: measures_t, body_measures_part
-  use run_report_m, only: run_record_t
+  use run_report_m, only: run_record_t, self_det_out
   use run_files_m, only: run_files_t, run_files_checkpoint, run_files_checkpoint_commit, &
     run_files_checkpoint_failed
   use run_checkpoint_m, only: checkpoint_write_fields, checkpoint_read_part
@@ -96,7 +96,6 @@ module mpi_domain_m
     procedure :: measures => mpi_measures
     procedure :: contact_stats => mpi_stats
     procedure :: counters => mpi_counters
-    procedure :: impulses_restarted => mpi_impulses
     procedure :: checkpoint => mpi_checkpoint
     procedure :: snapshot_solids => mpi_snapshot
     procedure :: finish => mpi_finish
@@ -156,7 +155,7 @@ contains
       if (dom%any_error(err)) return
     end do
     ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
-    ! the snapshots (drawn from the gathered state: contact_det_fields, contact_self_det)
+    ! the snapshots (drawn from the gathered state: contact_det_fields)
     if (dom%root .and. dom%root_whole) allocate(dom%pairs_whole, source=pairs)
     comm_ptr => dom%ranks
     do k = 1, size(pairs)
@@ -480,32 +479,17 @@ contains
     end do
   end subroutine mpi_counters
 
-  !> Rank 0 wrote a snapshot: every rank restarts its parts' contact impulse sums, as the
-  !! snapshot restarted the gathered ones.
-  subroutine mpi_impulses(dom, solids, written)
-    class(mpi_domain_t), intent(inout) :: dom
-    type(solid_t), intent(inout) :: solids(:)
-    logical, intent(in) :: written
-    integer :: flag, k
-    flag = merge(1, 0, written)
-    call MPI_Bcast(flag, 1, MPI_INTEGER, 0, dom%mcomm)
-    if (flag == 0) return
-    do k = 1, size(solids)
-      solids(k)%state%ipoint = 0.0_wp
-      solids(k)%state%ipoint_time = 0.0_wp
-    end do
-  end subroutine mpi_impulses
-
   !> The solids' datasets of snapshot lab: rank 0 closes the run's file, every rank opens
   !! it with MPI-IO and writes its part's rows collectively, and rank 0 opens it again (no
   !! rank gathers the state).
-  subroutine mpi_snapshot(dom, out, lab, r, solids, err)
+  subroutine mpi_snapshot(dom, out, lab, r, solids, err, pairs)
     class(mpi_domain_t), intent(inout) :: dom
     type(run_files_t), intent(inout) :: out
     character(len=*), intent(in) :: lab
     type(run_record_t), intent(in) :: r
     type(solid_t), intent(inout) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
+    type(contact_pair_t), intent(inout), optional :: pairs(:)
     type(h5file_t) :: f
     character(len=:), allocatable :: path
     path = ''
@@ -516,6 +500,8 @@ contains
     call h5_open_collective(f, path, dom%mcomm, err)
     if (dom%any_error(err)) return
     call snapshot_write(f, lab, r%t, r%n, solids, err)
+    if (present(pairs) .and. .not. allocated(err)) call self_det_out(f, lab, pairs, solids, &
+      err)
     call h5_close_collective(f, err)
     if (dom%any_error(err)) return
     if (dom%root) call h5_open_rw(out%f, path, err)

@@ -77,11 +77,10 @@ contains
     type(energies_t) :: en
     type(contact_stats_t) :: cstep
     type(history_t) :: hist0
-    type(measures_t) :: hm
     type(measures_t), allocatable :: bms(:)
     real(wp), allocatable :: snap_times0(:), row(:)
-    integer :: k, k_bad, log_every, hist_every, bad_q, nsnap0, ckpt_every, nbefore
-    logical :: needs_state, snap_bad
+    integer :: k, k_bad, log_every, hist_every, bad_q, nsnap0, ckpt_every
+    logical :: needs_state
     integer :: gathers0
     real(wp) :: tw, t_loop0, bad_j
     call run_take_setup(deck, su, solids, isolid, pairs, r)
@@ -106,7 +105,7 @@ contains
     if (dom%any_error(err)) return
     ! rank 0's whole solids (their sizes and tables; their state when gathered, here for
     ! det(M) fields at t = 0 only)
-    needs_state = snapshot_needs_state(deck, pairs)
+    needs_state = snapshot_needs_state(deck)
     whole => dom%whole(solids, .false., state=needs_state .and. .not. present(restart))
     if (present(restart)) then
       ! the state after step r%n, as the checkpoint holds it
@@ -122,7 +121,6 @@ contains
       end do
       call energies(dom, solids, en)
       call snapshots_due(dom, out, deck, r, pairs, solids, whole, err)
-      call dom%impulses_restarted(solids, dom%root .and. out%nsnap_done > 0)
       if (dom%any_error(err)) then
         if (dom%root) call run_files_close(out, r, whole, err)
         return
@@ -183,9 +181,7 @@ contains
       if (dom%root .and. (mod(r%n, log_every) == 0 .or. r%failed)) call log_line(r, en)
       if (r%failed) exit
       tw = omp_get_wtime()
-      nbefore = out%nsnap_done
       call snapshots_due(dom, out, deck, r, pairs, solids, whole, err)
-      call dom%impulses_restarted(solids, dom%root .and. out%nsnap_done > nbefore)
       if (dom%any_error(err)) exit
       if (ckpt_every > 0) then
         if (mod(r%n, ckpt_every) == 0) call dom%checkpoint(out, bodies, r, solids, &
@@ -214,7 +210,7 @@ contains
       if (dom%root) call log_print('dynamic: FAILED at '//r%reason)
       call dom%snapshot_solids(out, 'failure', r, solids, err)
       ! (every rank learns of a rank's write error: rank 0 then writes no more)
-      snap_bad = dom%any_error(err)
+      call dom%agree_error(err)
     end if
     if (dom%root) then
       if (r%failed) then
@@ -248,7 +244,7 @@ contains
     do
       lab = snapshot_due(out, deck, r)
       if (lab == '') exit
-      call dom%snapshot_solids(out, trim(lab), r, solids, err)
+      call dom%snapshot_solids(out, trim(lab), r, solids, err, pairs)
       if (dom%root .and. .not. allocated(err)) call snapshot_others(out, deck, trim(lab), &
         r, dom%output_pairs(pairs), whole, err)
       if (dom%any_error(err)) exit

@@ -8,7 +8,7 @@
 !! parts (and narrow the contact pairs to them); give rank 0 the whole solids and pairs
 !! output needs (gathered, for a snapshot, a failure, a checkpoint and the summary); the
 !! sizes of the whole solids; the measures of the first solid; reductions of the step's
-!! contact statistics and of the pairs' counters; impulses restarted after a snapshot; the
+!! contact statistics and of the pairs' counters; the
 !! checkpoint (rank 0 writes the serial layout); a report at the end. Reductions of plain
 !! values go through its communicator (rank_comm_m).
 module run_domain_m
@@ -21,7 +21,7 @@ module run_domain_m
   use solid_m, only: solid_t
   use contact_pair_m, only: contact_pair_t, contact_stats_t
   use body_measures_m, only: measures_t, body_measures
-  use run_report_m, only: run_record_t
+  use run_report_m, only: run_record_t, self_det_out
   use run_files_m, only: run_files_t, run_files_checkpoint
   use dynamic_output_m, only: snapshot_write
   implicit none
@@ -49,11 +49,11 @@ module run_domain_m
     procedure(measures_i), deferred :: measures
     procedure(stats_i), deferred :: contact_stats
     procedure(counters_i), deferred :: counters
-    procedure(impulses_i), deferred :: impulses_restarted
     procedure(checkpoint_i), deferred :: checkpoint
     procedure(snapshot_i), deferred :: snapshot_solids
     procedure(finish_i), deferred :: finish
     procedure :: any_error => domain_any_error
+    procedure :: agree_error => domain_agree_error
     procedure :: agree_failure => domain_agree_failure
   end type run_domain_t
 
@@ -117,14 +117,6 @@ module run_domain_m
       type(contact_pair_t), intent(inout) :: pairs(:)
       logical, intent(in) :: restore
     end subroutine counters_i
-    !> Rank 0 wrote a snapshot (written): every rank restarts its parts' contact impulse
-    !! sums, as the snapshot restarted the whole solids' (collective).
-    subroutine impulses_i(dom, solids, written)
-      import :: run_domain_t, solid_t
-      class(run_domain_t), intent(inout) :: dom
-      type(solid_t), intent(inout) :: solids(:)
-      logical, intent(in) :: written
-    end subroutine impulses_i
     !> A checkpoint of the state after step r%n, written by rank 0 in the serial layout
     !! (collective).
     subroutine checkpoint_i(dom, out, bodies, r, solids, pairs, t_loop, err)
@@ -140,16 +132,17 @@ module run_domain_m
       type(error_t), allocatable, intent(inout) :: err
     end subroutine checkpoint_i
     !> The end of the loop: what the ranks report (collective).
-    !> The solids' datasets of snapshot lab in out's file (on ranks collectively, each
-    !! its part's rows).
-    subroutine snapshot_i(dom, out, lab, r, solids, err)
-      import :: run_domain_t, run_files_t, run_record_t, solid_t, error_t
+    !> The solids' datasets of snapshot lab in out's file, with pairs the det(M) of each
+    !! self-contact's body too (self_det_out; on ranks collectively, each its part's rows).
+    subroutine snapshot_i(dom, out, lab, r, solids, err, pairs)
+      import :: run_domain_t, run_files_t, run_record_t, solid_t, error_t, contact_pair_t
       class(run_domain_t), intent(inout) :: dom
       type(run_files_t), intent(inout) :: out
       character(len=*), intent(in) :: lab
       type(run_record_t), intent(in) :: r
       type(solid_t), intent(inout) :: solids(:)
       type(error_t), allocatable, intent(inout) :: err
+      type(contact_pair_t), intent(inout), optional :: pairs(:)
     end subroutine snapshot_i
     subroutine finish_i(dom, solids, pairs, r)
       import :: run_domain_t, solid_t, contact_pair_t, run_record_t
@@ -172,7 +165,6 @@ module run_domain_m
     procedure :: measures => serial_measures
     procedure :: contact_stats => serial_stats
     procedure :: counters => serial_counters
-    procedure :: impulses_restarted => serial_impulses
     procedure :: checkpoint => serial_checkpoint
     procedure :: snapshot_solids => serial_snapshot
     procedure :: finish => serial_finish
@@ -200,6 +192,13 @@ contains
     if (yes .and. .not. allocated(err)) call set_error(err, 'another rank failed (its '// &
       'message is on its standard error)', nint(v(2)))
   end function domain_any_error
+
+  !> Every rank learns of an error on any rank (domain_any_error, for the exchange alone).
+  subroutine domain_agree_error(dom, err)
+    class(run_domain_t), intent(inout) :: dom
+    type(error_t), allocatable, intent(inout) :: err
+    if (dom%any_error(err)) continue
+  end subroutine domain_agree_error
 
   !> A failure on any rank fails every rank, with the lowest failing rank's reason (and the
   !! rank named, when there are several).
@@ -287,23 +286,18 @@ contains
     if (.not. dom%root .or. size(pairs) < 0 .or. restore) continue
   end subroutine serial_counters
 
-  subroutine serial_impulses(dom, solids, written)
-    class(serial_domain_t), intent(inout) :: dom
-    type(solid_t), intent(inout) :: solids(:)
-    logical, intent(in) :: written
-    ! the snapshot restarted the solids' sums itself: they are the whole solids
-    if (.not. dom%root .or. size(solids) < 0 .or. written) continue
-  end subroutine serial_impulses
-
-  subroutine serial_snapshot(dom, out, lab, r, solids, err)
+  subroutine serial_snapshot(dom, out, lab, r, solids, err, pairs)
     class(serial_domain_t), intent(inout) :: dom
     type(run_files_t), intent(inout) :: out
     character(len=*), intent(in) :: lab
     type(run_record_t), intent(in) :: r
     type(solid_t), intent(inout) :: solids(:)
     type(error_t), allocatable, intent(inout) :: err
+    type(contact_pair_t), intent(inout), optional :: pairs(:)
     if (.not. dom%root) continue
     call snapshot_write(out%f, lab, r%t, r%n, solids, err)
+    if (present(pairs) .and. .not. allocated(err)) call self_det_out(out%f, lab, pairs, &
+      solids, err)
   end subroutine serial_snapshot
 
   subroutine serial_checkpoint(dom, out, bodies, r, solids, pairs, t_loop, err)

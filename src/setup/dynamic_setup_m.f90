@@ -51,15 +51,11 @@ module dynamic_setup_m
 contains
 
   !> Whether rank 0 of an MPI run needs the whole solids after the split: for the det(M)
-  !! fields its snapshots draw from the gathered state (&output det_fields, and det_self of
-  !! a self-contact). Otherwise every rank keeps its region only.
+  !! fields on a plane grid its snapshots draw from the gathered state (&output
+  !! det_fields). Otherwise every rank keeps its region only.
   pure logical function root_needs_whole(deck) result(yes)
     type(deck_t), intent(in) :: deck
-    integer :: k
     yes = deck%output%det_fields
-    do k = 1, deck%ncontacts
-      if (deck%contacts(k)%imaster == deck%contacts(k)%islave) yes = .true.
-    end do
   end function root_needs_whole
 
   !> The whole set-up of a dynamic run (solids, kinematic conditions, contact pairs), made

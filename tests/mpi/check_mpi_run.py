@@ -17,7 +17,7 @@ not to the bit). Then:
     run (round-off: a few ulps per rank), the energy residual within 1e-12 of the scale;
   - /summary: the same status and step count, the same body measures to the bit;
   - the time loop gathered no state to rank 0 (mfcd_mpi's log says how often it did) when
-    the deck draws no det(M) fields: every rank wrote its own rows of the snapshots'
+    the deck draws no det(M) fields on a plane grid: every rank wrote its own rows of the snapshots'
     datasets into the one file, collectively (MPI-IO).
 A decomposition that dropped a ghost, an exchange in the wrong order or a missed contact at a
 rank boundary breaks the bitwise checks at once.
@@ -198,12 +198,13 @@ def compare(tag, ref, new, record=True, continued=False):
 
 
 def draws_det(path):
-    """Whether a run's snapshots hold det(M) fields (drawn on rank 0 from the gathered
-    state): a det group or a det_self dataset."""
+    """Whether a run's snapshots hold det(M) fields on a plane grid (drawn on rank 0 from
+    the gathered state): a det group. (A self-contact's det_self is written from the
+    parts.)"""
     found = []
     with h5py.File(path, "r") as f:
         f["snapshots"].visit(lambda name: found.append(name)
-                             if name.split("/")[-1] in ("det", "det_self") else None)
+                             if name.split("/")[-1] == "det" else None)
     return bool(found)
 
 
