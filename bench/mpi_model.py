@@ -66,7 +66,14 @@ GHOST_LAYERS_3D = (4.0, 4.0)  # ghost nodes, points per particle of a cut face (
 BYTES_GHOST_3D = (168.0, 144.0)  # B per ghost node, point and step (measured)
 SNAP_BYTES_3D = 160.0         # B per particle of a snapshot's gathered fields (measured)
 MEASURED_3D = 0.82            # weak-scaling efficiency on 2 ranks (measured, this guest)
-SETUP_BYTES_3D = 15.3e3       # B per particle of the set-up's peak (doc/3d.md, measured)
+# a rank's peak memory (the split's), measured 2026-11-29 on the bench's bar (109 nodes a
+# point; doc/parallel.md, "Weak scaling of the set-up"): a fixed share, its part's tables
+# (0.81 GB on 2 ranks of 37,467 particles, 0.47 GB on 4), and what it still holds of the
+# whole body (bodies, whole solid, contact sides: 0.81 -> 1.01 GB from 37,467 to 149,247
+# particles at 18,700 a rank, bench/mpi_weak_3d.sh)
+FIXED_BYTES_3D = 0.065e9      # B per rank whatever its part (runtime, Open MPI, HDF5)
+PART_BYTES_3D = 36.0e3        # B per particle of the part at the peak (measured)
+WHOLE_BYTES_3D = 1.8e3        # B per particle of the whole body on every rank (measured)
 FS_BANDWIDTH = 100.0e9        # B/s of a parallel file system, aggregate (assumed)
 MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
 STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)
@@ -88,6 +95,17 @@ def step_times_3d(p, n):
     return work, comm
 
 
+def peak_bytes_3d(p, n, whole=WHOLE_BYTES_3D):
+    """A rank's peak memory (B) on p ranks of n particles each: the fixed share, its part,
+    and the whole body's p n particles at `whole` B each."""
+    return FIXED_BYTES_3D + n * PART_BYTES_3D + p * n * whole
+
+
+def largest_part_3d(p, whole=WHOLE_BYTES_3D):
+    """The most particles a rank's part can have on p ranks within MEM_PER_RANK."""
+    return (MEM_PER_RANK - FIXED_BYTES_3D) / (PART_BYTES_3D + p * whole)
+
+
 def output_times_3d(p, n):
     """(the snapshot gathered to rank 0, written collectively with MPI-IO) in s: the gather
     funnels P n particles through rank 0's link; MPI-IO writes each rank's rows in parallel
@@ -106,8 +124,8 @@ def main_3d(out):
     for n, mk in ((1.0e5, "o"), (1.0e6, "s")):
         print(f"\n3D, {n:.0e} particles per rank")
         print("| ranks | step (ms) | halos + reductions (ms) | efficiency | snapshot, "
-              "gather (s) | snapshot, MPI-IO (s) | output share, gather | whole-body "
-              "set-up per rank (GiB) | rank 0's gathered snapshot (GiB) |")
+              "gather (s) | snapshot, MPI-IO (s) | output share, gather | peak memory "
+              "per rank, part + whole body (GiB) | rank 0's gathered snapshot (GiB) |")
         print("|---|---|---|---|---|---|---|---|---|")
         eff, share_g, share_io, mem = [], [], [], []
         for p in ranks:
@@ -117,7 +135,7 @@ def main_3d(out):
             eff.append(100 * w / (w + c))
             share_g.append(100 * g / (per + g))
             share_io.append(100 * io / (per + io))
-            mem.append(p * n * SETUP_BYTES_3D / 2 ** 30)
+            mem.append(peak_bytes_3d(p, n) / 2 ** 30)
             print(f"| {p} | {1e3 * w:.0f} | {1e3 * c:.3f} | {eff[-1]:.2f}% | {g:.2f} | "
                   f"{io:.3f} | {share_g[-1]:.1f}% | {mem[-1]:.1f} | "
                   f"{p * n * SNAP_BYTES_3D / 2 ** 30:.2f} |")
@@ -127,11 +145,20 @@ def main_3d(out):
                         label=f"with snapshots gathered to rank 0, {lab}")
         axs[0].semilogx(ranks, [100 - x for x in share_io], mk + ":", base=2,
                         label=f"with snapshots by MPI-IO, {lab}")
-        axs[1].loglog(ranks, mem, mk + "-", base=2, label=f"whole-body set-up, {lab}")
-        axs[1].loglog(ranks, [n * SETUP_BYTES_3D / 2 ** 30] * len(ranks), mk + ":", base=2,
-                      label=f"set-up of one part, {lab}")
+        axs[1].loglog(ranks, mem, mk + "-", base=2, label=f"peak per rank, {lab}")
+        axs[1].loglog(ranks, [peak_bytes_3d(1, n) / 2 ** 30] * len(ranks), mk + ":", base=2,
+                      label=f"the part's own, {lab}")
         axs[1].loglog(ranks, [p * n * SNAP_BYTES_3D / 2 ** 30 for p in ranks], mk + "--",
                       base=2, label=f"rank 0's gathered snapshot, {lab}")
+    print(f"\n3D, the largest problem within {MEM_PER_RANK / 2 ** 30:.0f} GiB a rank: with "
+          f"the whole body's {WHOLE_BYTES_3D / 1e3:.1f} kB a particle on every rank (now), "
+          "and without it (bodies, solid and contact sides built per part)")
+    print("| ranks | particles a rank, now | whole problem, now | particles a rank, per "
+          "part | whole problem, per part |")
+    print("|---|---|---|---|---|")
+    for p in ranks:
+        a, b = largest_part_3d(p), largest_part_3d(p, 0.0)
+        print(f"| {p} | {a:.3g} | {p * a:.3g} | {b:.3g} | {p * b:.3g} |")
     axs[0].plot([2], [100 * MEASURED_3D], "^", ms=9,
                 label="measured, 2 ranks (3D Taylor quarter, 37,467 particles per rank)")
     axs[1].axhline(MEM_PER_RANK / 2 ** 30, color="k", lw=1.0,
@@ -146,7 +173,7 @@ def main_3d(out):
     axs[1].set_ylabel("memory per rank (GiB)")
     axs[1].grid(True, which="both", alpha=0.3)
     axs[1].legend(loc="upper left", fontsize=7)
-    axs[1].set_title("what breaks first: every rank builds the whole body", fontsize=9)
+    axs[1].set_title("what breaks first: what every rank holds of the whole body", fontsize=9)
     fig.tight_layout()
     fig.savefig(out)
     print(f"wrote {os.path.normpath(out)}")

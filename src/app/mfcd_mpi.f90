@@ -42,6 +42,7 @@ program mfcd_mpi
   logical :: ghost_refresh
   !> the ranks of MPI_COMM_WORLD: each solid's part on this one
   type(mpi_domain_t), target :: ranks
+  type(setup_part_t) :: sp
   call MPI_Init()
   call MPI_Comm_rank(MPI_COMM_WORLD, me)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
@@ -91,10 +92,16 @@ program mfcd_mpi
   call read_deck(trim(arg), deck, err)
   if (.not. allocated(err)) call mpi_scene_check(deck, err)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
-  ! (every rank keeps only its region's rows of 3D RKPM tables; rank 0 the whole ones when
-  ! its det(M) fields need them)
-  if (.not. allocated(err)) call setup_dynamic(deck, bodies, su, err, &
-    part=setup_part_t(me, nranks, root_needs_whole(deck)))
+  ! the ranks (the set-up's sums go through them too)
+  call mpi_domain_init(ranks, MPI_COMM_WORLD, ghost_margin, ghost_refresh, &
+    root_needs_whole(deck))
+  ! (every rank integrates and keeps only its region's rows of 3D RKPM tables, the masses
+  ! summed over the ranks; rank 0 keeps the whole ones when its det(M) fields need them)
+  sp%me = me
+  sp%nranks = nranks
+  sp%root_whole = root_needs_whole(deck)
+  sp%comm => ranks%comm
+  if (.not. allocated(err)) call setup_dynamic(deck, bodies, su, err, part=sp)
   if (.not. allocated(err) .and. len(restart_path) > 0) then
     call checkpoint_check(restart_path, deck, bodies, ckpt, err)
     if (.not. allocated(err)) call log_print("restart: checkpoint '"//restart_path// &
@@ -103,8 +110,6 @@ program mfcd_mpi
   if (.not. allocated(err) .and. me == 0) call check_output_path(deck, err, restart_path)
   call agree_or_fail(exit_bad_input)
   ! the serial program's driver, given the ranks instead of one
-  call mpi_domain_init(ranks, MPI_COMM_WORLD, ghost_margin, ghost_refresh, &
-    root_needs_whole(deck))
   if (len(restart_path) > 0) then
     call run_dynamic(deck, bodies, su, ranks, err, restart_path)
   else

@@ -279,19 +279,12 @@ contains
       t%hmin = dm%hmin
       reach = dm%lmax
     end if
-    ! the most particles one cell's points can touch: those within rmax + the cell's reach
-    ! (the cloud holds the mirror images too)
-    allocate(cand(c%np))
-    maxk = 1
-    do i = 1, np
-      call bins_candidates(c%bins, b%x(:, i), c%rmax(1:3) + reach, cand, n)
-      maxk = max(maxk, n)
-    end do
-    deallocate(cand)
-    ! the cells whose rows are kept: with a box, those whose particle lies within the
+    ! the cells integrated and kept: with a box, those whose particle lies within the
     ! candidates' reach (rmax + the cell's reach, per axis) of it: a cell's row holds only
-    ! particles within that reach of the cell's particle (bins_candidates above), so every
-    ! cell touching a particle in the box is kept
+    ! particles within that reach of the cell's particle (bins_candidates below), so every
+    ! cell touching a particle in the box is kept, and the masses of the particles in the
+    ! box are whole (the same sums in the same order); the other cells get their volume
+    ! only (whole_masses, dynamic_setup_m, completes the masses of the others)
     allocate(keep(np))
     keep = .true.
     if (present(box)) then
@@ -300,6 +293,16 @@ contains
           all(b%x(:, i) <= box(:, 2) + (c%rmax(1:3) + reach))
       end do
     end if
+    ! the most particles one cell's points can touch: those within rmax + the cell's reach
+    ! (the cloud holds the mirror images too)
+    allocate(cand(c%np))
+    maxk = 1
+    do i = 1, np
+      if (.not. keep(i)) cycle
+      call bins_candidates(c%bins, b%x(:, i), c%rmax(1:3) + reach, cand, n)
+      maxk = max(maxk, n)
+    end do
+    deallocate(cand)
     ! the arrays of np entries before the blocks: on the heap (when not mapped) the blocks
     ! then lie above them, and gather_rows frees them from the top down
     allocate(t%xq(3, np), t%owner(np), t%wgt(np), t%fix1(np), t%ws(3, np), t%mass(np), &
@@ -312,11 +315,11 @@ contains
       i0 = (kb - 1)*block_np + 1
       i1 = min(np, kb*block_np)
       if (allocated(b%tets)) then
-        call dual_cell_integrals(b, dm, c, f, i0, maxk, cells(1:i1 - i0 + 1), &
+        call dual_cell_integrals(b, dm, c, f, i0, maxk, keep(i0:i1), cells(1:i1 - i0 + 1), &
           t%wgt(i0:i1), t%ws(:, i0:i1), bad)
       else
-        call cell_integrals(b, c, f, i0, maxk, cells(1:i1 - i0 + 1), t%wgt(i0:i1), &
-          t%ws(:, i0:i1), bad)
+        call cell_integrals(b, c, f, i0, maxk, keep(i0:i1), cells(1:i1 - i0 + 1), &
+          t%wgt(i0:i1), t%ws(:, i0:i1), bad)
       end if
       ! (the first block with such a cell stops the build: its largest such particle)
       if (bad > 0) then
@@ -328,7 +331,6 @@ contains
       call pack_rows(cells(1:i1 - i0 + 1), ng, rho0, rows(kb), nl(i0:i1), t%mass, &
         keep(i0:i1))
     end do
-    deallocate(keep)
     t%xq = b%x
     t%owner = [(i, i = 1, np)]
     t%ptr(1) = 1
@@ -340,7 +342,7 @@ contains
     allocate(t%nbr(n), t%g(ng, n), t%gs(ng, n), t%h(n))
     t%h = 0.0_wp
     call gather_rows(rows, t%ptr, t%nbr, t%g, t%gs)
-    call positions_3d(b, c, f, t, err)
+    call positions_3d(b, c, f, keep, t, err)
   end subroutine scni_tables_3d
 
   !> One block's cells packed into r (each freed once copied): the entries of the kept
@@ -408,11 +410,12 @@ contains
   !! stay in its caches (a block's padded cells did not: 5-10% slower). Each cell is its
   !! own (any thread count gives the same). bad: the largest particle whose cell has a
   !! point where the shape functions are undefined (0: none).
-  subroutine cell_integrals(b, c, f, i0, maxk, cells, vol, ws, bad)
+  subroutine cell_integrals(b, c, f, i0, maxk, keep, cells, vol, ws, bad)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     integer, intent(in) :: i0, maxk
+    logical, intent(in) :: keep(:)
     type(rows_t), intent(inout) :: cells(:)
     real(wp), intent(out) :: vol(:), ws(:, :)
     integer, intent(inout) :: bad
@@ -423,7 +426,7 @@ contains
     real(wp), parameter :: big = huge(1.0_wp)/4.0_wp
     np = b%np
     half = 0.5_wp*b%spacing(1:3)
-    !$omp parallel default(none) shared(b, c, f, i0, maxk, cells, vol, ws, half, np) &
+    !$omp parallel default(none) shared(b, c, f, i0, maxk, keep, cells, vol, ws, half, np) &
     !$omp private(cv, o, za, zb, zm, area, vh, hcs, xg, wg, lo, hi, xc, wc, ncv, ngp, &
     !$omp i, q, r, dir, nhs, nc, w) reduction(max: bad)
     call work_init(w, np, c%np, 3*f%ncg, maxk)
@@ -441,12 +444,17 @@ contains
       end if
       za = max(b%geom%z0, o(3) - half(3))
       zb = min(b%geom%z1, o(3) + half(3))
-      ! the particles whose supports may reach the prism (every point below is in it)
-      call cell_candidates(c, [minval(cv(1, 1:ncv)), minval(cv(2, 1:ncv)), za], &
-        [maxval(cv(1, 1:ncv)), maxval(cv(2, 1:ncv)), zb], w)
       call cell_area_points(cv, ncv, xg, wg, ngp)
       area = sum(wg(1:ngp))
       vol(j) = area*(zb - za)
+      ! (a cell not kept: its volume only, an empty row)
+      if (.not. keep(j)) then
+        call finish_cell(f%ncg, vol(j), zero3, w, ws(:, j), cells(j))
+        cycle
+      end if
+      ! the particles whose supports may reach the prism (every point below is in it)
+      call cell_candidates(c, [minval(cv(1, 1:ncv)), minval(cv(2, 1:ncv)), za], &
+        [maxval(cv(1, 1:ncv)), maxval(cv(2, 1:ncv)), zb], w)
       zm = max(za, min(zb, o(3)))
       ! the half cells along X1 and X2 (the polygon clipped at x = X1, y = X2)
       do dir = 1, 2
@@ -603,12 +611,13 @@ contains
   !! The half cell along X_j (the sub-cell stabilization) is the union of the pieces whose
   !! tetrahedron's centroid lies beyond the particle along X_j: its faces are those of the
   !! cell on its pieces and the pieces' faces towards a piece of the same cell outside it.
-  subroutine dual_cell_integrals(b, dm, c, f, i0, maxk, cells, vol, ws, bad)
+  subroutine dual_cell_integrals(b, dm, c, f, i0, maxk, keep, cells, vol, ws, bad)
     type(body_t), intent(in) :: b
     type(dual_mesh_t), intent(in) :: dm
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
     integer, intent(in) :: i0, maxk
+    logical, intent(in) :: keep(:)
     type(rows_t), intent(inout) :: cells(:)
     real(wp), intent(out) :: vol(:), ws(:, :)
     integer, intent(inout) :: bad
@@ -617,7 +626,7 @@ contains
     logical :: inside(3)
     type(cell_work_t) :: w
     np = b%np
-    !$omp parallel default(none) shared(b, dm, c, f, i0, maxk, cells, vol, ws, np) &
+    !$omp parallel default(none) shared(b, dm, c, f, i0, maxk, keep, cells, vol, ws, np) &
     !$omp private(xt, ct, cn, v, vh, mask, hm, fc, pm, lo, hi, i, k, e, en, ka, q, r, s, q1, q2, &
     !$omp inside, w) reduction(max: bad)
     call work_init(w, np, c%np, 3*f%ncg, maxk)
@@ -627,6 +636,15 @@ contains
       w%nl = 0
       vol(j) = 0.0_wp
       vh = 0.0_wp
+      ! (a cell not kept: its volume only, summed as below, an empty row)
+      if (.not. keep(j)) then
+        do k = dm%ptr(i), dm%ptr(i + 1) - 1
+          xt = b%x(:, b%tets(:, dm%idx(k)))
+          vol(j) = vol(j) + 0.25_wp*(abs(tet_volume6(xt))/6.0_wp)
+        end do
+        call finish_cell(f%ncg, vol(j), vh, w, ws(:, j), cells(j))
+        cycle
+      end if
       ! the particles whose supports may reach the cell (it lies in its tetrahedra)
       lo = b%x(:, i)
       hi = b%x(:, i)
@@ -911,11 +929,12 @@ contains
 
   !> N_I(X_J) for the physical positions x_J = X_J + sum_I N_I(X_J) d_I (once: the
   !! components share it), block by block as the cells (scni_tables_3d); t%pptr is
-  !! allocated.
-  subroutine positions_3d(b, c, f, t, err)
+  !! allocated. Only the particles whose cells are kept (scni_tables_3d) get their row.
+  subroutine positions_3d(b, c, f, keep, t, err)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     type(fold_t), intent(in) :: f
+    logical, intent(in) :: keep(:)
     type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     type(rows_t), allocatable :: rows(:)
@@ -930,10 +949,13 @@ contains
       i0 = (kb - 1)*block_np + 1
       i1 = min(b%np, kb*block_np)
       bad = 0
-      !$omp parallel do default(none) shared(b, c, f, cnt, idj, nj, i0, i1) &
+      !$omp parallel do default(none) shared(b, c, f, keep, cnt, idj, nj, i0, i1) &
       !$omp private(n, ids, nnb, ok, k, m, jj, s, l) reduction(max: bad) schedule(dynamic, 16)
       do j = i0, i1
         l = j - i0 + 1
+        ! (a particle whose cell is not kept: no row, as its cell has none)
+        cnt(j) = 0
+        if (.not. keep(j)) cycle
         call cloud_shape_values(c, b%x(:, j), nnb, ids, n, ok)
         if (.not. ok) bad = max(bad, j)
         ! images folded onto their twins (the sign of each component)

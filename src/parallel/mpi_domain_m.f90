@@ -32,7 +32,7 @@ module mpi_domain_m
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
     solid_energies, solid_set_energies, solid_set_gravity
   use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
-  use solid_tables_m, only: tables_copy_scalars
+  use solid_tables_m, only: solid_tables_t, tables_copy_scalars, tables_move, tables_transpose
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
   use rank_comm_m, only: rank_comm_t
   use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
@@ -181,6 +181,13 @@ contains
     end if
   end subroutine mpi_split
 
+  !> Tables t reduced to their scalars (the arrays freed).
+  subroutine tables_release(t)
+    type(solid_tables_t), intent(inout) :: t
+    type(solid_tables_t) :: gone
+    call tables_move(t, gone)
+  end subroutine tables_release
+
   !> The whole solid g reduced to its name, sizes and the scalars of its tables (what the
   !! XDMF file and the summary say of it; the arrays freed).
   subroutine release_whole(g)
@@ -215,7 +222,13 @@ contains
       do q = 1, g%nq
         point_part(q) = rcb_part(tree, g%t%xq(:, q))
       end do
-      call local_part_build(g%t, node_part, point_part, dom%ranks%me + 1, lp)
+      call local_part_build(g%t, node_part, point_part, dom%ranks%me + 1, lp, &
+        transpose=.false.)
+      ! the whole solid's tables are done with (but on rank 0 when its det(M) fields draw
+      ! on them): freed before the part's transpose, so that the split's peak holds one
+      ! set of rows, the part's
+      if (.not. (dom%root .and. dom%root_whole)) call tables_release(g%t)
+      call tables_transpose(lp%t)
       owner = node_part - 1
       call halo_plan_build(dom%mcomm, lp, node_part, point_part, h%plan, err)
       if (allocated(err)) return

@@ -153,11 +153,13 @@ contains
   end subroutine rcb_box
 
   !> Rank r's local share of the tables t, with node_part (np) and point_part (nq) the
-  !! owners of t's nodes and points (see the module's header).
-  subroutine local_part_build(t, node_part, point_part, r, lp)
+  !! owners of t's nodes and points (see the module's header). transpose .false.: without
+  !! the local tables' transpose (the caller frees t first, then transposes).
+  subroutine local_part_build(t, node_part, point_part, r, lp, transpose)
     type(solid_tables_t), intent(in) :: t
     integer, intent(in) :: node_part(:), point_part(:), r
     type(local_part_t), intent(out) :: lp
+    logical, intent(in), optional :: transpose
     logical, allocatable :: lq(:), ln(:)
     integer, allocatable :: nloc(:)
     integer :: q, e, i, j, k, nql, npl, nnz
@@ -266,6 +268,9 @@ contains
         end do
       end if
     end associate
+    if (present(transpose)) then
+      if (.not. transpose) return
+    end if
     call tables_transpose(lp%t)
   end subroutine local_part_build
 end module decomposition_m

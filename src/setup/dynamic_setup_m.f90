@@ -12,7 +12,7 @@ module dynamic_setup_m
   use deck_m, only: deck_t, body_spec_t
   use body_m, only: body_t
   use rank_comm_m, only: rank_comm_t
-  use decomposition_m, only: rcb_tree_t, rcb_build, rcb_box
+  use decomposition_m, only: rcb_tree_t, rcb_build, rcb_box, rcb_part
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d
@@ -37,6 +37,8 @@ module dynamic_setup_m
     integer :: me = 0
     integer :: nranks = 1
     logical :: root_whole = .true.
+    !> the ranks (for the sums that complete what each rank built of its box)
+    class(rank_comm_t), pointer :: comm => null()
   end type setup_part_t
 
   !> What the set-up of a dynamic run builds before anything is written: the solids of the
@@ -201,12 +203,22 @@ contains
         trim(deck%materials(deck%bodies(k)%imat)%name)//''' ('// &
         solids(n)%mat%model_name()//'), mass '//rtoa(solids(n)%t%total_mass)//' kg'// &
         trim(merge('/m', '  ', .not. axisym .and. bodies(k)%ndim == 2))//'; '// &
-        itoa(size(solids(n)%t%nbr))// &
-        ' point-node entries (mean '//itoa(nint(real(size(solids(n)%t%nbr))/ &
-        real(max(solids(n)%nq, 1))))//' nodes per point)'
+        entries_text(solids(n)%t)
       flush(output_unit)
     end do
   end subroutine setup_solids
+
+  !> The tables' entries for the log: all of them, or (a rank's region of a decomposed
+  !! set-up, rkpm_tl3d_m's box) those of the points it kept.
+  function entries_text(t) result(txt)
+    type(solid_tables_t), intent(in) :: t
+    character(len=:), allocatable :: txt
+    integer :: nk
+    nk = count(t%ptr(2:t%nq + 1) > t%ptr(1:t%nq))
+    txt = itoa(size(t%nbr))//' point-node entries'
+    if (nk < t%nq) txt = txt//" in this rank's region ("//itoa(nk)//' points)'
+    txt = txt//' (mean '//itoa(nint(real(size(t%nbr))/real(max(nk, 1))))//' nodes per point)'
+  end function entries_text
 
   pure function discretization_text(s, nd) result(txt)
     type(body_spec_t), intent(in) :: s
@@ -241,7 +253,7 @@ contains
     type(tet4_mesh_t) :: tmesh
     type(rcb_tree_t) :: tree
     real(wp) :: alpha, box(3, 2)
-    logical :: own_box
+    logical :: own_box, split
     bs = deck%bodies(k)
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
     if (allocated(b%cells) .and. b%ndim == 3) then
@@ -256,17 +268,20 @@ contains
       call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2)
       alpha = 0.0_wp    ! the SCNI stabilization is a particle method's; elements need none
     else if (b%ndim == 3) then
+      split = .false.
+      if (present(part)) split = part%nranks > 1
       own_box = .false.
-      if (present(part)) own_box = part%nranks > 1 .and. (part%me > 0 .or. &
-        .not. part%root_whole)
+      if (split) own_box = part%me > 0 .or. .not. part%root_whole
+      ! a rank's region: the bisection the split will make (mpi_domain_m make_part)
+      if (split) call rcb_build(b%x, part%nranks, tree)
       if (own_box) then
-        ! a rank's region: the bisection the split will make (mpi_domain_m make_part)
-        call rcb_build(b%x, part%nranks, tree)
         call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
         call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2, box)
       else
         call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
       end if
+      ! (every rank, after an error too: collective)
+      if (split) call whole_masses(part, tree, b, t, e2)
       alpha = bs%stabilization
     else
       call tl_build(b, axisym, scheme_id(bs%integration), &
@@ -305,6 +320,42 @@ contains
     ! (read_deck refuses subcycle for anything but element meshes against rigid masters)
     s%sub%on = deck%solver%subcycle .and. s%t%interpolating
   end subroutine setup_solid
+
+  !> The lumped masses of a 3D RKPM solid whole on every rank of a decomposed set-up: a
+  !! rank that integrated only the cells its box needs (tl_build_3d's box) has the masses
+  !! of the particles in its box whole (the same sums in the same order) and the others'
+  !! partial. Each rank gives those of the particles the bisection puts in its part (every
+  !! particle in exactly one), zero for the rest, and one sum over the ranks makes every
+  !! mass the serial one to the bit (x + 0 = x), so that whatever reads a mass before the
+  !! split (the contact sides' inverse masses, a spin's centre of mass, the total) or after
+  !! it (a part's ghost nodes) reads the serial one. An error on a rank (a cell too few
+  !! particles cover, found by the ranks that integrate it) reaches all in the same sum.
+  !! Collective.
+  subroutine whole_masses(part, tree, b, t, err)
+    type(setup_part_t), intent(in) :: part
+    type(rcb_tree_t), intent(in) :: tree
+    type(body_t), intent(in) :: b
+    type(solid_tables_t), intent(inout) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: m(:)
+    integer :: i, n
+    n = b%np
+    allocate(m(n + 1))
+    m = 0.0_wp
+    ! (an error may come before the masses exist)
+    if (allocated(t%mass) .and. .not. allocated(err)) then
+      do i = 1, n
+        if (rcb_part(tree, b%x(:, i)) == part%me + 1) m(i) = t%mass(i)
+      end do
+    end if
+    if (allocated(err)) m(n + 1) = 1.0_wp
+    call part%comm%sum_real(m)
+    if (m(n + 1) > 0.0_wp .and. .not. allocated(err)) call set_error(err, 'the set-up '// &
+      'failed on another rank (its message is on its standard error)')
+    if (allocated(err)) return
+    t%mass = m(1:n)
+    t%total_mass = sum(t%mass)
+  end subroutine whole_masses
 
   !> A body with symmetry planes (a quarter or half cylinder, rkpm_tl3d_m): the particles
   !! on a plane are their own mirror images, so their component normal to it is held at 0

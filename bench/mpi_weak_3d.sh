@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Weak scaling of mfcd_mpi's set-up and memory (doc/parallel.md, "Weak scaling of the set-up"):
+# the 3D Taylor bench's bar (bench/decks/taylor_bar_3d_rkpm_bench.nml, a quarter cylinder
+# of radius 5 mm at 1/3 mm spacing) made 30 mm long per rank (18,747 particles a rank: 2
+# ranks hold the bench's bar), 10 steps, on each rank count given, one thread a rank. The
+# part per rank stays the same while the whole body grows with the ranks, so what every rank
+# holds or does for the whole body shows as the growth of its peak memory and set-up time.
+# Prints, per run, the particles, the summary's set-up and time-loop seconds, and every
+# rank's peak resident memory (GNU time's %M).
+# Usage: bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
+#   default: build-mpi-rel/bin (bench/mpi_scaling.sh builds it), ranks 2 4 8
+# More ranks than cores run oversubscribed: the memory holds, the set-up's seconds are then
+# the ranks sharing a core (divide by ranks / cores for one core's work).
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+bin=$(cd "${1:-$root/build-mpi-rel/bin}" && pwd)
+shift || true
+ranks=("$@")
+[ ${#ranks[@]} -gt 0 ] || ranks=(2 4 8)
+[ -x /usr/bin/time ] || { echo "mpi_weak_3d: needs GNU time (apt-get install time)" >&2; exit 2; }
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+echo "# mfcd_mpi weak scaling of the set-up, 3D Taylor bar 30 mm a rank, 10 steps"
+echo "- date: $(date -Iseconds); commit: $(git -C "$root" rev-parse --short HEAD 2>/dev/null); bin: $bin"
+echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc --all)"
+for n in "${ranks[@]}"; do
+  len=$(python3 -c "print(f'{0.03*$n:.4f}')")
+  sed -e "s#file = 'output/#file = '$work/#" -e 's/t_end = 4.5e-6/t_end = 1.5e-7/' \
+    -e "s/extrude = 0.0, 0.06/extrude = 0.0, $len/" \
+    "$root/bench/decks/taylor_bar_3d_rkpm_bench.nml" > "$work/t.nml"
+  echo "== $n rank(s), bar $len m long"
+  rm -f "$work"/mem.* "$work"/taylor_bar_3d_rkpm_bench*
+  (cd "$work" && mpiexec --oversubscribe --bind-to none -n "$n" sh -c \
+    'exec /usr/bin/time -o "mem.$OMPI_COMM_WORLD_RANK" -f "%M" "$1" t.nml' sh \
+    "$bin/mfcd_mpi" > log.txt 2> err.txt) || { tail -5 "$work/err.txt"; exit 1; }
+  grep -E "body 'bar':.*nodes|summary: [0-9]+ steps|summary: time loop" "$work/log.txt" \
+    | sed -e 's/^/  /' -e 's/, material.*kg;/;/'
+  for r in $(seq 0 $((n - 1))); do
+    printf '  mem rank %d %s kB\n' "$r" "$(cat "$work/mem.$r")"
+  done
+done
