@@ -30,7 +30,7 @@ module mpi_domain_m
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_init, solid_set_owned, part_halo_t, state_fields, &
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
-    solid_energies, solid_set_energies, solid_set_gravity
+    solid_energies, solid_set_energies, solid_set_gravity, solid_state_t, solid_sub_t
   use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
   use solid_tables_m, only: solid_tables_t, tables_copy_scalars, tables_move, tables_transpose
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
@@ -145,6 +145,12 @@ contains
     end if
     nk = size(solids)
     call move_alloc(solids, dom%gs)
+    ! (the whole solids' state freed first where they are released after the split)
+    if (.not. (dom%root .and. dom%root_whole)) then
+      do k = 1, nk
+        call strip_whole(dom%gs(k))
+      end do
+    end if
     allocate(solids(nk), dom%lp(nk), dom%halos(nk), own(nk))
     do k = 1, nk
       call make_part(dom, k, solids(k), own(k)%owner, err)
@@ -180,6 +186,40 @@ contains
       end do
     end if
   end subroutine mpi_split
+
+  !> The whole solid g reduced to what make_part and restart_part read of it (reference
+  !! positions, kinematic conditions, velocities, tables, material, scalars): its state and
+  !! work arrays over all its nodes and points are freed before the parts are made, so that
+  !! the split's peak holds them for the parts only.
+  subroutine strip_whole(g)
+    type(solid_t), intent(inout) :: g
+    real(wp), allocatable :: v(:, :)
+    real(wp) :: ipoint_time
+    call move_alloc(g%state%v, v)
+    ipoint_time = g%state%ipoint_time
+    g%state = solid_state_t()
+    call move_alloc(v, g%state%v)
+    g%state%ipoint_time = ipoint_time
+    g%sub = solid_sub_t()
+    if (allocated(g%fint)) deallocate(g%fint)
+    if (allocated(g%fext)) deallocate(g%fext)
+    if (allocated(g%fcon)) deallocate(g%fcon)
+    if (allocated(g%fpoint)) deallocate(g%fpoint)
+    if (allocated(g%x)) deallocate(g%x)
+    if (allocated(g%dr)) deallocate(g%dr)
+    if (allocated(g%spin)) deallocate(g%spin)
+    if (allocated(g%dwp)) deallocate(g%dwp)
+    if (allocated(g%stab)) deallocate(g%stab)
+    if (allocated(g%jq)) deallocate(g%jq)
+    if (allocated(g%jn)) deallocate(g%jn)
+    if (allocated(g%fbar)) deallocate(g%fbar)
+    if (allocated(g%fbar_old)) deallocate(g%fbar_old)
+    if (allocated(g%taup)) deallocate(g%taup)
+    if (allocated(g%kap0)) deallocate(g%kap0)
+    if (allocated(g%awake)) deallocate(g%awake)
+    if (allocated(g%qact)) deallocate(g%qact)
+    if (allocated(g%bact)) deallocate(g%bact)
+  end subroutine strip_whole
 
   !> Tables t reduced to their scalars (the arrays freed).
   subroutine tables_release(t)
