@@ -69,11 +69,11 @@ MEASURED_3D = 0.82            # weak-scaling efficiency on 2 ranks (measured, th
 # a rank's peak memory (the split's), measured 2026-11-29 on the bench's bar (109 nodes a
 # point; doc/parallel.md, "Weak scaling of the set-up"): a fixed share, its part's tables
 # (0.81 GB on 2 ranks of 37,467 particles, 0.47 GB on 4), and what it still holds of the
-# whole body (bodies, whole solid, contact sides: 0.81 -> 1.01 GB from 37,467 to 149,247
-# particles at 18,700 a rank, bench/mpi_weak_3d.sh)
-FIXED_BYTES_3D = 0.065e9      # B per rank whatever its part (runtime, Open MPI, HDF5)
+# whole body (bodies, the whole solid's reference arrays, contact sides: 0.79 -> 0.94 GB
+# from 37,467 to 149,247 particles at 18,700 a rank, bench/mpi_weak_3d.sh)
+FIXED_BYTES_3D = 0.07e9       # B per rank whatever its part (runtime, Open MPI, HDF5)
 PART_BYTES_3D = 36.0e3        # B per particle of the part at the peak (measured)
-WHOLE_BYTES_3D = 1.8e3        # B per particle of the whole body on every rank (measured)
+WHOLE_BYTES_3D = 1.3e3        # B per particle of the whole body on every rank (measured)
 FS_BANDWIDTH = 100.0e9        # B/s of a parallel file system, aggregate (assumed)
 MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
 STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)
