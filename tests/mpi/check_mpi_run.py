@@ -42,8 +42,16 @@ compare as above.
 With --refused DECK (repeatable): a deck the MPI driver does not take yet (self-contact...)
 must exit 2 on 2 ranks, saying so, before anything is written.
 
+With --bad-cell DECK (repeatable): a 3D RKPM deck whose table build finds cells too few
+particles cover. The serial run exits 2 saying so; on 2, 4 and 6 ranks, where each rank
+integrates only its region's cells, every run must exit 2 within a minute (no rank left
+waiting in a collective), the message on a rank's standard error, nothing written; and on
+6 ranks (the deck's cut leaves a rank without such a cell) a rank must say that the set-up
+failed on another rank.
+
 Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N] [--fails]
-                        [--restart N1:N2:EVERY] [--refused DECK]... MFCD MFCD_MPI MPIEXEC DECK...
+                        [--restart N1:N2:EVERY] [--refused DECK]... [--bad-cell DECK]...
+                        MFCD MFCD_MPI MPIEXEC DECK...
 (--ranks: the rank counts each deck runs on, 1,2,3,4 by default; --t-end: every deck run to
 T seconds, snapshots at 0 and T.)
 """
@@ -87,6 +95,11 @@ REFUSED = []
 while "--refused" in ARGS:
     i = ARGS.index("--refused")
     REFUSED.append(os.path.abspath(ARGS[i + 1]))
+    del ARGS[i:i + 2]
+BAD_CELL = []
+while "--bad-cell" in ARGS:
+    i = ARGS.index("--bad-cell")
+    BAD_CELL.append(os.path.abspath(ARGS[i + 1]))
     del ARGS[i:i + 2]
 MFCD, MFCD_MPI, MPIEXEC = (os.path.abspath(a) for a in ARGS[0:3])
 DECKS = [os.path.abspath(d) for d in ARGS[3:]]
@@ -287,6 +300,31 @@ def main():
         check(f"{name}: refused on 2 ranks, exit 2, naming what is not yet with MPI, "
               "nothing written", p.returncode == 2 and "not yet with MPI" in p.stderr
               and not made, (p.returncode, p.stderr[-800:], made))
+    for src in BAD_CELL:
+        name = os.path.basename(src).replace(".nml", "")
+        deck = deck_copy(src, work, f"{name}_bad.h5")
+        cell = "RK shape functions undefined in the cell"
+        before = set(os.listdir(work))
+        p = subprocess.run([MFCD, deck], cwd=work, env=env, capture_output=True, text=True,
+                           timeout=60)
+        check(f"{name}: the serial run exits 2 naming the cell", p.returncode == 2
+              and cell in p.stderr, (p.returncode, p.stderr[-600:]))
+        for n in (2, 4, 6):
+            try:
+                p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI, deck],
+                                   cwd=work, env=env, capture_output=True, text=True,
+                                   timeout=60)
+            except subprocess.TimeoutExpired:
+                check(f"{name}, {n} ranks: exits 2 (no rank left waiting)", False,
+                      "still running after 60 s")
+                continue
+            made = set(os.listdir(work)) - before
+            check(f"{name}, {n} ranks: exits 2 naming the cell, nothing written",
+                  p.returncode == 2 and cell in p.stderr and not made,
+                  (p.returncode, p.stderr[-800:], made))
+            if n == 6:
+                check(f"{name}, 6 ranks: a rank without such a cell learns of the error",
+                      "the set-up failed on another rank" in p.stderr, p.stderr[-800:])
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if results and all(results) else 1)
 
