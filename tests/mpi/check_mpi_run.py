@@ -120,14 +120,28 @@ def deck_copy(src, work, out, checkpoint_every=0):
         text = text.replace("&output", f"&output\n  checkpoint_every = {checkpoint_every}", 1)
     text, n = re.subn(r"file\s*=\s*'[^']*\.h5'", f"file = '{out}'", text)
     assert n == 1, src
+    # a body's file named from the repository's root (input/*.geo): its absolute path, as
+    # the runs are made in the work directory
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+
+    def absolute(m):
+        name = m.group(2)
+        whole = os.path.normpath(os.path.join(root, name))
+        if os.path.isabs(name) or not os.path.exists(whole):
+            return m.group(0)
+        return f"{m.group(1)}'{whole}'"
+    text = re.sub(r"(file\s*=\s*)'([^']*)'", absolute, text)
     # the MPI driver evaluates every point every step; skip_quiet is exact only to round-off
     # (F = I + O(1e-16) against I), so the serial reference does not skip either
     text = text.replace("&solver", "&solver\n  skip_quiet = .false.", 1)
     if T_END is not None:
         # a shorter run (the Taylor bar's first microseconds: impact, contact, plasticity)
         text = re.sub(r"t_end\s*=\s*[0-9.eE+-]+", f"t_end = {T_END!r}", text)
-        text = re.sub(r"snapshot_times\s*=\s*[^\n]*", f"snapshot_times = 0.0, {T_END!r}",
-                      text)
+        # (a list may go on over lines of numbers)
+        text = re.sub(r"snapshot_times\s*=\s*[^\n]*(\n\s+[0-9][^\n]*)*",
+                      f"snapshot_times = 0.0, {T_END!r}", text)
+        if "snapshot_times" not in text:
+            text = text.replace("&solver", f"&solver\n  snapshot_times = 0.0, {T_END!r}", 1)
     path = os.path.join(work, out.replace(".h5", ".nml"))
     open(path, "w").write(text)
     return path
