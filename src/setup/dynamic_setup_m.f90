@@ -277,6 +277,11 @@ contains
       if (own_box) then
         call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
         call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2, box)
+      else if (present(part) .and. .not. split) then
+        ! (mfcd_mpi on one rank: every cell, without the transpose the split makes again)
+        box(:, 1) = -huge(1.0_wp)
+        box(:, 2) = huge(1.0_wp)
+        call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2, box)
       else
         call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
       end if
@@ -339,6 +344,7 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: m(:)
     integer :: i, n
+    if (.not. associated(part%comm)) error stop 'whole_masses: setup_part_t%comm not set'
     n = b%np
     allocate(m(n + 1))
     m = 0.0_wp
