@@ -146,7 +146,7 @@ contains
     nk = size(solids)
     call move_alloc(solids, dom%gs)
     ! (the whole solids' state freed first where they are released after the split)
-    if (.not. (dom%root .and. dom%root_whole)) then
+    if (.not. keeps_whole(dom)) then
       do k = 1, nk
         call strip_whole(dom%gs(k))
       end do
@@ -162,7 +162,7 @@ contains
     end do
     ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
     ! the snapshots (drawn from the gathered state: contact_det_fields)
-    if (dom%root .and. dom%root_whole) allocate(dom%pairs_whole, source=pairs)
+    if (keeps_whole(dom)) allocate(dom%pairs_whole, source=pairs)
     comm_ptr => dom%ranks
     do k = 1, size(pairs)
       associate (s1 => pairs(k)%side(1)%isolid, s2 => pairs(k)%side(2)%isolid)
@@ -180,7 +180,7 @@ contains
     end do
     ! only rank 0 draws on the whole solids (the det(M) output), if at all; the others keep
     ! their sizes only
-    if (.not. (dom%root .and. dom%root_whole)) then
+    if (.not. keeps_whole(dom)) then
       do k = 1, nk
         call release_whole(dom%gs(k))
       end do
@@ -220,6 +220,13 @@ contains
     if (allocated(g%qact)) deallocate(g%qact)
     if (allocated(g%bact)) deallocate(g%bact)
   end subroutine strip_whole
+
+  !> Whether this rank keeps the whole solids after the split (rank 0, for det(M) fields
+  !! drawn from them); every other rank frees them but for their sizes.
+  pure logical function keeps_whole(dom)
+    type(mpi_domain_t), intent(in) :: dom
+    keeps_whole = dom%root .and. dom%root_whole
+  end function keeps_whole
 
   !> Tables t reduced to their scalars (the arrays freed).
   subroutine tables_release(t)
@@ -267,7 +274,7 @@ contains
       ! the whole solid's tables are done with (but on rank 0 when its det(M) fields draw
       ! on them): freed before the part's transpose, so that the split's peak holds one
       ! set of rows, the part's
-      if (.not. (dom%root .and. dom%root_whole)) call tables_release(g%t)
+      if (.not. keeps_whole(dom)) call tables_release(g%t)
       call tables_transpose(lp%t)
       owner = node_part - 1
       call halo_plan_build(dom%mcomm, lp, node_part, point_part, h%plan, err)
