@@ -20,11 +20,13 @@ module exact_sum_m
   implicit none
   private
   public :: exact_sum_t, exact_add, exact_merge, exact_value, exact_normalize, exact_allsum, &
-    exact_allsum_many
+    exact_allsum_many, exact_allmerge, exact_pack, exact_unpack, exact_pack_size
 
   !> limbs: 72 of 32 bits from 2^-1152 (below the smallest subnormal's 2^-1074, with room for
   !! a 53-bit mantissa's shift) to 2^1152 (above huge's 2^1024, with room for carries)
   integer, parameter :: nlimb = 72
+  !> the integers of exact_pack
+  integer, parameter :: exact_pack_size = nlimb + 1
   integer, parameter :: emin = -1152
   integer, parameter :: limb_bits = 32
   integer(i64), parameter :: mask = 2_i64**limb_bits - 1
@@ -164,9 +166,9 @@ contains
     class(rank_comm_t), intent(inout) :: comm
     real(wp) :: x(size(a))
     type(exact_sum_t) :: b
-    integer(i64), allocatable :: v(:)
+    ! (on the stack: on ranks the contact sums of every step come here)
+    integer(i64) :: v((nlimb + 1)*size(a))
     integer :: k, o
-    allocate(v((nlimb + 1)*size(a)))
     do k = 1, size(a)
       b = a(k)
       call exact_normalize(b)
@@ -184,6 +186,40 @@ contains
       x(k) = exact_value(b)
     end do
   end function exact_allsum_many
+
+  !> The exact sum over the ranks of comm of each rank's a (collective), as an exact sum
+  !! (normalized): the same on every rank, to go on adding to (a checkpoint's).
+  function exact_allmerge(a, comm) result(b)
+    type(exact_sum_t), intent(in) :: a
+    class(rank_comm_t), intent(inout) :: comm
+    type(exact_sum_t) :: b
+    integer(i64) :: v(exact_pack_size)
+    v = exact_pack(a)
+    if (comm%nranks > 1) call comm%sum_i8(v)
+    b = exact_unpack(v)
+  end function exact_allmerge
+
+  !> The exact sum a as nlimb + 1 integers (its normalized limbs, then the count of terms
+  !! that were not finite): the one representation of its value, to store and restore
+  !! (exact_unpack) without rounding.
+  pure function exact_pack(a) result(v)
+    type(exact_sum_t), intent(in) :: a
+    integer(i64) :: v(exact_pack_size)
+    type(exact_sum_t) :: b
+    b = a
+    call exact_normalize(b)
+    v(1:nlimb) = b%limb
+    v(nlimb + 1) = b%nonfinite
+  end function exact_pack
+
+  !> The exact sum exact_pack gave v for.
+  pure function exact_unpack(v) result(a)
+    integer(i64), intent(in) :: v(:)
+    type(exact_sum_t) :: a
+    a%limb = v(1:nlimb)
+    a%nonfinite = v(nlimb + 1)
+    a%nadd = 0
+  end function exact_unpack
 
   !> A quiet NaN.
   function ieee_nan() result(x)

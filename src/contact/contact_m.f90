@@ -19,6 +19,7 @@
 !! applied (eq. 96). mu = 0 skips all tangential work.
 module contact_m
   use kinds_m, only: wp, i64
+  use exact_sum_m, only: exact_sum_t
   use errors_m, only: error_t
   use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
   use geometry_m, only: segment_distance
@@ -64,7 +65,9 @@ module contact_m
     !! spreading; s): its cost against the rest of the step
     real(wp) :: t_pair = 0.0_wp
     !> the pair's friction work since t = 0 (J, J/m in plane strain; <= 0: dissipated):
-    !! the sum of the steps' contact_stats_t%w_friction (this rank's particles on ranks)
+    !! the exact sum of every step's particle terms (contact_stats_t's sums; this rank's
+    !! particles on ranks), and its value (on ranks summed over them when read)
+    type(exact_sum_t) :: w_friction_sum
     real(wp) :: w_friction = 0.0_wp
     !> 3D self-contact: flagged particles with g < 0 whose sign was not sure (the closest
     !! point's edge or vertex has a facet among the particle's reference neighbours): no

@@ -48,6 +48,8 @@ module contact_pair_m
   use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
     solid_correct, at_step_start, at_prediction, solid_share_corrections
   use rank_comm_m, only: rank_comm_t
+  use solid_tables_m, only: solid_tables_t
+  use exact_sum_m, only: exact_sum_t, exact_add, exact_merge, exact_value
   implicit none
   private
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
@@ -58,9 +60,13 @@ module contact_pair_m
   ! procedure the submodule calls, even one the module calls too)
   public :: detect_det_m, pass_forces, detect_self, spreads, detect_det_m_3d, pass_forces_3d
   public :: detect_self_3d
+  public :: stat_sums, stats_values
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
+
+  !> contact_stats_t's exact sums: |f_n|, |f_t|, the slave's force (3), the friction work
+  integer, parameter :: stat_sums = 6
 
   !> Self-contact skipping: a step that re-bins the body screens also the surface
   !! particles due within this many more steps (bench/self_contact.py)
@@ -125,6 +131,11 @@ module contact_pair_m
     !! dt^2/2 f_t/m (s the predicted slip of eq. 90, m the eq. 93 mass): 0 where a particle
     !! sticks, -1/2 mu |f_n| |s_c| where it slides
     real(wp) :: w_friction = 0.0_wp
+    !> the sums behind them, exact (exact_sum_m): of the normal forces, of the tangential
+    !! forces' magnitudes, of the slave's force in x, y (r, z), z, and of the friction work (twice
+    !! the forces above, the work itself); on ranks over this rank's particles until
+    !! summed over the ranks (the same bits on any number of ranks and threads)
+    type(exact_sum_t) :: sums(stat_sums)
     real(wp) :: radius = 0.0_wp         !< largest x1 of a contacting particle (m)
     real(wp) :: pen_before = 0.0_wp     !< deepest predicted penetration (m, >= 0)
     real(wp) :: pen_after = 0.0_wp      !< deepest penetration left after the correction (m)
@@ -174,6 +185,9 @@ module contact_pair_m
     real(wp) :: lip = 0.0_wp             !< |x_j - x'_j| <= lip max_I |d_I - d'_I|
     real(wp), allocatable :: due(:)      !< travel at which a particle is screened again (m)
     real(wp), allocatable :: d_scr(:, :) !< coefficients at the last screening (ndim, np) (m)
+    !> a rank's part (contact_pair_localize): the ranks, over which the bound on the motion
+    !! is taken, so that every particle is screened at the steps the serial run screens it
+    class(rank_comm_t), pointer :: ranks => null()
     !> positions computed this step (all, unless skip_far): a particle not near is not
     !! screened; its x_pred, x_old are stale
     logical, allocatable :: near(:)
@@ -522,22 +536,15 @@ contains
   subroutine skip_far_init(s, solids)
     type(side_t), intent(inout) :: s
     type(solid_t), intent(in) :: solids(:)
-    integer :: j, c, nd
-    real(wp) :: l(max_dim), lj
+    integer :: j
+    real(wp) :: l(max_dim)
     if (s%isolid == 0) return
     associate (t => solids(s%isolid)%t)
       if (t%interpolating) then
         s%lip = 1.0_wp
       else
-        nd = size(t%pn, 1)
-        l = 0.0_wp
-        do j = 1, s%np
-          do c = 1, nd
-            lj = sum(abs(t%pn(c, t%pptr(j):t%pptr(j + 1) - 1)))
-            l(c) = max(l(c), lj)
-          end do
-        end do
-        s%lip = norm2(l(:nd))
+        l = position_sums(t, [(j, j = 1, s%np)])
+        s%lip = norm2(l(:size(t%pn, 1)))
       end if
     end associate
     s%skip_far = .true.
@@ -779,7 +786,7 @@ contains
     type(solid_t), intent(in) :: sol
     real(wp), intent(in) :: factor
     integer :: i, ii
-    real(wp) :: dmax2
+    real(wp) :: dmax2, v(1)
     dmax2 = 0.0_wp
     ! (with subcycling a pass looks at the nodes being stepped only: each particle's motion
     ! is still counted in the calls between its screenings, which is what the bound needs)
@@ -791,8 +798,30 @@ contains
       s%d_scr(:, i) = sol%state%d(:, i)
     end do
     !$omp end parallel do
+    if (associated(s%ranks)) then
+      ! (collective: the whole body's bound, the serial one)
+      v = dmax2
+      call s%ranks%max_real(v)
+      dmax2 = v(1)
+    end if
     s%travel = s%travel + factor*s%lip*sqrt(dmax2)
   end subroutine add_travel
+
+  !> The largest sum_I |N_I(X_j)| of each row of t's position table over the particles
+  !! list (skip_far_init's lip).
+  pure function position_sums(t, list) result(l)
+    type(solid_tables_t), intent(in) :: t
+    integer, intent(in) :: list(:)
+    real(wp) :: l(max_dim)
+    integer :: k, j, c
+    l = 0.0_wp
+    do k = 1, size(list)
+      j = list(k)
+      do c = 1, size(t%pn, 1)
+        l(c) = max(l(c), sum(abs(t%pn(c, t%pptr(j):t%pptr(j + 1) - 1))))
+      end do
+    end do
+  end function position_sums
 
   !> The pair evaluates det(M) of its masters: its detector is det(M), or it compares.
   pure logical function need_det(p)
@@ -838,7 +867,8 @@ contains
       call contact_correct(pairs(k), solids, dt, err)
       pairs(k)%count%t_pair = pairs(k)%count%t_pair + (omp_get_wtime() - t0)
       ! (every call: the sub-steps of subcycling too; on ranks this rank's particles)
-      pairs(k)%count%w_friction = pairs(k)%count%w_friction + pairs(k)%step%w_friction
+      call exact_merge(pairs(k)%count%w_friction_sum, pairs(k)%step%sums(6))
+      pairs(k)%count%w_friction = exact_value(pairs(k)%count%w_friction_sum)
       if (allocated(err)) return
       total%n_contact = total%n_contact + pairs(k)%step%n_contact
       total%n_flagged = total%n_flagged + pairs(k)%step%n_flagged
@@ -857,13 +887,16 @@ contains
   !! local nodes nglob (global numbers, ascending) of solids(p%side(1)%isolid), a part
   !! solid (solid_set_owned); its passes then look at the part's own nodes only
   !! (side_select). Rigid masters only: every rank holds the whole rigid body. The tracked
-  !! edge particle stays with the rank that owns it (0 on the others).
-  subroutine contact_pair_localize(p, nglob, solids, err)
+  !! edge particle stays with the rank that owns it (0 on the others). ranks: the ranks
+  !! (kept by pointer), over which skip_far's bound on the motion is taken (add_travel).
+  subroutine contact_pair_localize(p, nglob, solids, ranks, err)
     type(contact_pair_t), intent(inout) :: p
     integer, intent(in) :: nglob(:)
     type(solid_t), intent(in) :: solids(:)
+    class(rank_comm_t), pointer, intent(in) :: ranks
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, e
+    real(wp) :: l(max_dim)
     if (p%both_ways .or. p%self .or. p%side(2)%isolid /= 0) then
       call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
         trim(p%side(2)%name)//"': a rank's part of a solid takes rigid masters only")
@@ -892,7 +925,15 @@ contains
       if (allocated(s%due)) then
         s%due = s%due(nglob)
         s%d_scr = sol%state%d
+        ! lip over the whole body: a rank's tables may hold position rows of its region
+        ! only (the 3D RKPM set-up), so from its own particles, the largest over the ranks
+        if (.not. sol%t%interpolating .and. associated(ranks)) then
+          l = position_sums(sol%t, sol%part%own_n)
+          call ranks%max_real(l)
+          s%lip = norm2(l(:size(sol%t%pn, 1)))
+        end if
       end if
+      s%ranks => ranks
       if (allocated(s%list)) deallocate(s%list)
       e = 0
       if (p%edge > 0) then
@@ -1092,18 +1133,14 @@ contains
     integer(i64), intent(in) :: neval, ndet
     integer(i64), intent(out) :: ncon
     integer :: j, jj, i0, i1
-    real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, fnsum, xi, invmb, meff
-    real(wp) :: dxb(2), ftsum, fx, fy, sgn, wfr, ft
+    real(wp) :: g, nrm(2), tng(2), slip, fj(2), pen, rad, xi, invmb, meff
+    real(wp) :: dxb(2), sgn, ft
+    type(exact_sum_t) :: xs(stat_sums), xl(stat_sums)
     logical :: stick
     ! forces (eqs. 93-96) at the penetrating particles, whichever detector found them
     ncon = 0
     pen = 0.0_wp
     rad = 0.0_wp
-    fnsum = 0.0_wp
-    ftsum = 0.0_wp
-    fx = 0.0_wp
-    fy = 0.0_wp
-    wfr = 0.0_wp
     ! the step's first pass pushes the slave's particles, the second the master's (their
     ! forces act on the slave with the opposite sign)
     sgn = merge(1.0_wp, -1.0_wp, count_stats)
@@ -1119,10 +1156,11 @@ contains
         b%share(i1) = b%share(i1) + a%xi(j)
       end do
     end if
-    !$omp parallel do default(none) shared(a, b, dt, p, sgn) &
-    !$omp private(j, g, nrm, tng, slip, fj, stick, xi, i0, i1, invmb, meff, dxb, ft) &
-    !$omp reduction(+: ncon, fnsum, ftsum, fx, fy, wfr) reduction(max: pen, rad) &
-    !$omp schedule(static)
+    !$omp parallel default(none) shared(a, b, dt, p, sgn, xs) &
+    !$omp private(j, g, nrm, tng, slip, fj, stick, xi, i0, i1, invmb, meff, dxb, ft, xl) &
+    !$omp reduction(+: ncon) reduction(max: pen, rad)
+    xl = exact_sum_t()
+    !$omp do schedule(static)
     do jj = 1, a%nlist
       j = side_particle(a, jj)
       a%fphys(:, j) = 0.0_wp
@@ -1155,17 +1193,21 @@ contains
       call contact_point_force(g, nrm, tng, slip, meff, dt, p%mu, fj, stick)
       a%fphys(:, j) = fj
       ncon = ncon + 1
-      fnsum = fnsum + dot_product(fj, a%nrm(:, j))
+      call exact_add(xl(1), dot_product(fj, a%nrm(:, j)))
       ft = dot_product(fj, a%tng(:, j))
-      ftsum = ftsum + abs(ft)
+      call exact_add(xl(2), abs(ft))
       ! friction work on the slip left after the correction (0 when it sticks)
-      if (meff > 0.0_wp) wfr = wfr + 0.5_wp*ft*(slip + 0.5_wp*dt*dt*ft/meff)
-      fx = fx + sgn*fj(1)
-      fy = fy + sgn*fj(2)
+      if (meff > 0.0_wp) call exact_add(xl(6), 0.5_wp*ft*(slip + 0.5_wp*dt*dt*ft/meff))
+      call exact_add(xl(3), sgn*fj(1))
+      call exact_add(xl(4), sgn*fj(2))
       pen = max(pen, -a%gap(j))
       rad = max(rad, a%x_pred(1, j))
     end do
-    !$omp end parallel do
+    !$omp end do
+    !$omp critical (pass_sums)
+    call merge_sums(xs, xl)
+    !$omp end critical (pass_sums)
+    !$omp end parallel
     if (.not. p%self) p%count%screened = p%count%screened + a%nlist
     p%count%evaluated = p%count%evaluated + neval
     p%count%detected = p%count%detected + ndet
@@ -1173,24 +1215,39 @@ contains
     if (count_stats) then
       p%step%n_contact = int(ncon)
       p%step%n_flagged = int(ndet)
-      p%step%force_normal = 0.5_wp*fnsum
-      p%step%force_tangential = 0.5_wp*ftsum
-      p%step%force_slave = 0.5_wp*[fx, fy, 0.0_wp]
-      p%step%w_friction = wfr
+      p%step%sums = xs
       p%step%radius = rad
       p%step%pen_before = pen
       if (p%edge > 0) p%step%edge_in_contact = a%active(p%edge)
     else
       p%step%n_contact = p%step%n_contact + int(ncon)
       p%step%n_flagged = p%step%n_flagged + int(ndet)
-      p%step%force_normal = p%step%force_normal + 0.5_wp*fnsum
-      p%step%force_tangential = p%step%force_tangential + 0.5_wp*ftsum
-      p%step%force_slave = p%step%force_slave + 0.5_wp*[fx, fy, 0.0_wp]
-      p%step%w_friction = p%step%w_friction + wfr
+      call merge_sums(p%step%sums, xs)
       p%step%radius = max(p%step%radius, rad)
       p%step%pen_before = max(p%step%pen_before, pen)
     end if
+    call stats_values(p%step)
   end subroutine pass_forces
+
+  !> a(k) = a(k) + b(k), exactly.
+  pure subroutine merge_sums(a, b)
+    type(exact_sum_t), intent(inout) :: a(:)
+    type(exact_sum_t), intent(in) :: b(:)
+    integer :: k
+    do k = 1, size(a)
+      call exact_merge(a(k), b(k))
+    end do
+  end subroutine merge_sums
+
+  !> The step's forces and friction work from their exact sums (each rounded once).
+  subroutine stats_values(c)
+    type(contact_stats_t), intent(inout) :: c
+    c%force_normal = 0.5_wp*exact_value(c%sums(1))
+    c%force_tangential = 0.5_wp*exact_value(c%sums(2))
+    c%force_slave = 0.5_wp*[exact_value(c%sums(3)), exact_value(c%sums(4)), &
+      exact_value(c%sums(5))]
+    c%w_friction = exact_value(c%sums(6))
+  end subroutine stats_values
 
   !> The paper's detector (eqs. 25-28): a's particles in b's grown box with det(M_b) above
   !! the threshold at their predicted positions are flagged (ndet of neval evaluated); the
@@ -1413,18 +1470,13 @@ contains
     integer(i64), intent(in) :: neval, ndet
     integer(i64), intent(out) :: ncon
     integer :: j, jj, k, i
-    real(wp) :: nrm(3), fj(3), dxb(3), ds(3), pen, rad, fnsum, ftsum, fx, fy, fz, sgn, wfr
+    real(wp) :: nrm(3), fj(3), dxb(3), ds(3), pen, rad, sgn
     real(wp) :: invmb, meff, ft, sl
+    type(exact_sum_t) :: xs(stat_sums), xl(stat_sums)
     logical :: stick
     ncon = 0
     pen = 0.0_wp
     rad = 0.0_wp
-    fnsum = 0.0_wp
-    ftsum = 0.0_wp
-    fx = 0.0_wp
-    fy = 0.0_wp
-    fz = 0.0_wp
-    wfr = 0.0_wp
     ! the step's first pass pushes the slave's particles, the second the master's (their
     ! forces act on the slave with the opposite sign)
     sgn = merge(1.0_wp, -1.0_wp, count_stats)
@@ -1440,10 +1492,11 @@ contains
         end do
       end do
     end if
-    !$omp parallel do default(none) shared(a, b, dt, p, sgn) &
-    !$omp private(j, k, i, nrm, fj, stick, invmb, meff, dxb, ds, ft, sl) &
-    !$omp reduction(+: ncon, fnsum, ftsum, fx, fy, fz, wfr) reduction(max: pen, rad) &
-    !$omp schedule(static)
+    !$omp parallel default(none) shared(a, b, dt, p, sgn, xs) &
+    !$omp private(j, k, i, nrm, fj, stick, invmb, meff, dxb, ds, ft, sl, xl) &
+    !$omp reduction(+: ncon) reduction(max: pen, rad)
+    xl = exact_sum_t()
+    !$omp do schedule(static)
     do jj = 1, a%nlist
       j = side_particle(a, jj)
       a%fphys(:, j) = 0.0_wp
@@ -1476,18 +1529,22 @@ contains
       call contact_point_force_3d(a%gap(j), nrm, ds, meff, dt, p%mu, fj, stick)
       a%fphys(:, j) = fj
       ncon = ncon + 1
-      fnsum = fnsum + dot_product(fj, nrm)
+      call exact_add(xl(1), dot_product(fj, nrm))
       ft = dot_product(fj, a%tng(:, j))
-      ftsum = ftsum + abs(ft)
+      call exact_add(xl(2), abs(ft))
       ! friction work on the slip left after the correction (0 when it sticks)
-      if (meff > 0.0_wp) wfr = wfr + 0.5_wp*ft*(sl + 0.5_wp*dt*dt*ft/meff)
-      fx = fx + sgn*fj(1)
-      fy = fy + sgn*fj(2)
-      fz = fz + sgn*fj(3)
+      if (meff > 0.0_wp) call exact_add(xl(6), 0.5_wp*ft*(sl + 0.5_wp*dt*dt*ft/meff))
+      call exact_add(xl(3), sgn*fj(1))
+      call exact_add(xl(4), sgn*fj(2))
+      call exact_add(xl(5), sgn*fj(3))
       pen = max(pen, -a%gap(j))
       rad = max(rad, a%x_pred(1, j))
     end do
-    !$omp end parallel do
+    !$omp end do
+    !$omp critical (pass_sums)
+    call merge_sums(xs, xl)
+    !$omp end critical (pass_sums)
+    !$omp end parallel
     p%count%screened = p%count%screened + a%nlist
     p%count%evaluated = p%count%evaluated + neval
     p%count%detected = p%count%detected + ndet
@@ -1495,23 +1552,18 @@ contains
     if (count_stats) then
       p%step%n_contact = int(ncon)
       p%step%n_flagged = int(ndet)
-      p%step%force_normal = 0.5_wp*fnsum
-      p%step%force_tangential = 0.5_wp*ftsum
-      p%step%force_slave = 0.5_wp*[fx, fy, fz]
-      p%step%w_friction = wfr
+      p%step%sums = xs
       p%step%radius = rad
       p%step%pen_before = pen
       if (p%edge > 0) p%step%edge_in_contact = a%active(p%edge)
     else
       p%step%n_contact = p%step%n_contact + int(ncon)
       p%step%n_flagged = p%step%n_flagged + int(ndet)
-      p%step%force_normal = p%step%force_normal + 0.5_wp*fnsum
-      p%step%force_tangential = p%step%force_tangential + 0.5_wp*ftsum
-      p%step%force_slave = p%step%force_slave + 0.5_wp*[fx, fy, fz]
-      p%step%w_friction = p%step%w_friction + wfr
+      call merge_sums(p%step%sums, xs)
       p%step%radius = max(p%step%radius, rad)
       p%step%pen_before = max(p%step%pen_before, pen)
     end if
+    call stats_values(p%step)
   end subroutine pass_forces_3d
 
   !> Self-contact detection (Sections 1 and 7): a's candidates (its surface particles) with

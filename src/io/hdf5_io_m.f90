@@ -17,7 +17,7 @@ module hdf5_io_m
     H5S_SELECT_SET_F, h5fflush_f, H5F_SCOPE_GLOBAL_F, h5fis_hdf5_f, h5aopen_f, h5aread_f, &
     h5aexists_f, h5aget_type_f, h5aget_space_f, h5dget_type_f, h5tget_size_f, &
     h5kind_to_type, H5_INTEGER_KIND, H5F_ACC_RDWR_F, H5P_DEFAULT_F, H5S_SELECT_OR_F, &
-    h5sselect_none_f
+    h5sselect_none_f, h5pset_obj_track_times_f, H5P_FILE_CREATE_F, H5P_GROUP_CREATE_F
   implicit none
   private
   public :: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text
@@ -68,14 +68,19 @@ contains
     type(h5file_t), intent(out) :: f
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(inout) :: err
-    integer :: st
+    integer :: st, s2
+    integer(hid_t) :: fcpl
     call h5open_f(st)
     if (st /= 0) then
       call set_error(err, 'HDF5 library failed to initialise', 1)
       return
     end if
     call h5eset_auto_f(0, st)
-    call h5fcreate_f(path, H5F_ACC_EXCL_F, f%id, st)
+    ! (the root group's header without times either: the file's bytes are what is written)
+    call h5pcreate_f(H5P_FILE_CREATE_F, fcpl, st)
+    if (st == 0) call h5pset_obj_track_times_f(fcpl, .false., st)
+    if (st == 0) call h5fcreate_f(path, H5F_ACC_EXCL_F, f%id, st, creation_prp=fcpl)
+    call h5pclose_f(fcpl, s2)
     if (st /= 0) then
       call set_error(err, "output file '"//path//"' cannot be created (it exists, or its "// &
         "directory is not writable); check the directory of &output file", 1)
@@ -99,12 +104,37 @@ contains
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(inout) :: err
-    integer(hid_t) :: g
-    integer :: st
-    call h5gcreate_f(f%id, path, g, st)
+    integer(hid_t) :: g, gcpl
+    integer :: st, s2
+    call h5pcreate_f(H5P_GROUP_CREATE_F, gcpl, st)
+    if (st == 0) call h5pset_obj_track_times_f(gcpl, .false., st)
+    if (st == 0) call h5gcreate_f(f%id, path, g, st, gcpl_id=gcpl)
+    call h5pclose_f(gcpl, s2)
     if (st == 0) call h5gclose_f(g, st)
     if (st /= 0) call fail(f, path, 'group create', err)
   end subroutine h5_group
+
+  !> Dataset path of type t on dataspace space, with chunk its chunk shape (else
+  !! contiguous), created without access, modification and change times in its header
+  !! (HDF5 records them by default): the file's bytes are then a function of what is
+  !! written, not of when, the same from runs on any number of ranks.
+  subroutine dcreate(f, path, t, space, dset, st, chunk)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer(hid_t), intent(in) :: t, space
+    integer(hid_t), intent(out) :: dset
+    integer, intent(out) :: st
+    integer(hsize_t), intent(in), optional :: chunk(:)
+    integer(hid_t) :: dcpl
+    integer :: s2
+    dset = -1
+    call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, st)
+    if (st /= 0) return
+    call h5pset_obj_track_times_f(dcpl, .false., st)
+    if (present(chunk) .and. st == 0) call h5pset_chunk_f(dcpl, size(chunk), chunk, st)
+    if (st == 0) call h5dcreate_f(f%id, path, t, space, dset, st, dcpl)
+    call h5pclose_f(dcpl, s2)
+  end subroutine dcreate
 
   subroutine fail(f, path, what, err)
     type(h5file_t), intent(in) :: f
@@ -143,7 +173,7 @@ contains
     integer :: st
     dims = shape(a, kind=hsize_t)
     call h5screate_simple_f(1, dims, space, st)
-    call h5dcreate_f(f%id, path, H5T_NATIVE_DOUBLE, space, dset, st)
+    call dcreate(f, path, H5T_NATIVE_DOUBLE, space, dset, st)
     if (st == 0) call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a, dims, st)
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine write_r1
@@ -159,7 +189,7 @@ contains
     integer :: st
     dims = shape(a, kind=hsize_t)
     call h5screate_simple_f(2, dims, space, st)
-    call h5dcreate_f(f%id, path, H5T_NATIVE_DOUBLE, space, dset, st)
+    call dcreate(f, path, H5T_NATIVE_DOUBLE, space, dset, st)
     if (st == 0) call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a, dims, st)
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine write_r2
@@ -217,7 +247,7 @@ contains
     xfer = H5P_DEFAULT_F
     if (f%xfer >= 0) xfer = f%xfer
     call h5screate_simple_f(rk, dims, space, st)
-    call h5dcreate_f(f%id, path, H5T_NATIVE_DOUBLE, space, dset, st)
+    call dcreate(f, path, H5T_NATIVE_DOUBLE, space, dset, st)
     if (st /= 0) then
       call finish_dataset(f, path, dset, space, units, descr, st, err)
       return
@@ -246,7 +276,7 @@ contains
     integer :: st
     dims = shape(a, kind=hsize_t)
     call h5screate_simple_f(1, dims, space, st)
-    call h5dcreate_f(f%id, path, H5T_NATIVE_INTEGER, space, dset, st)
+    call dcreate(f, path, H5T_NATIVE_INTEGER, space, dset, st)
     if (st == 0) call h5dwrite_f(dset, H5T_NATIVE_INTEGER, a, dims, st)
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine write_i1
@@ -262,7 +292,7 @@ contains
     integer :: st
     dims = shape(a, kind=hsize_t)
     call h5screate_simple_f(2, dims, space, st)
-    call h5dcreate_f(f%id, path, H5T_NATIVE_INTEGER, space, dset, st)
+    call dcreate(f, path, H5T_NATIVE_INTEGER, space, dset, st)
     if (st == 0) call h5dwrite_f(dset, H5T_NATIVE_INTEGER, a, dims, st)
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine write_i2
@@ -282,7 +312,7 @@ contains
     t = h5kind_to_type(i64, H5_INTEGER_KIND)
     dims = shape(a, kind=hsize_t)
     call h5screate_simple_f(1, dims, space, st)
-    call h5dcreate_f(f%id, path, t, space, dset, st)
+    call dcreate(f, path, t, space, dset, st)
     if (st == 0) call h5dwrite_f(dset, t, c_loc(buf), st)
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine write_i64
@@ -293,17 +323,14 @@ contains
     character(len=*), intent(in) :: path, units
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in), optional :: descr
-    integer(hid_t) :: space, dset, plist
+    integer(hid_t) :: space, dset
     integer(hsize_t) :: dims(1), maxdims(1), chunk(1)
-    integer :: st, s2
+    integer :: st
     dims = 0
     maxdims = H5S_UNLIMITED_F
     chunk = 1024
     call h5screate_simple_f(1, dims, space, st, maxdims)
-    call h5pcreate_f(H5P_DATASET_CREATE_F, plist, st)
-    call h5pset_chunk_f(plist, 1, chunk, st)
-    call h5dcreate_f(f%id, path, H5T_NATIVE_DOUBLE, space, dset, st, plist)
-    call h5pclose_f(plist, s2)
+    call dcreate(f, path, H5T_NATIVE_DOUBLE, space, dset, st, chunk)
     call finish_dataset(f, path, dset, space, units, descr, st, err)
   end subroutine h5_series_create
 
@@ -358,7 +385,7 @@ contains
     call h5tcopy_f(H5T_FORTRAN_S1, t, st)
     call h5tset_size_f(t, int(max(len(text), 1), size_t), st)
     call h5screate_f(H5S_SCALAR_F, space, st)
-    call h5dcreate_f(f%id, path, t, space, dset, st)
+    call dcreate(f, path, t, space, dset, st)
     if (st == 0) call h5dwrite_f(dset, t, text, dims, st)
     call h5tclose_f(t, st)
     call finish_dataset(f, path, dset, space, 'text', st=st, err=err)

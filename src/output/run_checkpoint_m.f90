@@ -32,7 +32,10 @@ module run_checkpoint_m
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_quiet_blocks, state_fields, solid_field_rows, &
-    solid_get_field, solid_put_field, solid_state_derived, solid_energies, solid_set_energies
+    solid_get_field, solid_put_field, solid_state_derived, solid_energies, solid_set_energies, &
+    solid_account_sums
+  use exact_sum_m, only: exact_sum_t, exact_value, exact_add, exact_pack, exact_unpack, &
+    exact_pack_size
   use contact_pair_m, only: contact_pair_t
   use run_report_m, only: run_record_t
   use dynamic_output_m, only: history_t, history_width, history_geometry, output_rows
@@ -47,9 +50,9 @@ module run_checkpoint_m
     checkpoint_write_fields, checkpoint_read_part
 
   !> The root attribute 'format' of every checkpoint, and the layout version this mfcd
-  !! writes and reads (raise it when the layout changes).
+  !! writes and reads (raise it when the layout changes; 3: with work_points, work_nodes).
   character(len=*), parameter :: checkpoint_kind = 'mfcd checkpoint'
-  integer, parameter :: checkpoint_format = 2
+  integer, parameter :: checkpoint_format = 3
 
   !> What a checkpoint says about itself (root attributes).
   type :: checkpoint_info_t
@@ -124,6 +127,10 @@ contains
           't = 0')
         if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
           '_w_friction', [c%w_friction], 'J', err, 'friction work since t = 0')
+        if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+          '_w_friction_exact', exact_pack(c%w_friction_sum), '1', err, 'friction work '// &
+          'since t = 0, its exact sum (exact_sum_m: limbs of 32 bits from 2^-1152, then '// &
+          'the count of terms not finite), to go on adding to without rounding')
         if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
           '_self_unsure', [c%self_unsure], '1', err, '3D self-contact flags with g < 0 '// &
           'left without contact since t = 0, their sign not sure')
@@ -216,6 +223,8 @@ contains
     logical, intent(in) :: fields
     type(error_t), allocatable, intent(inout) :: err
     character(len=:), allocatable :: g
+    type(exact_sum_t) :: e(8)
+    integer :: k
     g = '/solids/'//trim(s%name)
     call h5_group(f, g, err)
     if (allocated(err)) return
@@ -223,7 +232,17 @@ contains
     if (.not. allocated(err)) call h5_attr(f, g, 'nq', s%nq, err)
     if (fields .and. .not. allocated(err)) call write_fields(f, g, s, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'contact_impulse_time', s%state%ipoint_time, err)
-    if (.not. allocated(err)) call h5_attr(f, g, 'energies', solid_energies(s), err)
+    ! the energy accounts: the exact sums of a whole solid's entries (solid_account_sums),
+    ! the numbers the history records; a rank 0's solid without fields has them set
+    ! already (mpi_checkpoint: the sums over the ranks' parts)
+    if (fields) then
+      e = exact_sum_t()
+      call solid_account_sums(s, e)
+      if (.not. allocated(err)) call h5_attr(f, g, 'energies', [(exact_value(e(k)), &
+        k = 1, 8)], err)
+    else
+      if (.not. allocated(err)) call h5_attr(f, g, 'energies', solid_energies(s), err)
+    end if
     if (.not. allocated(err)) call h5_attr(f, g, 'kappa_dt_cal', [s%kappa, s%dt_cal], err)
     if (.not. allocated(err)) call h5_attr(f, g, 'kappa_q', s%kappa_q, err)
     if (.not. allocated(err)) call h5_attr(f, g, 'wall', s%acc%wall, err)
@@ -494,6 +513,7 @@ contains
     integer, allocatable :: dims(:)
     integer(i64) :: counts(4), more(7), nskip(1)
     real(wp) :: bgap(2), tdet(1), travel(1), tpair(1)
+    integer(i64) :: limbs(exact_pack_size)
     integer :: k, ncol
     nsnap_done = 0
     allocate(snap_times(0))
@@ -557,7 +577,17 @@ contains
       ! its friction work (absent from checkpoints written before it)
       if (h5_has(f, '/contacts/contact'//itoa(k)//'_w_friction')) then
         call h5_read(f, '/contacts/contact'//itoa(k)//'_w_friction', tpair, err)
-        if (.not. allocated(err)) pairs(k)%count%w_friction = tpair(1)
+        if (.not. allocated(err)) then
+          pairs(k)%count%w_friction = tpair(1)
+          ! its exact sum (absent from checkpoints written before it: then the value)
+          pairs(k)%count%w_friction_sum = exact_sum_t()
+          if (h5_has(f, '/contacts/contact'//itoa(k)//'_w_friction_exact')) then
+            call h5_read(f, '/contacts/contact'//itoa(k)//'_w_friction_exact', limbs, err)
+            if (.not. allocated(err)) pairs(k)%count%w_friction_sum = exact_unpack(limbs)
+          else
+            call exact_add(pairs(k)%count%w_friction_sum, tpair(1))
+          end if
+        end if
       end if
       ! 3D self-contact's flags of a sign not sure (absent from checkpoints before it)
       if (h5_has(f, '/contacts/contact'//itoa(k)//'_self_unsure')) then

@@ -9,7 +9,7 @@ module run_report_m
   use errors_m, only: error_t
   use strings_m, only: itoa, rtoa
   use solid_m, only: solid_t
-  use run_health_m, only: energies_t
+  use run_health_m, only: energies_t, fail_key_size
   use body_measures_m, only: measures_t, body_measures
   use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_det_fields, detector_name, &
     contact_self_det, &
@@ -36,6 +36,8 @@ module run_report_m
     logical :: failed = .false.
     integer :: energy_over = 0            !< consecutive steps over the energy limit
     character(len=:), allocatable :: reason
+    !> where the failure is in the serial run's order (run_health_m fail_key_size)
+    real(wp) :: fail_key(fail_key_size) = huge(1.0_wp)
     integer(i64) :: node_steps = 0        !< nodes x steps over all solids
     integer(i64) :: point_steps = 0       !< integration points (triangles) x steps
     real(wp) :: wall0 = 0.0_wp            !< wall clock at the start (s)

@@ -30,14 +30,16 @@ module mpi_domain_m
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_init, solid_set_owned, part_halo_t, state_fields, &
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
-    solid_energies, solid_set_energies, solid_set_gravity, solid_state_t, solid_sub_t
+    solid_energies, solid_set_energies, solid_set_gravity, solid_state_t, solid_sub_t, &
+    solid_account_sums
   use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
   use solid_tables_m, only: solid_tables_t, tables_copy_scalars, tables_move, tables_transpose
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
   use rank_comm_m, only: rank_comm_t
+  use exact_sum_m, only: exact_sum_t, exact_add, exact_value, exact_allmerge, exact_allsum_many
   use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
-  use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_pair_localize, &
-    contact_pair_distribute, contact_dist_report
+  use contact_pair_m, only: contact_pair_t, contact_stats_t, stat_sums, stats_values, &
+    contact_pair_localize, contact_pair_distribute, contact_dist_report
   use contact_m, only: contact_counters_t
   use body_measures_m, only: measures_t, body_measures_part
   use run_report_m, only: run_record_t, self_det_out
@@ -167,7 +169,7 @@ contains
     do k = 1, size(pairs)
       associate (s1 => pairs(k)%side(1)%isolid, s2 => pairs(k)%side(2)%isolid)
         if (s2 == 0) then
-          call contact_pair_localize(pairs(k), dom%lp(s1)%nglob, solids, err)
+          call contact_pair_localize(pairs(k), dom%lp(s1)%nglob, solids, comm_ptr, err)
         else
           ! a deforming master: each rank its own slave particles against its own and
           ! ghost master particles, and the other way round (contact_dist_sm)
@@ -472,33 +474,38 @@ contains
     class(mpi_domain_t), intent(inout) :: dom
     type(contact_stats_t), intent(inout) :: c
     type(contact_pair_t), intent(inout) :: pairs(:)
-    integer :: ni(4), nt(4), k
-    real(wp) :: rs(1), rt(1), rm(3), rmt(3)
+    integer :: ni(4), nt(4), k, j
+    real(wp) :: rm(3), rmt(3)
     integer :: nf(size(pairs)), nft(size(pairs))
-    real(wp) :: pf(5, size(pairs)), pft(5, size(pairs))
+    type(exact_sum_t) :: xs(stat_sums*size(pairs))
+    real(wp) :: pft(stat_sums*size(pairs))
     ni = [c%n_contact, c%n_flagged, c%n_cmp_det, merge(1, 0, c%edge_in_contact)]
     call MPI_Allreduce(ni, nt, 4, MPI_INTEGER, MPI_SUM, dom%mcomm)
-    rs = c%force_normal
-    call MPI_Allreduce(rs, rt, 1, MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
     rm = [c%radius, c%pen_before, c%pen_after]
     call MPI_Allreduce(rm, rmt, 3, MPI_DOUBLE_PRECISION, MPI_MAX, dom%mcomm)
     c%n_contact = nt(1)
     c%n_flagged = nt(2)
     c%n_cmp_det = nt(3)
     c%edge_in_contact = nt(4) > 0
-    c%force_normal = rt(1)
     c%radius = rmt(1)
     c%pen_before = rmt(2)
     c%pen_after = rmt(3)
     if (size(pairs) == 0) return
-    ! each pair's forces (its history columns): sums over the ranks
-    pf = reshape([(pairs(k)%step%force_normal, pairs(k)%step%force_tangential, &
-      pairs(k)%step%force_slave, k = 1, size(pairs))], [5, size(pairs)])
-    call MPI_Allreduce(pf, pft, size(pf), MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
+    ! each pair's forces and friction work of the step (its history columns): exact sums
+    ! over the ranks (the serial values to the bit); the total normal force from them, in
+    ! the pairs' order (as contact_step adds them)
+    xs = [(pairs(k)%step%sums, k = 1, size(pairs))]
+    pft = exact_allsum_many(xs, dom%comm)
+    c%force_normal = 0.0_wp
     do k = 1, size(pairs)
-      pairs(k)%step%force_normal = pft(1, k)
-      pairs(k)%step%force_tangential = pft(2, k)
-      pairs(k)%step%force_slave = pft(3:5, k)
+      associate (st => pairs(k)%step)
+        do j = 1, stat_sums
+          st%sums(j) = exact_sum_t()
+          call exact_add(st%sums(j), pft(stat_sums*(k - 1) + j))
+        end do
+        call stats_values(st)
+        c%force_normal = c%force_normal + st%force_normal
+      end associate
     end do
     nf = [(pairs(k)%step%n_flagged, k = 1, size(pairs))]
     call MPI_Allreduce(nf, nft, size(pairs), MPI_INTEGER, MPI_SUM, dom%mcomm)
@@ -514,13 +521,12 @@ contains
     type(contact_counters_t), allocatable :: keep(:)
     integer :: k
     integer(i64) :: a(6), b(6)
-    real(wp) :: w(1), wt(1)
     if (restore) allocate(keep(size(pairs)), source=[(pairs(k)%count, k = 1, size(pairs))])
     do k = 1, size(pairs)
       associate (c => pairs(k)%count)
-        w = c%w_friction
-        call MPI_Allreduce(w, wt, 1, MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
-        c%w_friction = wt(1)
+        ! (exact: the serial value to the bit; the sum itself for a checkpoint)
+        c%w_friction_sum = exact_allmerge(c%w_friction_sum, dom%comm)
+        c%w_friction = exact_value(c%w_friction_sum)
         a = [c%screened, c%evaluated, c%detected, c%contacts, c%skipped, c%self_unsure]
         call MPI_Allreduce(a, b, 6, MPI_INTEGER8, MPI_SUM, dom%mcomm)
         c%screened = b(1)
@@ -585,11 +591,14 @@ contains
     type(h5file_t) :: f
     character(len=:), allocatable :: path
     integer :: k
-    real(wp) :: e(8), et(8)
+    type(exact_sum_t) :: e(8)
+    real(wp) :: et(8)
     logical :: skip(size(pairs))
     do k = 1, size(solids)
-      e = solid_energies(solids(k))
-      call MPI_Reduce(e, et, 8, MPI_DOUBLE_PRECISION, MPI_SUM, 0, dom%mcomm)
+      ! the accounts the history records: exact sums over the parts' entries
+      e = exact_sum_t()
+      call solid_account_sums(solids(k), e)
+      et = exact_allsum_many(e, dom%comm)
       if (.not. dom%root) cycle
       call solid_set_energies(dom%gs(k), et)
       dom%gs(k)%kappa = solids(k)%kappa

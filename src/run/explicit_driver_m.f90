@@ -25,11 +25,11 @@ module explicit_driver_m
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, &
     solid_update, solid_share_corrections, solid_body_sums, solid_bc_reactions, &
-    solid_sums_size
+    solid_sums_size, solid_account_sums
   use contact_pair_m, only: contact_pair_t, contact_step, contact_stats_t
   use body_measures_m, only: measures_t
-  use run_health_m, only: energies_t, energy_totals, check_solid, check_energy, check_step, &
-    set_health_limits
+  use run_health_m, only: energies_t, energy_totals, energies_of, check_solid, check_energy, &
+    check_step, set_health_limits
   use stable_step_m, only: step_control_next, step_control_update, landing_slack
   use subcycle_m, only: subcycle_next, subcycle_rates, subcycle_end
   use dynamic_setup_m, only: dynamic_setup_t, setup_time_step
@@ -113,13 +113,13 @@ contains
       if (dom%any_error(err)) return
       ! (every rank counts the snapshots: their solids' datasets are written by all)
       out%nsnap_done = nsnap0
-      call energies(dom, solids, en)
+      call energies_exact(dom, solids, en)
     else
       ! the state at t = 0: forces at u = 0
       do k = 1, size(solids)
         call solid_start(solids(k), r%dt, bad_q, bad_j)
       end do
-      call energies(dom, solids, en)
+      call energies_exact(dom, solids, en)
       call snapshots_due(dom, out, deck, r, pairs, solids, whole, err)
       if (dom%any_error(err)) then
         if (dom%root) call run_files_close(out, r, whole, err)
@@ -158,18 +158,23 @@ contains
       r%n = r%n + 1
       r%t = r%t + r%dt
       if (k_bad > 0) then
-        call check_solid(solids(k_bad), r%n, bad_q, bad_j, r%failed, r%reason)
+        call solid_checked(solids(k_bad), k_bad, r, bad_q, bad_j)
       else
         call internal_forces_and_update(dom, solids, r)                        ! (62), (63)
       end if
-      call dom%agree_failure(r)
       call kappa_max(dom, solids)
       call subcycle_end(solids)
       call step_control_update(r%step, solids)
-      call check_step(r%step, solids, r%n, r%failed, r%reason)
+      if (.not. r%failed) call check_step(r%step, solids, r%n, r%failed, r%reason, r%fail_key)
       call energies(dom, solids, en)
-      call check_energy(en, r%n, energy_warmup, deck%solver%energy_tol, solids, &
-        r%energy_over, r%failed, r%reason)
+      if (.not. r%failed) call check_energy(en, r%n, energy_warmup, deck%solver%energy_tol, &
+        solids, r%energy_over, r%failed, r%reason, r%fail_key)
+      ! a failure on any rank fails all, with the reason the serial run would give
+      call dom%agree_failure(r)
+      ! what the history, the log and the summary record: the exact accounts (the running
+      ! ones, which the guard reads each step, depend on the split in their last bits)
+      if (mod(r%n, hist_every) == 0 .or. mod(r%n, log_every) == 0 .or. r%failed) &
+        call energies_exact(dom, solids, en)
       ! the whole solids' state for a snapshot that draws det(M) fields from it (on ranks,
       ! gathered to rank 0 then only: the solids' datasets are written from the parts, and
       ! a history row's measures are maxima over the ranks)
@@ -195,6 +200,7 @@ contains
     if (dom%root .and. dom%comm%nranks > 1) call log_print('dynamic: the state gathered '// &
       'to rank 0 '//itoa(dom%gathers - gathers0)//' time(s) in the time loop (det(M) '// &
       'fields of snapshots)')
+    call energies_exact(dom, solids, en)
     ! (the last row before the counters are summed over the ranks: its friction work sums
     ! each rank's own)
     if (.not. r%failed .and. mod(r%n, hist_every) /= 0) &
@@ -318,7 +324,7 @@ contains
     do k = 1, size(solids)
       call solid_internal_force(solids(k), r%dt, bad_q, bad_j)                 ! (62)
       call solid_update(solids(k), r%dt)                                        ! (63)
-      call check_solid(solids(k), r%n, bad_q, bad_j, r%failed, r%reason)
+      call solid_checked(solids(k), k, r, bad_q, bad_j)
       r%node_steps = r%node_steps + dom%whole_nodes(solids, k)
       r%point_steps = r%point_steps + dom%whole_points(solids, k)
     end do
@@ -346,6 +352,33 @@ contains
       tiny(1.0_wp))
   end subroutine energies
 
+  !> check_solid of solid k (the k-th), its failure's key (run_health_m) in the record.
+  subroutine solid_checked(s, k, r, bad_q, bad_j)
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: k, bad_q
+    type(run_record_t), intent(inout) :: r
+    real(wp), intent(in) :: bad_j
+    if (r%failed) return
+    call check_solid(s, r%n, bad_q, bad_j, r%failed, r%reason, r%fail_key)
+    if (r%failed) r%fail_key(1) = real(k, wp)
+  end subroutine solid_checked
+
+  !> The energy accounts the run records (history rows, log lines, the summary): each
+  !! solid's exact sums over its entries (solid_account_sums) and over the ranks' parts,
+  !! rounded once, then added solid by solid (energies_of): the same bits on any number of
+  !! ranks and threads. Collective.
+  subroutine energies_exact(dom, solids, en)
+    class(run_domain_t), intent(inout) :: dom
+    type(solid_t), intent(in) :: solids(:)
+    type(energies_t), intent(out) :: en
+    type(exact_sum_t) :: xs(8*size(solids))
+    integer :: k
+    do k = 1, size(solids)
+      call solid_account_sums(solids(k), xs(8*k - 7:8*k))
+    end do
+    en = energies_of(reshape(exact_allsum_many(xs, dom%comm), [8, size(solids)]))
+  end subroutine energies_exact
+
   !> The history row of the step (collective): the run's columns (history_row_measured,
   !! with the measures of the first solid) and, for each solid, its kinetic energy and
   !! momentum, and in plane strain its angular momentum about its centre of mass,
@@ -363,6 +396,7 @@ contains
     ! per solid (solid_body_sums): ke, M, P(nd), sum M x (nd), L_o (1 or 3)
     real(wp) :: v(solid_sums_size(size(solids(1)%state%d, 1))*size(solids)), xc(max_dim)
     type(exact_sum_t) :: vs(size(v))
+    type(exact_sum_t) :: rs(size(row))
     real(wp) :: wf(size(pairs)), lcm(3), p(3)
     hm = dom%measures(solids(1))
     row(1:size(history_names)) = history_row_measured(r, en, hm)
@@ -412,34 +446,52 @@ contains
         pairs(k)%step%force_slave(1:npc - 3), pairs(k)%count%w_friction]
       c = c + npc
     end do
-    if (dom%comm%nranks > 1 .and. size(pairs) > 0) then
-      wf = [(row(o + npc*k), k = 1, size(pairs))]
-      call dom%comm%sum_real(wf)
+    if (size(pairs) > 0) then
+      ! (exact sums of the particles' terms over the ranks: the serial value to the bit)
+      wf = exact_allsum_many([(pairs(k)%count%w_friction_sum, k = 1, size(pairs))], dom%comm)
       do k = 1, size(pairs)
         row(o + npc*k) = wf(k)
       end do
     end if
-    ! each &bc group's reaction force, summed over the solids (and the ranks)
+    ! each &bc group's reaction force, summed over the solids (and the ranks), exactly
     if (c < size(row)) then
-      row(c + 1:) = 0.0_wp
+      rs = exact_sum_t()
       do k = 1, size(solids)
-        call solid_bc_reactions(solids(k), row(c + 1:))
+        call solid_bc_reactions(solids(k), rs(:size(row) - c))
       end do
-      if (dom%comm%nranks > 1) call dom%comm%sum_real(row(c + 1:))
+      row(c + 1:) = exact_allsum_many(rs(:size(row) - c), dom%comm)
     end if
   end subroutine history_row_now
 
-  !> Every solid's largest kappa over the ranks: the same step everywhere.
+  !> Every solid's largest kappa over the ranks (the same step everywhere) and where it is
+  !! (kappa_g: the point the summary names).  Collective.
   subroutine kappa_max(dom, solids)
     class(run_domain_t), intent(inout) :: dom
     type(solid_t), intent(inout) :: solids(:)
-    real(wp) :: v(1)
-    integer :: k
-    if (dom%comm%nranks == 1) return
+    real(wp) :: v(1), own
+    integer :: k, g(1)
     do k = 1, size(solids)
-      v = solids(k)%kappa
-      call dom%comm%max_real(v)
-      solids(k)%kappa = v(1)
+      associate (s => solids(k))
+        if (.not. (s%part%on .and. allocated(s%part%qglob))) then
+          s%kappa_g = s%kappa_q
+          cycle
+        end if
+        ! (a part without owned points has no kappa of its own this step)
+        g = huge(1)
+        if (s%kappa_q > 0 .and. size(s%part%own_q) > 0) g = s%part%qglob(s%kappa_q)
+        if (dom%comm%nranks == 1) then
+          s%kappa_g = g(1)
+          cycle
+        end if
+        own = merge(s%kappa, -1.0_wp, size(s%part%own_q) > 0)
+        v = own
+        call dom%comm%max_real(v)
+        s%kappa = v(1)
+        ! where it is: among the ranks with the largest, the lowest point number (serial)
+        if (own /= v(1)) g = huge(1)
+        call dom%comm%min_int(g)
+        s%kappa_g = g(1)
+      end associate
     end do
   end subroutine kappa_max
 

@@ -22,6 +22,7 @@ module run_domain_m
   use contact_pair_m, only: contact_pair_t, contact_stats_t
   use body_measures_m, only: measures_t, body_measures
   use run_report_m, only: run_record_t, self_det_out
+  use run_health_m, only: fail_key_size, fail_key_first
   use run_files_m, only: run_files_t, run_files_checkpoint
   use dynamic_output_m, only: snapshot_write
   implicit none
@@ -200,22 +201,28 @@ contains
     if (dom%any_error(err)) continue
   end subroutine domain_agree_error
 
-  !> A failure on any rank fails every rank, with the lowest failing rank's reason (and the
-  !! rank named, when there are several).
+  !> A failure on any rank fails every rank, with the reason the serial run gives: of the
+  !! ranks' failures the first in the serial run's order (the failure keys, run_health_m
+  !! fail_key_first), whose numbers are those of the whole solids.
   subroutine domain_agree_failure(dom, r)
     class(run_domain_t), intent(inout) :: dom
     type(run_record_t), intent(inout) :: r
     integer :: first(1)
+    real(wp) :: keys(fail_key_size, dom%comm%nranks)
     character(len=:), allocatable :: why
     if (dom%comm%nranks == 1) return
-    first = merge(dom%comm%me, dom%comm%nranks, r%failed)
+    first = merge(0, 1, r%failed)
     call dom%comm%min_int(first)
-    if (first(1) == dom%comm%nranks) return
+    if (first(1) == 1) return
+    if (.not. r%failed) r%fail_key = huge(1.0_wp)
+    call dom%comm%allgather_real(r%fail_key, keys)
+    first = fail_key_first(keys) - 1
     why = ''
     if (dom%comm%me == first(1)) why = r%reason
     call dom%comm%bcast_text(first(1), why)
     r%failed = .true.
-    r%reason = why//' (rank '//itoa(first(1))//')'
+    r%reason = why
+    r%fail_key = keys(:, first(1) + 1)
   end subroutine domain_agree_failure
 
   subroutine serial_split(dom, solids, pairs, restarted, err)

@@ -34,11 +34,12 @@ module solid_m
   public :: solid_t, solid_sub_t, solid_part_t, solid_state_t, solid_options_t, &
     solid_accounts_t, solid_init, solid_start, solid_predict, solid_internal_force, solid_update
   public :: solid_kinetic_energy, solid_positions, solid_point_position, solid_body_sums, &
-    solid_sums_size
+    solid_account_sums, solid_sums_size
   public :: solid_set_gravity, solid_add_spin, solid_bc_reactions
   public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_quiet_init, &
     solid_quiet_blocks
-  public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node
+  public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node, &
+    solid_node_number, solid_point_number
   public :: health_ok, health_j, health_stress, health_epsbar, health_deps, health_names
   public :: solid_set_owned, solid_points_force, solid_nodes_force, part_halo_t, &
     solid_share_corrections
@@ -88,7 +89,7 @@ module solid_m
     character(len=72) :: what
   end type state_field_t
 
-  type(state_field_t), parameter :: state_fields(11) = [ &
+  type(state_field_t), parameter :: state_fields(13) = [ &
     state_field_t('d', 'm', .true., .true., 'nodal coefficients of the displacement'), &
     state_field_t('v', 'm/s', .true., .true., 'nodal coefficients of the velocity'), &
     state_field_t('a', 'm/s^2', .true., .false., 'nodal coefficients of the acceleration'), &
@@ -103,7 +104,12 @@ module solid_m
     state_field_t('alpha', 'Pa', .false., .false., 'back stress (as tau)'), &
     state_field_t('epsbar', '1', .false., .true., 'effective plastic strain'), &
     state_field_t('epsdot', '1/s', .false., .false., 'effective plastic strain rate of '// &
-      'the last step')]
+      'the last step'), &
+    state_field_t('work_points', 'J', .false., .false., 'internal and plastic work at each '// &
+      'point since t = 0 (J/m in plane strain)'), &
+    state_field_t('work_nodes', 'J', .true., .false., 'work of the kinematic conditions, '// &
+      'of contact and of the body force at each node since t = 0, and its kinetic energy '// &
+      'at t = 0')]
 
   !> A rank's part of a solid and its neighbour ranks (distributed memory, doc/parallel.md):
   !! the ghost entries of local arrays from their owners. The MPI build implements it
@@ -180,6 +186,12 @@ module solid_m
     real(wp), allocatable :: f(:, :), f_old(:, :)        !< F (nf, nq)
     real(wp), allocatable :: p(:, :), p_old(:, :)        !< first Piola-Kirchhoff (nf, nq) (Pa)
     type(material_state_t) :: st                 !< stresses, back stress, epsbar, its rate
+    !> the energy accounts entry by entry (J, J/m in plane strain): at each point its
+    !! internal and plastic work since t = 0 (2, nq); at each node the work of the
+    !! kinematic conditions, of the contact forces and of the body force since t = 0 and its
+    !! kinetic energy at t = 0 (4, np). The run's accounts are their exact sums
+    !! (solid_account_sums): the same bits whatever the split among ranks or threads.
+    real(wp), allocatable :: work_q(:, :), work_n(:, :)
   end type solid_state_t
 
   !> Options of a solid, set once by the run's set-up: the SCNI stabilization and the local
@@ -232,6 +244,7 @@ module solid_m
     !! plastic work of the step (nq)
     real(wp), allocatable :: dr(:, :), spin(:, :), dwp(:)
     real(wp), allocatable :: stab(:, :)          !< stabilization stresses (nstab, nq)
+    real(wp), allocatable :: estab(:)            !< their energy at each point (nq) (J, J/m)
     !> averaged nodal pressure (tables flagged anp: linear tetrahedra, anp_average): J and
     !! J_bar of each point (2, nq), each node's volume-weighted J (1, np), the material's
     !! F_bar (nf, nq) now and at the point's last evaluation, and the Kirchhoff stress
@@ -242,6 +255,9 @@ module solid_m
     real(wp) :: kappa0 = 0.0_wp                  !< largest kappa in the reference state (1/m^2)
     real(wp) :: kappa = 0.0_wp                   !< largest kappa at the current state (1/m^2)
     integer :: kappa_q = 0                       !< the point where it is
+    !> its number in the whole solid, and on ranks the run's (the largest over the ranks,
+    !! the lowest number among equals: the serial point; explicit_driver_m kappa_max)
+    integer :: kappa_g = 0
     real(wp) :: dt_cal = 0.0_wp                  !< 2/omega_max(0) sqrt(kappa0) (s/m)
     integer :: bad_code = 0                      !< point_health code of the failed point
     ! quiet points (&solver skip_quiet): a point all of whose nodes still move in the
@@ -302,8 +318,12 @@ contains
     s%nq = nq
     s%opt%stab_normal = alpha*(s%mat%lambda + 2.0_wp*s%mat%g)
     s%opt%stab_shear = alpha*s%mat%g
-    allocate(s%stab(s%t%dims%nstab, nq))
+    allocate(s%stab(s%t%dims%nstab, nq), s%estab(nq), s%state%work_q(2, nq), &
+      s%state%work_n(4, np))
     s%stab = 0.0_wp
+    s%estab = 0.0_wp
+    s%state%work_q = 0.0_wp
+    s%state%work_n = 0.0_wp
     if (space) then
       call s%state%st%init3d(nq)
     else
@@ -392,6 +412,7 @@ contains
       s%kappa_q = maxloc(s%kap0, 1)
       s%kappa0 = s%kap0(s%kappa_q)
     end if
+    s%kappa_g = s%kappa_q
     s%kappa = s%kappa0
   end subroutine step_metric
 
@@ -526,6 +547,7 @@ contains
       s%state%a = 0.0_wp
     end where
     if (associated(s%part%halo)) call s%part%halo%nodes2(s%state%v, s%state%a)
+    s%state%work_n(4, :) = 0.5_wp*s%t%mass*sum(s%state%v**2, dim=1)
   end subroutine solid_start
 
   !> The prediction of eq. (64); contact may correct it (solid_correct) before the forces.
@@ -599,7 +621,7 @@ contains
     if (s%all_awake) then
       if (s%opt%stab_normal > 0.0_wp) then
         call deformation_gradient(s%t, s%state%d, s%state%f, &
-          [s%opt%stab_normal, s%opt%stab_shear], s%stab, s%acc%e_stab)
+          [s%opt%stab_normal, s%opt%stab_shear], s%stab, s%acc%e_stab, energy_q=s%estab)
       else
         call deformation_gradient(s%t, s%state%d, s%state%f)
       end if
@@ -607,7 +629,8 @@ contains
       ! quiet points keep F = I and zero stabilization stresses (and add no energy)
       if (s%opt%stab_normal > 0.0_wp) then
         call deformation_gradient(s%t, s%state%d, s%state%f, &
-          [s%opt%stab_normal, s%opt%stab_shear], s%stab, s%acc%e_stab, active=s%qact)
+          [s%opt%stab_normal, s%opt%stab_shear], s%stab, s%acc%e_stab, active=s%qact, &
+          energy_q=s%estab)
       else
         call deformation_gradient(s%t, s%state%d, s%state%f, active=s%qact)
       end if
@@ -877,9 +900,11 @@ contains
     real(wp), intent(out) :: dw, dwp, kmax
     integer, intent(in), optional :: list(:), n
     integer :: k, q, nk, qloc
-    real(wp) :: kp, kloc
-    logical :: listed
+    real(wp) :: kp, kloc, w, wpl
+    logical :: listed, glob
     listed = present(list)
+    ! a rank's part: its points' numbers in the whole solid decide between equal kappas
+    glob = s%part%on .and. allocated(s%part%qglob)
     nk = s%nq
     if (listed) nk = n
     bad_q = 0
@@ -887,17 +912,20 @@ contains
     dwp = 0.0_wp
     kmax = 0.0_wp
     kq = 0
-    !$omp parallel default(none) shared(s, kmax, kq, dt, list, listed, nk) &
-    !$omp private(kp, kloc, qloc, q) reduction(+: dw, dwp) reduction(max: bad_q)
+    !$omp parallel default(none) shared(s, kmax, kq, dt, list, listed, nk, glob) &
+    !$omp private(kp, kloc, qloc, q, w, wpl) reduction(+: dw, dwp) reduction(max: bad_q)
     kloc = 0.0_wp
     qloc = 0
     !$omp do schedule(static)
     do k = 1, nk
       q = k
       if (listed) q = list(k)
-      dw = dw + s%t%wgt(q)*0.5_wp*sum((s%state%p_old(:, q) + s%state%p(:, q)) &
+      w = s%t%wgt(q)*0.5_wp*sum((s%state%p_old(:, q) + s%state%p(:, q)) &
         *(s%state%f(:, q) - s%state%f_old(:, q)))
-      dwp = dwp + s%t%wgt(q)*s%dwp(q)
+      wpl = s%t%wgt(q)*s%dwp(q)
+      dw = dw + w
+      dwp = dwp + wpl
+      s%state%work_q(:, q) = s%state%work_q(:, q) + [w, wpl]
       if (point_health(s, q, dt) /= health_ok) then
         bad_q = max(bad_q, q)
       else
@@ -905,17 +933,42 @@ contains
         if (kp > kloc) then
           kloc = kp
           qloc = q
+        else if (kp == kloc .and. glob .and. qloc > 0) then
+          ! (a part's points are not in the whole solid's order: the lower number there)
+          if (s%part%qglob(q) < s%part%qglob(qloc)) qloc = q
         end if
       end if
     end do
     !$omp end do
     !$omp critical (solid_kappa)
-    if (kloc > kmax .or. (kloc == kmax .and. qloc < kq)) then
+    if (kloc > kmax .or. (kloc == kmax .and. before(qloc, kq))) then
       kmax = kloc
       kq = qloc
     end if
     !$omp end critical (solid_kappa)
     !$omp end parallel
+    ! (a rank's part: the bad point with the highest number in the whole solid, the serial
+    ! run's; a failing step only)
+    if (bad_q > 0 .and. glob) then
+      do k = 1, nk
+        q = k
+        if (listed) q = list(k)
+        if (s%part%qglob(q) <= s%part%qglob(bad_q)) cycle
+        if (point_health(s, q, dt) /= health_ok) bad_q = q
+      end do
+    end if
+  contains
+    !> Is point a before point b in the whole solid (b = 0: none yet)?
+    logical function before(a, b)
+      integer, intent(in) :: a, b
+      if (b == 0 .or. a == 0) then
+        before = b == 0 .and. a > 0
+      else if (glob) then
+        before = s%part%qglob(a) < s%part%qglob(b)
+      else
+        before = a < b
+      end if
+    end function before
   end subroutine points_account
 
   !> Kinematics and material update of a step dt at the points list(1:n) only, with their
@@ -948,7 +1001,7 @@ contains
     if (s%opt%stab_normal > 0.0_wp) then
       ! (a rank's part of a stabilized RKPM solid: its points' share of the energy)
       call deformation_gradient_list(s%t, s%state%d, s%state%f, list, n, &
-        [s%opt%stab_normal, s%opt%stab_shear], s%stab, s%acc%e_stab)
+        [s%opt%stab_normal, s%opt%stab_shear], s%stab, s%acc%e_stab, energy_q=s%estab)
     else
       call deformation_gradient_list(s%t, s%state%d, s%state%f, list, n)
     end if
@@ -1291,8 +1344,12 @@ contains
       p => s%state%st%alpha
     case (10)
       p(1:1, 1:size(s%state%st%epsbar)) => s%state%st%epsbar
-    case default
+    case (11)
       p(1:1, 1:size(s%state%st%epsdot)) => s%state%st%epsdot
+    case (12)
+      p => s%state%work_q
+    case default
+      p => s%state%work_n
     end select
   end function state_field
 
@@ -1380,7 +1437,7 @@ contains
     integer :: i, k, nd
     ! a fixed-size private du: one of the solid's dimension was a heap array per thread and
     ! per call (1% of the FEM benchmark's time loop)
-    real(wp) :: wbc, wc, wext, du(max_dim)
+    real(wp) :: wbc, wc, wext, du(max_dim), wi(3)
     logical :: listed
     nd = size(s%state%d, 1)
     listed = present(list)
@@ -1388,7 +1445,7 @@ contains
     wc = 0.0_wp
     wext = 0.0_wp
     ke = 0.0_wp
-    !$omp parallel do default(none) shared(s, dt, n, list, listed, nd) private(du, i) &
+    !$omp parallel do default(none) shared(s, dt, n, list, listed, nd) private(du, i, wi) &
     !$omp reduction(+: wbc, wc, wext, ke) schedule(static)
     do k = 1, n
       i = k
@@ -1399,7 +1456,7 @@ contains
       ! work"; the trapezoid 1/2 f.(d_{n+1} - d_n) exceeds it by dt^2/4 a_n.f +
       ! dt^2/8 |f|^2/m, which grew without bound against a deformable master); on a
       ! prescribed component the force moves nothing: dt/2 f.v_n, returned in w_bc below
-      wc = wc + 0.5_wp*dt*sum(s%fcon(:, i)*s%state%v(:, i)) + 0.125_wp*dt*dt* &
+      wi(2) = 0.5_wp*dt*sum(s%fcon(:, i)*s%state%v(:, i)) + 0.125_wp*dt*dt* &
         sum(merge(0.0_wp, s%fcon(:, i)**2, s%pres(:, i)))/s%t%mass(i)
       s%state%v(:, i) = s%state%v(:, i) &
         + 0.5_wp*dt*(s%state%a_old(:, i) + s%state%a(:, i))   ! (63)
@@ -1407,15 +1464,19 @@ contains
       ! kinematic conditions: reactions R = f_int - f_ext times the motion
       s%state%freac(:, i) = merge(s%fint(:, i) - s%fext(:, i), 0.0_wp, s%pres(:, i))
       du(:nd) = s%state%d(:, i) - s%state%d_old(:, i)
-      wbc = wbc + 0.5_wp*sum((s%state%freac_old(:, i) + s%state%freac(:, i))*du(:nd))
+      wi(1) = 0.5_wp*sum((s%state%freac_old(:, i) + s%state%freac(:, i))*du(:nd))
       ! a contact force on a prescribed component is held by the condition: its reaction
       ! does the opposite work (a driven plate pushing a body supplies what contact
       ! delivers to the body; w_contact counts both and nets to ~0)
-      wbc = wbc - 0.5_wp*sum(merge(s%fcon(:, i), 0.0_wp, s%pres(:, i))*du(:nd))
+      wi(1) = wi(1) - 0.5_wp*sum(merge(s%fcon(:, i), 0.0_wp, s%pres(:, i))*du(:nd))
       s%state%freac_old(:, i) = s%state%freac(:, i)
       ! the body force (gravity), constant: its work is f_ext . du exactly (on a prescribed
       ! component the reaction, which holds f_ext too, returns it in w_bc)
-      wext = wext + sum(s%fext(:, i)*du(:nd))
+      wi(3) = sum(s%fext(:, i)*du(:nd))
+      wbc = wbc + wi(1)
+      wc = wc + wi(2)
+      wext = wext + wi(3)
+      s%state%work_n(1:3, i) = s%state%work_n(1:3, i) + wi
       s%state%ipoint(:, i) = s%state%ipoint(:, i) + 0.5_wp*dt*s%fpoint(:, i)
       ke = ke + 0.5_wp*s%t%mass(i)*sum(s%state%v(:, i)**2)
     end do
@@ -1468,13 +1529,13 @@ contains
     s%acc%ke = s%acc%ke0
   end subroutine solid_add_spin
 
-  !> The reaction force of each &bc group on the solid (N, or N/m in plane strain), summed
-  !! into v(k) for group k over the solid's nodes (a rank's part: its owned nodes): the
+  !> The reaction force of each &bc group on the solid (N, or N/m in plane strain), added
+  !! exactly into v(k) for group k over the solid's nodes (a rank's part: its owned nodes): the
   !! force the condition exerts on the body to hold its components, R = f_int - f_ext at
   !! the end of the step (the contact forces of the step act at n only and are not in it).
   subroutine solid_bc_reactions(s, v)
     type(solid_t), intent(in) :: s
-    real(wp), intent(inout) :: v(:)
+    type(exact_sum_t), intent(inout) :: v(:)
     integer :: k, i, n, c
     if (.not. allocated(s%bc_of)) return
     n = s%np
@@ -1483,7 +1544,7 @@ contains
       i = k
       if (s%part%on) i = s%part%own_n(k)
       do c = 1, size(s%bc_of, 1)
-        if (s%bc_of(c, i) > 0) v(s%bc_of(c, i)) = v(s%bc_of(c, i)) + s%state%freac(c, i)
+        if (s%bc_of(c, i) > 0) call exact_add(v(s%bc_of(c, i)), s%state%freac(c, i))
       end do
     end do
   end subroutine solid_bc_reactions
@@ -1524,6 +1585,39 @@ contains
       end if
     end do
   end subroutine solid_body_sums
+
+  !> The energy accounts of solid s added exactly into v(1:8), in solid_energies' order
+  !! (ke0, ke, w_int, w_plastic, w_bc, w_ext, w_contact, e_stab), from its entries (a rank's
+  !! part: its owned nodes and points): the kinetic energy now and at t = 0, the work at
+  !! each point and node (solid_state_t's work_q, work_n) and the stabilization energy at
+  !! each point. Exact sums (exact_sum_m): the totals are the same bits however the entries
+  !! are split among ranks and threads, where the running sums of the step (s%acc, which
+  !! the energy guard reads each step) are not.
+  subroutine solid_account_sums(s, v)
+    type(solid_t), intent(in) :: s
+    type(exact_sum_t), intent(inout) :: v(:)
+    integer :: k, i, n
+    n = s%np
+    if (s%part%on) n = size(s%part%own_n)
+    do k = 1, n
+      i = k
+      if (s%part%on) i = s%part%own_n(k)
+      call exact_add(v(1), s%state%work_n(4, i))
+      call exact_add(v(2), 0.5_wp*s%t%mass(i)*sum(s%state%v(:, i)**2))
+      call exact_add(v(5), s%state%work_n(1, i))
+      call exact_add(v(6), s%state%work_n(3, i))
+      call exact_add(v(7), s%state%work_n(2, i))
+    end do
+    n = s%nq
+    if (s%part%on) n = size(s%part%own_q)
+    do k = 1, n
+      i = k
+      if (s%part%on) i = s%part%own_q(k)
+      call exact_add(v(3), s%state%work_q(1, i))
+      call exact_add(v(4), s%state%work_q(2, i))
+      call exact_add(v(8), s%estab(i))
+    end do
+  end subroutine solid_account_sums
 
   !> The size of solid_body_sums' v in ndim dimensions.
   pure integer function solid_sums_size(ndim) result(n)
@@ -1679,23 +1773,53 @@ contains
     type(solid_t), intent(in) :: s
     integer, intent(out) :: j
     real(wp), intent(out) :: vmax
-    integer :: i
+    integer :: i, k, n, jbad
     real(wp) :: v2, v2max
+    ! (a rank's part: its owned nodes, and among equals the lower number in the whole
+    ! solid, as the serial loop finds them)
     j = 1
+    jbad = 0
     v2max = -1.0_wp
-    do i = 1, s%np
+    n = s%np
+    if (s%part%on) n = size(s%part%own_n)
+    do k = 1, n
+      i = k
+      if (s%part%on) i = s%part%own_n(k)
       if (.not. all(abs(s%state%d(:, i)) < huge(1.0_wp) &
           .and. abs(s%state%v(:, i)) < huge(1.0_wp))) then
-        j = i
-        vmax = huge(1.0_wp)
-        return
+        if (jbad == 0) jbad = i
+        if (solid_node_number(s, i) < solid_node_number(s, jbad)) jbad = i
+        if (.not. s%part%on) exit
+        cycle
       end if
       v2 = sum(s%state%v(:, i)**2)
-      if (v2 > v2max) then
+      if (v2 > v2max .or. (v2 == v2max .and. solid_node_number(s, i) < &
+          solid_node_number(s, j))) then
         v2max = v2
         j = i
       end if
     end do
+    if (jbad > 0) then
+      j = jbad
+      vmax = huge(1.0_wp)
+      return
+    end if
     vmax = sqrt(max(v2max, 0.0_wp))
   end subroutine solid_worst_node
+
+  !> The number of node i of solid s in the whole solid (a rank's part numbers its own).
+  pure integer function solid_node_number(s, i) result(g)
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: i
+    g = i
+    if (s%part%on .and. allocated(s%part%nglob)) g = s%part%nglob(i)
+  end function solid_node_number
+
+  !> The number of integration point q of solid s in the whole solid.
+  pure integer function solid_point_number(s, q) result(g)
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: q
+    g = q
+    if (s%part%on .and. allocated(s%part%qglob)) g = s%part%qglob(q)
+  end function solid_point_number
 end module solid_m

@@ -192,13 +192,7 @@ contains
     do k = 1, size(solids)
       if (present(comm)) then
         dtk = critical_step(solids(k), comm)
-        if (solids(k)%part%on) then
-          v = 0.0_wp
-          if (size(solids(k)%part%own_q) > 0) v = maxval(solids(k)%kap0(solids(k)%part%own_q))
-          call comm%max_real(v)
-          solids(k)%kappa0 = v(1)
-          solids(k)%kappa = v(1)
-        end if
+        if (solids(k)%part%on) call kappa0_parts(solids(k), comm)
       else
         dtk = critical_step(solids(k))
       end if
@@ -208,6 +202,37 @@ contains
     call step_control_update(c, solids)
     c%dtc0 = c%dtc
   end subroutine step_control_calibrate
+
+  !> A part's kappa(0) and where it is: the largest over the owned points of all the ranks
+  !! and, among equals, the lowest number in the whole solid (the serial point). Collective.
+  subroutine kappa0_parts(s, comm)
+    type(solid_t), intent(inout) :: s
+    class(rank_comm_t), intent(inout) :: comm
+    integer :: j, q, qb, g(1)
+    real(wp) :: v(1), vb
+    vb = 0.0_wp
+    qb = 0
+    do j = 1, size(s%part%own_q)
+      q = s%part%own_q(j)
+      if (qb == 0) then
+        qb = q
+        vb = s%kap0(q)
+      else if (s%kap0(q) > vb .or. (s%kap0(q) == vb .and. &
+        s%part%qglob(q) < s%part%qglob(qb))) then
+        qb = q
+        vb = s%kap0(q)
+      end if
+    end do
+    v = vb
+    call comm%max_real(v)
+    s%kappa0 = v(1)
+    s%kappa = v(1)
+    if (qb > 0) s%kappa_q = qb
+    g = huge(1)
+    if (qb > 0 .and. vb == v(1)) g = s%part%qglob(qb)
+    call comm%min_int(g)
+    s%kappa_g = g(1)
+  end subroutine kappa0_parts
 
   !> The current critical step estimate (min over solids) and where it is set; after the
   !! internal forces of a step.
@@ -222,7 +247,7 @@ contains
       if (e < c%dtc) then
         c%dtc = e
         c%solid = k
-        c%point = solids(k)%kappa_q
+        c%point = solids(k)%kappa_g
       end if
     end do
     if (c%dtc < c%dtc_min) then
@@ -291,7 +316,9 @@ contains
       return
     end if
     txt = 'body '''//trim(solids(k)%name)//''', integration point '//itoa(q)
-    ! (an MPI run's rank 0 may hold only the whole solid's sizes: then the point alone)
+    ! (an MPI run's rank 0 may hold only the whole solid's sizes, or its part, whose
+    ! numbers are not the whole solid's: then the point alone)
+    if (solids(k)%part%on) return
     if (.not. allocated(solids(k)%t%owner)) return
     if (q > size(solids(k)%t%owner)) return
     if (solids(k)%t%owner(q) > 0) txt = txt//' (particle '//itoa(solids(k)%t%owner(q))//')'

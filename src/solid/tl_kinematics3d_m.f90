@@ -51,8 +51,8 @@ contains
   !! F_cj = delta_cj + sum_I d_cI dN_I/dX_j. With stab = [c_normal, c_shear] given, the
   !! same pass forms the SCNI stabilization stresses s (9, nq) and their energy (see
   !! stabilization_force_3d); with active given, only the marked points (quiet points keep
-  !! F = I and s = 0).
-  subroutine deformation_gradient_3d(t, d, f, stab, s, energy, active)
+  !! F = I and s = 0); with energy_q (nq) each point's share of the energy.
+  subroutine deformation_gradient_3d(t, d, f, stab, s, energy, active, energy_q)
     type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: d(:, :)
     real(wp), intent(inout) :: f(:, :)
@@ -60,14 +60,16 @@ contains
     real(wp), intent(inout), optional :: s(:, :)
     real(wp), intent(out), optional :: energy
     logical, intent(in), optional :: active(:)
+    real(wp), intent(inout), optional :: energy_q(:)
     integer :: q
     real(wp) :: en, eq
-    logical :: with_stab, masked
+    logical :: with_stab, masked, each
     with_stab = present(stab)
     masked = present(active)
+    each = present(energy_q)
     en = 0.0_wp
-    !$omp parallel do default(none) shared(t, d, f, stab, s, with_stab, masked, active) &
-    !$omp private(eq) reduction(+: en) schedule(static)
+    !$omp parallel do default(none) shared(t, d, f, stab, s, with_stab, masked, active, &
+    !$omp each, energy_q) private(eq) reduction(+: en) schedule(static)
     do q = 1, t%nq
       if (masked) then
         if (.not. active(q)) cycle
@@ -75,6 +77,7 @@ contains
       if (with_stab) then
         call point_f_stab(t, d, q, stab, f(:, q), s(:, q), eq)
         en = en + eq
+        if (each) energy_q(q) = eq
       else
         call point_f(t, d, q, f(:, q))
       end if
@@ -84,7 +87,7 @@ contains
   end subroutine deformation_gradient_3d
 
   !> F (and with stab the stabilization stresses) at the points list(1:n) only.
-  subroutine deformation_gradient_list_3d(t, d, f, list, n, stab, s, energy)
+  subroutine deformation_gradient_list_3d(t, d, f, list, n, stab, s, energy, energy_q)
     type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: d(:, :)
     real(wp), intent(inout) :: f(:, :)
@@ -92,17 +95,20 @@ contains
     real(wp), intent(in), optional :: stab(2)
     real(wp), intent(inout), optional :: s(:, :)
     real(wp), intent(out), optional :: energy
+    real(wp), intent(inout), optional :: energy_q(:)
     integer :: k
     real(wp) :: en, eq
-    logical :: with_stab
+    logical :: with_stab, each
     with_stab = present(stab)
+    each = present(energy_q)
     en = 0.0_wp
-    !$omp parallel do default(none) shared(t, d, f, list, n, stab, s, with_stab) &
-    !$omp private(eq) reduction(+: en) schedule(static)
+    !$omp parallel do default(none) shared(t, d, f, list, n, stab, s, with_stab, each, &
+    !$omp energy_q) private(eq) reduction(+: en) schedule(static)
     do k = 1, n
       if (with_stab) then
         call point_f_stab(t, d, list(k), stab, f(:, list(k)), s(:, list(k)), eq)
         en = en + eq
+        if (each) energy_q(list(k)) = eq
       else
         call point_f(t, d, list(k), f(:, list(k)))
       end if

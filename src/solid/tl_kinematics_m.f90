@@ -49,8 +49,9 @@ contains
 
   !> F at every integration point from the coefficients d (2, np). With stab = [c_normal,
   !! c_shear] given, the same pass also forms the SCNI stabilization stresses s (4, nq) and
-  !! their energy (see stabilization_force).
-  subroutine deformation_gradient(t, d, f, stab, s, energy, active)
+  !! their energy (see stabilization_force), and with energy_q (nq) each point's share of it
+  !! (the points not evaluated keep theirs).
+  subroutine deformation_gradient(t, d, f, stab, s, energy, active, energy_q)
     type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: d(:, :)
     real(wp), intent(inout) :: f(:, :)
@@ -60,18 +61,20 @@ contains
     !> only the points marked here (the others keep their F and s: quiet points in uniform
     !! translation, F = I)
     logical, intent(in), optional :: active(:)
+    real(wp), intent(inout), optional :: energy_q(:)
     integer :: q
     real(wp) :: en, eq
-    logical :: with_stab, masked
+    logical :: with_stab, masked, each
     if (t%dims%ndim == 3) then
-      call deformation_gradient_3d(t, d, f, stab, s, energy, active)
+      call deformation_gradient_3d(t, d, f, stab, s, energy, active, energy_q)
       return
     end if
     with_stab = present(stab)
     masked = present(active)
+    each = present(energy_q)
     en = 0.0_wp
-    !$omp parallel do default(none) shared(t, d, f, stab, s, with_stab, masked, active) &
-    !$omp private(eq) reduction(+: en) schedule(static)
+    !$omp parallel do default(none) shared(t, d, f, stab, s, with_stab, masked, active, &
+    !$omp each, energy_q) private(eq) reduction(+: en) schedule(static)
     do q = 1, t%nq
       if (masked) then
         if (.not. active(q)) cycle
@@ -79,6 +82,7 @@ contains
       if (with_stab) then
         call point_deformation_gradient_stab(t, d, q, stab, f(:, q), s(:, q), eq)
         en = en + eq
+        if (each) energy_q(q) = eq
       else
         call point_deformation_gradient(t, d, q, f(:, q))
       end if
@@ -88,8 +92,8 @@ contains
   end subroutine deformation_gradient
 
   !> F at the integration points list(1:n) only; with stab given, also their SCNI
-  !! stabilization stresses s and their energy (as deformation_gradient).
-  subroutine deformation_gradient_list(t, d, f, list, n, stab, s, energy)
+  !! stabilization stresses s and their energy (as deformation_gradient, energy_q too).
+  subroutine deformation_gradient_list(t, d, f, list, n, stab, s, energy, energy_q)
     type(solid_tables_t), intent(in) :: t
     real(wp), intent(in) :: d(:, :)
     real(wp), intent(inout) :: f(:, :)
@@ -97,22 +101,25 @@ contains
     real(wp), intent(in), optional :: stab(2)
     real(wp), intent(inout), optional :: s(:, :)
     real(wp), intent(out), optional :: energy
+    real(wp), intent(inout), optional :: energy_q(:)
     integer :: k
     real(wp) :: en, eq
-    logical :: with_stab
+    logical :: with_stab, each
     if (t%dims%ndim == 3) then
-      call deformation_gradient_list_3d(t, d, f, list, n, stab, s, energy)
+      call deformation_gradient_list_3d(t, d, f, list, n, stab, s, energy, energy_q)
       return
     end if
     with_stab = present(stab)
+    each = present(energy_q)
     en = 0.0_wp
-    !$omp parallel do default(none) shared(t, d, f, list, n, stab, s, with_stab) &
-    !$omp private(eq) reduction(+: en) schedule(static)
+    !$omp parallel do default(none) shared(t, d, f, list, n, stab, s, with_stab, each, &
+    !$omp energy_q) private(eq) reduction(+: en) schedule(static)
     do k = 1, n
       if (with_stab) then
         call point_deformation_gradient_stab(t, d, list(k), stab, f(:, list(k)), &
           s(:, list(k)), eq)
         en = en + eq
+        if (each) energy_q(list(k)) = eq
       else
         call point_deformation_gradient(t, d, list(k), f(:, list(k)))
       end if

@@ -10,12 +10,18 @@ not to the bit). Then:
     deck draws them) equals the serial one to the bit: nodal
     values are the serial ones for any number of ranks (each rank sums the same entries in
     the same order, doc/parallel.md);
-  - /history: the columns read from the state (time, dt, length, foot radius, width,
-    contact counts, penetration...) and each body's kinetic energy, momentum and angular
-    momentum (exact sums over the ranks' parts) equal to the bit; the energy columns and the contact
-    force, sums of per-rank sums, within 1e-12 relative to the energy or force scale of the
-    run (round-off: a few ulps per rank), the energy residual within 1e-12 of the scale;
-  - /summary: the same status and step count, the same body measures to the bit;
+  - /history: every column equal to the bit: those read from the state (time, dt, length,
+    foot radius, width, contact counts, penetration...) and the sums over the ranks' parts,
+    which are exact sums (exact_sum_m): each body's kinetic energy, momentum and angular
+    momentum, the energy accounts (from each point's and node's work since t = 0), the
+    contact forces and friction work, the reactions;
+  - /summary: the same status and step count, the same body measures and energies to the
+    bit;
+  - the file of each rank count after the first is the same bytes as the first one's, once
+    the attributes that record when the run was made and how fast it went (TIMING below,
+    /summary/timing) are set to zeros in copies of both (each rank count runs in its own
+    directory with the same deck and output names: the deck's text and name are in the
+    file);
   - the time loop gathered no state to rank 0 (mfcd_mpi's log says how often it did) when
     the deck draws no det(M) fields on a plane grid: every rank wrote its own rows of the snapshots'
     datasets into the one file, collectively (MPI-IO).
@@ -57,6 +63,8 @@ T seconds, snapshots at 0 and T.)
 """
 import os
 import re
+import filecmp
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -103,8 +111,10 @@ while "--bad-cell" in ARGS:
     del ARGS[i:i + 2]
 MFCD, MFCD_MPI, MPIEXEC = (os.path.abspath(a) for a in ARGS[0:3])
 DECKS = [os.path.abspath(d) for d in ARGS[3:]]
-ROUND_OFF = ("ke", "w_int", "w_plastic", "w_ext", "w_contact", "residual", "f_contact",
-             "impulse")
+# the attributes that record when the run was made and how fast it went: no two runs share
+# them, serial ones neither; the same-bytes check sets them to zeros in copies of the files
+TIMING = ("created", "wall_time", "particle_steps_per_second", "point_steps_per_second",
+          "pair_time", "detect_time")
 results = []
 
 
@@ -173,37 +183,19 @@ def compare(tag, ref, new, record=True, continued=False):
         sa, sb = fa.summary, fb.summary
         ba, bb = fa.summary_bodies(), fb.summary_bodies()
         ca, cb = fa.summary_contacts(), fb.summary_contacts()
-    scale = float(sa["energy_scale"])
-    # (the bodies' columns, kinetic energy, momenta and angular momenta, are exact sums
-    # over the ranks' parts: equal to the bit, with the state's columns)
-    exact, close = [], []
-    for c in ha:
-        if c not in hb or ha[c].shape != hb[c].shape:
-            exact.append(c)
-        elif c.startswith("bcs/"):
-            # each &bc group's reaction: sums over the ranks' nodes
-            bscale = max([np.max(np.abs(ha[k])) for k in ha if k.startswith("bcs/")]
-                         + [1e-300])
-            if not np.all(np.abs(ha[c] - hb[c]) <= 1e-12 * bscale):
-                close.append((c, float(np.max(np.abs(ha[c] - hb[c]))) / bscale))
-        elif c.startswith("contacts/"):
-            # each pair's forces: sums over the ranks' particles, against the run's
-            # largest pair force
-            fscale = max([np.max(np.abs(ha[k])) for k in ha if k.startswith("contacts/")]
-                         + [1e-300])
-            if not np.all(np.abs(ha[c] - hb[c]) <= 1e-12 * fscale):
-                close.append((c, float(np.max(np.abs(ha[c] - hb[c]))) / fscale))
-        elif any(c.startswith(k) for k in ROUND_OFF):
-            ref_scale = scale if not c.startswith(("f_contact", "impulse")) else \
-                max(np.max(np.abs(ha[c])), 1e-300)
-            if not np.all(np.abs(ha[c] - hb[c]) <= 1e-12 * ref_scale):
-                close.append((c, float(np.max(np.abs(ha[c] - hb[c]))) / ref_scale))
-        elif not np.array_equal(ha[c], hb[c]):
-            exact.append(c)
-    check(f"{tag}: /history columns from the state equal, bit for bit ({len(ha)} columns, "
-          f"{len(ha['time'])} rows)", not exact, exact)
-    check(f"{tag}: /history energies and contact forces within 1e-12 of their scale",
-          not close, close)
+    # every column: the state's, and the sums over the ranks' parts (energies, contact
+    # forces and friction work, reactions, the bodies' momenta), which are exact sums
+    diff = [c for c in ha if c not in hb or not np.array_equal(ha[c], hb[c])]
+    check(f"{tag}: /history equal, bit for bit, energies and contact forces too ({len(ha)} "
+          f"columns, {len(ha['time'])} rows)", not diff, diff)
+    energies = ("kinetic_energy", "internal_work", "plastic_dissipation", "contact_work",
+                "energy_residual", "energy_scale")
+    ediff = [(k, sa.get(k), sb.get(k)) for k in energies if sa.get(k) != sb.get(k)]
+    check(f"{tag}: /summary energies equal, bit for bit", not ediff, ediff)
+    # (a failure names its point or node by its number in the whole body, the one the
+    # serial run finds first)
+    check(f"{tag}: /summary failure reason as the serial run's",
+          sa.get("failure") == sb.get("failure"), (sa.get("failure"), sb.get("failure")))
     check(f"{tag}: /summary status {sb['status']}, {sb['steps']} steps, as the serial run",
           sa["status"] == sb["status"] and sa["steps"] == sb["steps"], (sa["status"],
                                                                       sb["status"]))
@@ -212,7 +204,9 @@ def compare(tag, ref, new, record=True, continued=False):
             and not ba[body][k] == bb.get(body, {}).get(k)]
     check(f"{tag}: /summary body measures equal, bit for bit", not diff, diff)
     # the detection counts are sums over the ranks of their own particles' counts (not the
-    # det(M) evaluations: skip_far's schedule is each rank's own, exact either way)
+    # det(M) evaluations and skipped screenings: on ranks a deforming master's pair and a
+    # self-contact evaluate every step, where the serial run skips, exact either way; the
+    # same on every rank count, which the same-bytes check sees)
     counts = ("screened", "detected", "contacts", "detected_max_per_step", "self_unsure")
     cdiff = [(k, n, ca[k].get(n), cb.get(k, {}).get(n)) for k in ca for n in counts
              if n in ca[k] and ca[k][n] != cb.get(k, {}).get(n)]
@@ -222,6 +216,33 @@ def compare(tag, ref, new, record=True, continued=False):
         for name, cond, detail in outcome:
             globals()["check"](name, cond, detail)
     return all(c for _, c, _ in outcome)
+
+
+def same_bytes(tag, first, other):
+    """Whether two runs' files are the same bytes, once the attributes that record when
+    and how fast (TIMING, and /summary/timing) are set to zeros in copies of both."""
+    def neutral(path):
+        copy = path + ".untimed"
+        shutil.copy(path, copy)
+        with h5py.File(copy, "r+") as f:
+            def fix(name, o):
+                for k in list(o.attrs):
+                    if k in TIMING or name.startswith("summary/timing"):
+                        v = o.attrs[k]
+                        o.attrs.modify(k, b"0" * len(v) if isinstance(v, bytes)
+                                       else np.zeros_like(v))
+            fix("", f)
+            f.visititems(fix)
+        return copy
+    a, b = neutral(first), neutral(other)
+    same = filecmp.cmp(a, b, shallow=False)
+    detail = ""
+    if not same:
+        da, db = open(a, "rb").read(), open(b, "rb").read()
+        at = [i for i in range(min(len(da), len(db))) if da[i] != db[i]][:5]
+        detail = f"sizes {len(da)}, {len(db)}; first differing bytes at {at}"
+    check(f"{tag}: the file is the same bytes as the first rank count's (timings aside)",
+          same, detail)
 
 
 def draws_det(path):
@@ -250,9 +271,14 @@ def main():
         if p.returncode != rc:
             continue
         for n in RANKS:
-            deck = deck_copy(src, work, f"{name}_np{n}.h5")
-            p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI, deck],
-                               cwd=work, env=env, capture_output=True, text=True)
+            # each rank count in its own directory, the same deck and output names: the
+            # files can then be the same bytes (the deck's text is in them)
+            sub = os.path.join(work, f"np{n}")
+            os.makedirs(sub, exist_ok=True)
+            deck = deck_copy(src, sub, f"{name}.h5")
+            p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI,
+                                os.path.basename(deck)], cwd=sub, env=env,
+                               capture_output=True, text=True)
             check(f"{name}, {n} rank(s): exits {rc}", p.returncode == rc,
                   p.stdout[-1500:] + p.stderr[-1500:])
             if p.returncode == 0 and n > 1 and not draws_det(
@@ -262,7 +288,11 @@ def main():
                       "snapshots written from the parts)", g == ["0"], g or p.stdout[-800:])
             if p.returncode == rc:
                 compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial{done}"),
-                        os.path.join(work, f"{name}_np{n}{done}"))
+                        os.path.join(sub, f"{name}{done}"))
+                if n != RANKS[0]:
+                    same_bytes(f"{name}, {n} rank(s)", os.path.join(
+                        work, f"np{RANKS[0]}", f"{name}{done}"),
+                        os.path.join(sub, f"{name}{done}"))
         if RESTART:
             n1, n2, every = RESTART
             deck = deck_copy(src, work, f"{name}_ckpt.h5", every)
