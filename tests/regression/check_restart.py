@@ -229,8 +229,10 @@ def refusals(root, ref, ck, deck):
     assert other != text
     open(os.path.join(work, "other.nml"), "w").write(other)
     shutil.copy(ck, os.path.join(work, "fmt.h5"))
-    # checkpoints altered to be refused: mfcd's inputs, written with h5py
+    # checkpoints altered to be refused: mfcd's inputs, written with h5py (the format this
+    # mfcd writes, which the refusal names, read from its own checkpoint)
     with h5py.File(os.path.join(work, "fmt.h5"), "a") as f:
+        fmt = int(f.attrs["format_version"])
         f.attrs["format_version"] = np.int32(99)
     shutil.copy(ck, os.path.join(work, "ver.h5"))
     with h5py.File(os.path.join(work, "ver.h5"), "a") as f:
@@ -248,7 +250,7 @@ def refusals(root, ref, ck, deck):
          ["is not an HDF5 file"]),
         ("a missing file", ["--restart", "missing.h5", "deck.nml"], ["not found"]),
         ("another checkpoint format", ["--restart", "fmt.h5", "deck.nml"],
-         ["checkpoint format 99", "reads format 2"]),
+         ["checkpoint format 99", f"reads format {fmt}"]),
         ("another mfcd version", ["--restart", "ver.h5", "deck.nml"],
          ["written by mfcd 0.0.1"]),
         ("--restart without a file", ["deck.nml", "--restart"], ["--restart needs"]),
