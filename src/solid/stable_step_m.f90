@@ -188,7 +188,7 @@ contains
     type(solid_t), intent(inout) :: solids(:)
     class(rank_comm_t), intent(inout), optional :: comm
     integer :: k
-    real(wp) :: dtk, v(1)
+    real(wp) :: dtk
     do k = 1, size(solids)
       if (present(comm)) then
         dtk = critical_step(solids(k), comm)
