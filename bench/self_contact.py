@@ -3,6 +3,7 @@
 skipping on (&contact skip_far, the default) and off, and its control without the pair.
 
     .venv/bin/python bench/self_contact.py [--threads 1] [--cases c_shape_fold,ring_crush,...]
+        [--mfcd PATH]
 
 Per run, from the log's summary and /summary: steps, wall time of the time loop, the
 self-contact pair's own wall time (/summary/contacts/contact<k> pair_time: positions, re-binning, det(M) of
@@ -12,7 +13,9 @@ step, the share of surface-particle screenings skipped, and the same-run ratio o
 time with the pair to the control's; and the self-interpenetration left at the end
 (post/self_overlap.py). Cases: c_shape_fold (RKPM), ring_crush (CST4, plane strain),
 torus_crush (CST4, axisymmetric), bar_bend and bar_bend_fem (bent without folding: the
-pair finds nothing; no control). Prints Markdown and writes
+pair finds nothing; no control); in 3D c_shape_fold_3d (RKPM), c_shape_fold_3d_fem
+(tetrahedra) and bar_bend_3d (the overlap depth is measured in 2D only: "-" in 3D).
+--mfcd: another build's mfcd (an A/B against an older commit). Prints Markdown and writes
 bench/results/self_contact_<date>.md (git-ignored). Never fails on a time.
 """
 import argparse
@@ -30,7 +33,8 @@ from mfcd_h5 import MfcdFile
 
 MFCD = os.path.join(ROOT, "build", "bin", "mfcd")
 CASES = {"c_shape_fold": "c", "ring_crush": "ring", "torus_crush": "torus",
-         "bar_bend": "bar", "bar_bend_fem": "bar"}
+         "bar_bend": "bar", "bar_bend_fem": "bar", "c_shape_fold_3d": "c",
+         "c_shape_fold_3d_fem": "c", "bar_bend_3d": "bar"}
 LOOP = re.compile(r"time loop\s+([0-9.]+) s")
 
 
@@ -43,7 +47,7 @@ def run(tmp, deck, label, threads, skip=True):
         assert n == 1, deck
     path = os.path.join(tmp, label + ".nml")
     open(path, "w").write(text)
-    p = subprocess.run([MFCD, path], cwd=tmp, capture_output=True, text=True,
+    p = subprocess.run([run.mfcd, path], cwd=tmp, capture_output=True, text=True,
                        env=dict(os.environ, OMP_NUM_THREADS=str(threads)))
     if p.returncode != 0:
         sys.exit("bench/self_contact.py: %s failed:\n%s" % (label, p.stdout[-1500:] + p.stderr))
@@ -64,6 +68,8 @@ def run(tmp, deck, label, threads, skip=True):
 def depth(h5, body):
     with MfcdFile(h5) as f:
         b = f.body(body)
+        if b.ndim == 3:
+            return None, None, len(np.unique(b.facets))
         x = f.snapshot(f.snapshot_labels()[-1]).bodies[body].x
         step = 0.05 * float(np.min(np.atleast_1d(b.attrs["spacing"])[:2]))
         nsurf = len(np.unique(np.concatenate(b.loops)))
@@ -74,13 +80,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--cases", default=",".join(CASES))
+    ap.add_argument("--mfcd", default=MFCD)
     a = ap.parse_args()
-    cmd = ".venv/bin/python bench/self_contact.py --threads %d --cases %s" % (a.threads, a.cases)
+    run.mfcd = os.path.abspath(a.mfcd)
+    cmd = ".venv/bin/python bench/self_contact.py --threads %d --cases %s --mfcd %s" % (
+        a.threads, a.cases, a.mfcd)
     lines = record_head("# Self-contact cost (bench/self_contact.py)", cmd,
                         ["| threads | %d |" % a.threads]) + [
         "", "| case | run | steps | loop (s) | self pair (s) | pair / rest of step | "
         "us/step | ns/(surface particle step) | screenings skipped | loop / control | "
         "overlap depth at end (supports) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    if a.mfcd != MFCD:
+        lines.insert(1, "mfcd: %s" % a.mfcd)
     with tempfile.TemporaryDirectory() as tmp:
         for case in a.cases.split(","):
             body = CASES[case]
@@ -92,18 +103,19 @@ def main():
                 d, rho, nsurf = depth(r["h5"], body)
                 rest = r["loop"] - r["t_pair"]
                 lines.append("| %s | self-contact, %s | %d | %.2f | %.3f | %.3f | %.1f | %.0f | "
-                             "%.1f%% | %s | %.3f |" % (
+                             "%.1f%% | %s | %s |" % (
                                  case, label, r["steps"], r["loop"], r["t_pair"],
                                  r["t_pair"] / rest, 1e6 * r["t_pair"] / r["steps"],
                                  1e9 * r["t_pair"] / (r["steps"] * nsurf),
                                  100.0 * r["skipped"] / max(r["screened"], 1),
                                  "%.3f" % (r["loop"] / control["loop"]) if control else "-",
-                                 d / rho))
+                                 "%.3f" % (d / rho) if d is not None else "-"))
                 print(lines[-1], flush=True)
             if control:
                 d, rho, _ = depth(control["h5"], body)
                 lines.append("| %s | control, no self-contact | %d | %.2f | - | - | - | - | - | "
-                             "1 | %.3f |" % (case, control["steps"], control["loop"], d / rho))
+                             "1 | %s |" % (case, control["steps"], control["loop"],
+                                           "%.3f" % (d / rho) if d is not None else "-"))
                 print(lines[-1], flush=True)
     lines.append(load_row("after"))
     print("\n".join(lines[:10]))

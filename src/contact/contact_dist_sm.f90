@@ -272,7 +272,7 @@ contains
         if (.not. a%active(j)) cycle
         if (p%self) then
           call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, &
-            xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))
+            xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j), rexv=b%rex)
         else
           call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng)
         end if
@@ -301,7 +301,7 @@ contains
           sure = .true.
           if (p%self) then
             call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
-              xc=a%x_ref(:, j), rex=a%rex(j), sure=sure)
+              xc=a%x_ref(:, j), rex=a%rex(j), sure=sure, rexv=b%rex)
           else
             call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary)
           end if
@@ -857,7 +857,7 @@ contains
       if (allocated(err)) return
       b%cloud%rmax(1:size(db%rmax)) = db%rmax
       ! self-contact: det(M) without a point's reference neighbours (cloud_det_excluding)
-      if (p%self) call cloud_set_reference(b%cloud, b%x_ref(:, db%loc))
+      if (p%self) call cloud_set_reference(b%cloud, b%x_ref(:, db%loc), p%self_radius)
       if (nd == 3) then
         ! the facets whose three vertices the rank holds
         allocate(keep(db%full3%nf))

@@ -166,8 +166,9 @@ contains
   !! Self-contact: with xr (the reference positions of the surface's particles), xc and rex,
   !! a segment is left out when either end lies within rex of xc in the reference
   !! configuration (the point's own and adjacent segments, and every other one among its
-  !! reference neighbours).
-  pure subroutine surface_gap(s, p, r, found, g, nrm, tng, seg, xi, xr, xc, rex)
+  !! reference neighbours), or within the end's own radius rexv (np) when given, the larger
+  !! (the symmetric neighbour relation of det(M)'s, rk_cloud_m cloud_set_reference).
+  pure subroutine surface_gap(s, p, r, found, g, nrm, tng, seg, xi, xr, xc, rex, rexv)
     type(master_surface_t), intent(in) :: s
     real(wp), intent(in) :: p(2), r(2)
     logical, intent(out) :: found
@@ -175,6 +176,7 @@ contains
     integer, intent(out), optional :: seg          !< the closest segment
     real(wp), intent(out), optional :: xi          !< where p projects on it, 0 at a, 1 at b
     real(wp), intent(in), optional :: xr(:, :), xc(2), rex
+    real(wp), intent(in), optional :: rexv(:)
     integer :: list(s%nseg), nc, k, jbest
     real(wp) :: gbest, dbest
     logical :: excl
@@ -185,12 +187,23 @@ contains
     gbest = -huge(1.0_wp)
     do k = 1, nc
       if (excl) then
-        if (sum((xr(:, s%i0(list(k))) - xc)**2) < rex*rex .or. &
-          sum((xr(:, s%i1(list(k))) - xc)**2) < rex*rex) cycle
+        if (near_end(s%i0(list(k))) .or. near_end(s%i1(list(k)))) cycle
       end if
       call closest_segment_update(s, list(k), p, jbest, dbest, gbest)
     end do
     call surface_projection(s, p, jbest, found, g, nrm, tng, seg, xi)
+
+  contains
+
+    !> Is particle i within rex (or its own rexv, the larger) of xc in the reference
+    !! configuration?
+    pure logical function near_end(i)
+      integer, intent(in) :: i
+      real(wp) :: rr
+      rr = rex
+      if (present(rexv)) rr = max(rex, rexv(i))
+      near_end = sum((xr(:, i) - xc)**2) < rr*rr
+    end function near_end
   end subroutine surface_gap
 
   !> Closest-segment rule shared by every search over the master's segments (the det(M)

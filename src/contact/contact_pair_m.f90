@@ -71,6 +71,9 @@ module contact_pair_m
   !> Self-contact skipping: a step that re-bins the body screens also the surface
   !! particles due within this many more steps (bench/self_contact.py)
   integer, parameter :: self_lookahead = 32
+  !> self-contact skipping: a candidate's clearance is searched up to this fraction of its
+  !! neighbour radius rex (bench/self_contact.py, doc/benchmarks.md)
+  real(wp), parameter :: self_reach = 0.125_wp
   !> In axisymmetry a surface point within this fraction of the body's spacing of the axis
   !! r = 0 lies on it, and a segment with both ends there is no surface: far above the
   !! round-off of a coordinate, far below any particle's distance from the axis.
@@ -99,8 +102,8 @@ module contact_pair_m
     logical :: shared_mass = .true.
     !> Self-contact, where slave and master are the same body (Sections 1 and 7). A point's
     !! neighbours in the reference configuration, the particles within self_radius times
-    !! its largest support of it there, take no part in its det(M) and their segments none
-    !! in its gap.
+    !! its largest support of it there, or times their own, the larger (symmetric), take no
+    !! part in its det(M) and their segments none in its gap.
     logical :: self_contact = .false.
     real(wp) :: self_radius = 2.0_wp
     !> a rigid master's prescribed velocity (m/s; its &body velocity): it moves by
@@ -199,6 +202,14 @@ module contact_pair_m
     ! particle is shielded by them); rex: each one's reference-neighbour radius (m)
     integer, allocatable :: cand(:)
     real(wp), allocatable :: rex(:)
+    !> self-contact with skip_far, the first pass's: each screened candidate's clearance
+    !! (cloud_clearance, m; 0 when a non-neighbour may cover it) and every particle's
+    !! predicted position (ndim, np), which bound the second pass's work (self_settled)
+    real(wp), allocatable :: clear(:), x_pass(:, :)
+    !> self-contact (3D): flagged by the pass's det(M) (np); the surface not yet moved to
+    !! the pass's positions (self_positions): moved only when a candidate is flagged
+    logical, allocatable :: flagged(:)
+    logical :: surf_stale = .false.
     ! the particles a pass looks at (side_select): with subcycling (subcycle_m) the
     ! solid's nodes of the rate being stepped, listed; else all (listed false, nlist = np)
     logical :: listed = .false.
@@ -273,6 +284,8 @@ module contact_pair_m
     !> self-contact (contact_params_t%self_contact): both sides are views of the same body,
     !! side 2 the master in the first pass, side 1 in the second
     logical :: self = .false.
+    !> self-contact: a particle's neighbour radius rex is self_radius x its largest support
+    real(wp) :: self_radius = 0.0_wp
     type(contact_counters_t) :: count
     type(contact_stats_t) :: step
     !> distributed memory with a deforming master (contact_pair_distribute)
@@ -348,6 +361,7 @@ contains
     p%compare = prm%compare
     p%shared_mass = prm%shared_mass
     p%self = prm%self_contact
+    p%self_radius = prm%self_radius
     if (p%self .and. p%detector /= detector_det_m) then
       call set_error(err, "variable detector: self-contact of '"//trim(bs%name)//"' needs "// &
         "detector = 'det_m': a closest-segment search cannot tell a face that folded onto "// &
@@ -388,7 +402,7 @@ contains
       ! either side is the master in turn: det(M) of the non-neighbours needs the
       ! reference positions, the slave pass its candidates and their exclusion radii
       do j = 1, 2
-        call cloud_set_reference(p%side(j)%cloud, p%side(j)%x_ref)
+        call cloud_set_reference(p%side(j)%cloud, p%side(j)%x_ref, p%self_radius)
         call self_candidates(p%side(j), prm%self_radius)
       end do
     end if
@@ -551,6 +565,11 @@ contains
     s%travel = 0.0_wp
     allocate(s%due(s%np), s%d_scr(size(solids(s%isolid)%state%d, 1), s%np))
     s%due = -1.0_wp
+    if (allocated(s%cand)) then
+      allocate(s%clear(s%np), s%x_pass(size(s%x_pred, 1), s%np))
+      s%clear = 0.0_wp
+      s%x_pass = s%x_pred
+    end if
     s%d_scr = solids(s%isolid)%state%d
     s%near = .true.
   end subroutine skip_far_init
@@ -575,7 +594,8 @@ contains
         on(s%surface%i1(k)) = .true.
       end do
     end if
-    allocate(s%cand(count(on)), s%rex(s%np))
+    allocate(s%cand(count(on)), s%rex(s%np), s%flagged(s%np))
+    s%flagged = .false.
     n = 0
     do j = 1, s%np
       s%rex(j) = self_radius*maxval(s%rho(:, j))
@@ -717,20 +737,52 @@ contains
     p%side(2)%near = p%side(1)%near
     call self_positions(p%side(1), p%side(2), solids, err)
     if (allocated(err)) return
+    if (p%side(1)%skip_far) p%side(1)%x_pass = p%side(1)%x_pred
     call contact_pass(p, p%side(1), p%side(2), solids, dt, .true., err, lower_only=.true.)
     if (allocated(err)) return
     ! nothing flagged: the second pass would see the same positions and flag nothing
     if (p%step%n_flagged == 0) return
     call self_positions(p%side(2), p%side(1), solids, err)
     if (allocated(err)) return
+    if (p%side(1)%skip_far) call self_settled(p%side(1), p%side(2))
     call contact_pass(p, p%side(2), p%side(1), solids, dt, .false., err)
     if (allocated(err)) return
     p%count%detected_max = max(p%count%detected_max, int(p%step%n_flagged, i64))
   end subroutine self_correct
 
+  !> The second pass of a self-contact step screens only the candidates the first pass's
+  !! correction may have brought under a non-neighbour's support: s (side 1) holds the
+  !! first pass's clearances and positions, s2 (side 2) the second's positions. A candidate
+  !! found at clearance c (cloud_clearance: the smallest max_k (|x_Ik - p_k| - rho_Ik) over
+  !! its non-neighbours I) stays uncovered while each of it and them moved by less than c/2
+  !! in every component: then its det(M) without the neighbours is 0 again, bit for bit,
+  !! and it is not screened (s2%near false). Bound: the largest component of any particle's
+  !! move between the passes (all of the body's particles are in the cloud), doubled, plus
+  !! a few units in the last place of the coordinates for the rounding of the differences,
+  !! and c less the relative skip_rounding as for the schedule.
+  subroutine self_settled(s, s2)
+    type(side_t), intent(in) :: s
+    type(side_t), intent(inout) :: s2
+    integer :: k, j
+    real(wp) :: moved, xmax, bound
+    moved = 0.0_wp
+    xmax = 0.0_wp
+    do j = 1, size(s%x_pass, 2)
+      moved = max(moved, maxval(abs(s2%x_pred(:, j) - s%x_pass(:, j))))
+      xmax = max(xmax, maxval(abs(s2%x_pred(:, j))))
+    end do
+    bound = 2.0_wp*moved + 8.0_wp*spacing(xmax)
+    do k = 1, size(s%cand)
+      j = s%cand(k)
+      if (.not. s2%near(j)) cycle
+      if ((1.0_wp - skip_rounding)*s%clear(j) > bound) s2%near(j) = .false.
+    end do
+  end subroutine self_settled
+
   !> Predicted positions of a self-contact body for a pass: computed once for the slave view
-  !! a, copied to the master view b, whose cloud and surface move to them. (The positions at
-  !! the start of the step are needed only where a force acts: self_old_positions.)
+  !! a, copied to the master view b, whose cloud moves to them. (The positions at the start
+  !! of the step are needed only where a force acts: self_old_positions.) A 3D surface
+  !! moves only when the pass flags a candidate (detect_self_3d: most steps flag none).
   subroutine self_positions(a, b, solids, err)
     type(side_t), intent(inout) :: a, b
     type(solid_t), intent(in) :: solids(:)
@@ -740,7 +792,7 @@ contains
     call cloud_move(b%cloud, b%x_pred, err)
     if (allocated(err)) return
     if (b%ndim == 3) then
-      call surface3d_update(b%surf3, b%x_pred)
+      b%surf_stale = .true.
     else
       call surface_update(b%surface, b%x_pred, err)
     end if
@@ -998,6 +1050,7 @@ contains
     if (allocated(err)) return
     if (s%ndim == 3) then
       call surface3d_update(s%surf3, s%x_pred)
+      s%surf_stale = .false.
     else
       call surface_update(s%surface, s%x_pred, err)
       if (allocated(err)) return
@@ -1111,7 +1164,7 @@ contains
       call solid_point_position(solids(a%isolid), j, a%x_pred(:, j))
       if (p%self) then
         call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, &
-          xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))
+          xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j), rexv=b%rex)
       else if (p%detector == detector_nts) then
         call nts_gap(b%buckets, b%surface, a%x_pred(:, j) - b%shift, b%buckets%capture, &
           found, g, nrm, tng)
@@ -1349,7 +1402,7 @@ contains
       sure = .true.
       if (p%self) then
         call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
-          xc=a%x_ref(:, j), rex=a%rex(j), sure=sure)
+          xc=a%x_ref(:, j), rex=a%rex(j), sure=sure, rexv=b%rex)
       else
         call surface3d_gap(b%surf3, a%x_pred(:, j) - b%shift, g, nrm, jf, bary)
       end if
@@ -1363,10 +1416,11 @@ contains
   !! flagged ones get the signed gap to the closest facet none of whose vertices is a
   !! reference neighbour, and those with g < 0 are marked active with it. lower_only (the
   !! first pass of self_correct): only a particle numbered below the facet's three vertices;
-  !! the second pass takes the rest, not those the first put on the surface.
+  !! the second pass takes the rest, not those the first put on the surface. b's surface is
+  !! moved to the pass's positions only when a candidate is flagged (b%surf_stale).
   subroutine detect_self_3d(a, b, lower_only, neval, ndet, nunsure, gmax)
     type(side_t), intent(inout) :: a
-    type(side_t), intent(in) :: b
+    type(side_t), intent(inout) :: b
     logical, intent(in) :: lower_only
     !> evaluated, flagged, and flagged with g < 0 of a sign not sure (no contact)
     integer(i64), intent(out) :: neval, ndet, nunsure
@@ -1381,11 +1435,11 @@ contains
     nu = 0
     gm = 0.0_wp
     a%active = .false.
-    !$omp parallel do default(none) shared(a, b, lower_only) &
-    !$omp private(j, det, g, nrm, jf, bary, sure) reduction(+: neval, ndet, nu) &
-    !$omp reduction(max: gm) schedule(dynamic, 16)
+    !$omp parallel do default(none) shared(a, b, lower_only) private(j, det) &
+    !$omp reduction(+: neval, ndet) schedule(dynamic, 16)
     do k = 1, size(a%cand)
       j = a%cand(k)
+      a%flagged(j) = .false.
       if (.not. a%near(j)) cycle   ! skipping: no non-neighbour can reach it yet
       if (.not. lower_only) then
         if (b%active(j)) cycle     ! put on the surface by the first pass
@@ -1394,8 +1448,24 @@ contains
       call self_det(a, b, j, det)
       if (.not. (det > b%threshold)) cycle
       ndet = ndet + 1
+      a%flagged(j) = .true.
+    end do
+    !$omp end parallel do
+    if (present(gmax)) gmax = gm
+    nunsure = 0
+    if (ndet == 0) return
+    if (b%surf_stale) then
+      call surface3d_update(b%surf3, b%x_pred)
+      b%surf_stale = .false.
+    end if
+    !$omp parallel do default(none) shared(a, b, lower_only) &
+    !$omp private(j, g, nrm, jf, bary, sure) reduction(+: nu) reduction(max: gm) &
+    !$omp schedule(dynamic, 16)
+    do k = 1, size(a%cand)
+      j = a%cand(k)
+      if (.not. a%flagged(j)) cycle
       call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
-        xc=a%x_ref(:, j), rex=a%rex(j), sure=sure)
+        xc=a%x_ref(:, j), rex=a%rex(j), sure=sure, rexv=b%rex)
       gm = max(gm, merge(abs(g), huge(1.0_wp), jf > 0))
       if (jf == 0 .or. .not. (g < 0.0_wp)) cycle
       ! (a sign not sure: the closest point's edge or vertex has a facet among the
@@ -1545,7 +1615,7 @@ contains
     call merge_sums(xs, xl)
     !$omp end critical (pass_sums)
     !$omp end parallel
-    p%count%screened = p%count%screened + a%nlist
+    if (.not. p%self) p%count%screened = p%count%screened + a%nlist
     p%count%evaluated = p%count%evaluated + neval
     p%count%detected = p%count%detected + ndet
     p%count%contacts = p%count%contacts + ncon
@@ -1601,7 +1671,7 @@ contains
       if (.not. (det > b%threshold)) cycle
       ndet = ndet + 1
       call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, jseg, xi, &
-        xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j))
+        xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j), rexv=b%rex)
       if (.not. found .or. .not. (g < 0.0_wp)) cycle
       if (lower_only) then
         if (j >= min(b%surface%i0(jseg), b%surface%i1(jseg))) cycle
@@ -1637,7 +1707,7 @@ contains
     call cloud_init(c, x, p%side(1)%rho, p%side(1)%vol, p%side(1)%kid, p%side(1)%wshape, &
       p%side(1)%bid, p%side(1)%h, err)
     if (allocated(err)) return
-    call cloud_set_reference(c, p%side(1)%x_ref)
+    call cloud_set_reference(c, p%side(1)%x_ref, p%self_radius)
     !$omp parallel do default(none) shared(c, p, x, det) schedule(static)
     do j = 1, p%side(1)%np
       det(j) = cloud_det_excluding(c, x(:, j), p%side(1)%x_ref(:, j), p%side(1)%rex(j))
@@ -1678,19 +1748,22 @@ contains
   !> det M_self at candidate j of side a (det(M) of b's particles that are not j's reference
   !! neighbours, at j's predicted position) and, when skipping, when j is screened again
   !! (pass 1 keeps the schedule): next step if a non-neighbour covers it (det > 0), else once
-  !! they may have closed its clearance (searched up to rex; less a relative 1e-9 for the
-  !! rounding of the sums). Called for distinct j from the threads of detect_self(_3d).
+  !! they may have closed its clearance (searched up to self_reach x rex: a lower bound
+  !! capped there is still a bound, and the search costs the cube of its reach plus the
+  !! largest support, at this reach about what det(M) does; less a relative 1e-9 for the
+  !! rounding of the sums), kept in a%clear for the second pass (self_settled).
+  !! Called for distinct j from the threads of detect_self(_3d).
   subroutine self_det(a, b, j, det)
     type(side_t), intent(inout) :: a
     type(side_t), intent(in) :: b
     integer, intent(in) :: j
     real(wp), intent(out) :: det
     det = cloud_det_excluding(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j))
-    if (a%skip_far) then
-      a%due(j) = a%travel
-      if (det == 0.0_wp) a%due(j) = a%travel + (1.0_wp - skip_rounding)*max(0.0_wp, &
-        cloud_clearance(b%cloud, a%x_pred(:, j), a%x_ref(:, j), a%rex(j), a%rex(j)))
-    end if
+    if (.not. a%skip_far) return
+    a%clear(j) = 0.0_wp
+    if (det == 0.0_wp) a%clear(j) = max(0.0_wp, cloud_clearance(b%cloud, a%x_pred(:, j), &
+      a%x_ref(:, j), a%rex(j), self_reach*a%rex(j)))
+    a%due(j) = a%travel + (1.0_wp - skip_rounding)*a%clear(j)
   end subroutine self_det
 
   !> Particle j of side a penetrates (3D): its gap, normal, facet and the barycentric

@@ -292,9 +292,11 @@ contains
   !! the bins must give bit for bit, test_surface3d).
   !! Self-contact: with xr (3, np) (the reference positions of the vertices), xc and rex, a
   !! facet is left out when one of its vertices lies within rex of xc in the reference
-  !! configuration (the point's own neighbourhood, Sections 1 and 7); the sign still comes
-  !! from the whole surface's pseudo-normals.
-  pure subroutine surface3d_gap(s, p, g, nrm, jf, bary, every, xr, xc, rex, sure)
+  !! configuration (the point's own neighbourhood, Sections 1 and 7), or within the
+  !! vertex's own radius rexv (np) when given, the larger (the symmetric neighbour relation
+  !! of det(M)'s, rk_cloud_m cloud_set_reference); the sign still comes from the whole
+  !! surface's pseudo-normals.
+  pure subroutine surface3d_gap(s, p, g, nrm, jf, bary, every, xr, xc, rex, sure, rexv)
     type(surface3d_t), intent(in) :: s
     real(wp), intent(in) :: p(3)
     real(wp), intent(out) :: g, nrm(3), bary(3)
@@ -307,6 +309,7 @@ contains
     !! lie on the outer side of the facets kept and still get g < 0 (at a fold's tip,
     !! beside the end of another layer): sure is then .false. (.true. without exclusion)
     logical, intent(out), optional :: sure
+    real(wp), intent(in), optional :: rexv(:)
     integer :: m, rbest, r, i, j, k, c, l, ijk(3), rmax, istep
     real(wp) :: best, qbest(3), pn(3), dist
     logical :: excl
@@ -411,13 +414,21 @@ contains
       end select
     end function feature_kept
 
-    !> Has facet m a vertex within rex of xc in the reference configuration?
+    !> Has facet m a vertex within rex (or its own rexv, the larger) of xc in the
+    !! reference configuration?
     pure logical function near_vertex(m)
       integer, intent(in) :: m
-      integer :: kk
+      integer :: kk, v
+      real(wp) :: r
       near_vertex = .false.
       do kk = 1, 3
-        if (sum((xr(:, s%tri(kk, m)) - xc)**2) < rex*rex) near_vertex = .true.
+        v = s%tri(kk, m)
+        r = rex
+        if (present(rexv)) r = max(rex, rexv(v))
+        if (sum((xr(:, v) - xc)**2) < r*r) then
+          near_vertex = .true.
+          return
+        end if
       end do
     end function near_vertex
   end subroutine surface3d_gap

@@ -32,6 +32,10 @@ module rk_cloud_m
     !> reference positions in bin order (ndim, np), when set (cloud_set_reference): which
     !! particles are neighbours of a point in the reference configuration (self-contact)
     real(wp), allocatable :: xr(:, :)
+    !> with xr: particle I's own neighbour radius is sr times its largest support, and I is
+    !! a neighbour of a point of radius rex when its reference distance is below the larger
+    !! of the two (0: rex alone)
+    real(wp) :: sr = 0.0_wp
     type(bins_t) :: bins
     ! work space of cloud_move, allocated at the first move and reused
     integer, allocatable :: wslot(:)
@@ -128,21 +132,29 @@ contains
   end subroutine cloud_move
 
   !> Record the particles' reference positions xr (ndim, np; caller order), kept through
-  !! cloud_move, for cloud_det_excluding.
-  subroutine cloud_set_reference(c, xr)
+  !! cloud_move, for cloud_det_excluding. self_radius (default 0): particle I's neighbour
+  !! radius is self_radius x its largest support, and I counts as a neighbour of a point
+  !! of radius rex when its reference distance is below max(rex, I's radius): the relation
+  !! is then symmetric, and a non-neighbour's own support never reaches the point in the
+  !! reference configuration, whatever the supports' grading.
+  subroutine cloud_set_reference(c, xr, self_radius)
     type(rk_cloud_t), intent(inout) :: c
     real(wp), intent(in) :: xr(:, :)
+    real(wp), intent(in), optional :: self_radius
     integer :: q
     if (allocated(c%xr)) deallocate(c%xr)
     allocate(c%xr(c%ndim, c%np))
     do q = 1, c%np
       c%xr(:, q) = xr(:, c%perm(q))
     end do
+    c%sr = 0.0_wp
+    if (present(self_radius)) c%sr = self_radius
   end subroutine cloud_set_reference
 
   !> Moment matrix M(p) (full, symmetric) and the number of particles covering p. With xc
   !! and rex (the cloud's reference positions set), the particles whose reference position
-  !! lies within rex of xc are left out.
+  !! lies within rex (or their own radius, cloud_set_reference, the larger) of xc are left
+  !! out.
   pure subroutine cloud_moment(c, p, mm, ncover, xc, rex)
     type(rk_cloud_t), intent(in) :: c
     real(wp), intent(in) :: p(:)
@@ -168,7 +180,8 @@ contains
             d(1:nd) = c%x(:, q) - p(1:nd)
             if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
             if (excl) then
-              if (sum((c%xr(:, q) - xc(1:nd))**2) < rex2) cycle
+              if (sum((c%xr(:, q) - xc(1:nd))**2) < max(rex2, (c%sr*maxval(c%rho(:, q)))**2)) &
+                cycle
             end if
             call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
             if (phi <= 0.0_wp) cycle
@@ -214,7 +227,8 @@ contains
 
   !> det(M(p)) assembled only from the particles that are not neighbours, in the reference
   !! configuration, of the material point at reference position xc: those whose reference
-  !! position lies at rex or more from xc (self-contact, Sections 1 and 7). 0 when fewer
+  !! position lies at rex, and at the particle's own radius (cloud_set_reference's
+  !! self_radius), or more from xc (self-contact, Sections 1 and 7). 0 when fewer
   !! particles than basis functions remain or the Cholesky factorization fails. Needs the
   !! reference positions (cloud_set_reference).
   pure real(wp) function cloud_det_excluding(c, p, xc, rex) result(det)
@@ -237,11 +251,16 @@ contains
   end function cloud_det_excluding
 
   !> How far p is from the support of every particle that is not a reference neighbour of
-  !! xc (reference position at rex or more from xc): the smallest max_k (|x_Ik - p_k| -
+  !! xc (reference position at rex, and at its own radius, or more from xc, as in
+  !! cloud_det_excluding): the smallest max_k (|x_Ik - p_k| -
   !! rho_Ik) over them (a support of half-widths rho_I, box or ellipse, lies inside the box
   !! of those half-widths), capped at reach (m). No such particle covers p until p and it
   !! have moved towards each other by this much in some direction (and so by at least this
-  !! much in distance); <= 0 when one may cover p now.
+  !! much in distance); <= 0 when one may cover p now. A particle whose reference distance
+  !! from xc is within a relative 1e-12 of that radius counts as a non-neighbour here, whichever
+  !! side of rex the rounding of det(M)'s own test puts it (its sums are written out
+  !! otherwise in det_3d_linear): so clear > 0 always means that cloud_det_excluding finds
+  !! no particle covering p, and det(M) 0.
   pure real(wp) function cloud_clearance(c, p, xc, rex, reach) result(clear)
     type(rk_cloud_t), intent(in) :: c
     real(wp), intent(in) :: p(:), xc(:), rex, reach
@@ -259,7 +278,8 @@ contains
         cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
         do i = clo(1), chi(1)
           do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
-            if (sum((c%xr(:, q) - xc(1:nd))**2) < rex2) cycle
+            if (sum((c%xr(:, q) - xc(1:nd))**2) < (1.0_wp - 1.0e-12_wp)* &
+              max(rex2, (c%sr*maxval(c%rho(:, q)))**2)) cycle
             clear = min(clear, maxval(abs(c%x(:, q) - p(1:nd)) - c%rho(:, q)))
           end do
         end do
@@ -327,7 +347,8 @@ contains
   end function det_3d_linear_tensor
 
   !> det_3d_linear_tensor's loop; with xc and rex (self-contact's cloud_det_excluding) the
-  !! particles whose reference position lies within rex of xc are left out, and ncover
+  !! particles whose reference position lies within rex (or their own radius, the larger)
+  !! of xc are left out, and ncover
   !! counts the particles that remain (0 without them)
   pure subroutine det_3d_linear(c, p, det, ncover, xc, rex)
     type(rk_cloud_t), intent(in) :: c
@@ -367,8 +388,8 @@ contains
           if (abs(dx) >= c%rho(1, q) .or. abs(dy) >= c%rho(2, q) .or. &
             abs(dz) >= c%rho(3, q)) cycle
           if (excl) then
-            if ((c%xr(1, q) - c1)**2 + (c%xr(2, q) - c2)**2 + (c%xr(3, q) - c3)**2 < rex2) &
-              cycle
+            if ((c%xr(1, q) - c1)**2 + (c%xr(2, q) - c2)**2 + (c%xr(3, q) - c3)**2 < &
+              max(rex2, (c%sr*max(c%rho(1, q), c%rho(2, q), c%rho(3, q)))**2)) cycle
             nc = nc + 1
           end if
           r1 = c%rinv(1, q)

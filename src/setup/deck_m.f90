@@ -208,7 +208,7 @@ module deck_m
     !! particles that push them (contact_params_t%shared_mass)
     logical :: shared_mass
     !> master = slave: self-contact; a point's reference neighbours, within self_radius
-    !! times its largest support, take no part in its det(M) or its gap
+    !! times its largest support or theirs, take no part in its det(M) or its gap
     real(wp) :: self_radius
     integer :: imaster = 0, islave = 0
   end type contact_spec_t
