@@ -8,8 +8,8 @@
 #                                      # no self-contact: post/tube_crush.py --control-only)
 #
 # Builds the Release solver only when build/bin/mfcd is missing (tools/build.sh Release).
-# Runs input/tube_crush.nml and input/tube_crush_free.nml (about 100 and 15 minutes on one core of
-# an AMD EPYC guest shared with other runs: doc/self_contact.md), each writing
+# Runs input/tube_crush.nml and input/tube_crush_free.nml (about 60 and 20 minutes on one core of
+# an Intel Xeon guest shared with other runs: doc/self_contact.md), each writing
 # output/<deck>.h5 and its log output/<deck>.log, prints the energy line of each log,
 # then post/tube_crush.py: the crush force against the ram's displacement and its mean
 # against Abramowicz & Jones's estimate, the folds, the overlap with and without
