@@ -22,6 +22,11 @@ not to the bit). Then:
     /summary/timing) are set to zeros in copies of both (each rank count runs in its own
     directory with the same deck and output names: the deck's text and name are in the
     file);
+  - with --checkpoints EVERY (each rank count's run writes a checkpoint every EVERY steps,
+    unless its deck sets its own), or where the deck sets checkpoint_every: the last
+    checkpoint of each rank count after the first is the same bytes as the first one's,
+    once the attributes and datasets that time the run (TIMING, CK_TIMING) are zeros in
+    copies: a checkpoint written on any number of ranks is one file, in the global order;
   - the time loop gathered no state to rank 0 (mfcd_mpi's log says how often it did) when
     the deck draws no det(M) fields on a plane grid: every rank wrote its own rows of the snapshots'
     datasets into the one file, collectively (MPI-IO).
@@ -57,6 +62,7 @@ failed on another rank.
 
 Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N] [--fails]
                         [--restart N1:N2:EVERY] [--refused DECK]... [--bad-cell DECK]...
+                        [--checkpoints EVERY]
                         MFCD MFCD_MPI MPIEXEC DECK...
 (--ranks: the rank counts each deck runs on, 1,2,3,4 by default; --t-end: every deck run to
 T seconds, snapshots at 0 and T.)
@@ -96,6 +102,11 @@ if "--restart" in ARGS:
     i = ARGS.index("--restart")
     RESTART = [int(v) for v in ARGS[i + 1].split(":")]
     del ARGS[i:i + 2]
+CHECKPOINTS = 0
+if "--checkpoints" in ARGS:
+    i = ARGS.index("--checkpoints")
+    CHECKPOINTS = int(ARGS[i + 1])
+    del ARGS[i:i + 2]
 FAILS = "--fails" in ARGS
 if FAILS:
     ARGS.remove("--fails")
@@ -115,6 +126,11 @@ DECKS = [os.path.abspath(d) for d in ARGS[3:]]
 # them, serial ones neither; the same-bytes check sets them to zeros in copies of the files
 TIMING = ("created", "wall_time", "particle_steps_per_second", "point_steps_per_second",
           "pair_time", "detect_time")
+# and a checkpoint's: the wall clock of its run and of its parts (attributes), each
+# pair's time in detection and correction (datasets /contacts/contact<k>_detect_time,
+# _pair_time)
+CK_TIMING = ("wall", "t_loop", "t_output", "t_contact")
+CK_TIMING_SETS = ("_detect_time", "_pair_time")
 results = []
 
 
@@ -126,6 +142,8 @@ def check(name, cond, detail=""):
 
 def deck_copy(src, work, out, checkpoint_every=0):
     text = open(src).read()
+    if checkpoint_every and re.search(r"^\s*checkpoint_every\s*=", text, re.M):
+        checkpoint_every = 0   # the deck's own
     if checkpoint_every:
         text = text.replace("&output", f"&output\n  checkpoint_every = {checkpoint_every}", 1)
     text, n = re.subn(r"file\s*=\s*'[^']*\.h5'", f"file = '{out}'", text)
@@ -218,19 +236,25 @@ def compare(tag, ref, new, record=True, continued=False):
     return all(c for _, c, _ in outcome)
 
 
-def same_bytes(tag, first, other):
+def same_bytes(tag, first, other, what="file"):
     """Whether two runs' files are the same bytes, once the attributes that record when
-    and how fast (TIMING, and /summary/timing) are set to zeros in copies of both."""
+    and how fast (TIMING, and /summary/timing; a checkpoint's CK_TIMING too) and a
+    checkpoint's timing datasets (CK_TIMING_SETS) are set to zeros in copies of both."""
+    ck = what == "checkpoint"
+
     def neutral(path):
         copy = path + ".untimed"
         shutil.copy(path, copy)
         with h5py.File(copy, "r+") as f:
             def fix(name, o):
                 for k in list(o.attrs):
-                    if k in TIMING or name.startswith("summary/timing"):
+                    if k in TIMING or name.startswith("summary/timing") or (
+                            ck and k in CK_TIMING):
                         v = o.attrs[k]
                         o.attrs.modify(k, b"0" * len(v) if isinstance(v, bytes)
                                        else np.zeros_like(v))
+                if ck and isinstance(o, h5py.Dataset) and name.endswith(CK_TIMING_SETS):
+                    o[...] = 0
             fix("", f)
             f.visititems(fix)
         return copy
@@ -241,7 +265,24 @@ def same_bytes(tag, first, other):
         da, db = open(a, "rb").read(), open(b, "rb").read()
         at = [i for i in range(min(len(da), len(db))) if da[i] != db[i]][:5]
         detail = f"sizes {len(da)}, {len(db)}; first differing bytes at {at}"
-    check(f"{tag}: the file is the same bytes as the first rank count's (timings aside)",
+        # and which datasets or attributes differ, to say what
+        with h5py.File(a, "r") as fa, h5py.File(b, "r") as fb:
+            names = []
+
+            def walk(name, o):
+                if (name or "/") not in fb:
+                    names.append(name + " (missing)")
+                    return
+                for k in o.attrs:
+                    if not np.array_equal(np.asarray(o.attrs[k]),
+                                          np.asarray(fb[name or "/"].attrs.get(k))):
+                        names.append(f"{name or '/'}@{k}")
+                if isinstance(o, h5py.Dataset) and not np.array_equal(o[()], fb[name][()]):
+                    names.append(name)
+            walk("", fa)
+            fa.visititems(walk)
+        detail += f"; differing: {names[:8]}"
+    check(f"{tag}: the {what} is the same bytes as the first rank count's (timings aside)",
           same, detail)
 
 
@@ -275,7 +316,7 @@ def main():
             # files can then be the same bytes (the deck's text is in them)
             sub = os.path.join(work, f"np{n}")
             os.makedirs(sub, exist_ok=True)
-            deck = deck_copy(src, sub, f"{name}.h5")
+            deck = deck_copy(src, sub, f"{name}.h5", CHECKPOINTS)
             p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI,
                                 os.path.basename(deck)], cwd=sub, env=env,
                                capture_output=True, text=True)
@@ -293,6 +334,13 @@ def main():
                     same_bytes(f"{name}, {n} rank(s)", os.path.join(
                         work, f"np{RANKS[0]}", f"{name}{done}"),
                         os.path.join(sub, f"{name}{done}"))
+                    ck0 = os.path.join(work, f"np{RANKS[0]}", f"{name}.checkpoint.h5")
+                    ck = os.path.join(sub, f"{name}.checkpoint.h5")
+                    if os.path.exists(ck0) or os.path.exists(ck):
+                        check(f"{name}, {n} rank(s): a checkpoint, as on {RANKS[0]}",
+                              os.path.exists(ck0) and os.path.exists(ck))
+                        if os.path.exists(ck0) and os.path.exists(ck):
+                            same_bytes(f"{name}, {n} rank(s)", ck0, ck, "checkpoint")
         if RESTART:
             n1, n2, every = RESTART
             deck = deck_copy(src, work, f"{name}_ckpt.h5", every)
