@@ -1723,7 +1723,7 @@ contains
     integer, intent(in) :: u
     type(deck_t), intent(inout) :: deck
     type(error_t), allocatable, intent(inout) :: err
-    integer :: ios, j
+    integer :: ios, j, jp
     character(len=512) :: msg
     type(solver_spec_t) :: sv
     include 'deck_nml_solver.inc'
@@ -1772,9 +1772,11 @@ contains
             rtoa(snapshot_times(j)), 'give snapshot times in [0, t_end] s (t_end = '// &
             rtoa(t_end)//' s)', err)
         else if (j > 1) then
-          if (snapshot_times(j) <= snapshot_times(j - 1)) call bad(deck, 'solver', &
+          ! (max: the compiler does not see that j > 1 here, and warns of entry 0)
+          jp = max(j - 1, 1)
+          if (snapshot_times(j) <= snapshot_times(jp)) call bad(deck, 'solver', &
             'snapshot_times', 'entry '//itoa(j)//' = '//rtoa(snapshot_times(j))// &
-            ' after entry '//itoa(j - 1)//' = '//rtoa(snapshot_times(j - 1)), &
+            ' after entry '//itoa(jp)//' = '//rtoa(snapshot_times(jp)), &
             'give the snapshot times in increasing order', err)
         end if
         if (allocated(err)) exit
