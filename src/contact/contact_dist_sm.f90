@@ -52,12 +52,14 @@ contains
     call init_side(p%side(2), p%dist%side(2), owner2, nglob2, solids(p%side(2)%isolid)%np)
     if (allocated(err)) return
     if (p%self) then
-      ! self-contact: each rank's own surface particles are its candidates; every one is
-      ! evaluated every step (skip_far's schedule would need the travel over all ranks)
+      ! self-contact: each rank's own surface particles are its candidates. With skip_far
+      ! (self_schedule, self_settled) the travel and the second pass's bound are taken
+      ! over the ranks, and side 2's ghost width covers the clearance search (dist_master),
+      ! so that each clearance, hence each schedule, is the serial one
+      if (p%side(1)%skip_far) call self_skip_part(p, solids, comm)
       do sd = 1, 2
         associate (s => p%side(sd))
           s%cand = pack(s%cand, owner1(s%cand) == comm%me)
-          s%skip_far = .false.
           s%near = .true.
         end associate
       end do
@@ -133,6 +135,28 @@ contains
     end subroutine init_side
   end procedure contact_pair_distribute
 
+  !> Self-contact pair p with skip_far made a rank's: the travel over the ranks (side 1's
+  !! ranks), lip the largest over the whole body (a rank's tables may hold the position rows
+  !! of its region only: the 3D RKPM set-up), the clearance search's largest reach over
+  !! every candidate of the body (before they are narrowed to the rank's).
+  subroutine self_skip_part(p, solids, comm)
+    type(contact_pair_t), intent(inout) :: p
+    type(solid_t), intent(in) :: solids(:)
+    class(rank_comm_t), pointer, intent(in) :: comm
+    real(wp) :: l(max_dim)
+    associate (s => p%side(1), sol => solids(p%side(1)%isolid))
+      s%ranks => comm
+      if (.not. sol%t%interpolating) then
+        l = position_sums(sol%t, sol%part%own_n)
+        call comm%max_real(l)
+        s%lip = norm2(l(:size(sol%t%pn, 1)))
+      end if
+      p%dist%clear_reach = 0.0_wp
+      if (size(s%cand) > 0) p%dist%clear_reach = self_reach*maxval(s%rex(s%cand))
+    end associate
+    p%side(2)%skip_far = .false.
+  end subroutine self_skip_part
+
   module procedure contact_dist_report
     integer :: sd
     do sd = 1, 2
@@ -167,7 +191,18 @@ contains
   module procedure dist_correct
     integer :: sd
     real(wp) :: v(1)
+    logical :: due
     p%step = contact_stats_t()
+    if (p%self) then
+      ! (self_correct: every candidate counted screened; with skip_far a step with none
+      ! due on any rank does nothing)
+      p%count%screened = p%count%screened + size(p%side(1)%cand)
+      if (p%side(1)%skip_far) then
+        call self_schedule(p, solids(p%side(1)%isolid), due, p%dist%side(1)%gl)
+        if (.not. due) return
+        p%side(2)%near = p%side(1)%near
+      end if
+    end if
     ! the own particles' positions at the step start (they do not change in the step)
     do sd = 1, 2
       call own_positions(p%side(sd), p%dist%side(sd), solids(p%side(sd)%isolid), &
@@ -204,6 +239,17 @@ contains
     logical :: found
     call dist_master(p, ib, ia, solids, .true., err)
     if (allocated(err)) return
+    if (p%self .and. p%side(1)%skip_far) then
+      if (count_stats) then
+        ! (self_correct: the first pass's positions, for the second's self_settled)
+        do jj = 1, p%side(1)%nlist
+          j = p%side(1)%list(jj)
+          p%side(1)%x_pass(:, j) = p%side(1)%x_pred(:, j)
+        end do
+      else
+        call self_settled(p%side(1), p%side(2))
+      end if
+    end if
     associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
       db => p%dist%side(ib))
       t0 = omp_get_wtime()
@@ -214,12 +260,11 @@ contains
           if (dist_covered(p, ib, ia, gmax, .true., err)) exit
           if (allocated(err)) return
         end do
-        if (count_stats) p%count%screened = p%count%screened + size(a%cand)
         if (count_stats) p%count%self_unsure = p%count%self_unsure + nunsure
       else if (p%self) then
-        ! (the first pass is self_correct's lower_only pass; the candidates counted once)
+        ! (the first pass is self_correct's lower_only pass; the candidates counted in
+        ! dist_correct)
         call detect_self(a, b, count_stats, neval, ndet)
-        if (count_stats) p%count%screened = p%count%screened + size(a%cand)
       else if (a%ndim == 3) then
         ! the closest facet of every flagged particle, and the facets around its features,
         ! must be among the rank's: else a wider refresh and the search again
@@ -252,14 +297,14 @@ contains
         if (spreads(b, solids)) call solids(b%isolid)%part%halo%nodes(db%f)
         call solid_add_point_forces(solids(b%isolid), db%f)
       else
-        call spread_correct(b, db, solids(b%isolid), dt)
+        call spread_correct(db, solids(b%isolid), dt)
       end if
       da%f = 0.0_wp
       do jj = 1, a%nlist
         j = a%list(jj)
         if (a%active(j)) da%f(:, da%gl(j)) = a%fphys(:, j)
       end do
-      call spread_correct(a, da, solids(a%isolid), dt)
+      call spread_correct(da, solids(a%isolid), dt)
       ! penetration left after the correction, against the master's corrected surface
       call dist_master(p, ib, ia, solids, .false., err)
       if (allocated(err)) return
@@ -353,14 +398,14 @@ contains
         if (allocated(err)) return
       end if
       call surface3d_update(b%surf3, b%x_pred)
+      b%surf_stale = .false.
     end associate
   end function dist_covered
 
-  !> Point forces ds%f on the nodes of side s's part solid (own entries; the ghosts' from
-  !! their owners when eq. 98 spreads them) added to the solid, a_n and the prediction
+  !> Point forces ds%f on the nodes of a side's part solid sol (own entries; the ghosts'
+  !! from their owners when eq. 98 spreads them) added to the solid, a_n and the prediction
   !! corrected, the corrected ghost nodes from their owners.
-  subroutine spread_correct(s, ds, sol, dt)
-    type(side_t), intent(inout) :: s
+  subroutine spread_correct(ds, sol, dt)
     type(dist_side_t), intent(inout) :: ds
     type(solid_t), intent(inout) :: sol
     real(wp), intent(in) :: dt
@@ -446,6 +491,9 @@ contains
         ! radius |g| + 2 dmax, dist_covered), or as far as a search has needed (gcov)
         db%dmax = max(v(7), 0.0_wp)
         need = max(maxval(db%rmax) + 2.0_wp*db%dmax, db%gcov)
+        ! self-contact with skip_far: the clearance search (self_det) takes the particles
+        ! whose support comes within clear_reach of a candidate
+        if (p%self .and. a%skip_far) need = max(need, maxval(db%rmax) + p%dist%clear_reach)
       else
         mlo(1:2) = -v(5:6)
         mhi(1:2) = v(7:8)
@@ -457,6 +505,7 @@ contains
         cell(1:2) = bins_cell_size(mhi(1:2) - mlo(1:2), max(2.0_wp*reach(1:2), &
           tiny(1.0_wp)))
         need = maxval(max(db%rmax, da%rmax + 2.0_wp*reach(1:2) + cell(1:2)))
+        if (p%self .and. a%skip_far) need = max(need, maxval(db%rmax) + p%dist%clear_reach)
       end if
       if (db%width < 0.0_wp .or. (p%dist%refresh .and. .not. (db%moved + need < &
         db%width))) then
@@ -472,8 +521,12 @@ contains
         call cloud_move(b%cloud, db%xl, err, db%glo, db%ghi)
         if (allocated(err)) return
       end if
-      if (nd == 3) then
+      if (nd == 3 .and. p%self .and. with_det) then
+        ! (self-contact: moved only when the pass flags a candidate, detect_self_3d)
+        b%surf_stale = .true.
+      else if (nd == 3) then
         call surface3d_update(b%surf3, b%x_pred)
+        b%surf_stale = .false.
       else
         call surface_update(b%surface, b%x_pred, err, mlo(1:2), mhi(1:2), reach(1:2))
         if (allocated(err)) return

@@ -59,7 +59,7 @@ module contact_pair_m
   ! (public for the submodule contact_dist_sm only: gfortran 12 leaves out a private module
   ! procedure the submodule calls, even one the module calls too)
   public :: detect_det_m, pass_forces, detect_self, spreads, detect_det_m_3d, pass_forces_3d
-  public :: detect_self_3d
+  public :: detect_self_3d, self_schedule, self_settled, position_sums
   public :: stat_sums, stats_values
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
@@ -271,6 +271,9 @@ module contact_pair_m
     !> testing only (mfcd_mpi --ghost-refresh=never): keep the first ghost sets, so that
     !! a contact the margin does not cover is missed (the test that proves it matters)
     logical :: refresh = .true.
+    !> self-contact with skip_far: the clearance search's largest reach, self_reach x the
+    !! largest neighbour radius of a candidate (m); side 2's ghost width covers it as well
+    real(wp) :: clear_reach = 0.0_wp
   end type pair_dist_t
 
   type :: contact_pair_t
@@ -710,30 +713,12 @@ contains
     type(solid_t), intent(inout) :: solids(:)
     real(wp), intent(in) :: dt
     type(error_t), allocatable, intent(inout) :: err
-    integer :: k, ndue
-    real(wp) :: step_travel, horizon
-    associate (s => p%side(1))
-      p%count%screened = p%count%screened + size(s%cand)
-      if (s%skip_far) then
-        step_travel = s%travel
-        call self_travel(s, solids(s%isolid))
-        step_travel = s%travel - step_travel
-        if (.not. any(s%travel >= s%due(s%cand))) then
-          p%count%skipped = p%count%skipped + size(s%cand)
-          return
-        end if
-        ! a step that re-bins anyway also screens the particles due within the next
-        ! self_lookahead steps (at this step's travel), so that their dues fall together
-        ! and the re-binning is not repeated for one particle every step
-        horizon = s%travel + real(self_lookahead, wp)*step_travel
-        ndue = 0
-        do k = 1, size(s%cand)
-          s%near(s%cand(k)) = horizon >= s%due(s%cand(k))
-          if (s%near(s%cand(k))) ndue = ndue + 1
-        end do
-        p%count%skipped = p%count%skipped + (size(s%cand) - ndue)
-      end if
-    end associate
+    logical :: due
+    p%count%screened = p%count%screened + size(p%side(1)%cand)
+    if (p%side(1)%skip_far) then
+      call self_schedule(p, solids(p%side(1)%isolid), due)
+      if (.not. due) return
+    end if
     p%side(2)%near = p%side(1)%near
     call self_positions(p%side(1), p%side(2), solids, err)
     if (allocated(err)) return
@@ -763,15 +748,17 @@ contains
   subroutine self_settled(s, s2)
     type(side_t), intent(in) :: s
     type(side_t), intent(inout) :: s2
-    integer :: k, j
-    real(wp) :: moved, xmax, bound
-    moved = 0.0_wp
-    xmax = 0.0_wp
-    do j = 1, size(s%x_pass, 2)
-      moved = max(moved, maxval(abs(s2%x_pred(:, j) - s%x_pass(:, j))))
-      xmax = max(xmax, maxval(abs(s2%x_pred(:, j))))
+    integer :: k, j, jj
+    real(wp) :: v(2), bound
+    ! (the particles the side looks at: all, or a rank's own, the largest over the ranks)
+    v = 0.0_wp
+    do jj = 1, s%nlist
+      j = side_particle(s, jj)
+      v(1) = max(v(1), maxval(abs(s2%x_pred(:, j) - s%x_pass(:, j))))
+      v(2) = max(v(2), maxval(abs(s2%x_pred(:, j))))
     end do
-    bound = 2.0_wp*moved + 8.0_wp*spacing(xmax)
+    if (associated(s%ranks)) call s%ranks%max_real(v)
+    bound = 2.0_wp*v(1) + 8.0_wp*spacing(v(2))
     do k = 1, size(s%cand)
       j = s%cand(k)
       if (.not. s2%near(j)) cycle
@@ -822,34 +809,81 @@ contains
     end do
   end subroutine self_old_positions
 
-  !> The bound on any particle's motion of self-contact side s, summed since t = 0 (travel):
-  !! one step adds lip max_I |d_I - d'_I| (side_near_positions), twice that for the motion
-  !! of two particles towards each other.
-  subroutine self_travel(s, sol)
-    type(side_t), intent(inout) :: s
+  !> Self-contact with skip_far, a step's schedule (self_correct): the travel of side 1,
+  !! twice the bound on any particle's motion summed since t = 0 (one step adds
+  !! lip max_I |d_I - d'_I|, side_near_positions; twice for two particles moving towards
+  !! each other), and whether any candidate is due (due). When one is, the candidates due
+  !! within the next self_lookahead steps (at this step's travel) are marked near, so that
+  !! their dues fall together and the re-binning is not repeated for one particle every
+  !! step; the others are counted skipped. On a rank's part of a distributed pair
+  !! (contact_dist_sm: side 1's ranks associated, gl(j) particle j's node in the part
+  !! solid sol, the side's list the rank's own particles, its candidates the own ones) the
+  !! travel and "any due" are the whole body's, over the ranks, so that every candidate
+  !! is screened at the steps the serial run screens it. Collective then.
+  subroutine self_schedule(p, sol, due, gl)
+    type(contact_pair_t), intent(inout) :: p
     type(solid_t), intent(in) :: sol
-    call add_travel(s, sol, 2.0_wp)
-  end subroutine self_travel
+    logical, intent(out) :: due
+    integer, intent(in), optional :: gl(:)
+    integer :: k, ndue
+    real(wp) :: step_travel, horizon, v(1)
+    associate (s => p%side(1))
+      step_travel = s%travel
+      call add_travel(s, sol, 2.0_wp, gl)
+      step_travel = s%travel - step_travel
+      due = any(s%travel >= s%due(s%cand))
+      if (associated(s%ranks)) then
+        v = merge(1.0_wp, 0.0_wp, due)
+        call s%ranks%max_real(v)
+        due = v(1) > 0.0_wp
+      end if
+      if (.not. due) then
+        p%count%skipped = p%count%skipped + size(s%cand)
+        return
+      end if
+      horizon = s%travel + real(self_lookahead, wp)*step_travel
+      ndue = 0
+      do k = 1, size(s%cand)
+        s%near(s%cand(k)) = horizon >= s%due(s%cand(k))
+        if (s%near(s%cand(k))) ndue = ndue + 1
+      end do
+      p%count%skipped = p%count%skipped + (size(s%cand) - ndue)
+    end associate
+  end subroutine self_schedule
 
   !> Add to s%travel factor x lip x max_I |d_I - d'_I|, d' the coefficients at the last
   !! call (kept in s%d_scr): a bound on any particle's motion since then, times factor.
-  subroutine add_travel(s, sol, factor)
+  !! gl (a rank's part of a distributed pair): each particle's node in sol, a part solid.
+  subroutine add_travel(s, sol, factor, gl)
     type(side_t), intent(inout) :: s
     type(solid_t), intent(in) :: sol
     real(wp), intent(in) :: factor
-    integer :: i, ii
+    integer, intent(in), optional :: gl(:)
+    integer :: i, ii, n
     real(wp) :: dmax2, v(1)
     dmax2 = 0.0_wp
     ! (with subcycling a pass looks at the nodes being stepped only: each particle's motion
     ! is still counted in the calls between its screenings, which is what the bound needs)
-    !$omp parallel do default(none) shared(s, sol) private(i) reduction(max: dmax2) &
-    !$omp schedule(static)
-    do ii = 1, s%nlist
-      i = side_particle(s, ii)
-      dmax2 = max(dmax2, sum((sol%state%d(:, i) - s%d_scr(:, i))**2))
-      s%d_scr(:, i) = sol%state%d(:, i)
-    end do
-    !$omp end parallel do
+    if (present(gl)) then
+      !$omp parallel do default(none) shared(s, sol, gl) private(i, n) reduction(max: dmax2) &
+      !$omp schedule(static)
+      do ii = 1, s%nlist
+        i = side_particle(s, ii)
+        n = gl(i)
+        dmax2 = max(dmax2, sum((sol%state%d(:, n) - s%d_scr(:, i))**2))
+        s%d_scr(:, i) = sol%state%d(:, n)
+      end do
+      !$omp end parallel do
+    else
+      !$omp parallel do default(none) shared(s, sol) private(i) reduction(max: dmax2) &
+      !$omp schedule(static)
+      do ii = 1, s%nlist
+        i = side_particle(s, ii)
+        dmax2 = max(dmax2, sum((sol%state%d(:, i) - s%d_scr(:, i))**2))
+        s%d_scr(:, i) = sol%state%d(:, i)
+      end do
+      !$omp end parallel do
+    end if
     if (associated(s%ranks)) then
       ! (collective: the whole body's bound, the serial one)
       v = dmax2

@@ -221,15 +221,17 @@ def compare(tag, ref, new, record=True, continued=False):
             if np.ndim(ba[body][k]) == 0 and isinstance(ba[body][k], float)
             and not ba[body][k] == bb.get(body, {}).get(k)]
     check(f"{tag}: /summary body measures equal, bit for bit", not diff, diff)
-    # the detection counts are sums over the ranks of their own particles' counts (not the
-    # det(M) evaluations and skipped screenings: on ranks a deforming master's pair and a
-    # self-contact evaluate every step, where the serial run skips, exact either way; the
-    # same on every rank count, which the same-bytes check sees)
-    counts = ("screened", "detected", "contacts", "detected_max_per_step", "self_unsure")
+    # the detection counts are sums over the ranks of their own particles' counts, the
+    # det(M) evaluations and skipped screenings too: each particle is screened at the
+    # steps the serial run screens it (skip_far's travel over the ranks; a self-contact's
+    # clearances from ghosts that cover its search)
+    counts = ("screened", "evaluated", "skipped_far", "detected", "contacts",
+              "detected_max_per_step", "self_unsure")
     cdiff = [(k, n, ca[k].get(n), cb.get(k, {}).get(n)) for k in ca for n in counts
              if n in ca[k] and ca[k][n] != cb.get(k, {}).get(n)]
-    check(f"{tag}: /summary contact counts (screened, detected, contacts, most flagged in a "
-          "step, 3D self-contact's flags of a sign not sure) equal", not cdiff, cdiff)
+    check(f"{tag}: /summary contact counts (screened, evaluated, skipped, detected, contacts, "
+          "most flagged in a step, 3D self-contact's flags of a sign not sure) equal", not cdiff,
+          cdiff)
     if record:
         for name, cond, detail in outcome:
             globals()["check"](name, cond, detail)
