@@ -32,14 +32,14 @@ module rk_cloud_m
     !> reference positions in bin order (ndim, np), when set (cloud_set_reference): which
     !! particles are neighbours of a point in the reference configuration (self-contact)
     real(wp), allocatable :: xr(:, :)
-    !> with xr: particle I's own neighbour radius is sr times its largest support, and I is
-    !! a neighbour of a point of radius rex when its reference distance is below the larger
-    !! of the two (0: rex alone)
-    real(wp) :: sr = 0.0_wp
+    !> with xr: particle I's own neighbour radius, squared, in bin order (np): self_radius
+    !! times its largest support (cloud_set_reference); I is a neighbour of a point of
+    !! radius rex when its reference distance is below the larger of the two (0: rex alone)
+    real(wp), allocatable :: rn2(:)
     type(bins_t) :: bins
     ! work space of cloud_move, allocated at the first move and reused
     integer, allocatable :: wslot(:)
-    real(wp), allocatable :: wrho(:, :), wvol(:), wxr(:, :)
+    real(wp), allocatable :: wrho(:, :), wvol(:), wxr(:, :), wrn2(:)
   end type rk_cloud_t
 
 contains
@@ -104,7 +104,7 @@ contains
     integer :: q, i, o, nd
     nd = c%ndim
     if (.not. allocated(c%wslot)) allocate(c%wslot(c%np), c%wrho(nd, c%np), c%wvol(c%np))
-    if (allocated(c%xr) .and. .not. allocated(c%wxr)) allocate(c%wxr(nd, c%np))
+    if (allocated(c%xr) .and. .not. allocated(c%wxr)) allocate(c%wxr(nd, c%np), c%wrn2(c%np))
     ! the old slot of each particle, before the new bins overwrite the order
     do q = 1, c%np
       c%wslot(c%perm(q)) = q
@@ -117,7 +117,10 @@ contains
       o = c%wslot(i)
       c%wrho(:, q) = c%rho(:, o)
       c%wvol(q) = c%vol(o)
-      if (allocated(c%xr)) c%wxr(:, q) = c%xr(:, o)
+      if (allocated(c%xr)) then
+        c%wxr(:, q) = c%xr(:, o)
+        c%wrn2(q) = c%rn2(o)
+      end if
     end do
     do q = 1, c%np
       i = c%bins%idx(q)
@@ -126,7 +129,10 @@ contains
       c%rho(:, q) = c%wrho(:, q)
       c%rinv(:, q) = 1.0_wp/c%wrho(:, q)
       c%vol(q) = c%wvol(q)
-      if (allocated(c%xr)) c%xr(:, q) = c%wxr(:, q)
+      if (allocated(c%xr)) then
+        c%xr(:, q) = c%wxr(:, q)
+        c%rn2(q) = c%wrn2(q)
+      end if
       c%bins%idx(q) = q
     end do
   end subroutine cloud_move
@@ -142,13 +148,16 @@ contains
     real(wp), intent(in) :: xr(:, :)
     real(wp), intent(in), optional :: self_radius
     integer :: q
+    real(wp) :: sr
     if (allocated(c%xr)) deallocate(c%xr)
-    allocate(c%xr(c%ndim, c%np))
+    if (allocated(c%rn2)) deallocate(c%rn2)
+    allocate(c%xr(c%ndim, c%np), c%rn2(c%np))
+    sr = 0.0_wp
+    if (present(self_radius)) sr = self_radius
     do q = 1, c%np
       c%xr(:, q) = xr(:, c%perm(q))
+      c%rn2(q) = (sr*maxval(c%rho(:, q)))**2
     end do
-    c%sr = 0.0_wp
-    if (present(self_radius)) c%sr = self_radius
   end subroutine cloud_set_reference
 
   !> Moment matrix M(p) (full, symmetric) and the number of particles covering p. With xc
@@ -180,8 +189,7 @@ contains
             d(1:nd) = c%x(:, q) - p(1:nd)
             if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
             if (excl) then
-              if (sum((c%xr(:, q) - xc(1:nd))**2) < max(rex2, (c%sr*maxval(c%rho(:, q)))**2)) &
-                cycle
+              if (sum((c%xr(:, q) - xc(1:nd))**2) < max(rex2, c%rn2(q))) cycle
             end if
             call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
             if (phi <= 0.0_wp) cycle
@@ -279,7 +287,7 @@ contains
         do i = clo(1), chi(1)
           do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
             if (sum((c%xr(:, q) - xc(1:nd))**2) < (1.0_wp - 1.0e-12_wp)* &
-              max(rex2, (c%sr*maxval(c%rho(:, q)))**2)) cycle
+              max(rex2, c%rn2(q))) cycle
             clear = min(clear, maxval(abs(c%x(:, q) - p(1:nd)) - c%rho(:, q)))
           end do
         end do
@@ -389,7 +397,7 @@ contains
             abs(dz) >= c%rho(3, q)) cycle
           if (excl) then
             if ((c%xr(1, q) - c1)**2 + (c%xr(2, q) - c2)**2 + (c%xr(3, q) - c3)**2 < &
-              max(rex2, (c%sr*max(c%rho(1, q), c%rho(2, q), c%rho(3, q)))**2)) cycle
+              max(rex2, c%rn2(q))) cycle
             nc = nc + 1
           end if
           r1 = c%rinv(1, q)
