@@ -185,6 +185,9 @@ module contact_pair_m
     ! on its motion, summed over the steps since, reaches r (side_near_positions)
     logical :: skip_far = .false.
     real(wp) :: travel = 0.0_wp          !< bound on any particle's motion since t = 0 (m)
+    !> on ranks: this step's max_I |d_I - d'_I|^2 over the whole body (m^2), when
+    !! travels_at_once took it with the other pairs' in one reduction; < 0: not taken
+    real(wp) :: dmax2_all = -1.0_wp
     real(wp) :: lip = 0.0_wp             !< |x_j - x'_j| <= lip max_I |d_I - d'_I|
     real(wp), allocatable :: due(:)      !< travel at which a particle is screened again (m)
     real(wp), allocatable :: d_scr(:, :) !< coefficients at the last screening (ndim, np) (m)
@@ -854,13 +857,36 @@ contains
   !> Add to s%travel factor x lip x max_I |d_I - d'_I|, d' the coefficients at the last
   !! call (kept in s%d_scr): a bound on any particle's motion since then, times factor.
   !! gl (a rank's part of a distributed pair): each particle's node in sol, a part solid.
+  !! On ranks the maximum is the whole body's: taken over the ranks here, or already by
+  !! travels_at_once with the other pairs' (s%dmax2_all).
   subroutine add_travel(s, sol, factor, gl)
     type(side_t), intent(inout) :: s
     type(solid_t), intent(in) :: sol
     real(wp), intent(in) :: factor
     integer, intent(in), optional :: gl(:)
-    integer :: i, ii, n
     real(wp) :: dmax2, v(1)
+    if (s%dmax2_all >= 0.0_wp) then
+      dmax2 = s%dmax2_all
+      s%dmax2_all = -1.0_wp
+    else
+      dmax2 = travel_local(s, sol, gl)
+      if (associated(s%ranks)) then
+        ! (collective: the whole body's bound, the serial one)
+        v = dmax2
+        call s%ranks%max_real(v)
+        dmax2 = v(1)
+      end if
+    end if
+    s%travel = s%travel + factor*s%lip*sqrt(dmax2)
+  end subroutine add_travel
+
+  !> max_I |d_I - d'_I|^2 over the particles side s looks at (on ranks its own), d' the
+  !! coefficients at the last call, which become d (s%d_scr). gl: as add_travel's.
+  real(wp) function travel_local(s, sol, gl) result(dmax2)
+    type(side_t), intent(inout) :: s
+    type(solid_t), intent(in) :: sol
+    integer, intent(in), optional :: gl(:)
+    integer :: i, ii, n
     dmax2 = 0.0_wp
     ! (with subcycling a pass looks at the nodes being stepped only: each particle's motion
     ! is still counted in the calls between its screenings, which is what the bound needs)
@@ -884,14 +910,59 @@ contains
       end do
       !$omp end parallel do
     end if
-    if (associated(s%ranks)) then
-      ! (collective: the whole body's bound, the serial one)
-      v = dmax2
-      call s%ranks%max_real(v)
-      dmax2 = v(1)
-    end if
-    s%travel = s%travel + factor*s%lip*sqrt(dmax2)
-  end subroutine add_travel
+  end function travel_local
+
+  !> On ranks, the motion bounds of every pair that skips (add_travel: a rigid master's
+  !! slave, a self-contact), taken over the ranks in one reduction at the start of the
+  !! contact phase. Taken pair by pair, each reduction would make the pairs take turns:
+  !! where each rank screens the contact of one pair (a tube's lower half on the floor, its
+  !! upper half under the ram), a rank with nothing to screen in a pair would wait at the
+  !! next pair's reduction for the ranks that have. The same numbers (a maximum), so the
+  !! same schedules. Serial runs (no ranks), or a single such pair: nothing done here.
+  !! Collective.
+  subroutine travels_at_once(pairs, solids)
+    type(contact_pair_t), intent(inout) :: pairs(:)
+    type(solid_t), intent(in) :: solids(:)
+    real(wp) :: v(size(pairs))
+    integer :: k, n
+    class(rank_comm_t), pointer :: ranks
+    n = 0
+    ranks => null()
+    do k = 1, size(pairs)
+      if (.not. takes_travel(pairs(k))) cycle
+      n = n + 1
+      ranks => pairs(k)%side(1)%ranks
+    end do
+    if (n < 2) return
+    n = 0
+    do k = 1, size(pairs)
+      if (.not. takes_travel(pairs(k))) cycle
+      n = n + 1
+      associate (s => pairs(k)%side(1))
+        if (allocated(pairs(k)%dist)) then
+          v(n) = travel_local(s, solids(s%isolid), pairs(k)%dist%side(1)%gl)
+        else
+          ! (the part's own nodes: what contact_correct's side_select gives)
+          call side_select(s, solids)
+          v(n) = travel_local(s, solids(s%isolid))
+        end if
+      end associate
+    end do
+    call ranks%max_real(v(1:n))
+    n = 0
+    do k = 1, size(pairs)
+      if (.not. takes_travel(pairs(k))) cycle
+      n = n + 1
+      pairs(k)%side(1)%dmax2_all = v(n)
+    end do
+  end subroutine travels_at_once
+
+  !> Does pair p take a motion bound over the ranks this step (add_travel)? Its slave side
+  !! skips (skip_far) on a rank's part: against a rigid master, or a self-contact.
+  pure logical function takes_travel(p)
+    type(contact_pair_t), intent(in) :: p
+    takes_travel = p%side(1)%skip_far .and. associated(p%side(1)%ranks)
+  end function takes_travel
 
   !> The largest sum_I |N_I(X_j)| of each row of t's position table over the particles
   !! list (skip_far_init's lip).
@@ -946,6 +1017,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: k
     real(wp) :: t0
+    ! (on ranks: the pairs' motion bounds in one reduction)
+    call travels_at_once(pairs, solids)
     do k = 1, size(pairs)
       t0 = omp_get_wtime()
       ! a moving rigid master at the prediction's time

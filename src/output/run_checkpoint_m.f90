@@ -515,6 +515,7 @@ contains
     real(wp) :: bgap(2), tdet(1), travel(1), tpair(1)
     integer(i64) :: limbs(exact_pack_size)
     integer :: k, ncol
+    logical :: has
     nsnap_done = 0
     allocate(snap_times(0))
     call open_checked(path, deck, bodies, f, info, err)
@@ -536,7 +537,9 @@ contains
       ! skip_far's state (absent from checkpoints written before it: every particle is then
       ! screened at the first step, which changes the counter only)
       associate (s => pairs(k)%side(1))
-        if (s%skip_far .and. h5_has(f, '/contacts/contact'//itoa(k)//'_skip_due')) then
+        has = .false.
+        if (s%skip_far) has = h5_has(f, '/contacts/contact'//itoa(k)//'_skip_due')
+        if (has) then
           call h5_read(f, '/contacts/contact'//itoa(k)//'_skipped', nskip, err)
           if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
             '_skip_travel', travel, err)
