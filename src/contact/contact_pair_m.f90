@@ -912,14 +912,18 @@ contains
     end if
   end function travel_local
 
-  !> On ranks, the motion bounds of every pair that skips (add_travel: a rigid master's
-  !! slave, a self-contact), taken over the ranks in one reduction at the start of the
-  !! contact phase. Taken pair by pair, each reduction would make the pairs take turns:
-  !! where each rank screens the contact of one pair (a tube's lower half on the floor, its
-  !! upper half under the ram), a rank with nothing to screen in a pair would wait at the
-  !! next pair's reduction for the ranks that have. The same numbers (a maximum), so the
-  !! same schedules. Serial runs (no ranks), or a single such pair: nothing done here.
-  !! Collective.
+  !> On ranks, the motion bounds of the pairs that skip (add_travel: a rigid master's slave,
+  !! a self-contact) taken over the ranks in one reduction at the start of the contact
+  !! phase. Taken pair by pair, each reduction makes the pairs take turns: where each rank
+  !! screens the contact of another pair (two slabs on two walls, each on its ranks), a
+  !! rank with nothing to screen in a pair waits at the next pair's reduction for the ranks
+  !! that have. Only a pair whose slave no earlier pair of the step touches (as slave or
+  !! master) reads its bound here: its coefficients are then the same at the step's start
+  !! as when it screens, so the bound is the one it would take itself, the same numbers.
+  !! A pair after one that corrects its solid (a tube on a floor and under a ram) reads it
+  !! itself, after that correction: read before, the bound would miss the correction's
+  !! motion and the skipping would no longer be exact. Serial runs (no ranks), or fewer
+  !! than two such pairs: nothing done here. Collective.
   subroutine travels_at_once(pairs, solids)
     type(contact_pair_t), intent(inout) :: pairs(:)
     type(solid_t), intent(in) :: solids(:)
@@ -929,14 +933,14 @@ contains
     n = 0
     ranks => null()
     do k = 1, size(pairs)
-      if (.not. takes_travel(pairs(k))) cycle
+      if (.not. reads_first(pairs, k)) cycle
       n = n + 1
       ranks => pairs(k)%side(1)%ranks
     end do
     if (n < 2) return
     n = 0
     do k = 1, size(pairs)
-      if (.not. takes_travel(pairs(k))) cycle
+      if (.not. reads_first(pairs, k)) cycle
       n = n + 1
       associate (s => pairs(k)%side(1))
         if (allocated(pairs(k)%dist)) then
@@ -951,18 +955,25 @@ contains
     call ranks%max_real(v(1:n))
     n = 0
     do k = 1, size(pairs)
-      if (.not. takes_travel(pairs(k))) cycle
+      if (.not. reads_first(pairs, k)) cycle
       n = n + 1
       pairs(k)%side(1)%dmax2_all = v(n)
     end do
   end subroutine travels_at_once
 
-  !> Does pair p take a motion bound over the ranks this step (add_travel)? Its slave side
-  !! skips (skip_far) on a rank's part: against a rigid master, or a self-contact.
-  pure logical function takes_travel(p)
-    type(contact_pair_t), intent(in) :: p
-    takes_travel = p%side(1)%skip_far .and. associated(p%side(1)%ranks)
-  end function takes_travel
+  !> Does pair k read its motion bound at the start of the contact phase (travels_at_once)?
+  !! Its slave side skips (skip_far) on a rank's part (against a rigid master, or a
+  !! self-contact), and no earlier pair has a side on its solid.
+  pure logical function reads_first(pairs, k)
+    type(contact_pair_t), intent(in) :: pairs(:)
+    integer, intent(in) :: k
+    integer :: j
+    reads_first = pairs(k)%side(1)%skip_far .and. associated(pairs(k)%side(1)%ranks)
+    if (.not. reads_first) return
+    do j = 1, k - 1
+      if (any(pairs(j)%side(:)%isolid == pairs(k)%side(1)%isolid)) reads_first = .false.
+    end do
+  end function reads_first
 
   !> The largest sum_I |N_I(X_j)| of each row of t's position table over the particles
   !! list (skip_far_init's lip).
