@@ -182,15 +182,26 @@ contains
   !! (3D): one point per tetrahedron at its centroid with weight V, the constant gradients,
   !! lumped masses rho0 V/4 (rho0: density, kg/m^3), the identity position table, and the
   !! flag anp (solid_m averages the volume change over the nodes).
-  subroutine tet4_tables(b, mesh, rho0, t, err)
+  !!
+  !! box (3, 2), a rank's box of the decomposition (lower, upper corner; doc/parallel.md):
+  !! the rows (nodes, gradients) are kept only for the tetrahedra whose centroid or a
+  !! vertex lies in the box (closed), which holds every point the rank's part owns and
+  !! every point touching a node it owns (decomposition_m local_part_build takes no other
+  !! rows); the others' rows are empty, and the tables are not transposed (the split
+  !! transposes the part's). Every tetrahedron's volume, centroid and height are computed
+  !! all the same (a few flops each), so the masses, the smallest height and the checks
+  !! are the whole body's on every rank, with no sum over the ranks.
+  subroutine tet4_tables(b, mesh, rho0, t, err, box)
     type(body_t), intent(in) :: b
     type(tet4_mesh_t), intent(in) :: mesh
     real(wp), intent(in) :: rho0
     type(solid_tables_t), intent(out) :: t
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: box(3, 2)
     integer, allocatable :: touched(:)
+    logical, allocatable :: keep(:)
     real(wp) :: xt(3, 4), dn(3, 4), v, hgt, hmin
-    integer :: np, ne, e, k, i, bad, q
+    integer :: np, ne, e, k, i, bad
     np = b%np
     ne = mesh%ne
     call check_cells(b%name, b%ndim, b%np, mesh%tet, mesh%ne, 4, 3, 'tetrahedron', err)
@@ -207,33 +218,55 @@ contains
     t%axisym = .false.
     t%interpolating = .true.
     t%anp = .true.
-    allocate(t%xq(3, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), t%nbr(4*ne), &
-      t%g(t%dims%ngrad, 4*ne), t%h(4*ne))
+    allocate(t%xq(3, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), keep(ne))
     t%owner = 0
-    t%h = 0.0_wp
-    t%ptr = [(4*q + 1, q = 0, ne)]
-    ! each tetrahedron writes only its own four entries: no races
+    ! each tetrahedron writes only its own entries: no races
     hmin = huge(1.0_wp)
     bad = huge(0)
-    !$omp parallel do default(none) shared(b, mesh, t, ne) private(xt, dn, v, hgt, k, i) &
+    !$omp parallel do default(none) shared(b, mesh, t, ne) private(xt, dn, v, hgt) &
     !$omp reduction(min: hmin, bad) schedule(static)
     do e = 1, ne
       xt = b%x(:, mesh%tet(:, e))
       call tet_gradients(xt, v, dn, hgt)
+      t%xq(:, e) = 0.25_wp*sum(xt, dim=2)
       if (.not. (v > 0.0_wp)) then
         bad = min(bad, e)
         cycle
       end if
       hmin = min(hmin, hgt)
       t%wgt(e) = v
-      t%xq(:, e) = 0.25_wp*sum(xt, dim=2)
-      do k = 1, 4
-        i = 4*(e - 1) + k
-        t%nbr(i) = mesh%tet(k, e)
-        t%g(:, i) = dn(:, k)
-      end do
     end do
     !$omp end parallel do
+    keep = .true.
+    if (present(box)) then
+      do e = 1, ne
+        keep(e) = in_box(t%xq(:, e)) .or. in_box(b%x(:, mesh%tet(1, e))) .or. &
+          in_box(b%x(:, mesh%tet(2, e))) .or. in_box(b%x(:, mesh%tet(3, e))) .or. &
+          in_box(b%x(:, mesh%tet(4, e)))
+      end do
+    end if
+    t%ptr(1) = 1
+    do e = 1, ne
+      t%ptr(e + 1) = t%ptr(e) + merge(4, 0, keep(e))
+    end do
+    allocate(t%nbr(t%ptr(ne + 1) - 1), t%g(t%dims%ngrad, t%ptr(ne + 1) - 1), &
+      t%h(t%ptr(ne + 1) - 1))
+    t%h = 0.0_wp
+    if (bad > ne) then
+      !$omp parallel do default(none) shared(b, mesh, t, ne, keep) private(xt, dn, v, hgt, k, i) &
+      !$omp schedule(static)
+      do e = 1, ne
+        if (.not. keep(e)) cycle
+        xt = b%x(:, mesh%tet(:, e))
+        call tet_gradients(xt, v, dn, hgt)
+        do k = 1, 4
+          i = t%ptr(e) + k - 1
+          t%nbr(i) = mesh%tet(k, e)
+          t%g(:, i) = dn(:, k)
+        end do
+      end do
+      !$omp end parallel do
+    end if
     if (bad <= ne) then
       xt = b%x(:, mesh%tet(:, bad))
       call set_error(err, "body '"//trim(b%name)//"': tetrahedron "//itoa(bad)//' (nodes '// &
@@ -265,7 +298,15 @@ contains
     allocate(t%fix1(np))
     t%fix1 = .false.
     ! nodal interpolation: the position table N_I(X_J) is the identity
-    call tables_finish_elements(t)
+    call tables_finish_elements(t, transpose=.not. present(box))
+
+  contains
+
+    !> Does x lie in the (closed) box?
+    pure logical function in_box(x)
+      real(wp), intent(in) :: x(3)
+      in_box = all(x >= box(:, 1)) .and. all(x <= box(:, 2))
+    end function in_box
   end subroutine tet4_tables
 
   !> The boundary of the mesh over np nodes: the faces that belong to one tetrahedron only,

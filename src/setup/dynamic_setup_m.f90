@@ -253,14 +253,19 @@ contains
     type(tet4_mesh_t) :: tmesh
     type(rcb_tree_t) :: tree
     real(wp) :: alpha, box(3, 2)
-    logical :: own_box, split
+    logical :: split
     bs = deck%bodies(k)
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
     if (allocated(b%cells) .and. b%ndim == 3) then
-      ! linear tetrahedra with averaged nodal pressure (tet4_m)
+      ! linear tetrahedra with averaged nodal pressure (tet4_m); on a rank, the rows of the
+      ! elements of its region (the masses and the rest whole: no sum over the ranks)
       tmesh%ne = size(b%cells, 2)
       tmesh%tet = b%cells
-      call tet4_tables(b, tmesh, deck%materials(bs%imat)%params%density, t, e2)
+      if (region_box(part, b, tree, box)) then
+        call tet4_tables(b, tmesh, deck%materials(bs%imat)%params%density, t, e2, box)
+      else
+        call tet4_tables(b, tmesh, deck%materials(bs%imat)%params%density, t, e2)
+      end if
       alpha = 0.0_wp
     else if (allocated(b%cells)) then
       mesh%ne = size(b%cells, 2)
@@ -268,24 +273,14 @@ contains
       call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2)
       alpha = 0.0_wp    ! the SCNI stabilization is a particle method's; elements need none
     else if (b%ndim == 3) then
-      split = .false.
-      if (present(part)) split = part%nranks > 1
-      own_box = .false.
-      if (split) own_box = part%me > 0 .or. .not. part%root_whole
-      ! a rank's region: the bisection the split will make (mpi_domain_m make_part)
-      if (split) call rcb_build(b%x, part%nranks, tree)
-      if (own_box) then
-        call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
-        call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2, box)
-      else if (present(part) .and. .not. split) then
-        ! (mfcd_mpi on one rank: every cell, without the transpose the split makes again)
-        box(:, 1) = -huge(1.0_wp)
-        box(:, 2) = huge(1.0_wp)
+      if (region_box(part, b, tree, box)) then
         call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2, box)
       else
         call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
       end if
       ! (every rank, after an error too: collective)
+      split = .false.
+      if (present(part)) split = part%nranks > 1
       if (split) call whole_masses(part, tree, b, t, e2)
       alpha = bs%stabilization
     else
@@ -325,6 +320,30 @@ contains
     ! (read_deck refuses subcycle for anything but element meshes against rigid masters)
     s%sub%on = deck%solver%subcycle .and. s%t%interpolating
   end subroutine setup_solid
+
+  !> The box of this rank's region of body b (3D) for the set-up of its tables (rkpm_tl3d_m
+  !! tl_build_3d's and tet4_m tet4_tables' box; tree: the bisection the split will make,
+  !! mpi_domain_m make_part, built when the run has ranks). On one rank of mfcd_mpi the
+  !! whole space: every cell or element, without the transpose the split makes again.
+  !! .false.: no box (a serial run; rank 0 when it keeps the whole solids for its det(M)
+  !! fields, setup_part_t).
+  logical function region_box(part, b, tree, box) result(has)
+    type(setup_part_t), intent(in), optional :: part
+    type(body_t), intent(in) :: b
+    type(rcb_tree_t), intent(out) :: tree
+    real(wp), intent(out) :: box(3, 2)
+    box(:, 1) = -huge(1.0_wp)
+    box(:, 2) = huge(1.0_wp)
+    has = .false.
+    if (.not. present(part)) return
+    if (part%nranks == 1) then
+      has = .true.
+      return
+    end if
+    call rcb_build(b%x, part%nranks, tree)
+    has = part%me > 0 .or. .not. part%root_whole
+    if (has) call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
+  end function region_box
 
   !> The lumped masses of a 3D RKPM solid whole on every rank of a decomposed set-up: a
   !! rank that integrated only the cells its box needs (tl_build_3d's box) has the masses

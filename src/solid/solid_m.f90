@@ -86,7 +86,7 @@ module solid_m
     character(len=8) :: unit
     logical :: nodal
     logical :: snapshot
-    character(len=72) :: what
+    character(len=128) :: what
   end type state_field_t
 
   type(state_field_t), parameter :: state_fields(13) = [ &

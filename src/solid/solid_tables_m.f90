@@ -110,8 +110,10 @@ contains
   !> The end of an element builder's tables (cst4_m, tet4_m), once masses and weights are
   !! in: the position table N_I(X_J) is the identity (nodal interpolation: eq. 99), the
   !! totals, the transpose.
-  subroutine tables_finish_elements(t)
+  subroutine tables_finish_elements(t, transpose)
     type(solid_tables_t), intent(inout) :: t
+    !> build the transpose (default; .false.: a rank's rows, transposed after the split)
+    logical, intent(in), optional :: transpose
     integer :: i
     allocate(t%pptr(t%np + 1), t%pnbr(t%np), t%pn(t%dims%npos, t%np))
     t%pptr = [(i, i = 1, t%np + 1)]
@@ -119,6 +121,9 @@ contains
     t%pn = 1.0_wp
     t%total_mass = sum(t%mass)
     t%total_volume = sum(t%wgt)
+    if (present(transpose)) then
+      if (.not. transpose) return
+    end if
     call tables_transpose(t)
   end subroutine tables_finish_elements
 
