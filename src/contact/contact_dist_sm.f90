@@ -143,14 +143,9 @@ contains
     type(contact_pair_t), intent(inout) :: p
     type(solid_t), intent(in) :: solids(:)
     class(rank_comm_t), pointer, intent(in) :: comm
-    real(wp) :: l(max_dim)
     associate (s => p%side(1), sol => solids(p%side(1)%isolid))
       s%ranks => comm
-      if (.not. sol%t%interpolating) then
-        l = position_sums(sol%t, sol%part%own_n)
-        call comm%max_real(l)
-        s%lip = norm2(l(:size(sol%t%pn, 1)))
-      end if
+      call lip_over_ranks(s, sol, comm)
       p%dist%clear_reach = 0.0_wp
       if (size(s%cand) > 0) p%dist%clear_reach = self_reach*maxval(s%rex(s%cand))
     end associate

@@ -59,7 +59,7 @@ module contact_pair_m
   ! (public for the submodule contact_dist_sm only: gfortran 12 leaves out a private module
   ! procedure the submodule calls, even one the module calls too)
   public :: detect_det_m, pass_forces, detect_self, spreads, detect_det_m_3d, pass_forces_3d
-  public :: detect_self_3d, self_schedule, self_settled, position_sums
+  public :: detect_self_3d, self_schedule, self_settled, lip_over_ranks
   public :: stat_sums, stats_values
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
@@ -975,6 +975,20 @@ contains
     end do
   end function reads_first
 
+  !> skip_far's lip of side s over the whole body, on a rank's part sol: a rank's tables
+  !! may hold the position rows of its region only (the 3D RKPM set-up), so from its own
+  !! particles, the largest over the ranks (element nodes: 1, as set). Collective.
+  subroutine lip_over_ranks(s, sol, ranks)
+    type(side_t), intent(inout) :: s
+    type(solid_t), intent(in) :: sol
+    class(rank_comm_t), intent(inout) :: ranks
+    real(wp) :: l(max_dim)
+    if (sol%t%interpolating) return
+    l = position_sums(sol%t, sol%part%own_n)
+    call ranks%max_real(l)
+    s%lip = norm2(l(:size(sol%t%pn, 1)))
+  end subroutine lip_over_ranks
+
   !> The largest sum_I |N_I(X_j)| of each row of t's position table over the particles
   !! list (skip_far_init's lip).
   pure function position_sums(t, list) result(l)
@@ -1066,7 +1080,6 @@ contains
     class(rank_comm_t), pointer, intent(in) :: ranks
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, e
-    real(wp) :: l(max_dim)
     if (p%both_ways .or. p%self .or. p%side(2)%isolid /= 0) then
       call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
         trim(p%side(2)%name)//"': a rank's part of a solid takes rigid masters only")
@@ -1095,13 +1108,7 @@ contains
       if (allocated(s%due)) then
         s%due = s%due(nglob)
         s%d_scr = sol%state%d
-        ! lip over the whole body: a rank's tables may hold position rows of its region
-        ! only (the 3D RKPM set-up), so from its own particles, the largest over the ranks
-        if (.not. sol%t%interpolating .and. associated(ranks)) then
-          l = position_sums(sol%t, sol%part%own_n)
-          call ranks%max_real(l)
-          s%lip = norm2(l(:size(sol%t%pn, 1)))
-        end if
+        if (associated(ranks)) call lip_over_ranks(s, sol, ranks)
       end if
       s%ranks => ranks
       if (allocated(s%list)) deallocate(s%list)
