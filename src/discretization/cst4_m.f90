@@ -213,17 +213,29 @@ contains
   !> Tables of the total-Lagrangian solid on the triangles of mesh over the nodes of b:
   !! one point per triangle at its centroid; axisym selects r = X1, z = X2 (nodes must lie
   !! in r >= 0; nodes on the axis get fix1, u_r = 0). rho0: density (kg/m^3).
-  subroutine cst4_tables(b, mesh, axisym, rho0, t, err)
+  !!
+  !! box (3, 2), a rank's box of the decomposition (lower, upper corner; the first two
+  !! rows used; doc/parallel.md): the rows (nodes, gradients, hoop terms) are kept only for
+  !! the triangles whose centroid or a vertex lies in the box (closed), which holds every
+  !! point the rank's part owns and every point touching a node it owns (decomposition_m
+  !! local_part_build takes no other rows); the others' rows are empty, and the tables are
+  !! not transposed (the split transposes the part's). Every triangle's area, centroid,
+  !! weight and altitude are computed all the same (a few flops each), so the masses, the
+  !! smallest altitude and the checks are the whole body's on every rank, with no sum
+  !! over the ranks (as tet4_m tet4_tables' box).
+  subroutine cst4_tables(b, mesh, axisym, rho0, t, err, box)
     type(body_t), intent(in) :: b
     type(cst4_mesh_t), intent(in) :: mesh
     logical, intent(in) :: axisym
     real(wp), intent(in) :: rho0
     type(solid_tables_t), intent(out) :: t
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: box(3, 2)
     integer, allocatable :: touched(:)
     real(wp), allocatable :: areas(:)
+    logical, allocatable :: keep(:)
     real(wp) :: tol, xt(2, 3), dn(2, 3), area, rc, alt, hmin, rsum
-    integer :: np, ne, e, k, q, bad, i
+    integer :: np, ne, e, k, bad, i, nnz
     np = b%np
     ne = mesh%ne
     call check_cells(b%name, b%ndim, b%np, mesh%tri, mesh%ne, 3, 2, 'CST4', err)
@@ -249,40 +261,25 @@ contains
     t%scheme = 0
     t%axisym = axisym
     t%interpolating = .true.
-    allocate(t%xq(t%dims%ndim, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), t%nbr(3*ne))
-    allocate(t%g(t%dims%ngrad, 3*ne), t%h(3*ne), t%gs(t%dims%ngrad, 3*ne), &
-      t%ws(t%dims%ndim, ne), areas(ne))
+    allocate(t%xq(t%dims%ndim, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), areas(ne), &
+      keep(ne))
     t%owner = 0
-    t%gs = 0.0_wp
-    t%ws = 0.0_wp
-    t%ptr = [(3*q + 1, q = 0, ne)]
-    ! each triangle writes only its own three entries: no races
+    ! each triangle writes only its own entries: no races
     hmin = huge(1.0_wp)
     bad = huge(0)
     !$omp parallel do default(none) shared(b, mesh, t, ne, axisym, areas) &
-    !$omp private(xt, dn, area, rc, alt, k, i) reduction(min: hmin, bad) schedule(static)
+    !$omp private(xt, dn, area, rc, alt) reduction(min: hmin, bad) schedule(static)
     do e = 1, ne
       xt = b%x(:, mesh%tri(:, e))
       call triangle_gradients(xt, area, dn, alt)
       rc = sum(xt(1, :))/3.0_wp
+      t%xq(:, e) = sum(xt, dim=2)/3.0_wp
       if (.not. (area > 0.0_wp) .or. (axisym .and. .not. (rc > 0.0_wp))) then
         bad = min(bad, e)
         cycle
       end if
       hmin = min(hmin, alt)
       areas(e) = area
-      t%xq(:, e) = sum(xt, dim=2)/3.0_wp
-      do k = 1, 3
-        i = 3*(e - 1) + k
-        t%nbr(i) = mesh%tri(k, e)
-        ! both displacement components interpolate with the same N_I
-        t%g(:, i) = [dn(:, k), dn(:, k)]
-        if (axisym) then
-          t%h(i) = 1.0_wp/(3.0_wp*rc)
-        else
-          t%h(i) = 0.0_wp
-        end if
-      end do
       if (axisym) then
         t%wgt(e) = 2.0_wp*pi*rc*area
       else
@@ -290,6 +287,44 @@ contains
       end if
     end do
     !$omp end parallel do
+    keep = .true.
+    if (present(box)) then
+      do e = 1, ne
+        keep(e) = in_box(t%xq(:, e)) .or. in_box(b%x(:, mesh%tri(1, e))) .or. &
+          in_box(b%x(:, mesh%tri(2, e))) .or. in_box(b%x(:, mesh%tri(3, e)))
+      end do
+    end if
+    t%ptr(1) = 1
+    do e = 1, ne
+      t%ptr(e + 1) = t%ptr(e) + merge(3, 0, keep(e))
+    end do
+    nnz = t%ptr(ne + 1) - 1
+    allocate(t%nbr(nnz), t%g(t%dims%ngrad, nnz), t%h(nnz), t%gs(t%dims%ngrad, nnz), &
+      t%ws(t%dims%ndim, ne))
+    t%gs = 0.0_wp
+    t%ws = 0.0_wp
+    if (bad > ne) then
+      !$omp parallel do default(none) shared(b, mesh, t, ne, axisym, keep) &
+      !$omp private(xt, dn, area, rc, alt, k, i) schedule(static)
+      do e = 1, ne
+        if (.not. keep(e)) cycle
+        xt = b%x(:, mesh%tri(:, e))
+        call triangle_gradients(xt, area, dn, alt)
+        rc = sum(xt(1, :))/3.0_wp
+        do k = 1, 3
+          i = t%ptr(e) + k - 1
+          t%nbr(i) = mesh%tri(k, e)
+          ! both displacement components interpolate with the same N_I
+          t%g(:, i) = [dn(:, k), dn(:, k)]
+          if (axisym) then
+            t%h(i) = 1.0_wp/(3.0_wp*rc)
+          else
+            t%h(i) = 0.0_wp
+          end if
+        end do
+      end do
+      !$omp end parallel do
+    end if
     if (bad <= ne) then
       xt = b%x(:, mesh%tri(:, bad))
       call triangle_gradients(xt, area, dn, alt)
@@ -327,7 +362,15 @@ contains
     allocate(t%fix1(np))
     t%fix1 = axisym .and. abs(b%x(1, :)) <= tol
     ! nodal interpolation: the position table N_I(X_J) is the identity
-    call tables_finish_elements(t)
+    call tables_finish_elements(t, transpose=.not. present(box))
+
+  contains
+
+    !> Does x lie in the (closed) box?
+    pure logical function in_box(x)
+      real(wp), intent(in) :: x(2)
+      in_box = all(x >= box(1:2, 1)) .and. all(x <= box(1:2, 2))
+    end function in_box
   end subroutine cst4_tables
 
   !> Area A (m^2, positive when counter-clockwise), shape-function gradients dn(:, k) =

@@ -71,17 +71,30 @@ contains
   end function scheme_id
 
   !> Build the tables of body b (reference configuration). rho0: density (kg/m^3).
-  subroutine tl_build(b, axisym, scheme, rho0, t, err)
+  !!
+  !! box (3, 2), a rank's box of the decomposition (lower, upper corner; the first two rows
+  !! used; doc/parallel.md): the rows of the integration points are kept, and their shape
+  !! functions computed, only where a particle of the box can be in them: a point whose
+  !! cell (SCNI: the bounding box of its pieces and its particle; Gauss and direct: the
+  !! point) lies within the largest support of the box, so every point the rank's part
+  !! owns and every point touching a node it owns (decomposition_m local_part_build takes
+  !! no other rows); the position rows likewise (a particle within the largest support of
+  !! the box). The others' rows are empty, their weights and positions whole (a few flops).
+  !! The masses of the particles in the box are then whole (the same sums in the same
+  !! order), the others' partial: dynamic_setup_m whole_masses completes them over the
+  !! ranks. The tables are not transposed (the split transposes the part's).
+  subroutine tl_build(b, axisym, scheme, rho0, t, err, box)
     type(body_t), intent(in) :: b
     logical, intent(in) :: axisym
     integer, intent(in) :: scheme
     real(wp), intent(in) :: rho0
     type(solid_tables_t), intent(out) :: t
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: box(3, 2)
     type(rk_cloud_t) :: c
     real(wp), allocatable :: xe(:, :), rhoe(:, :), vole(:)
     integer, allocatable :: twin(:)
-    real(wp) :: tol
+    real(wp) :: tol, reg(2, 2)
     integer :: np, ng, i, k
     np = b%np
     t%np = np
@@ -135,18 +148,22 @@ contains
     call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:2), err)
     if (allocated(err)) return
     t%hmin = minval(b%spacing(1:2))
+    ! the region whose rows are kept: the whole plane, or the box
+    reg(:, 1) = -huge(1.0_wp)
+    reg(:, 2) = huge(1.0_wp)
+    if (present(box)) reg = box(1:2, :)
     select case (scheme)
     case (scheme_scni)
-      call build_scni(b, c, twin, np, rho0, t, err)
+      call build_scni(b, c, twin, np, rho0, reg, t, err)
     case (scheme_gauss)
-      call build_gauss(b, c, twin, np, rho0, t, err)
+      call build_gauss(b, c, twin, np, rho0, reg, t, err)
     case (scheme_direct)
-      call build_direct(b, c, twin, np, rho0, t, err)
+      call build_direct(b, c, twin, np, rho0, reg, t, err)
     end select
     if (allocated(err)) return
-    call build_positions(b, c, twin, np, t, err)
+    call build_positions(b, c, twin, np, reg, t, err)
     if (allocated(err)) return
-    call tables_transpose(t)
+    if (.not. present(box)) call tables_transpose(t)
     t%total_mass = sum(t%mass)
     t%total_volume = sum(t%wgt)
   end subroutine tl_build
@@ -195,6 +212,45 @@ contains
       o = b%x(1:2, i)
     end if
   end function cell_centre_of
+
+  !> Can a particle of the region reg (lower, upper corner; closed) touch a point within
+  !! [lo, hi]? It can when the region reaches within grow (the largest support) of it.
+  pure logical function near_region(lo, hi, grow, reg)
+    real(wp), intent(in) :: lo(2), hi(2), grow(2), reg(2, 2)
+    near_region = all(hi + grow >= reg(:, 1)) .and. all(lo - grow <= reg(:, 2))
+  end function near_region
+
+  !> The bounding box [lo, hi] of particle i's cell (every piece's vertices) and of the
+  !! particle itself: every point SCNI integrates for it lies within.
+  pure subroutine cell_extent(b, i, lo, hi)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: i
+    real(wp), intent(out) :: lo(2), hi(2)
+    real(wp) :: cv(2, max_cv)
+    integer :: piece, ncv
+    lo = b%x(1:2, i)
+    hi = lo
+    do piece = 0, cell_pieces(b, i)
+      call particle_cell(b, i, piece, cv, ncv)
+      if (ncv < 1) cycle
+      lo = min(lo, minval(cv(:, 1:ncv), dim=2))
+      hi = max(hi, maxval(cv(:, 1:ncv), dim=2))
+    end do
+  end subroutine cell_extent
+
+  !> Positions in the list of kept points (kpos(q), 0 if not kept) and their number.
+  pure subroutine kept_list(keep, kpos, nk)
+    logical, intent(in) :: keep(:)
+    integer, intent(out) :: kpos(:), nk
+    integer :: q
+    nk = 0
+    do q = 1, size(keep)
+      kpos(q) = 0
+      if (.not. keep(q)) cycle
+      nk = nk + 1
+      kpos(q) = nk
+    end do
+  end subroutine kept_list
 
   !> Area quadrature of a cell: fan triangles from the vertex mean, 3 points each (exact for
   !! quadratics; signed areas keep it exact for any simple polygon).
@@ -263,38 +319,68 @@ contains
     end do
   end subroutine folded_shape
 
-  subroutine build_scni(b, c, twin, np, rho0, t, err)
+  subroutine build_scni(b, c, twin, np, rho0, reg, t, err)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: twin(:), np
-    real(wp), intent(in) :: rho0
+    real(wp), intent(in) :: rho0, reg(2, 2)
     type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: gl(:, :, :), hl(:, :), ml(:, :), sub(:, :, :), wsub(:, :)
-    integer, allocatable :: idl(:, :), nl(:), slot(:)
+    integer, allocatable :: idl(:, :), nl(:), slot(:), kpos(:)
+    logical, allocatable :: keep(:)
     real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), p(2), nrm(2), e(2), len_e
     real(wp) :: vol_l, fn(2, max_nb), fdn(2, 2, max_nb), rw, gw, hv(2), vh(2), big
-    real(wp) :: hc(2, max_cv), o(2), hpiece
-    integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad, j, nhc, dir, piece
+    real(wp) :: hc(2, max_cv), o(2), hpiece, lo(2), hi(2)
+    integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad, j, nhc, dir, piece, nk, kk
     logical :: ok
     real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
     t%nq = np
-    maxk = union_bound(b, c)
-    allocate(gl(4, maxk, np), hl(maxk, np), ml(maxk, np), idl(maxk, np), nl(np))
-    allocate(sub(4, maxk, np), wsub(2, np))
+    ! the cells kept (tl_build's region): their rows, in the padded arrays by kpos
+    allocate(keep(np), kpos(np))
+    do i = 1, np
+      call cell_extent(b, i, lo, hi)
+      keep(i) = near_region(lo, hi, c%rmax(1:2), reg)
+    end do
+    call kept_list(keep, kpos, nk)
+    maxk = union_bound(b, c, keep)
+    allocate(gl(4, maxk, max(nk, 1)), hl(maxk, max(nk, 1)), ml(maxk, max(nk, 1)), &
+      idl(maxk, max(nk, 1)), nl(max(nk, 1)))
+    allocate(sub(4, maxk, max(nk, 1)), wsub(2, np))
     allocate(t%xq(t%dims%ndim, np), t%owner(np), t%wgt(np))
     big = 1.0e3_wp*maxval(abs(b%x)) + 1.0_wp
     bad = 0
     !$omp parallel default(none) shared(b, c, twin, np, t, gl, hl, ml, idl, nl, maxk, rho0, &
-    !$omp sub, wsub, big) &
+    !$omp sub, wsub, big, kpos) &
     !$omp private(cv, ncv, xg, wg, ngp, k, q, p, nrm, e, len_e, vol_l, fn, fdn, nf, fid, &
-    !$omp ok, s, slot, rw, gw, j, hc, nhc, dir, hv, vh, o, piece, hpiece) reduction(max: bad)
+    !$omp ok, s, slot, rw, gw, j, hc, nhc, dir, hv, vh, o, piece, hpiece, kk) &
+    !$omp reduction(max: bad)
     allocate(slot(np))
     slot = 0
     !$omp do schedule(dynamic, 64)
     do i = 1, np
-      nl(i) = 0
-      sub(:, :, i) = 0.0_wp
+      kk = kpos(i)
+      t%xq(:, i) = b%x(:, i)
+      t%owner(i) = i
+      if (kk == 0) then
+        ! a cell not kept: its weight only (the same sums as a kept cell's)
+        vol_l = 0.0_wp
+        do piece = 0, cell_pieces(b, i)
+          call particle_cell(b, i, piece, cv, ncv)
+          call cell_area_points(cv, ncv, xg, wg, ngp)
+          do q = 1, ngp
+            rw = 1.0_wp
+            if (t%axisym) rw = xg(1, q)
+            vol_l = vol_l + wg(q)*rw
+          end do
+        end do
+        wsub(:, i) = 0.0_wp
+        t%wgt(i) = vol_l
+        if (t%axisym) t%wgt(i) = 2.0_wp*pi*vol_l
+        cycle
+      end if
+      nl(kk) = 0
+      sub(:, :, kk) = 0.0_wp
       vol_l = 0.0_wp
       hv = 0.0_wp
       o = cell_centre_of(b, i)
@@ -314,11 +400,11 @@ contains
             cycle
           end if
           do k = 1, nf
-            call add_slot(fid(k), i, slot, nl, idl, gl, hl, ml, s)
-            ml(s, i) = ml(s, i) + wg(q)*rw*fn(2, k)
-            hl(s, i) = hl(s, i) + wg(q)*fn(1, k)
-            if (t%axisym) gl(1, s, i) = gl(1, s, i) - wg(q)*fn(1, k)
-            if (t%axisym) gl(3, s, i) = gl(3, s, i) - wg(q)*fn(2, k)
+            call add_slot(fid(k), kk, slot, nl, idl, gl, hl, ml, s)
+            ml(s, kk) = ml(s, kk) + wg(q)*rw*fn(2, k)
+            hl(s, kk) = hl(s, kk) + wg(q)*fn(1, k)
+            if (t%axisym) gl(1, s, kk) = gl(1, s, kk) - wg(q)*fn(1, k)
+            if (t%axisym) gl(3, s, kk) = gl(3, s, kk) - wg(q)*fn(2, k)
           end do
         end do
         ! boundary integrals: two Gauss points per edge, outward normal of a CCW cell
@@ -338,9 +424,9 @@ contains
               cycle
             end if
             do j = 1, nf
-              call add_slot(fid(j), i, slot, nl, idl, gl, hl, ml, s)
-              gl(1:2, s, i) = gl(1:2, s, i) + gw*fn(1, j)*nrm
-              gl(3:4, s, i) = gl(3:4, s, i) + gw*fn(2, j)*nrm
+              call add_slot(fid(j), kk, slot, nl, idl, gl, hl, ml, s)
+              gl(1:2, s, kk) = gl(1:2, s, kk) + gw*fn(1, j)*nrm
+              gl(3:4, s, kk) = gl(3:4, s, kk) + gw*fn(2, j)*nrm
             end do
           end do
         end do
@@ -353,41 +439,39 @@ contains
             call clip_polygon_box(cv(:, 1:ncv), [-big, o(2)], [big, big], hc, nhc)
           end if
           if (nhc < 3) cycle
-          call half_cell(c, twin, np, t%axisym, hc, nhc, dir, i, slot, nl, idl, gl, hl, ml, &
+          call half_cell(c, twin, np, t%axisym, hc, nhc, dir, kk, slot, nl, idl, gl, hl, ml, &
             sub, hpiece, ok)
           if (.not. ok) bad = max(bad, i)
           hv(dir) = hv(dir) + hpiece
         end do
       end do
-      t%xq(:, i) = b%x(:, i)
-      t%owner(i) = i
-      gl(:, 1:nl(i), i) = gl(:, 1:nl(i), i)/vol_l
+      gl(:, 1:nl(kk), kk) = gl(:, 1:nl(kk), kk)/vol_l
       ! sub-cell minus cell gradients and the weights W_h (1 + W_h/(W - W_h)); a half that
       ! is (nearly) empty, as for particles on the boundary, gets no stabilization
       do dir = 1, 2
         vh(dir) = vol_l - hv(dir)
         if (hv(dir) > empty_half*vol_l .and. vh(dir) > empty_half*vol_l) then
-          sub(2*dir - 1:2*dir, 1:nl(i), i) = sub(2*dir - 1:2*dir, 1:nl(i), i)/hv(dir)
-          sub(2*dir - 1, 1:nl(i), i) = sub(2*dir - 1, 1:nl(i), i) - gl(dir, 1:nl(i), i)
-          sub(2*dir, 1:nl(i), i) = sub(2*dir, 1:nl(i), i) - gl(dir + 2, 1:nl(i), i)
+          sub(2*dir - 1:2*dir, 1:nl(kk), kk) = sub(2*dir - 1:2*dir, 1:nl(kk), kk)/hv(dir)
+          sub(2*dir - 1, 1:nl(kk), kk) = sub(2*dir - 1, 1:nl(kk), kk) - gl(dir, 1:nl(kk), kk)
+          sub(2*dir, 1:nl(kk), kk) = sub(2*dir, 1:nl(kk), kk) - gl(dir + 2, 1:nl(kk), kk)
           wsub(dir, i) = hv(dir)*(1.0_wp + hv(dir)/vh(dir))
         else
-          sub(2*dir - 1:2*dir, 1:nl(i), i) = 0.0_wp
+          sub(2*dir - 1:2*dir, 1:nl(kk), kk) = 0.0_wp
           wsub(dir, i) = 0.0_wp
         end if
       end do
       if (t%axisym) wsub(:, i) = 2.0_wp*pi*wsub(:, i)
       if (t%axisym) then
-        hl(1:nl(i), i) = hl(1:nl(i), i)/vol_l
+        hl(1:nl(kk), kk) = hl(1:nl(kk), kk)/vol_l
         t%wgt(i) = 2.0_wp*pi*vol_l
-        ml(1:nl(i), i) = 2.0_wp*pi*rho0*ml(1:nl(i), i)
+        ml(1:nl(kk), kk) = 2.0_wp*pi*rho0*ml(1:nl(kk), kk)
       else
-        hl(1:nl(i), i) = 0.0_wp
+        hl(1:nl(kk), kk) = 0.0_wp
         t%wgt(i) = vol_l
-        ml(1:nl(i), i) = rho0*ml(1:nl(i), i)
+        ml(1:nl(kk), kk) = rho0*ml(1:nl(kk), kk)
       end if
-      do k = 1, nl(i)
-        slot(idl(k, i)) = 0
+      do k = 1, nl(kk)
+        slot(idl(k, kk)) = 0
       end do
     end do
     !$omp end do
@@ -399,7 +483,7 @@ contains
         0.5_wp*b%spacing(1:2)))
       return
     end if
-    call compress(t, gl, hl, ml, idl, nl, sub, wsub)
+    call compress(t, gl, hl, ml, idl, nl, kpos, sub, wsub)
   end subroutine build_scni
 
   !> Smoothed derivative along dir of N^1 and N^2 over a half cell hc (r-weighted in
@@ -475,10 +559,11 @@ contains
   end subroutine add_slot
 
   !> Upper bound of the particles touching one cell (the box around its pieces grown by the
-  !! largest support).
-  function union_bound(b, c) result(maxk)
+  !! largest support); of the cells keep(:) holds when present.
+  function union_bound(b, c, keep) result(maxk)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
+    logical, intent(in), optional :: keep(:)
     integer :: maxk
     integer, allocatable :: cand(:)
     integer :: i, n, k
@@ -486,6 +571,9 @@ contains
     allocate(cand(c%np))
     maxk = 1
     do i = 1, b%np
+      if (present(keep)) then
+        if (.not. keep(i)) cycle
+      end if
       lo = cell_centre_of(b, i)
       hi = lo
       do k = 1, cell_pieces(b, i)
@@ -499,18 +587,19 @@ contains
     end do
   end function union_bound
 
-  subroutine build_gauss(b, c, twin, np, rho0, t, err)
+  subroutine build_gauss(b, c, twin, np, rho0, reg, t, err)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: twin(:), np
-    real(wp), intent(in) :: rho0
+    real(wp), intent(in) :: rho0, reg(2, 2)
     type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: xq(:, :), wq(:), gl(:, :, :), hl(:, :), ml(:, :)
-    integer, allocatable :: owner(:), idl(:, :), nl(:)
+    integer, allocatable :: owner(:), idl(:, :), nl(:), kpos(:)
+    logical, allocatable :: keep(:)
     real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), fn(2, max_nb), fdn(2, 2, max_nb)
     real(wp) :: rw
-    integer :: i, ncv, ngp, q, nq, k, nf, fid(max_nb), maxk, bad, piece
+    integer :: i, ncv, ngp, q, nq, k, nf, fid(max_nb), maxk, bad, piece, nk, kk
     logical :: ok
     ! count the points first
     nq = 0
@@ -533,33 +622,45 @@ contains
         nq = nq + ngp
       end do
     end do
+    ! the points kept (tl_build's region): their rows, in the padded arrays by kpos
+    allocate(keep(nq), kpos(nq))
+    do q = 1, nq
+      keep(q) = near_region(xq(:, q), xq(:, q), c%rmax(1:2), reg)
+    end do
+    call kept_list(keep, kpos, nk)
     maxk = union_bound(b, c)
-    allocate(gl(4, maxk, nq), hl(maxk, nq), ml(maxk, nq), idl(maxk, nq), nl(nq))
+    allocate(gl(4, maxk, max(nk, 1)), hl(maxk, max(nk, 1)), ml(maxk, max(nk, 1)), &
+      idl(maxk, max(nk, 1)), nl(max(nk, 1)))
     t%nq = nq
     t%xq = xq
     t%owner = owner
     allocate(t%wgt(nq))
-    bad = 0
-    !$omp parallel do default(none) shared(c, twin, np, t, xq, wq, gl, hl, ml, idl, nl, rho0) &
-    !$omp private(fn, fdn, nf, fid, ok, rw, k) reduction(max: bad) schedule(dynamic, 64)
     do q = 1, nq
+      rw = 1.0_wp
+      if (t%axisym) rw = 2.0_wp*pi*xq(1, q)
+      t%wgt(q) = wq(q)*rw
+    end do
+    bad = 0
+    !$omp parallel do default(none) shared(c, twin, np, t, xq, gl, hl, ml, idl, nl, rho0, &
+    !$omp nq, kpos) private(fn, fdn, nf, fid, ok, k, kk) reduction(max: bad) &
+    !$omp schedule(dynamic, 64)
+    do q = 1, nq
+      kk = kpos(q)
+      if (kk == 0) cycle
       call folded_shape(c, twin, np, xq(:, q), nf, fid, fn, fdn, ok)
-      nl(q) = 0
+      nl(kk) = 0
       if (.not. ok) then
         bad = max(bad, q)
         cycle
       end if
-      rw = 1.0_wp
-      if (t%axisym) rw = 2.0_wp*pi*xq(1, q)
-      t%wgt(q) = wq(q)*rw
-      nl(q) = nf
+      nl(kk) = nf
       do k = 1, nf
-        idl(k, q) = fid(k)
-        gl(1:2, k, q) = fdn(:, 1, k)
-        gl(3:4, k, q) = fdn(:, 2, k)
-        hl(k, q) = 0.0_wp
-        if (t%axisym) hl(k, q) = fn(1, k)/xq(1, q)
-        ml(k, q) = rho0*t%wgt(q)*fn(2, k)
+        idl(k, kk) = fid(k)
+        gl(1:2, k, kk) = fdn(:, 1, k)
+        gl(3:4, k, kk) = fdn(:, 2, k)
+        hl(k, kk) = 0.0_wp
+        if (t%axisym) hl(k, kk) = fn(1, k)/xq(1, q)
+        ml(k, kk) = rho0*t%wgt(q)*fn(2, k)
       end do
     end do
     !$omp end parallel do
@@ -568,42 +669,52 @@ contains
         "point "//itoa(bad)//": "//shape_failure(c, xq(:, bad), [0.0_wp, 0.0_wp]))
       return
     end if
-    call compress(t, gl, hl, ml, idl, nl)
+    call compress(t, gl, hl, ml, idl, nl, kpos)
   end subroutine build_gauss
 
-  subroutine build_direct(b, c, twin, np, rho0, t, err)
+  subroutine build_direct(b, c, twin, np, rho0, reg, t, err)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: twin(:), np
-    real(wp), intent(in) :: rho0
+    real(wp), intent(in) :: rho0, reg(2, 2)
     type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: gl(:, :, :), hl(:, :), ml(:, :)
-    integer, allocatable :: idl(:, :), nl(:)
+    integer, allocatable :: idl(:, :), nl(:), kpos(:)
+    logical, allocatable :: keep(:)
     real(wp) :: fn(2, max_nb), fdn(2, 2, max_nb)
-    integer :: i, k, nf, fid(max_nb), maxk, bad
+    integer :: i, k, nf, fid(max_nb), maxk, bad, nk, kk
     logical :: ok
+    ! the points kept (tl_build's region): their rows, in the padded arrays by kpos
+    allocate(keep(np), kpos(np))
+    do i = 1, np
+      keep(i) = near_region(b%x(:, i), b%x(:, i), c%rmax(1:2), reg)
+    end do
+    call kept_list(keep, kpos, nk)
     maxk = union_bound(b, c)
     t%nq = np
-    allocate(gl(4, maxk, np), hl(maxk, np), ml(maxk, np), idl(maxk, np), nl(np))
+    allocate(gl(4, maxk, max(nk, 1)), hl(maxk, max(nk, 1)), ml(maxk, max(nk, 1)), &
+      idl(maxk, max(nk, 1)), nl(max(nk, 1)))
     t%xq = b%x
     t%owner = [(i, i = 1, np)]
     t%wgt = b%vol
     bad = 0
     do i = 1, np
+      kk = kpos(i)
+      if (kk == 0) cycle
       call folded_shape(c, twin, np, b%x(:, i), nf, fid, fn, fdn, ok)
-      nl(i) = 0
+      nl(kk) = 0
       if (.not. ok) then
         bad = i
         cycle
       end if
-      nl(i) = nf
+      nl(kk) = nf
       do k = 1, nf
-        idl(k, i) = fid(k)
-        gl(1:2, k, i) = fdn(:, 1, k)
-        gl(3:4, k, i) = fdn(:, 2, k)
-        hl(k, i) = 0.0_wp
-        ml(k, i) = rho0*b%vol(i)*fn(2, k)
+        idl(k, kk) = fid(k)
+        gl(1:2, k, kk) = fdn(:, 1, k)
+        gl(3:4, k, kk) = fdn(:, 2, k)
+        hl(k, kk) = 0.0_wp
+        ml(k, kk) = rho0*b%vol(i)*fn(2, k)
       end do
     end do
     if (bad > 0) then
@@ -611,7 +722,7 @@ contains
         "particle "//itoa(bad)//": "//shape_failure(c, b%x(:, bad), [0.0_wp, 0.0_wp]))
       return
     end if
-    call compress(t, gl, hl, ml, idl, nl)
+    call compress(t, gl, hl, ml, idl, nl, kpos)
   end subroutine build_direct
 
   !> Why the shape functions are undefined at p or within half(1:2) of it (a cell), and
@@ -643,14 +754,18 @@ contains
     end if
   end function shape_failure
 
-  !> Dense per-point work arrays into CSR; masses summed per particle.
-  subroutine compress(t, gl, hl, ml, idl, nl, sub, wsub)
+  !> Dense per-point work arrays into CSR; masses summed per particle. The work arrays
+  !! hold the kept points only: point q's in slot kpos(q) (nl its count), none if 0.
+  subroutine compress(t, gl, hl, ml, idl, nl, kpos, sub, wsub)
     type(solid_tables_t), intent(inout) :: t
     real(wp), intent(in) :: gl(:, :, :), hl(:, :), ml(:, :)
-    integer, intent(in) :: idl(:, :), nl(:)
+    integer, intent(in) :: idl(:, :), nl(:), kpos(:)
     real(wp), intent(in), optional :: sub(:, :, :), wsub(:, :)
-    integer :: q, k, e, nnz
-    nnz = sum(nl)
+    integer :: q, k, e, nnz, kk, n
+    nnz = 0
+    do q = 1, t%nq
+      if (kpos(q) > 0) nnz = nnz + nl(kpos(q))
+    end do
     allocate(t%ptr(t%nq + 1), t%nbr(nnz), t%g(t%dims%ngrad, nnz), t%h(nnz), t%mass(t%np))
     allocate(t%gs(t%dims%ngrad, nnz), t%ws(t%dims%ndim, t%nq))
     t%gs = 0.0_wp
@@ -659,41 +774,55 @@ contains
     t%mass = 0.0_wp
     t%ptr(1) = 1
     do q = 1, t%nq
-      t%ptr(q + 1) = t%ptr(q) + nl(q)
-      do k = 1, nl(q)
+      kk = kpos(q)
+      n = 0
+      if (kk > 0) n = nl(kk)
+      t%ptr(q + 1) = t%ptr(q) + n
+      do k = 1, n
         e = t%ptr(q) + k - 1
-        t%nbr(e) = idl(k, q)
-        t%g(:, e) = gl(:, k, q)
-        t%h(e) = hl(k, q)
-        if (present(sub)) t%gs(:, e) = sub(:, k, q)
-        t%mass(idl(k, q)) = t%mass(idl(k, q)) + ml(k, q)
+        t%nbr(e) = idl(k, kk)
+        t%g(:, e) = gl(:, k, kk)
+        t%h(e) = hl(k, kk)
+        if (present(sub)) t%gs(:, e) = sub(:, k, kk)
+        t%mass(idl(k, kk)) = t%mass(idl(k, kk)) + ml(k, kk)
       end do
     end do
   end subroutine compress
 
-  !> N^c_I(X_J) for the physical positions x_J = X_J + sum_I N^c_I(X_J) d_cI.
-  subroutine build_positions(b, c, twin, np, t, err)
+  !> N^c_I(X_J) for the physical positions x_J = X_J + sum_I N^c_I(X_J) d_cI; the rows of
+  !! the particles within the largest support of the region reg only (tl_build's box).
+  subroutine build_positions(b, c, twin, np, reg, t, err)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: twin(:), np
+    real(wp), intent(in) :: reg(2, 2)
     type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
-    integer, allocatable :: cnt(:), idl(:, :)
+    integer, allocatable :: cnt(:), idl(:, :), kpos(:)
+    logical, allocatable :: keep(:)
     real(wp), allocatable :: nl(:, :, :)
     real(wp) :: fn(2, max_nb), fdn(2, 2, max_nb)
-    integer :: j, nf, fid(max_nb), maxk, bad, k, e
+    integer :: j, nf, fid(max_nb), maxk, bad, k, e, nk, kk
     logical :: ok
-    maxk = union_bound(b, c)
-    allocate(cnt(np), idl(maxk, np), nl(2, maxk, np))
-    bad = 0
-    !$omp parallel do default(none) shared(b, c, twin, np, cnt, idl, nl) &
-    !$omp private(fn, fdn, nf, fid, ok) reduction(max: bad) schedule(dynamic, 64)
+    allocate(keep(np), kpos(np))
     do j = 1, np
+      keep(j) = near_region(b%x(:, j), b%x(:, j), c%rmax(1:2), reg)
+    end do
+    call kept_list(keep, kpos, nk)
+    maxk = union_bound(b, c)
+    allocate(cnt(np), idl(maxk, max(nk, 1)), nl(2, maxk, max(nk, 1)))
+    bad = 0
+    !$omp parallel do default(none) shared(b, c, twin, np, cnt, idl, nl, kpos) &
+    !$omp private(fn, fdn, nf, fid, ok, kk) reduction(max: bad) schedule(dynamic, 64)
+    do j = 1, np
+      kk = kpos(j)
+      cnt(j) = 0
+      if (kk == 0) cycle
       call folded_shape(c, twin, np, b%x(:, j), nf, fid, fn, fdn, ok)
       cnt(j) = nf
       if (.not. ok) bad = max(bad, j)
-      idl(1:nf, j) = fid(1:nf)
-      nl(:, 1:nf, j) = fn(:, 1:nf)
+      idl(1:nf, kk) = fid(1:nf)
+      nl(:, 1:nf, kk) = fn(:, 1:nf)
     end do
     !$omp end parallel do
     if (bad > 0) then
@@ -707,8 +836,8 @@ contains
       t%pptr(j + 1) = t%pptr(j) + cnt(j)
       do k = 1, cnt(j)
         e = t%pptr(j) + k - 1
-        t%pnbr(e) = idl(k, j)
-        t%pn(:, e) = nl(:, k, j)
+        t%pnbr(e) = idl(k, kpos(j))
+        t%pn(:, e) = nl(:, k, kpos(j))
       end do
     end do
   end subroutine build_positions

@@ -29,9 +29,9 @@ module dynamic_setup_m
   public :: mpi_scene_check, setup_part_t, root_needs_whole
 
   !> The rank a set-up is for (mfcd_mpi): rank me (from 0) of nranks. A rank keeps, of a
-  !! 3D RKPM solid's tables, only the rows its box of the decomposition can need
-  !! (rkpm_tl3d_m tl_build_3d's box; the box is decomposition_m's, the one the split cuts
-  !! the solid with); rank 0 keeps the whole tables when root_whole: its det(M) fields are
+  !! solid's tables, only the rows its box of the decomposition can need (the builders'
+  !! box, region_box; the box is decomposition_m's, the one the split cuts the solid
+  !! with); rank 0 keeps the whole tables when root_whole: its det(M) fields are
   !! drawn from the whole solids (root_needs_whole).
   type :: setup_part_t
     integer :: me = 0
@@ -268,24 +268,38 @@ contains
       end if
       alpha = 0.0_wp
     else if (allocated(b%cells)) then
+      ! CST4: on a rank, the rows of the triangles of its region (the masses whole)
       mesh%ne = size(b%cells, 2)
       mesh%tri = b%cells
-      call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2)
-      alpha = 0.0_wp    ! the SCNI stabilization is a particle method's; elements need none
-    else if (b%ndim == 3) then
       if (region_box(part, b, tree, box)) then
-        call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2, box)
+        call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2, &
+          box)
       else
-        call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
+        call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2)
+      end if
+      alpha = 0.0_wp    ! the SCNI stabilization is a particle method's; elements need none
+    else
+      ! RKPM: on a rank, the rows of the points its region can need, the masses completed
+      ! over the ranks
+      if (b%ndim == 3) then
+        if (region_box(part, b, tree, box)) then
+          call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2, box)
+        else
+          call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
+        end if
+      else
+        if (region_box(part, b, tree, box)) then
+          call tl_build(b, axisym, scheme_id(bs%integration), &
+            deck%materials(bs%imat)%params%density, t, e2, box)
+        else
+          call tl_build(b, axisym, scheme_id(bs%integration), &
+            deck%materials(bs%imat)%params%density, t, e2)
+        end if
       end if
       ! (every rank, after an error too: collective)
       split = .false.
       if (present(part)) split = part%nranks > 1
       if (split) call whole_masses(part, tree, b, t, e2)
-      alpha = bs%stabilization
-    else
-      call tl_build(b, axisym, scheme_id(bs%integration), &
-        deck%materials(bs%imat)%params%density, t, e2)
       alpha = bs%stabilization
     end if
     if (allocated(e2)) then
@@ -321,8 +335,9 @@ contains
     s%sub%on = deck%solver%subcycle .and. s%t%interpolating
   end subroutine setup_solid
 
-  !> The box of this rank's region of body b (3D) for the set-up of its tables (rkpm_tl3d_m
-  !! tl_build_3d's and tet4_m tet4_tables' box; tree: the bisection the split will make,
+  !> The box of this rank's region of body b for the set-up of its tables (the box of
+  !! rkpm_tl3d_m tl_build_3d, rkpm_tl_m tl_build, tet4_m tet4_tables and cst4_m
+  !! cst4_tables; in 2D its first two rows; tree: the bisection the split will make,
   !! mpi_domain_m make_part, built when the run has ranks). On one rank of mfcd_mpi the
   !! whole space: every cell or element, without the transpose the split makes again.
   !! .false.: no box (a serial run; rank 0 when it keeps the whole solids for its det(M)
@@ -345,10 +360,10 @@ contains
     if (has) call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
   end function region_box
 
-  !> The lumped masses of a 3D RKPM solid whole on every rank of a decomposed set-up: a
-  !! rank that integrated only the cells its box needs (tl_build_3d's box) has the masses
-  !! of the particles in its box whole (the same sums in the same order) and the others'
-  !! partial. Each rank gives those of the particles the bisection puts in its part (every
+  !> The lumped masses of an RKPM solid whole on every rank of a decomposed set-up: a
+  !! rank that integrated only the cells its box needs (tl_build_3d's and tl_build's box)
+  !! has the masses of the particles in its box whole (the same sums in the same order)
+  !! and the others' partial. Each rank gives those of the particles the bisection puts in its part (every
   !! particle in exactly one), zero for the rest, and one sum over the ranks makes every
   !! mass the serial one to the bit (x + 0 = x), so that whatever reads a mass before the
   !! split (the contact sides' inverse masses, a spin's centre of mass, the total) or after
