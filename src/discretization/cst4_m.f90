@@ -22,7 +22,7 @@ module cst4_m
   use generators_m, only: make_rectangle, make_annulus, set_supports
   use geometry_m, only: full_turn_tol
   use dims_m, only: dims_plane
-  use solid_tables_m, only: solid_tables_t, tables_finish_elements
+  use solid_tables_m, only: solid_tables_t, tables_finish_elements, element_rows
   use mesh_cells_m, only: check_cells
   implicit none
   private
@@ -261,8 +261,7 @@ contains
     t%scheme = 0
     t%axisym = axisym
     t%interpolating = .true.
-    allocate(t%xq(t%dims%ndim, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), areas(ne), &
-      keep(ne))
+    allocate(t%xq(t%dims%ndim, ne), t%owner(ne), t%wgt(ne), areas(ne))
     t%owner = 0
     ! each triangle writes only its own entries: no races
     hmin = huge(1.0_wp)
@@ -287,17 +286,7 @@ contains
       end if
     end do
     !$omp end parallel do
-    keep = .true.
-    if (present(box)) then
-      do e = 1, ne
-        keep(e) = in_box(t%xq(:, e)) .or. in_box(b%x(:, mesh%tri(1, e))) .or. &
-          in_box(b%x(:, mesh%tri(2, e))) .or. in_box(b%x(:, mesh%tri(3, e)))
-      end do
-    end if
-    t%ptr(1) = 1
-    do e = 1, ne
-      t%ptr(e + 1) = t%ptr(e) + merge(3, 0, keep(e))
-    end do
+    call element_rows(t, b%x, mesh%tri, keep, box)
     nnz = t%ptr(ne + 1) - 1
     allocate(t%nbr(nnz), t%g(t%dims%ngrad, nnz), t%h(nnz), t%gs(t%dims%ngrad, nnz), &
       t%ws(t%dims%ndim, ne))
@@ -363,14 +352,6 @@ contains
     t%fix1 = axisym .and. abs(b%x(1, :)) <= tol
     ! nodal interpolation: the position table N_I(X_J) is the identity
     call tables_finish_elements(t, transpose=.not. present(box))
-
-  contains
-
-    !> Does x lie in the (closed) box?
-    pure logical function in_box(x)
-      real(wp), intent(in) :: x(2)
-      in_box = all(x >= box(1:2, 1)) .and. all(x <= box(1:2, 2))
-    end function in_box
   end subroutine cst4_tables
 
   !> Area A (m^2, positive when counter-clockwise), shape-function gradients dn(:, k) =

@@ -142,64 +142,93 @@ contains
 
   !> The cloud of body b with its mirror images across its symmetry planes (fold_t): the
   !! images of the particles whose supports reach across a plane (farther than tol from it).
-  subroutine folded_cloud(b, c, f, err)
+  !! near (3, 2), a region (lower, upper corner; a rank's box grown by what its cells can
+  !! reach, scni_tables_3d): only the particles and images within it enter the cloud, in
+  !! the same order, with the whole cloud's extremes and largest supports (cloud_init's
+  !! grid), so every point whose covering particles lie within near gets the whole
+  !! cloud's shape functions to the bit; twin and sgn are the region cloud's.
+  subroutine folded_cloud(b, c, f, err, near)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(out) :: c
     type(fold_t), intent(out) :: f
     type(error_t), allocatable, intent(inout) :: err
-    integer :: normal(2), nplanes, i, m, k, ni, q
-    real(wp) :: pos(2), tol, y(3), dist
+    real(wp), intent(in), optional :: near(3, 2)
+    integer :: normal(2), nplanes, i, m, k, ni, q, pass, nkeep
+    real(wp) :: pos(2), tol, y(3), dist, lo(3), hi(3), sg(3)
     real(wp), allocatable :: xe(:, :), rhoe(:, :), vole(:)
     logical :: cross(2)
     call symmetry_planes_3d(b, normal, pos, nplanes)
     f%np = b%np
     f%ncg = merge(3, 1, nplanes > 0)
-    ! at most 3 images per particle (two planes and the image of the image)
-    allocate(xe(3, 4*b%np), rhoe(3, 4*b%np), vole(4*b%np), f%twin(4*b%np), f%sgn(3, 4*b%np))
-    xe(:, 1:b%np) = b%x
-    rhoe(:, 1:b%np) = b%rho
-    vole(1:b%np) = b%vol
-    f%twin(1:b%np) = [(i, i = 1, b%np)]
-    f%sgn = 1.0_wp
-    ni = b%np
     tol = 1.0e-9_wp*maxval(b%spacing(1:3))
     cross = .false.
-    do i = 1, b%np
-      do m = 1, nplanes
-        dist = abs(b%x(normal(m), i) - pos(m))
-        cross(m) = dist > tol .and. dist < b%rho(normal(m), i)
+    ! two passes over the particles and their images (at most 3 each: two planes and the
+    ! image of the image) in the cloud's order: the first counts those in the region and
+    ! finds the whole cloud's extremes, the second stores the region's
+    do pass = 1, 2
+      ni = 0
+      lo = huge(1.0_wp)
+      hi = -huge(1.0_wp)
+      if (pass == 2) allocate(xe(3, nkeep), rhoe(3, nkeep), vole(nkeep), f%twin(nkeep), &
+        f%sgn(3, nkeep))
+      do i = 1, b%np
+        call add_entry(b%x(:, i), i, [1.0_wp, 1.0_wp, 1.0_wp])
       end do
-      ! the images across each plane it reaches, and across both (the quarter's corner)
-      do q = 1, 3
-        if (q > 1 .and. nplanes < 2) exit
-        if (q <= 2) then
-          if (.not. cross(min(q, 2))) cycle
-        else
-          if (.not. (cross(1) .and. cross(2))) cycle
-        end if
-        y = b%x(:, i)
-        ni = ni + 1
-        f%twin(ni) = i
-        do k = 1, nplanes
-          if (q == k .or. q == 3) then
-            y(normal(k)) = 2.0_wp*pos(k) - y(normal(k))
-            f%sgn(normal(k), ni) = -1.0_wp
-          end if
+      do i = 1, b%np
+        do m = 1, nplanes
+          dist = abs(b%x(normal(m), i) - pos(m))
+          cross(m) = dist > tol .and. dist < b%rho(normal(m), i)
         end do
-        xe(:, ni) = y
-        rhoe(:, ni) = b%rho(:, i)
-        vole(ni) = b%vol(i)
+        ! the images across each plane it reaches, and across both (the quarter's corner)
+        do q = 1, 3
+          if (q > 1 .and. nplanes < 2) exit
+          if (q <= 2) then
+            if (.not. cross(min(q, 2))) cycle
+          else
+            if (.not. (cross(1) .and. cross(2))) cycle
+          end if
+          y = b%x(:, i)
+          sg = 1.0_wp
+          do k = 1, nplanes
+            if (q == k .or. q == 3) then
+              y(normal(k)) = 2.0_wp*pos(k) - y(normal(k))
+              sg(normal(k)) = -1.0_wp
+            end if
+          end do
+          call add_entry(y, i, sg)
+        end do
       end do
+      nkeep = ni
     end do
-    call cloud_init(c, xe(:, 1:ni), rhoe(:, 1:ni), vole(1:ni), b%kid, b%wshape, b%bid, &
-      b%h(1:3), err)
-    f%twin = f%twin(1:ni)
-    ! (signs are read only where the components are folded)
-    if (f%ncg == 3) then
-      f%sgn = f%sgn(:, 1:ni)
+    if (present(near)) then
+      call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:3), err, lo, hi, &
+        maxval(b%rho, dim=2))
     else
-      deallocate(f%sgn)
+      call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:3), err)
     end if
+    ! (signs are read only where the components are folded)
+    if (f%ncg /= 3) deallocate(f%sgn)
+
+  contains
+
+    !> The next entry of the cloud, at y, of particle i with the signs sg: counted and
+    !! stored when within the region; the extremes over every entry.
+    subroutine add_entry(y, i, sg)
+      real(wp), intent(in) :: y(3), sg(3)
+      integer, intent(in) :: i
+      lo = min(lo, y)
+      hi = max(hi, y)
+      if (present(near)) then
+        if (any(y < near(:, 1)) .or. any(y > near(:, 2))) return
+      end if
+      ni = ni + 1
+      if (pass == 1) return
+      xe(:, ni) = y
+      rhoe(:, ni) = b%rho(:, i)
+      vole(ni) = b%vol(i)
+      f%twin(ni) = i
+      f%sgn(:, ni) = sg
+    end subroutine add_entry
   end subroutine folded_cloud
 
   !> The SCNI tables of 3D lattice body b (reference configuration); rho0: density (kg/m^3).
@@ -263,13 +292,8 @@ contains
     integer, allocatable :: nl(:), cand(:)
     logical, allocatable :: keep(:)
     integer :: np, maxk, i, n, bad, ng, kb, i0, i1
-    real(wp) :: reach(3)
+    real(wp) :: reach(3), grow(3)
     np = b%np
-    call folded_cloud(b, c, f, err)
-    if (allocated(err)) return
-    t%dims = dims_3d
-    if (f%ncg == 3) t%dims = dims_3d_folded
-    ng = 3*f%ncg
     t%hmin = minval(b%spacing(1:3))
     reach = 0.5_wp*b%spacing(1:3)
     if (allocated(b%tets)) then
@@ -279,6 +303,20 @@ contains
       t%hmin = dm%hmin
       reach = dm%lmax
     end if
+    if (present(box)) then
+      ! the cloud of the region: a kept cell's particle lies within rmax + reach of the
+      ! box (below), a point of the cell within reach of its particle, and a particle
+      ! covering it within rmax of it; one reach more for the rounding of the candidates'
+      ! boxes (cell_candidates) and a perturbed lattice's cells
+      grow = 2.0_wp*maxval(b%rho, dim=2) + 3.0_wp*reach
+      call folded_cloud(b, c, f, err, reshape([box(:, 1) - grow, box(:, 2) + grow], [3, 2]))
+    else
+      call folded_cloud(b, c, f, err)
+    end if
+    if (allocated(err)) return
+    t%dims = dims_3d
+    if (f%ncg == 3) t%dims = dims_3d_folded
+    ng = 3*f%ncg
     ! the cells integrated and kept: with a box, those whose particle lies within the
     ! candidates' reach (rmax + the cell's reach, per axis) of it: a cell's row holds only
     ! particles within that reach of the cell's particle (bins_candidates below), so every

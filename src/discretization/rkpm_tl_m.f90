@@ -78,8 +78,9 @@ contains
   !! cell (SCNI: the bounding box of its pieces and its particle; Gauss and direct: the
   !! point) lies within the largest support of the box, so every point the rank's part
   !! owns and every point touching a node it owns (decomposition_m local_part_build takes
-  !! no other rows); the position rows likewise (a particle within the largest support of
-  !! the box). The others' rows are empty, their weights and positions whole (a few flops).
+  !! no other rows); the position rows of the particles within the largest support and
+  !! cell extent of the box (the nodes of those rows). Only the particles near enough to
+  !! touch those rows enter the cloud (region_cloud). The others' rows are empty, their weights and positions whole (a few flops).
   !! The masses of the particles in the box are then whole (the same sums in the same
   !! order), the others' partial: dynamic_setup_m whole_masses completes them over the
   !! ranks. The tables are not transposed (the split transposes the part's).
@@ -94,7 +95,7 @@ contains
     type(rk_cloud_t) :: c
     real(wp), allocatable :: xe(:, :), rhoe(:, :), vole(:)
     integer, allocatable :: twin(:)
-    real(wp) :: tol, reg(2, 2)
+    real(wp) :: tol, reg(2, 2), ext(2)
     integer :: np, ng, i, k
     np = b%np
     t%np = np
@@ -139,19 +140,25 @@ contains
           xe(:, k) = [-b%x(1, i), b%x(2, i)]
           rhoe(:, k) = b%rho(:, i)
           vole(k) = b%vol(i)
-          twin(k) = i
+          twin(k) = -i
         end if
       end do
     end if
     allocate(t%fix1(np))
     t%fix1 = axisym .and. abs(b%x(1, :)) <= tol
-    call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:2), err)
-    if (allocated(err)) return
-    t%hmin = minval(b%spacing(1:2))
     ! the region whose rows are kept: the whole plane, or the box
     reg(:, 1) = -huge(1.0_wp)
     reg(:, 2) = huge(1.0_wp)
-    if (present(box)) reg = box(1:2, :)
+    ext = 0.0_wp
+    if (present(box)) then
+      reg = box(1:2, :)
+      ext = largest_cell(b, scheme)
+      call region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err)
+    else
+      call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:2), err)
+    end if
+    if (allocated(err)) return
+    t%hmin = minval(b%spacing(1:2))
     select case (scheme)
     case (scheme_scni)
       call build_scni(b, c, twin, np, rho0, reg, t, err)
@@ -161,12 +168,55 @@ contains
       call build_direct(b, c, twin, np, rho0, reg, t, err)
     end select
     if (allocated(err)) return
-    call build_positions(b, c, twin, np, reg, t, err)
+    call build_positions(b, c, twin, np, reg, ext, t, err)
     if (allocated(err)) return
     if (.not. present(box)) call tables_transpose(t)
     t%total_mass = sum(t%mass)
     t%total_volume = sum(t%wgt)
   end subroutine tl_build
+
+  !> The largest extent of a cell of body b (per axis, m): a point of a row lies within it
+  !! of the row's particle (cell_extent); 0 for direct nodal integration (the point is
+  !! the particle).
+  function largest_cell(b, scheme) result(ext)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: scheme
+    real(wp) :: ext(2), lo(2), hi(2)
+    integer :: i
+    ext = 0.0_wp
+    if (scheme == scheme_direct) return
+    do i = 1, b%np
+      call cell_extent(b, i, lo, hi)
+      ext = max(ext, hi - lo)
+    end do
+  end function largest_cell
+
+  !> The cloud of a rank's region reg of body b (tl_build's box): of the particles and
+  !! images xe, rhoe, vole, twin (the whole cloud's), those within reach of reg of a
+  !! point a kept row integrates or a kept position row is taken at (twice the largest
+  !! support and the largest cell extent ext, one spacing more for rounding), in the same
+  !! order, with the whole cloud's extremes and largest supports (cloud_init's grid): the
+  !! same shape functions there, to the bit. twin is cut to the region cloud's.
+  subroutine region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: ext(2), reg(2, 2), xe(:, :), rhoe(:, :), vole(:)
+    integer, allocatable, intent(inout) :: twin(:)
+    type(rk_cloud_t), intent(out) :: c
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: rmax(2), grow(2)
+    logical, allocatable :: near(:)
+    integer :: i
+    rmax = maxval(rhoe, dim=2)
+    grow = 2.0_wp*rmax + ext + b%spacing(1:2)
+    allocate(near(size(xe, 2)))
+    do i = 1, size(xe, 2)
+      near(i) = all(xe(:, i) >= reg(:, 1) - grow) .and. all(xe(:, i) <= reg(:, 2) + grow)
+    end do
+    call cloud_init(c, reshape(pack(xe, spread(near, 1, 2)), [2, count(near)]), &
+      reshape(pack(rhoe, spread(near, 1, 2)), [2, count(near)]), pack(vole, near), b%kid, &
+      b%wshape, b%bid, b%h(1:2), err, minval(xe, dim=2), maxval(xe, dim=2), rmax)
+    twin = pack(twin, near)
+  end subroutine region_cloud
 
   !> Piece k of particle i's cell, clipped by the body polygon: vertices cv(2, ncv). Piece 0
   !! is the particle's own lattice cell, pieces 1 .. cell_pieces(b, i) the lattice cells
@@ -280,11 +330,12 @@ contains
     end do
   end subroutine cell_area_points
 
-  !> Shape functions at p folded onto real particles: n1/n2 (components), dn1/dn2.
-  !! Returns the local slots of each neighbour in the accumulation map (lmap/lid, count nl).
-  subroutine folded_shape(c, twin, np, p, nf, fid, fn, fdn, ok)
+  !> Shape functions at p folded onto real particles: n1/n2 (components), dn1/dn2. Cloud
+  !! particle k is particle twin(k), or the mirror image of particle -twin(k) across the
+  !! axis when twin(k) < 0 (it carries (-u_r, u_z) of its twin).
+  subroutine folded_shape(c, twin, p, nf, fid, fn, fdn, ok)
     type(rk_cloud_t), intent(in) :: c
-    integer, intent(in) :: twin(:), np
+    integer, intent(in) :: twin(:)
     real(wp), intent(in) :: p(2)
     integer, intent(out) :: nf
     integer, intent(out) :: fid(:)
@@ -296,11 +347,11 @@ contains
     nf = 0
     if (.not. ok) return
     do k = 1, nnb
-      j = twin(ids(k))
+      j = abs(twin(ids(k)))
       s = 1.0_wp
-      if (ids(k) > np) s = -1.0_wp
+      if (twin(ids(k)) < 0) s = -1.0_wp
       m = 0
-      if (ids(k) > np) then
+      if (twin(ids(k)) < 0) then
         do m = nf, 1, -1
           if (fid(m) == j) exit
         end do
@@ -394,7 +445,7 @@ contains
           rw = 1.0_wp
           if (t%axisym) rw = xg(1, q)
           vol_l = vol_l + wg(q)*rw
-          call folded_shape(c, twin, np, xg(:, q), nf, fid, fn, fdn, ok)
+          call folded_shape(c, twin, xg(:, q), nf, fid, fn, fdn, ok)
           if (.not. ok) then
             bad = max(bad, i)
             cycle
@@ -418,7 +469,7 @@ contains
             rw = 1.0_wp
             if (t%axisym) rw = p(1)
             gw = 0.5_wp*len_e*rw
-            call folded_shape(c, twin, np, p, nf, fid, fn, fdn, ok)
+            call folded_shape(c, twin, p, nf, fid, fn, fdn, ok)
             if (.not. ok) then
               bad = max(bad, i)
               cycle
@@ -439,7 +490,7 @@ contains
             call clip_polygon_box(cv(:, 1:ncv), [-big, o(2)], [big, big], hc, nhc)
           end if
           if (nhc < 3) cycle
-          call half_cell(c, twin, np, t%axisym, hc, nhc, dir, kk, slot, nl, idl, gl, hl, ml, &
+          call half_cell(c, twin, t%axisym, hc, nhc, dir, kk, slot, nl, idl, gl, hl, ml, &
             sub, hpiece, ok)
           if (.not. ok) bad = max(bad, i)
           hv(dir) = hv(dir) + hpiece
@@ -489,10 +540,10 @@ contains
   !> Smoothed derivative along dir of N^1 and N^2 over a half cell hc (r-weighted in
   !! axisymmetry, as the whole cell's), unnormalised, into sub(2 dir - 1 : 2 dir, :, i);
   !! hv returns its (r-weighted) area.
-  subroutine half_cell(c, twin, np, axisym, hc, nhc, dir, i, slot, nl, idl, gl, hl, ml, sub, &
+  subroutine half_cell(c, twin, axisym, hc, nhc, dir, i, slot, nl, idl, gl, hl, ml, sub, &
     hv, ok)
     type(rk_cloud_t), intent(in) :: c
-    integer, intent(in) :: twin(:), np, nhc, dir, i
+    integer, intent(in) :: twin(:), nhc, dir, i
     logical, intent(in) :: axisym
     real(wp), intent(in) :: hc(:, :)
     integer, intent(inout) :: slot(:), nl(:), idl(:, :)
@@ -511,7 +562,7 @@ contains
       if (axisym) rw = xg(1, q)
       hv = hv + wg(q)*rw
       if (.not. (axisym .and. dir == 1)) cycle
-      call folded_shape(c, twin, np, xg(:, q), nf, fid, fn, fdn, ok)
+      call folded_shape(c, twin, xg(:, q), nf, fid, fn, fdn, ok)
       if (.not. ok) return
       do k = 1, nf
         call add_slot(fid(k), i, slot, nl, idl, gl, hl, ml, s)
@@ -529,7 +580,7 @@ contains
         rw = 1.0_wp
         if (axisym) rw = p(1)
         gw = 0.5_wp*len_e*rw*nrm(dir)
-        call folded_shape(c, twin, np, p, nf, fid, fn, fdn, ok)
+        call folded_shape(c, twin, p, nf, fid, fn, fdn, ok)
         if (.not. ok) return
         do j = 1, nf
           call add_slot(fid(j), i, slot, nl, idl, gl, hl, ml, s)
@@ -647,7 +698,7 @@ contains
     do q = 1, nq
       kk = kpos(q)
       if (kk == 0) cycle
-      call folded_shape(c, twin, np, xq(:, q), nf, fid, fn, fdn, ok)
+      call folded_shape(c, twin, xq(:, q), nf, fid, fn, fdn, ok)
       nl(kk) = 0
       if (.not. ok) then
         bad = max(bad, q)
@@ -702,7 +753,7 @@ contains
     do i = 1, np
       kk = kpos(i)
       if (kk == 0) cycle
-      call folded_shape(c, twin, np, b%x(:, i), nf, fid, fn, fdn, ok)
+      call folded_shape(c, twin, b%x(:, i), nf, fid, fn, fdn, ok)
       nl(kk) = 0
       if (.not. ok) then
         bad = i
@@ -790,12 +841,14 @@ contains
   end subroutine compress
 
   !> N^c_I(X_J) for the physical positions x_J = X_J + sum_I N^c_I(X_J) d_cI; the rows of
-  !! the particles within the largest support of the region reg only (tl_build's box).
-  subroutine build_positions(b, c, twin, np, reg, t, err)
+  !! the particles within the largest support and cell extent ext of the region reg only
+  !! (tl_build's box): every node of a row of a point in reg (decomposition_m
+  !! local_part_build takes the position rows of those).
+  subroutine build_positions(b, c, twin, np, reg, ext, t, err)
     type(body_t), intent(in) :: b
     type(rk_cloud_t), intent(in) :: c
     integer, intent(in) :: twin(:), np
-    real(wp), intent(in) :: reg(2, 2)
+    real(wp), intent(in) :: reg(2, 2), ext(2)
     type(solid_tables_t), intent(inout) :: t
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: cnt(:), idl(:, :), kpos(:)
@@ -806,7 +859,7 @@ contains
     logical :: ok
     allocate(keep(np), kpos(np))
     do j = 1, np
-      keep(j) = near_region(b%x(:, j), b%x(:, j), c%rmax(1:2), reg)
+      keep(j) = near_region(b%x(:, j), b%x(:, j), c%rmax(1:2) + ext, reg)
     end do
     call kept_list(keep, kpos, nk)
     maxk = union_bound(b, c)
@@ -818,7 +871,7 @@ contains
       kk = kpos(j)
       cnt(j) = 0
       if (kk == 0) cycle
-      call folded_shape(c, twin, np, b%x(:, j), nf, fid, fn, fdn, ok)
+      call folded_shape(c, twin, b%x(:, j), nf, fid, fn, fdn, ok)
       cnt(j) = nf
       if (.not. ok) bad = max(bad, j)
       idl(1:nf, kk) = fid(1:nf)

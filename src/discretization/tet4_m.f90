@@ -20,7 +20,7 @@ module tet4_m
   use body_m, only: body_t
   use generators_m, only: section_triangles
   use dims_m, only: dims_3d
-  use solid_tables_m, only: solid_tables_t, tables_finish_elements
+  use solid_tables_m, only: solid_tables_t, tables_finish_elements, element_rows
   use mesh_cells_m, only: check_cells, tet_volume
   implicit none
   private
@@ -218,7 +218,7 @@ contains
     t%axisym = .false.
     t%interpolating = .true.
     t%anp = .true.
-    allocate(t%xq(3, ne), t%owner(ne), t%wgt(ne), t%ptr(ne + 1), keep(ne))
+    allocate(t%xq(3, ne), t%owner(ne), t%wgt(ne))
     t%owner = 0
     ! each tetrahedron writes only its own entries: no races
     hmin = huge(1.0_wp)
@@ -237,18 +237,7 @@ contains
       t%wgt(e) = v
     end do
     !$omp end parallel do
-    keep = .true.
-    if (present(box)) then
-      do e = 1, ne
-        keep(e) = in_box(t%xq(:, e)) .or. in_box(b%x(:, mesh%tet(1, e))) .or. &
-          in_box(b%x(:, mesh%tet(2, e))) .or. in_box(b%x(:, mesh%tet(3, e))) .or. &
-          in_box(b%x(:, mesh%tet(4, e)))
-      end do
-    end if
-    t%ptr(1) = 1
-    do e = 1, ne
-      t%ptr(e + 1) = t%ptr(e) + merge(4, 0, keep(e))
-    end do
+    call element_rows(t, b%x, mesh%tet, keep, box)
     allocate(t%nbr(t%ptr(ne + 1) - 1), t%g(t%dims%ngrad, t%ptr(ne + 1) - 1), &
       t%h(t%ptr(ne + 1) - 1))
     t%h = 0.0_wp
@@ -299,14 +288,6 @@ contains
     t%fix1 = .false.
     ! nodal interpolation: the position table N_I(X_J) is the identity
     call tables_finish_elements(t, transpose=.not. present(box))
-
-  contains
-
-    !> Does x lie in the (closed) box?
-    pure logical function in_box(x)
-      real(wp), intent(in) :: x(3)
-      in_box = all(x >= box(:, 1)) .and. all(x <= box(:, 2))
-    end function in_box
   end subroutine tet4_tables
 
   !> The boundary of the mesh over np nodes: the faces that belong to one tetrahedron only,

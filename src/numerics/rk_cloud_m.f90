@@ -46,12 +46,17 @@ contains
 
   !> Pack a cloud. x(ndim,np) positions, rho(ndim,np) support radii, vol(np) weights,
   !! h(ndim) basis scale (normally the nominal support radius). Particles keep their own
-  !! index through perm so callers never see the bin order.
-  subroutine cloud_init(c, x, rho, vol, kid, wshape, bid, h, err)
+  !! index through perm so callers never see the bin order. With grid_lo, grid_hi and
+  !! rmax: the particles are part of a larger cloud whose extremes and largest supports
+  !! these are (a rank's region of a body, rkpm_tl3d_m): the bins are that cloud's cells
+  !! (bins_build's block), so a point whose covering particles are all here gets the
+  !! larger cloud's sums in the same order, to the bit (as cloud_move's grid).
+  subroutine cloud_init(c, x, rho, vol, kid, wshape, bid, h, err, grid_lo, grid_hi, rmax)
     type(rk_cloud_t), intent(out) :: c
     real(wp), intent(in) :: x(:, :), rho(:, :), vol(:), h(:)
     integer, intent(in) :: kid, wshape, bid
     type(error_t), allocatable, intent(inout) :: err
+    real(wp), intent(in), optional :: grid_lo(:), grid_hi(:), rmax(:)
     type(bins_t) :: b0
     integer :: i, q, ndim
     ndim = size(x, 1)
@@ -66,11 +71,12 @@ contains
     c%hinv(1:ndim) = 1.0_wp/h(1:ndim)
     c%rmax = 0.0_wp
     if (c%np > 0) c%rmax(1:ndim) = maxval(rho, dim=2)
+    if (present(rmax)) c%rmax(1:ndim) = rmax(1:ndim)
     ! 2D cells a third of the largest support: a query then scans 7 x 7 small cells instead
     ! of 3 x 3 large ones, about 27 candidates instead of 43 per hit set of 20 (bench/:
     ! 25% more det(M) queries per second); 1D and 3D keep cells of one support
     call bins_build(b0, x, max(c%rmax(1:ndim), tiny(1.0_wp))/merge(3.0_wp, 1.0_wp, ndim == 2), &
-      err)
+      err, grid_lo, grid_hi)
     if (allocated(err)) return
     allocate(c%x(ndim, c%np), c%rho(ndim, c%np), c%rinv(ndim, c%np), c%vol(c%np))
     allocate(c%perm(c%np))

@@ -15,7 +15,7 @@ module solid_tables_m
   implicit none
   private
   public :: solid_tables_t, tables_transpose, tables_transpose_values, tables_move, &
-    tables_copy_scalars, tables_finish_elements
+    tables_copy_scalars, tables_finish_elements, element_rows
 
   type :: solid_tables_t
     integer :: np = 0                    !< particles (coefficient pairs)
@@ -110,6 +110,45 @@ contains
   !> The end of an element builder's tables (cst4_m, tet4_m), once masses and weights are
   !! in: the position table N_I(X_J) is the identity (nodal interpolation: eq. 99), the
   !! totals, the transpose.
+  !> The rows an element mesh keeps for a rank's box (the builders' box; doc/parallel.md):
+  !! an element's when its point xq(:, e) or one of its vertices cells(:, e) (over the
+  !! nodes x, ndim = size(x, 1) rows of box used) lies in the closed box, which holds
+  !! every point the rank's part owns and every point touching a node it owns
+  !! (decomposition_m local_part_build takes no other rows); every element's without a
+  !! box. keep (ne) and t%ptr (ne + 1) over rows of size(cells, 1) entries each.
+  subroutine element_rows(t, x, cells, keep, box)
+    type(solid_tables_t), intent(inout) :: t
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: cells(:, :)
+    logical, allocatable, intent(out) :: keep(:)
+    real(wp), intent(in), optional :: box(:, :)
+    integer :: e, ne, nd, nv, k
+    ne = size(cells, 2)
+    nd = size(x, 1)
+    nv = size(cells, 1)
+    allocate(keep(ne))
+    keep = .true.
+    if (present(box)) then
+      do e = 1, ne
+        keep(e) = in_box(t%xq(:, e))
+        do k = 1, nv
+          keep(e) = keep(e) .or. in_box(x(:, cells(k, e)))
+        end do
+      end do
+    end if
+    if (allocated(t%ptr)) deallocate(t%ptr)
+    allocate(t%ptr(ne + 1))
+    t%ptr(1) = 1
+    do e = 1, ne
+      t%ptr(e + 1) = t%ptr(e) + merge(nv, 0, keep(e))
+    end do
+  contains
+    pure logical function in_box(y)
+      real(wp), intent(in) :: y(:)
+      in_box = all(y(1:nd) >= box(1:nd, 1)) .and. all(y(1:nd) <= box(1:nd, 2))
+    end function in_box
+  end subroutine element_rows
+
   subroutine tables_finish_elements(t, transpose)
     type(solid_tables_t), intent(inout) :: t
     !> build the transpose (default; .false.: a rank's rows, transposed after the split)
