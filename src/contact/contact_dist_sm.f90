@@ -603,22 +603,12 @@ contains
     type(contact_pair_t), intent(inout), target :: p
     integer, intent(in) :: ia, ib
     integer :: nl, n0, n
-    call route_to_owners(p, ia, ib, 2 + size(p%side(ib)%lo), reaction, n0, n)
+    call route_to_owners(p, ia, ib, 2 + size(p%side(ib)%lo), .true., n0, n)
     associate (db => p%dist%side(ib))
       nl = db%nptr(size(db%to) + 1) - 1
       db%f = 0.0_wp
       call sum_records(db, db%sbuf(n0:n - 1), db%rbuf(1:nl))
     end associate
-
-  contains
-
-    !> (master particle, slave particle, its share of the force) for end (vertex) e of j's
-    !! segment (facet).
-    subroutine reaction(j, e, i, rec)
-      integer, intent(in) :: j, e, i
-      real(wp), intent(out) :: rec(:)
-      rec = [real(i, wp), real(j, wp), end_weight(p%side(ia), j, e)*p%side(ia)%fphys(:, j)]
-    end subroutine reaction
   end subroutine route_reactions
 
   !> The shared effective mass (pass_forces): for each master particle of the rank's cloud
@@ -631,7 +621,7 @@ contains
     type(contact_pair_t), intent(inout), target :: p
     integer, intent(in) :: ia, ib
     integer :: k, i, m, nl, n0, n, nt, q
-    call route_to_owners(p, ia, ib, 3, share, n0, n)
+    call route_to_owners(p, ia, ib, 3, .false., n0, n)
     associate (b => p%side(ib), db => p%dist%side(ib))
       ! the owner's sums, in the order of the slave particles: the records (master, slave,
       ! weight), its own then the other ranks', sorted by slave particle
@@ -663,33 +653,21 @@ contains
         db%nptr(1:size(db%from) + 1), db%rbuf)
       b%share(db%rids) = db%rbuf(1:size(db%rids))
     end associate
-
-  contains
-
-    !> (master particle, slave particle, weight) for end (vertex) e of j's segment (facet).
-    subroutine share(j, e, i, rec)
-      integer, intent(in) :: j, e, i
-      real(wp), intent(out) :: rec(:)
-      rec = [real(i, wp), real(j, wp), end_weight(p%side(ia), j, e)]
-    end subroutine share
   end subroutine route_shares
 
   !> Records of width nw about the two segment ends (three facet vertices) of each own
-  !! active particle of side ia (make(j, e, i, rec): end e from 0, master particle i), each
-  !! sent to the owner of its
-  !! master particle (back along the ghost plan, to the ranks the ghosts came from). On
-  !! return the records this rank owns are db%sbuf(n0:n-1) (its own, in the order of its
-  !! slave particles) and db%rbuf(1:db%nptr(size(db%to)+1)-1) (the other ranks'). Collective.
-  subroutine route_to_owners(p, ia, ib, nw, make, n0, n)
+  !! active particle of side ia, each sent to the owner of its master particle (back along
+  !! the ghost plan, to the ranks the ghosts came from): for end e (from 0, master
+  !! particle i) of slave particle j's segment (facet), (i, j, its share of j's force)
+  !! when forces, else (i, j, the end's weight). On return the records this rank owns are
+  !! db%sbuf(n0:n-1) (its own, in the order of its slave particles) and
+  !! db%rbuf(1:db%nptr(size(db%to)+1)-1) (the other ranks'). Collective. (The record is
+  !! chosen by a flag, not made by a procedure argument: an internal procedure passed as
+  !! one needs an executable stack.)
+  subroutine route_to_owners(p, ia, ib, nw, forces, n0, n)
     type(contact_pair_t), intent(inout), target :: p
     integer, intent(in) :: ia, ib, nw
-    interface
-      subroutine make(j, e, i, rec)
-        import :: wp
-        integer, intent(in) :: j, e, i
-        real(wp), intent(out) :: rec(:)
-      end subroutine make
-    end interface
+    logical, intent(in) :: forces
     integer, intent(out) :: n0, n
     integer :: jj, j, e, i, q, k, nloc, nv
     integer :: slot(0:p%dist%comm%nranks - 1), cnt(size(p%dist%side(ib)%from))
@@ -728,7 +706,11 @@ contains
         if (.not. a%active(j)) cycle
         do e = 0, nv - 1
           i = seg_end(j, e)
-          call make(j, e, i, rec)
+          if (forces) then
+            rec = [real(i, wp), real(j, wp), end_weight(a, j, e)*a%fphys(:, j)]
+          else
+            rec = [real(i, wp), real(j, wp), end_weight(a, j, e)]
+          end if
           q = db%owner(i)
           if (q == me) then
             db%sbuf(n:n + nw - 1) = rec
