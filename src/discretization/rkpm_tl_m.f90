@@ -72,18 +72,18 @@ contains
 
   !> Build the tables of body b (reference configuration). rho0: density (kg/m^3).
   !!
-  !! box (3, 2), a rank's box of the decomposition (lower, upper corner; the first two rows
-  !! used; doc/parallel.md): the rows of the integration points are kept, and their shape
-  !! functions computed, only where a particle of the box can be in them: a point whose
-  !! cell (SCNI: the bounding box of its pieces and its particle; Gauss and direct: the
-  !! point) lies within the largest support of the box, so every point the rank's part
-  !! owns and every point touching a node it owns (decomposition_m local_part_build takes
-  !! no other rows); the position rows of the particles within the largest support and
-  !! cell extent of the box (the nodes of those rows). Only the particles near enough to
-  !! touch those rows enter the cloud (region_cloud). The others' rows are empty, their weights and positions whole (a few flops).
-  !! The masses of the particles in the box are then whole (the same sums in the same
-  !! order), the others' partial: dynamic_setup_m whole_masses completes them over the
-  !! ranks. The tables are not transposed (the split transposes the part's).
+  !! box (3, 2), a rank's box of the decomposition (lower, upper corner; the first two rows used;
+  !! doc/parallel.md): the rows of the integration points are kept, and their shape functions
+  !! computed, only where a particle of the box can be in them: a point whose cell (SCNI: the
+  !! bounding box of its pieces and its particle; Gauss and direct: the point) lies within the
+  !! largest support of the box, so every point the rank's part owns and every point touching a node
+  !! it owns (decomposition_m local_part_build takes no other rows); the position rows of the
+  !! particles within the largest support and cell extent of the box (the nodes of those rows). Only
+  !! the particles near enough to touch those rows enter the cloud (region_cloud). The others' rows
+  !! are empty, their weights and positions whole (a few flops). The masses of the particles in the
+  !! box are then whole (the same sums in the same order), the others' partial: dynamic_setup_m
+  !! whole_masses completes them over the ranks. The tables are not transposed (the split transposes
+  !! the part's).
   subroutine tl_build(b, axisym, scheme, rho0, t, err, box)
     type(body_t), intent(in) :: b
     logical, intent(in) :: axisym

@@ -360,16 +360,15 @@ contains
     if (has) call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
   end function region_box
 
-  !> The lumped masses of an RKPM solid whole on every rank of a decomposed set-up: a
-  !! rank that integrated only the cells its box needs (tl_build_3d's and tl_build's box)
-  !! has the masses of the particles in its box whole (the same sums in the same order)
-  !! and the others' partial. Each rank gives those of the particles the bisection puts in its part (every
-  !! particle in exactly one), zero for the rest, and one sum over the ranks makes every
-  !! mass the serial one to the bit (x + 0 = x), so that whatever reads a mass before the
-  !! split (the contact sides' inverse masses, a spin's centre of mass, the total) or after
-  !! it (a part's ghost nodes) reads the serial one. An error on a rank (a cell too few
-  !! particles cover, found by the ranks that integrate it) reaches all in the same sum.
-  !! Collective.
+  !> The lumped masses of an RKPM solid whole on every rank of a decomposed set-up: a rank that
+  !! integrated only the cells its box needs (tl_build_3d's and tl_build's box) has the masses of
+  !! the particles in its box whole (the same sums in the same order) and the others' partial. Each
+  !! rank gives those of the particles the bisection puts in its part (every particle in exactly
+  !! one), zero for the rest, and one sum over the ranks makes every mass the serial one to the bit
+  !! (x + 0 = x), so that whatever reads a mass before the split (the contact sides' inverse masses,
+  !! a spin's centre of mass, the total) or after it (a part's ghost nodes) reads the serial one. An
+  !! error on a rank (a cell too few particles cover, found by the ranks that integrate it) reaches
+  !! all in the same sum. Collective.
   subroutine whole_masses(part, tree, b, t, err)
     type(setup_part_t), intent(in) :: part
     type(rcb_tree_t), intent(in) :: tree
