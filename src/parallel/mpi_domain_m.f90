@@ -32,7 +32,7 @@ module mpi_domain_m
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
     solid_energies, solid_set_energies, solid_set_gravity, solid_state_t, solid_sub_t, &
     solid_account_sums
-  use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
+  use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_part, local_part_t, local_part_build
   use solid_tables_m, only: solid_tables_t, tables_copy_scalars, tables_move, tables_transpose
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
   use rank_comm_m, only: rank_comm_t
@@ -263,7 +263,11 @@ contains
     integer, allocatable :: node_part(:), point_part(:)
     integer :: i, q, j
     associate (g => dom%gs(k), lp => dom%lp(k), h => dom%halos(k))
-      call rcb_build(g%x0, dom%ranks%nranks, tree)
+      ! (the tree of the set-up's region_box: each rank gives its share of the nodes)
+      associate (r => dom%ranks%me, nr => dom%ranks%nranks)
+        call rcb_build_ranks(g%x0(:, int((int(g%np, i64)*r)/nr) + 1: &
+          int((int(g%np, i64)*(r + 1))/nr)), nr, dom%ranks, tree)
+      end associate
       allocate(node_part(g%np), point_part(g%nq))
       do i = 1, g%np
         node_part(i) = rcb_part(tree, g%x0(:, i))

@@ -19,12 +19,13 @@
 !! tests/unit/partition/test_decomposition.pf on emulated ranks). A ghost point's row keeps
 !! only the entries of its local nodes: it is never evaluated locally.
 module decomposition_m
-  use kinds_m, only: wp
+  use kinds_m, only: wp, i64
   use sorting_m, only: sort_index
+  use rank_comm_m, only: rank_comm_t
   use solid_tables_m, only: solid_tables_t, tables_transpose, tables_copy_scalars
   implicit none
   private
-  public :: rcb_tree_t, rcb_build, rcb_part, rcb_box, local_part_t, local_part_build
+  public :: rcb_tree_t, rcb_build, rcb_build_ranks, rcb_part, rcb_box, local_part_t, local_part_build
 
   !> The bisection tree: node k (1 the root) is a leaf of part part(k), or cuts along axis
   !! axis(k) at cut(k), with the points below the cut in child lo(k), the others in hi(k).
@@ -89,7 +90,7 @@ contains
       key = x(ax, set)
       allocate(order(size(set)))
       call sort_index(key, order)
-      nlo = (size(set)*plo)/np
+      nlo = int((int(size(set), i64)*plo)/np)
       ! the cut halfway between the last point below and the first above; equal coordinates
       ! all go above, so the cut decides for any point, also one not in this set
       if (nlo > 0 .and. nlo < size(set)) then
@@ -107,6 +108,134 @@ contains
       call split(tree%hi(k), pack(set, .not. (x(ax, set) < tree%cut(k))), np - plo)
     end subroutine split
   end subroutine rcb_build
+
+  !> rcb_build's tree over points that the ranks of comm share: x holds this rank's share
+  !! (every point on exactly one rank, any share, none at all too), and every rank gets the
+  !! tree rcb_build makes of all of them, cut for cut (the same axes, the same cut values,
+  !! the same numbering), while no rank holds more than its share: the extents are maxima
+  !! over the ranks, and each cut's two order statistics (the nlo-th and nlo+1-th
+  !! coordinate along the axis, whose midpoint is the cut) are found by bisection over the
+  !! coordinates' bit patterns, ordered as the numbers are (order_statistics: at most 65
+  !! counts summed over the ranks a cut). A rank's work is its share's counts; the tree's
+  !! nparts - 1 cuts are made one after the other, in rcb_build's order. Collective.
+  subroutine rcb_build_ranks(x, nparts, comm, tree)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: nparts
+    class(rank_comm_t), intent(inout) :: comm
+    type(rcb_tree_t), intent(out) :: tree
+    integer :: i, next_part, nd
+    nd = size(x, 1)
+    tree%nparts = nparts
+    allocate(tree%part(2*nparts), tree%axis(2*nparts), tree%lo(2*nparts), &
+      tree%hi(2*nparts), tree%cut(2*nparts))
+    tree%part = 0
+    tree%axis = 0
+    tree%lo = 0
+    tree%hi = 0
+    tree%cut = 0.0_wp
+    tree%nt = 1
+    next_part = 1
+    call split(1, [(i, i = 1, size(x, 2))], nparts)
+  contains
+    recursive subroutine split(k, set, np)
+      integer, intent(in) :: k, set(:), np
+      real(wp) :: ext(nd), mm(2*nd), v(2)
+      integer(i64) :: n(1), nlo
+      integer :: ax, plo
+      if (np == 1) then
+        tree%part(k) = next_part
+        next_part = next_part + 1
+        return
+      end if
+      n(1) = size(set)
+      call comm%sum_i8(n)
+      ! the largest coordinates, and the smallest as the largest of their negatives (exact)
+      mm = -huge(1.0_wp)
+      if (size(set) > 0) then
+        mm(1:nd) = maxval(x(:, set), dim=2)
+        mm(nd + 1:) = -minval(x(:, set), dim=2)
+      end if
+      call comm%max_real(mm)
+      ext = 0.0_wp
+      if (n(1) > 0) ext = mm(1:nd) - (-mm(nd + 1:))
+      ax = maxloc(ext, dim=1)
+      plo = np/2
+      nlo = (n(1)*plo)/np
+      if (nlo > 0 .and. nlo < n(1)) then
+        call order_statistics(x(ax, set), [nlo, nlo + 1], -mm(nd + ax), mm(ax), comm, v)
+        tree%cut(k) = 0.5_wp*(v(1) + v(2))
+      else if (nlo == 0) then
+        tree%cut(k) = -huge(1.0_wp)
+      else
+        tree%cut(k) = huge(1.0_wp)
+      end if
+      tree%axis(k) = ax
+      tree%lo(k) = tree%nt + 1
+      tree%hi(k) = tree%nt + 2
+      tree%nt = tree%nt + 2
+      call split(tree%lo(k), pack(set, x(ax, set) < tree%cut(k)), plo)
+      call split(tree%hi(k), pack(set, .not. (x(ax, set) < tree%cut(k))), np - plo)
+    end subroutine split
+  end subroutine rcb_build_ranks
+
+  !> v(j): the r(j)-th smallest (from 1) of the values the ranks of comm hold (this rank's
+  !! vals; all of them within [vmin, vmax]), exactly, as a value one of them holds (a zero
+  !! as +0). Each value's bit pattern is made an integer that orders as the values do
+  !! (ordered_key); the smallest key K with at least r(j) keys <= K is bisected between the
+  !! keys of vmin and vmax, a count summed over the ranks each halving (both j at once).
+  !! Collective.
+  subroutine order_statistics(vals, r, vmin, vmax, comm, v)
+    real(wp), intent(in) :: vals(:), vmin, vmax
+    integer(i64), intent(in) :: r(2)
+    class(rank_comm_t), intent(inout) :: comm
+    real(wp), intent(out) :: v(2)
+    integer(i64) :: key(size(vals)), klo(2), khi(2), mid(2), c(2)
+    integer :: i, j
+    do i = 1, size(vals)
+      key(i) = ordered_key(vals(i))
+    end do
+    klo = ordered_key(vmin)
+    khi = ordered_key(vmax)
+    do while (any(klo < khi))
+      ! the floor of the midpoint, without overflow
+      mid = shifta(klo, 1) + shifta(khi, 1) + iand(iand(klo, khi), 1_i64)
+      do j = 1, 2
+        c(j) = count(key <= mid(j))
+      end do
+      call comm%sum_i8(c)
+      do j = 1, 2
+        if (klo(j) >= khi(j)) cycle
+        if (c(j) >= r(j)) then
+          khi(j) = mid(j)
+        else
+          klo(j) = mid(j) + 1
+        end if
+      end do
+    end do
+    do j = 1, 2
+      v(j) = key_value(klo(j))
+    end do
+  end subroutine order_statistics
+
+  !> An integer that orders as the real values do (a zero of either sign is 0): the bit
+  !! pattern of a value >= 0, minus one less the magnitude's bits of a negative one.
+  pure integer(i64) function ordered_key(a) result(key)
+    real(wp), intent(in) :: a
+    integer(i64) :: bits
+    bits = transfer(a, 0_i64)
+    if (a == 0.0_wp) bits = 0_i64
+    key = bits
+    if (bits < 0) key = -iand(bits, huge(0_i64)) - 1_i64
+  end function ordered_key
+
+  !> The value whose ordered_key is key.
+  pure real(wp) function key_value(key) result(a)
+    integer(i64), intent(in) :: key
+    integer(i64) :: bits
+    bits = key
+    if (key < 0) bits = ior(-(key + 1_i64), ibset(0_i64, 63))
+    a = transfer(bits, 1.0_wp)
+  end function key_value
 
   !> The part of the tree's box that holds point xp.
   pure integer function rcb_part(tree, xp) result(p)

@@ -10,6 +10,10 @@
 !!     evaluation on the whole tables to the bit.
 !! The serial reference is computed by every rank on the whole tables. Prints the ghost
 !! counts and the bytes one exchange moves, and exits 1 (error stop) on any mismatch.
+!! Also the bisection over the ranks (rcb_build_ranks): each rank holds a scattered share
+!! of a point set (lattices whose rows tie, random points of both signs with zeros of both
+!! signs, a set flat along an axis, sets with fewer points than parts), and the tree must
+!! be rcb_build's over the whole set, cut for cut, for 1-7 parts on every rank count.
 program halo_check
   use mpi_f08
   use kinds_m, only: wp
@@ -22,7 +26,9 @@ program halo_check
   use rkpm_tl_m, only: tl_build, scheme_scni
   use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_tables
   use tl_kinematics_m, only: deformation_gradient, internal_force
-  use decomposition_m, only: rcb_tree_t, rcb_build, rcb_part, local_part_t, local_part_build
+  use decomposition_m, only: rcb_tree_t, rcb_build, rcb_build_ranks, rcb_part, local_part_t, &
+    local_part_build
+  use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
   implicit none
   real(wp), parameter :: stab(2) = [0.1_wp*3.0e11_wp, 0.1_wp*8.0e10_wp]
@@ -40,6 +46,8 @@ program halo_check
     call check(fem, axisym, trim(names(icase)), bad)
     bad_all = bad_all + bad
   end do
+  call check_rcb_ranks(bad)
+  bad_all = bad_all + bad
   if (me == 0) then
     if (bad_all == 0) then
       write(*, '(a,i0,a)') 'halo_check: ', nranks, ' rank(s): every value bit for bit'
@@ -151,6 +159,84 @@ contains
       ' nodes), ', 8*(2*tot(1) + 5*tot(2)), ' bytes for one exchange of d and P; mismatches ', &
       nbad
   end subroutine check
+
+  !> The bisection over the ranks against the whole set's (see the header); nbad: the
+  !! trees (cases x part counts) that differ anywhere, summed over the ranks.
+  subroutine check_rcb_ranks(nbad)
+    integer, intent(out) :: nbad
+    type(mpi_ranks_t) :: ranks
+    type(rcb_tree_t) :: tw, tr
+    real(wp), allocatable :: x(:, :)
+    integer, allocatable :: mine(:)
+    integer :: kase, nparts, n, i, nd, ntrees, sums(2)
+    real(wp) :: u
+    call mpi_ranks_init(ranks, MPI_COMM_WORLD)
+    nbad = 0
+    ntrees = 0
+    do kase = 1, 5
+      select case (kase)
+      case (1)   ! a 2D lattice 9 x 25 (rows tie along both axes)
+        nd = 2
+        n = 225
+        allocate(x(nd, n))
+        do i = 1, n
+          x(:, i) = [0.5_wp*mod(i - 1, 9), 0.5_wp*((i - 1)/9)]
+        end do
+      case (2)   ! a 3D lattice 6 x 5 x 11 about the origin (zeros, negative rows)
+        nd = 3
+        n = 330
+        allocate(x(nd, n))
+        do i = 1, n
+          x(:, i) = [real(mod(i - 1, 6) - 3, wp), real(mod((i - 1)/6, 5) - 2, wp), &
+            -0.25_wp*real((i - 1)/30, wp)]
+        end do
+      case (3)   ! random points of both signs, some zeros of either sign
+        nd = 3
+        n = 401
+        allocate(x(nd, n))
+        do i = 1, n
+          call random_number(u)
+          x(1, i) = (u - 0.5_wp)*1.0e-3_wp
+          call random_number(u)
+          x(2, i) = (u - 0.3_wp)*7.0_wp
+          call random_number(u)
+          x(3, i) = -u*1.0e5_wp
+        end do
+        x(1, 1:40:3) = 0.0_wp
+        x(1, 2:40:3) = -0.0_wp
+        ! (every rank the same points: rank 0's)
+        call MPI_Bcast(x, size(x), MPI_DOUBLE_PRECISION, 0, MPI_COMM_WORLD)
+      case (4)   ! flat along y and z: every cut across x, ties at the middle
+        nd = 3
+        n = 64
+        allocate(x(nd, n))
+        do i = 1, n
+          x(:, i) = [real(mod(i*7, 13), wp), 2.0_wp, 2.0_wp]
+        end do
+      case default   ! fewer points than parts
+        nd = 2
+        n = 3
+        allocate(x(nd, n))
+        x = reshape([1.0_wp, 0.0_wp, -1.0_wp, 0.0_wp, 1.0_wp, 0.0_wp], [2, 3])
+      end select
+      ! a scattered share: point i on rank mod(3 i, nranks)
+      mine = pack([(i, i = 1, n)], [(mod(3*i, nranks) == me, i = 1, n)])
+      do nparts = 1, 7
+        call rcb_build(x, nparts, tw)
+        call rcb_build_ranks(x(:, mine), nparts, ranks, tr)
+        ntrees = ntrees + 1
+        if (tr%nt /= tw%nt .or. any(tr%part /= tw%part) .or. any(tr%axis /= tw%axis) .or. &
+          any(tr%lo /= tw%lo) .or. any(tr%hi /= tw%hi) .or. any(tr%cut /= tw%cut)) &
+          nbad = nbad + 1
+      end do
+      deallocate(x)
+    end do
+    sums = [nbad, ntrees]
+    call MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_INTEGER, MPI_SUM, MPI_COMM_WORLD)
+    nbad = sums(1)
+    if (me == 0) write(*, '(a,i0,a,i0,a,i0)') 'bisection over the ranks: ', nranks, &
+      ' rank(s), ', ntrees, ' trees against the whole set''s; mismatches ', nbad
+  end subroutine check_rcb_ranks
 
   pure function stress_of(f) result(p)
     real(wp), intent(in) :: f(5)
