@@ -14,7 +14,8 @@ program mfcd
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
   use file_system_m, only: same_out_err
-  use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t
+  use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t, body_fingerprints
+  use rank_comm_m, only: single_rank_t
   use log_m, only: log_print, log_flush
   use detect_run_m, only: run_detect
   use explicit_driver_m, only: run_dynamic
@@ -35,6 +36,7 @@ program mfcd
   type(checkpoint_info_t) :: ckpt
   !> one rank: the run's parts are its solids
   type(serial_domain_t), target :: one
+  type(single_rank_t) :: one_rank
 
   ! first, before anything is printed: a short spin for waiting OpenMP threads (it may run
   ! this program again with GOMP_SPINCOUNT set; thread_policy_m says why)
@@ -108,6 +110,8 @@ program mfcd
   if (.not. allocated(err)) call echo_deck(deck)
   if (.not. allocated(err)) call check_memory(deck, err)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
+  ! (what a checkpoint recognises its bodies by: exact sums, the same on any rank count)
+  if (.not. allocated(err)) call body_fingerprints(bodies, one_rank)
   ! again with the particle files read: the tables of the set-up are still to come
   if (.not. allocated(err)) call check_memory(deck, err, bodies)
   ! the set-up of a dynamic run has checks of its own: made before anything is written, by a

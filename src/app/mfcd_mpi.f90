@@ -27,7 +27,7 @@ program mfcd_mpi
     root_needs_whole
   use explicit_driver_m, only: run_dynamic
   use mpi_domain_m, only: mpi_domain_t, mpi_domain_init, ghost_margin_default
-  use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t
+  use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t, body_fingerprints
   implicit none
   type(deck_t) :: deck
   type(body_t), allocatable :: bodies(:)
@@ -97,6 +97,8 @@ program mfcd_mpi
     root_needs_whole(deck))
   ! (every rank integrates and keeps only its region's rows of 3D RKPM tables, the masses
   ! summed over the ranks; rank 0 keeps the whole ones when its det(M) fields need them)
+  ! (what a checkpoint recognises its bodies by: exact sums over the ranks' shares)
+  if (.not. allocated(err)) call body_fingerprints(bodies, ranks%comm)
   sp%me = me
   sp%nranks = nranks
   sp%root_whole = root_needs_whole(deck)

@@ -45,6 +45,10 @@ module body_m
     integer, allocatable :: loop_ptr(:)
     integer, allocatable :: loop_idx(:)
     logical, allocatable :: loop_closed(:)
+    !> The exact sums of every particle's coordinates and of every volume (a checkpoint
+    !! recognises its bodies by them: run_checkpoint_m body_fingerprints, the same bits on
+    !! any number of ranks holding any shares of the particles)
+    real(wp) :: fingerprint(2) = 0.0_wp
     real(wp) :: spacing(3) = 0.0_wp       !< nominal particle spacing per direction (m)
     real(wp) :: support_factor(3) = 0.0_wp
     real(wp) :: h(3) = 1.0_wp             !< basis scale: nominal support radius (m)

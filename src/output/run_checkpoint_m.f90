@@ -35,7 +35,8 @@ module run_checkpoint_m
     solid_get_field, solid_put_field, solid_state_derived, solid_energies, solid_set_energies, &
     solid_account_sums
   use exact_sum_m, only: exact_sum_t, exact_value, exact_add, exact_pack, exact_unpack, &
-    exact_pack_size
+    exact_pack_size, exact_allsum_many
+  use rank_comm_m, only: rank_comm_t
   use contact_pair_m, only: contact_pair_t
   use run_report_m, only: run_record_t
   use dynamic_output_m, only: history_t, history_width, history_geometry, output_rows
@@ -47,12 +48,13 @@ module run_checkpoint_m
   implicit none
   private
   public :: checkpoint_write, checkpoint_check, checkpoint_read, checkpoint_info_t, &
-    checkpoint_write_fields, checkpoint_read_part
+    checkpoint_write_fields, checkpoint_read_part, body_fingerprints
 
   !> The root attribute 'format' of every checkpoint, and the layout version this mfcd
-  !! writes and reads (raise it when the layout changes; 3: with work_points, work_nodes).
+  !! writes and reads (raise it when the layout changes; 3: with work_points, work_nodes;
+  !! 4: the bodies' sum_x_vol exact sums, body_fingerprints).
   character(len=*), parameter :: checkpoint_kind = 'mfcd checkpoint'
-  integer, parameter :: checkpoint_format = 3
+  integer, parameter :: checkpoint_format = 4
 
   !> What a checkpoint says about itself (root attributes).
   type :: checkpoint_info_t
@@ -328,15 +330,39 @@ contains
       g = '/bodies/'//trim(bodies(k)%name)
       call h5_group(f, g, err)
       if (.not. allocated(err)) call h5_attr(f, g, 'np', bodies(k)%np, err)
-      if (.not. allocated(err)) call h5_attr(f, g, 'sum_x_vol', fingerprint(bodies(k)), err)
+      if (.not. allocated(err)) call h5_attr(f, g, 'sum_x_vol', bodies(k)%fingerprint, err)
     end do
   end subroutine write_bodies_fingerprint
 
-  pure function fingerprint(b) result(fp)
-    type(body_t), intent(in) :: b
-    real(wp) :: fp(2)
-    fp = [sum(b%x), sum(b%vol)]
-  end function fingerprint
+  !> Each body's fingerprint (body_t): the exact sums of its particles' coordinates and of
+  !! their volumes, each rank adding its share of the particles (a contiguous run of the
+  !! numbering, n*r/nranks + 1 ... n*(r + 1)/nranks for rank r) and one exact sum over the
+  !! ranks making the whole body's, the same bits on every rank and for any rank count
+  !! (the plain sums before checkpoint format 4 were not: their rounding followed the
+  !! order). Collective (comm: the ranks; single_rank_t for a serial run).
+  subroutine body_fingerprints(bodies, comm)
+    type(body_t), intent(inout) :: bodies(:)
+    class(rank_comm_t), intent(inout) :: comm
+    type(exact_sum_t) :: a(2*size(bodies))
+    real(wp) :: v(2*size(bodies))
+    integer :: k, i, j, i0, i1
+    do k = 1, size(bodies)
+      associate (b => bodies(k))
+        i0 = int((int(b%np, i64)*comm%me)/comm%nranks) + 1
+        i1 = int((int(b%np, i64)*(comm%me + 1))/comm%nranks)
+        do i = i0, i1
+          do j = 1, size(b%x, 1)
+            call exact_add(a(2*k - 1), b%x(j, i))
+          end do
+          call exact_add(a(2*k), b%vol(i))
+        end do
+      end associate
+    end do
+    v = exact_allsum_many(a, comm)
+    do k = 1, size(bodies)
+      bodies(k)%fingerprint = v(2*k - 1:2*k)
+    end do
+  end subroutine body_fingerprints
 
   !> Is path a checkpoint that deck (with its bodies) can continue? Refused (exit 2): a
   !! file that is not an HDF5 file or not a checkpoint, a checkpoint of another format or
@@ -431,7 +457,7 @@ contains
       if (h5_has_attr(f, g, 'np')) call h5_read_attr(f, g, 'np', np, err)
       if (h5_has_attr(f, g, 'sum_x_vol')) call h5_read_attr(f, g, 'sum_x_vol', fp, err)
       if (allocated(err)) deallocate(err)
-      if (np /= bodies(k)%np .or. any(fp /= fingerprint(bodies(k)))) then
+      if (np /= bodies(k)%np .or. any(fp /= bodies(k)%fingerprint)) then
         call set_error(err, where//"the checkpoint was written with different particles "// &
           "of body '"//trim(bodies(k)%name)//"' ("//itoa(np)//" particles there, "// &
           itoa(bodies(k)%np)//" here, or other positions or volumes) under the same deck "// &
