@@ -22,6 +22,7 @@ program mfcd
   use run_domain_m, only: serial_domain_t, serial_domain_init
   use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic
   use thread_policy_m, only: thread_policy_apply, thread_policy_text
+  use memory_policy_m, only: memory_policy_apply
   use gmsh_mesh_m, only: gmsh_built_in, gmsh_version
   use omp_lib, only: omp_get_max_threads
   implicit none
@@ -41,6 +42,8 @@ program mfcd
   ! first, before anything is printed: a short spin for waiting OpenMP threads (it may run
   ! this program again with GOMP_SPINCOUNT set; thread_policy_m says why)
   call thread_policy_apply()
+  ! freed large blocks go back to the system (memory_policy_m)
+  call memory_policy_apply()
   check_only = .false.
   restart_next = .false.
   nargs = command_argument_count()

@@ -14,6 +14,7 @@ program mfcd_mpi
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use kinds_m, only: wp
   use mpi_f08
+  use memory_policy_m, only: memory_policy_apply
   use errors_m, only: error_t, exit_bad_input
   use strings_m, only: itoa
   use version_m, only: code_name, code_version, git_commit
@@ -43,6 +44,9 @@ program mfcd_mpi
   !> the ranks of MPI_COMM_WORLD: each solid's part on this one
   type(mpi_domain_t), target :: ranks
   type(setup_part_t) :: sp
+  ! freed large blocks go back to the system, so that a rank's peak holds what is alive at
+  ! it (memory_policy_m); before MPI allocates anything
+  call memory_policy_apply()
   call MPI_Init()
   call MPI_Comm_rank(MPI_COMM_WORLD, me)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)

@@ -1,0 +1,27 @@
+/* mfcd: freed memory goes back to the system (memory_policy_m).
+ *
+ * glibc serves a block of 128 kB or more from a mapping of its own, returned to the system
+ * when freed, but it raises that threshold to the size of each such block freed (up to
+ * 32 MB), so that after the first large free, blocks of a few MB come from the heap, where
+ * their pages stay the process's after they are freed. mfcd frees whole-body arrays of a
+ * few MB each before it allocates a rank's part (mpi_domain_m), and those pages then count
+ * in every rank's peak. Setting the threshold fixes it at 128 kB (glibc's default, no longer
+ * adjusted), and glibc's heap trimming keeps its own default. A user's MALLOC_MMAP_THRESHOLD_
+ * is kept as it is; other C libraries are left alone.
+ */
+#include <stdlib.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
+/* Returns 1 when the threshold was set, 0 when left as it is. */
+int mfcd_memory_policy(void)
+{
+#ifdef __GLIBC__
+    if (getenv("MALLOC_MMAP_THRESHOLD_") != NULL)
+        return 0;
+    return mallopt(M_MMAP_THRESHOLD, 128 * 1024) == 1;
+#else
+    return 0;
+#endif
+}
