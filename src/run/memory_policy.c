@@ -25,3 +25,15 @@ int mfcd_memory_policy(void)
     return 0;
 #endif
 }
+
+/* The bytes glibc holds in blocks mapped apart (mallinfo2's hblkhd), for the test that the
+ * policy holds; -1 without glibc 2.33 or later. */
+long long mfcd_mapped_bytes(void)
+{
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+    struct mallinfo2 mi = mallinfo2();
+    return (long long)mi.hblkhd;
+#else
+    return -1;
+#endif
+}

@@ -3,16 +3,21 @@
 !! before it. Measured (doc/parallel.md, "Weak scaling of the set-up"): the 3D Taylor bar,
 !! 30 mm a rank on 8 ranks, peak per rank 0.94-0.96 -> 0.87-0.90 GB.
 module memory_policy_m
-  use, intrinsic :: iso_c_binding, only: c_int
+  use, intrinsic :: iso_c_binding, only: c_int, c_long_long
+  use kinds_m, only: i64
   implicit none
   private
-  public :: memory_policy_apply
+  public :: memory_policy_apply, mapped_bytes
 
   interface
     function c_memory_policy() bind(c, name='mfcd_memory_policy') result(rc)
       import :: c_int
       integer(c_int) :: rc
     end function c_memory_policy
+    function c_mapped_bytes() bind(c, name='mfcd_mapped_bytes') result(n)
+      import :: c_long_long
+      integer(c_long_long) :: n
+    end function c_mapped_bytes
   end interface
 
 contains
@@ -25,4 +30,10 @@ contains
     done = c_memory_policy() == 1_c_int
     if (present(set)) set = done
   end subroutine memory_policy_apply
+
+  !> The bytes the C library holds in blocks mapped apart (glibc's mallinfo2 hblkhd), -1
+  !! where it does not tell (the test of the policy).
+  integer(i64) function mapped_bytes() result(n)
+    n = int(c_mapped_bytes(), i64)
+  end function mapped_bytes
 end module memory_policy_m
