@@ -25,7 +25,8 @@ module decomposition_m
   use solid_tables_m, only: solid_tables_t, tables_transpose, tables_copy_scalars
   implicit none
   private
-  public :: rcb_tree_t, rcb_build, rcb_build_ranks, rcb_part, rcb_box, local_part_t, local_part_build
+  public :: rcb_tree_t, rcb_build, rcb_build_ranks, rcb_part, rcb_box, local_part_t, &
+    local_part_build
 
   !> The bisection tree: node k (1 the root) is a leaf of part part(k), or cuts along axis
   !! axis(k) at cut(k), with the points below the cut in child lo(k), the others in hi(k).
