@@ -55,7 +55,8 @@ module contact_pair_m
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
   public :: contact_stats_t, contact_det_fields, contact_step
   public :: detector_det_m, detector_nts, detector_name, contact_self_det
-  public :: contact_pair_localize, contact_pair_distribute, contact_dist_report
+  public :: contact_pair_localize, contact_pair_cut, contact_pair_distribute, &
+    contact_dist_report
   ! (public for the submodule contact_dist_sm only: gfortran 12 leaves out a private module
   ! procedure the submodule calls, even one the module calls too)
   public :: detect_det_m, pass_forces, detect_self, spreads, detect_det_m_3d, pass_forces_3d
@@ -150,6 +151,8 @@ module contact_pair_m
     character(len=64) :: name = ''
     integer :: isolid = 0                !< index of its solid; 0 if rigid
     integer :: np = 0
+    !> its arrays cut to a rank's part (contact_pair_cut)
+    logical :: cut = .false.
     integer :: ndim = 2                  !< 2 (plane, axisymmetry) or 3
     type(rk_cloud_t) :: cloud            !< det(M) of this body (current positions)
     type(master_surface_t) :: surface    !< its boundary polylines (2D)
@@ -1073,6 +1076,8 @@ contains
   !! (side_select). Rigid masters only: every rank holds the whole rigid body. The tracked
   !! edge particle stays with the rank that owns it (0 on the others). ranks: the ranks
   !! (kept by pointer), over which skip_far's bound on the motion is taken (add_travel).
+  !! The side's arrays may have been cut to nglob already (contact_pair_cut, before the
+  !! part's rows were made, so that the whole side is gone before the split's peak).
   subroutine contact_pair_localize(p, nglob, solids, ranks, err)
     type(contact_pair_t), intent(inout) :: p
     integer, intent(in) :: nglob(:)
@@ -1080,12 +1085,41 @@ contains
     class(rank_comm_t), pointer, intent(in) :: ranks
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, e
+    if (.not. p%side(1)%cut) call contact_pair_cut(p, nglob, err)
+    if (allocated(err)) return
+    associate (s => p%side(1), sol => solids(p%side(1)%isolid))
+      s%imass = 1.0_wp/sol%t%mass
+      where (all(sol%pres, dim=1)) s%imass = 0.0_wp
+      if (allocated(s%due)) then
+        s%d_scr = sol%state%d
+        if (associated(ranks)) call lip_over_ranks(s, sol, ranks)
+      end if
+      s%ranks => ranks
+      if (allocated(s%list)) deallocate(s%list)
+      e = 0
+      if (p%edge > 0) then
+        do k = 1, size(nglob)
+          if (nglob(k) == p%edge .and. any(sol%part%own_n == k)) e = k
+        end do
+      end if
+      p%edge = e
+    end associate
+  end subroutine contact_pair_localize
+
+  !> The arrays over the slave side's particles of pair p (a rigid master's: see
+  !! contact_pair_localize) cut to the part's local nodes nglob (global numbers,
+  !! ascending), those over the whole solid freed; what needs the part solid is left to
+  !! contact_pair_localize.
+  subroutine contact_pair_cut(p, nglob, err)
+    type(contact_pair_t), intent(inout) :: p
+    integer, intent(in) :: nglob(:)
+    type(error_t), allocatable, intent(inout) :: err
     if (p%both_ways .or. p%self .or. p%side(2)%isolid /= 0) then
       call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
         trim(p%side(2)%name)//"': a rank's part of a solid takes rigid masters only")
       return
     end if
-    associate (s => p%side(1), sol => solids(p%side(1)%isolid))
+    associate (s => p%side(1))
       s%np = size(nglob)
       s%x_old = s%x_old(:, nglob)
       s%x_pred = s%x_pred(:, nglob)
@@ -1103,24 +1137,13 @@ contains
       s%x_ref = s%x_ref(:, nglob)
       s%vol = s%vol(nglob)
       if (allocated(s%bary)) s%bary = s%bary(:, nglob)
-      s%imass = 1.0_wp/sol%t%mass
-      where (all(sol%pres, dim=1)) s%imass = 0.0_wp
-      if (allocated(s%due)) then
-        s%due = s%due(nglob)
-        s%d_scr = sol%state%d
-        if (associated(ranks)) call lip_over_ranks(s, sol, ranks)
-      end if
-      s%ranks => ranks
-      if (allocated(s%list)) deallocate(s%list)
-      e = 0
-      if (p%edge > 0) then
-        do k = 1, size(nglob)
-          if (nglob(k) == p%edge .and. any(sol%part%own_n == k)) e = k
-        end do
-      end if
-      p%edge = e
+      ! (the part's masses and state set them: contact_pair_localize)
+      if (allocated(s%imass)) deallocate(s%imass)
+      if (allocated(s%d_scr)) deallocate(s%d_scr)
+      if (allocated(s%due)) s%due = s%due(nglob)
+      s%cut = .true.
     end associate
-  end subroutine contact_pair_localize
+  end subroutine contact_pair_cut
 
   !> The particles of side s that this step's passes look at: all of them, or with
   !! subcycling the solid's nodes of the rate being stepped (the only ones that move).

@@ -32,14 +32,15 @@ module mpi_domain_m
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
     solid_energies, solid_set_energies, solid_set_gravity, solid_state_t, solid_sub_t, &
     solid_account_sums
-  use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_part, local_part_t, local_part_build
+  use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_part, local_part_t, &
+    local_part_sets, local_part_rows
   use solid_tables_m, only: solid_tables_t, tables_copy_scalars, tables_move, tables_transpose
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
   use rank_comm_m, only: rank_comm_t
   use exact_sum_m, only: exact_sum_t, exact_add, exact_value, exact_allmerge, exact_allsum_many
   use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
   use contact_pair_m, only: contact_pair_t, contact_stats_t, stat_sums, stats_values, &
-    contact_pair_localize, contact_pair_distribute, contact_dist_report
+    contact_pair_localize, contact_pair_cut, contact_pair_distribute, contact_dist_report
   use contact_m, only: contact_counters_t
   use body_measures_m, only: measures_t, body_measures_part
   use run_report_m, only: run_record_t, self_det_out
@@ -154,17 +155,18 @@ contains
       end do
     end if
     allocate(solids(nk), dom%lp(nk), dom%halos(nk), own(nk))
+    ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
+    ! the snapshots (drawn from the gathered state: contact_det_fields); before make_part
+    ! cuts the slave sides against rigid masters
+    if (keeps_whole(dom)) allocate(dom%pairs_whole, source=pairs)
     do k = 1, nk
-      call make_part(dom, k, solids(k), own(k)%owner, err)
+      call make_part(dom, k, solids(k), own(k)%owner, pairs, err)
       if (dom%any_error(err)) return
       ! (the halo first: a restart's averaged nodal pressure takes the ghosts' J through it)
       solids(k)%part%halo => dom%halos(k)
       if (restarted) call restart_part(dom, k, solids(k), err)
       if (dom%any_error(err)) return
     end do
-    ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
-    ! the snapshots (drawn from the gathered state: contact_det_fields)
-    if (keeps_whole(dom)) allocate(dom%pairs_whole, source=pairs)
     comm_ptr => dom%ranks
     do k = 1, size(pairs)
       associate (s1 => pairs(k)%side(1)%isolid, s2 => pairs(k)%side(2)%isolid)
@@ -253,14 +255,17 @@ contains
   !! part's tables, its halo plan, the part solid (its velocities, kinetic energy at t = 0 of
   !! its own nodes, limits and stabilization as the whole solid's); owner(:) the rank (from
   !! 0) of every node of the whole solid.
-  subroutine make_part(dom, k, p, owner, err)
+  subroutine make_part(dom, k, p, owner, pairs, err)
     type(mpi_domain_t), intent(inout), target :: dom
     integer, intent(in) :: k
     type(solid_t), intent(out) :: p
     integer, allocatable, intent(out) :: owner(:)
+    type(contact_pair_t), intent(inout) :: pairs(:)
     type(error_t), allocatable, intent(inout) :: err
     type(rcb_tree_t) :: tree
-    integer, allocatable :: node_part(:), point_part(:)
+    integer, allocatable :: node_part(:), point_part(:), bc_of(:, :)
+    real(wp), allocatable :: x0(:, :), vpres(:, :), v(:, :)
+    logical, allocatable :: pres(:, :)
     integer :: i, q, j
     associate (g => dom%gs(k), lp => dom%lp(k), h => dom%halos(k))
       ! (the tree of the set-up's region_box: each rank gives its share of the nodes)
@@ -275,8 +280,28 @@ contains
       do q = 1, g%nq
         point_part(q) = rcb_part(tree, g%t%xq(:, q))
       end do
-      call local_part_build(g%t, node_part, point_part, dom%ranks%me + 1, lp, &
-        transpose=.false.)
+      call local_part_sets(g%t, node_part, point_part, dom%ranks%me + 1, lp)
+      ! the slave sides of this solid against rigid masters (arrays over the whole solid)
+      ! cut to the part before its rows are made: gone before the split's peak
+      ! (contact_pair_localize does the rest once the part solid exists)
+      do j = 1, size(pairs)
+        if (pairs(j)%side(1)%isolid /= k .or. pairs(j)%side(2)%isolid /= 0) cycle
+        call contact_pair_cut(pairs(j), lp%nglob, err)
+        if (allocated(err)) return
+      end do
+      ! what the part solid takes of the whole solid's arrays over its nodes, taken now
+      ! and the whole ones freed before the part's rows too (but on rank 0 when it keeps
+      ! the whole solids)
+      x0 = g%x0(:, lp%nglob)
+      pres = g%pres(:, lp%nglob)
+      vpres = g%vpres(:, lp%nglob)
+      v = g%state%v(:, lp%nglob)
+      if (allocated(g%bc_of)) bc_of = g%bc_of(:, lp%nglob)
+      if (.not. keeps_whole(dom)) then
+        deallocate(g%x0, g%pres, g%vpres, g%state%v)
+        if (allocated(g%bc_of)) deallocate(g%bc_of)
+      end if
+      call local_part_rows(g%t, lp, transpose=.false.)
       ! the whole solid's tables are done with (but on rank 0 when its det(M) fields draw
       ! on them): freed before the part's transpose, so that the split's peak holds one
       ! set of rows, the part's
@@ -286,9 +311,8 @@ contains
       call halo_plan_build(dom%mcomm, lp, node_part, point_part, h%plan, err)
       if (allocated(err)) return
       associate (n => lp%nglob)
-        call solid_init(p, g%name, lp%t, g%x0(:, n), &
-          g%mat_params, 0.0_wp, 0.0_wp*g%x0(:, 1), &
-          g%pres(:, n), g%vpres(:, n), err)
+        call solid_init(p, g%name, lp%t, x0, g%mat_params, 0.0_wp, &
+          spread(0.0_wp, 1, size(x0, 1)), pres, vpres, err)
         if (allocated(err)) return
         call solid_set_owned(p, lp%own_point, lp%own_node)
         p%part%nglob = lp%nglob
@@ -299,8 +323,8 @@ contains
         ! health limits
         p%opt = g%opt
         call solid_set_gravity(p, p%opt%gravity)
-        if (allocated(g%bc_of)) p%bc_of = g%bc_of(:, n)
-        p%state%v = g%state%v(:, n)
+        if (allocated(bc_of)) call move_alloc(bc_of, p%bc_of)
+        p%state%v = v
         p%acc%ke0 = 0.0_wp
         do j = 1, size(p%part%own_n)
           i = p%part%own_n(j)

@@ -26,7 +26,7 @@ module decomposition_m
   implicit none
   private
   public :: rcb_tree_t, rcb_build, rcb_build_ranks, rcb_part, rcb_box, local_part_t, &
-    local_part_build
+    local_part_build, local_part_sets, local_part_rows
 
   !> The bisection tree: node k (1 the root) is a leaf of part part(k), or cuts along axis
   !! axis(k) at cut(k), with the points below the cut in child lo(k), the others in hi(k).
@@ -290,12 +290,21 @@ contains
     integer, intent(in) :: node_part(:), point_part(:), r
     type(local_part_t), intent(out) :: lp
     logical, intent(in), optional :: transpose
+    call local_part_sets(t, node_part, point_part, r, lp)
+    call local_part_rows(t, lp, transpose)
+  end subroutine local_part_build
+
+  !> The sets of rank r's share of the tables t (local_part_build): its local points and
+  !! nodes by global number, which of them it owns; no rows yet (local_part_rows).
+  subroutine local_part_sets(t, node_part, point_part, r, lp)
+    type(solid_tables_t), intent(in) :: t
+    integer, intent(in) :: node_part(:), point_part(:), r
+    type(local_part_t), intent(out) :: lp
     logical, allocatable :: lq(:), ln(:)
-    integer, allocatable :: nloc(:)
-    integer :: q, e, i, j, k, nql, npl, nnz
-    logical :: with_gs, with_pos
+    integer :: q, e, i, j, k, nql, npl
+    logical :: with_pos
     lp%rank = r
-    allocate(lq(t%nq), ln(t%np), nloc(t%np))
+    allocate(lq(t%nq), ln(t%np))
     lq = point_part == r
     ln = node_part == r
     ! ghost points: the others' points touching an owned node
@@ -329,14 +338,28 @@ contains
     lp%nglob = pack([(i, i = 1, t%np)], ln)
     nql = size(lp%qglob)
     npl = size(lp%nglob)
-    nloc = 0
-    nloc(lp%nglob) = [(k, k = 1, npl)]
     lp%own_point = point_part(lp%qglob) == r
     lp%own_node = node_part(lp%nglob) == r
     lp%nq_own = count(lp%own_point)
     lp%np_own = count(lp%own_node)
     lp%q_owned = pack([(k, k = 1, nql)], lp%own_point)
     lp%n_owned = pack([(k, k = 1, npl)], lp%own_node)
+  end subroutine local_part_sets
+
+  !> The local tables of rank lp%rank's share of t (local_part_build), its sets made
+  !! (local_part_sets).
+  subroutine local_part_rows(t, lp, transpose)
+    type(solid_tables_t), intent(in) :: t
+    type(local_part_t), intent(inout) :: lp
+    logical, intent(in), optional :: transpose
+    integer, allocatable :: nloc(:)
+    integer :: q, e, j, k, nql, npl, nnz
+    logical :: with_gs
+    nql = size(lp%qglob)
+    npl = size(lp%nglob)
+    allocate(nloc(t%np))
+    nloc = 0
+    nloc(lp%nglob) = [(k, k = 1, npl)]
     ! the local tables: rows of the local points over their local nodes, in global order
     nnz = 0
     do k = 1, nql
@@ -402,5 +425,5 @@ contains
       if (.not. transpose) return
     end if
     call tables_transpose(lp%t)
-  end subroutine local_part_build
+  end subroutine local_part_rows
 end module decomposition_m
