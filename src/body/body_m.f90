@@ -7,7 +7,7 @@ module body_m
   use geometry_m, only: geometry_t
   implicit none
   private
-  public :: body_t, name_len, max_cell_vertices
+  public :: body_t, name_len, max_cell_vertices, body_release
 
   integer, parameter :: name_len = 64
   !> Vertices of one integration cell at most (a clipped lattice cell, a file's cell)
@@ -66,4 +66,29 @@ module body_m
     !! particles' integration cells (rkpm_tl3d_m); unallocated for every other body
     integer, allocatable :: tets(:, :)
   end type body_t
+
+contains
+
+  !> Body b reduced to what is said of it after the set-up has read it (name, sizes,
+  !! spacing and supports' factors, kernel, geometry, fingerprint): its arrays over the
+  !! particles, cells and facets freed. For the ranks of mfcd_mpi that do not write the
+  !! bodies (rank 0 does), a deformable body's set-up being done.
+  subroutine body_release(b)
+    type(body_t), intent(inout) :: b
+    type(body_t) :: shell
+    shell%name = b%name
+    shell%shape = b%shape
+    shell%ndim = b%ndim
+    shell%np = b%np
+    shell%nloops = b%nloops
+    shell%fingerprint = b%fingerprint
+    shell%spacing = b%spacing
+    shell%support_factor = b%support_factor
+    shell%h = b%h
+    shell%kid = b%kid
+    shell%wshape = b%wshape
+    shell%bid = b%bid
+    shell%geom = b%geom
+    b = shell
+  end subroutine body_release
 end module body_m
