@@ -19,7 +19,7 @@ program mfcd_mpi
   use strings_m, only: itoa
   use version_m, only: code_name, code_version, git_commit
   use deck_m, only: deck_t, read_deck
-  use body_m, only: body_t, body_release
+  use body_m, only: body_t, body_keep_share
   use body_setup_m, only: build_bodies
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
@@ -116,13 +116,12 @@ program mfcd_mpi
   if (.not. allocated(err) .and. me == 0) call check_output_path(deck, err, restart_path)
   call agree_or_fail(exit_bad_input)
   ! the deformable bodies are the set-up's: past it a rank reads their names, sizes and
-  ! fingerprints only, and rank 0 writes them (/bodies); the others free their arrays
-  ! before the split, whose peak they would add to
-  if (me > 0) then
-    do k = 1, deck%nbodies
-      if (deck%bodies(k)%role == 'deformable') call body_release(bodies(k))
-    end do
-  end if
+  ! fingerprints, and writes its share of their rows into /bodies (rank 0 the facets and
+  ! boundary loops too): every rank keeps that share only, before the split, whose peak
+  ! the whole bodies would add to
+  do k = 1, deck%nbodies
+    if (deck%bodies(k)%role == 'deformable') call body_keep_share(bodies(k), me, nranks)
+  end do
   ! the serial program's driver, given the ranks instead of one
   if (len(restart_path) > 0) then
     call run_dynamic(deck, bodies, su, ranks, err, restart_path)

@@ -3,11 +3,11 @@
 !! the ordered boundary polylines contact needs (master surface segments, eqs. 89-92), plus
 !! the window/basis choice and the exact geometry when a generator made it.
 module body_m
-  use kinds_m, only: wp
+  use kinds_m, only: wp, i64
   use geometry_m, only: geometry_t
   implicit none
   private
-  public :: body_t, name_len, max_cell_vertices, body_release
+  public :: body_t, name_len, max_cell_vertices, body_keep_share, share_first
 
   integer, parameter :: name_len = 64
   !> Vertices of one integration cell at most (a clipped lattice cell, a file's cell)
@@ -49,6 +49,10 @@ module body_m
     !! recognises its bodies by them: run_checkpoint_m body_fingerprints, the same bits on
     !! any number of ranks holding any shares of the particles)
     real(wp) :: fingerprint(2) = 0.0_wp
+    !> A rank's share of the body (body_keep_share; 0: the whole body): x, vol, rho and
+    !! boundary hold the particles row0, row0 + 1, ..., cells the elements cell0, ... of
+    !! ncells
+    integer :: row0 = 0, cell0 = 0, ncells = 0
     real(wp) :: spacing(3) = 0.0_wp       !< nominal particle spacing per direction (m)
     real(wp) :: support_factor(3) = 0.0_wp
     real(wp) :: h(3) = 1.0_wp             !< basis scale: nominal support radius (m)
@@ -69,26 +73,48 @@ module body_m
 
 contains
 
-  !> Body b reduced to what is said of it after the set-up has read it (name, sizes,
-  !! spacing and supports' factors, kernel, geometry, fingerprint): its arrays over the
-  !! particles, cells and facets freed. For the ranks of mfcd_mpi that do not write the
-  !! bodies (rank 0 does), a deformable body's set-up being done.
-  subroutine body_release(b)
+  !> Body b reduced to rank me's share of it (of nranks), for the ranks of mfcd_mpi once
+  !! the set-up has read it: the rows of its particles row0 .. row0 + nrows - 1 (the
+  !! contiguous run np*me/nranks + 1 ... np*(me + 1)/nranks) of the positions, volumes,
+  !! supports and boundary flags, and the same share of its elements (cell0, ncells: the
+  !! whole count), which the ranks write into /bodies together (run_output_m
+  !! write_body_rows); the facets and boundary loops on rank 0 only (surface), which it
+  !! writes; the rest freed (integration cells, the mesh of a body's dual cells). Its
+  !! name, sizes, spacing, supports' factors, kernel, geometry and fingerprint stay.
+  subroutine body_keep_share(b, me, nranks)
     type(body_t), intent(inout) :: b
-    type(body_t) :: shell
-    shell%name = b%name
-    shell%shape = b%shape
-    shell%ndim = b%ndim
-    shell%np = b%np
-    shell%nloops = b%nloops
-    shell%fingerprint = b%fingerprint
-    shell%spacing = b%spacing
-    shell%support_factor = b%support_factor
-    shell%h = b%h
-    shell%kid = b%kid
-    shell%wshape = b%wshape
-    shell%bid = b%bid
-    shell%geom = b%geom
-    b = shell
-  end subroutine body_release
+    integer, intent(in) :: me, nranks
+    integer :: i0, i1, c1
+    i0 = share_first(b%np, me, nranks)
+    i1 = share_first(b%np, me + 1, nranks) - 1
+    b%row0 = i0
+    b%x = b%x(:, i0:i1)
+    b%vol = b%vol(i0:i1)
+    if (allocated(b%rho)) b%rho = b%rho(:, i0:i1)
+    if (allocated(b%boundary)) b%boundary = b%boundary(i0:i1)
+    if (allocated(b%cells)) then
+      b%ncells = size(b%cells, 2)
+      b%cell0 = share_first(b%ncells, me, nranks)
+      c1 = share_first(b%ncells, me + 1, nranks) - 1
+      b%cells = b%cells(:, b%cell0:c1)
+    end if
+    if (allocated(b%cell_centre)) deallocate(b%cell_centre)
+    if (allocated(b%merged_ptr)) deallocate(b%merged_ptr)
+    if (allocated(b%merged_centre)) deallocate(b%merged_centre)
+    if (allocated(b%cell_ptr)) deallocate(b%cell_ptr)
+    if (allocated(b%cell_xy)) deallocate(b%cell_xy)
+    if (allocated(b%tets)) deallocate(b%tets)
+    if (me == 0) return
+    if (allocated(b%loop_ptr)) deallocate(b%loop_ptr)
+    if (allocated(b%loop_idx)) deallocate(b%loop_idx)
+    if (allocated(b%loop_closed)) deallocate(b%loop_closed)
+    if (allocated(b%facets)) deallocate(b%facets)
+  end subroutine body_keep_share
+
+  !> The first of rank r's share of n items (of nranks): n*r/nranks + 1 (n + 1 for r =
+  !! nranks).
+  pure integer function share_first(n, r, nranks) result(i)
+    integer, intent(in) :: n, r, nranks
+    i = int((int(n, i64)*r)/nranks) + 1
+  end function share_first
 end module body_m

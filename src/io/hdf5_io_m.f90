@@ -38,7 +38,7 @@ module hdf5_io_m
   !! of a file opened with MPI-IO writes its own rows, collectively, into one dataset whose
   !! layout is a serial run's (rows in global order).
   interface h5_write_rows
-    module procedure rows_r1, rows_r2
+    module procedure rows_r1, rows_r2, rows_i1, rows_i2
   end interface h5_write_rows
 
   !> Dataset writers: real and integer arrays of rank 1 and 2, each with its units.
@@ -199,11 +199,11 @@ contains
   subroutine rows_r1(f, path, a, gid, n, units, err, descr)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: path, units
-    real(wp), intent(in) :: a(:)
+    real(wp), intent(in), target, contiguous :: a(:)
     integer, intent(in) :: gid(:), n
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in), optional :: descr
-    call rows_write(f, path, 1, 1, a, gid, n, units, err, descr)
+    call rows_write(f, path, 1, 1, c_loc(a), H5T_NATIVE_DOUBLE, gid, n, units, err, descr)
   end subroutine rows_r1
 
   !> a(:, i) into column gid(i) of the new dataset path (size(a, 1), n), gid ascending: in
@@ -212,27 +212,52 @@ contains
   subroutine rows_r2(f, path, a, gid, n, units, err, descr)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: path, units
-    real(wp), intent(in) :: a(:, :)
+    real(wp), intent(in), target, contiguous :: a(:, :)
     integer, intent(in) :: gid(:), n
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in), optional :: descr
-    call rows_write(f, path, 2, size(a, 1), a, gid, n, units, err, descr)
+    call rows_write(f, path, 2, size(a, 1), c_loc(a), H5T_NATIVE_DOUBLE, gid, n, units, &
+      err, descr)
   end subroutine rows_r2
 
-  !> rows_r1 (rk = 1, m = 1) and rows_r2 (rk = 2): the file's selection is the runs of
-  !! consecutive numbers in gid, so the m x size(gid) values of a (column after column)
-  !! fill them in the file's order.
-  subroutine rows_write(f, path, rk, m, a, gid, n, units, err, descr)
+  !> Integer rows (rows_r1): the dataset h5_write makes of an integer vector.
+  subroutine rows_i1(f, path, a, gid, n, units, err, descr)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, units
+    integer, intent(in), target, contiguous :: a(:)
+    integer, intent(in) :: gid(:), n
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: descr
+    call rows_write(f, path, 1, 1, c_loc(a), H5T_NATIVE_INTEGER, gid, n, units, err, descr)
+  end subroutine rows_i1
+
+  !> Integer columns (rows_r2): the dataset h5_write makes of an integer matrix.
+  subroutine rows_i2(f, path, a, gid, n, units, err, descr)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path, units
+    integer, intent(in), target, contiguous :: a(:, :)
+    integer, intent(in) :: gid(:), n
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in), optional :: descr
+    call rows_write(f, path, 2, size(a, 1), c_loc(a), H5T_NATIVE_INTEGER, gid, n, units, &
+      err, descr)
+  end subroutine rows_i2
+
+  !> rows_r1, rows_i1 (rk = 1, m = 1) and rows_r2, rows_i2 (rk = 2): the m x size(gid)
+  !! values at buf (of memory type mtype, column after column) fill the file's selection,
+  !! the runs of consecutive numbers in gid, in the file's order.
+  subroutine rows_write(f, path, rk, m, buf, mtype, gid, n, units, err, descr)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: path, units
     integer, intent(in) :: rk, m, gid(:), n
-    real(wp), intent(in) :: a(m, *)
+    type(c_ptr), intent(in) :: buf
+    integer(hid_t), intent(in) :: mtype
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in), optional :: descr
     integer(hid_t) :: space, dset, mspace, xfer
     integer(hsize_t) :: dims(2), mdims(2)
     integer :: st, s2
-    real(wp) :: none(1)
+    real(wp), target :: none(1)
     if (any(gid(2:) <= gid(:size(gid) - 1)) .or. any(gid < 1 .or. gid > n)) then
       call set_error(err, "output file '"//f%path//"': rows of "//path//" not in order "// &
         "(an internal error)", 1)
@@ -248,7 +273,7 @@ contains
     xfer = H5P_DEFAULT_F
     if (f%xfer >= 0) xfer = f%xfer
     call h5screate_simple_f(rk, dims, space, st)
-    call dcreate(f, path, H5T_NATIVE_DOUBLE, space, dset, st)
+    call dcreate(f, path, mtype, space, dset, st)
     if (st /= 0) then
       call finish_dataset(f, path, dset, space, units, descr, st, err)
       return
@@ -256,11 +281,10 @@ contains
     call h5screate_simple_f(rk, mdims, mspace, st)
     call select_rows(space, mspace, rk, m, gid, st)
     if (st == 0 .and. size(gid) > 0) then
-      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a(:, 1:size(gid)), mdims(:rk), st, mspace, &
-        space, xfer)
+      call h5dwrite_f(dset, mtype, buf, st, mspace, space, xfer)
     else if (st == 0) then
       ! no rows here: the collective write still takes part, with nothing selected
-      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, none, [1_hsize_t], st, mspace, space, xfer)
+      call h5dwrite_f(dset, mtype, c_loc(none), st, mspace, space, xfer)
     end if
     call h5sclose_f(mspace, s2)
     call finish_dataset(f, path, dset, space, units, descr, st, err)

@@ -7,11 +7,11 @@ module run_output_m
   use deck_m, only: deck_t
   use body_m, only: body_t
   use kernels_m, only: kernel_names, window_shape_names
-  use hdf5_io_m, only: h5file_t, h5_group, h5_write, h5_attr, h5_text
+  use hdf5_io_m, only: h5file_t, h5_group, h5_write, h5_attr, h5_text, h5_write_rows
   use material_m, only: material_constant_names, material_constant
   implicit none
   private
-  public :: write_header, write_bodies, timestamp
+  public :: write_header, write_bodies, write_body_rows, timestamp
 
 contains
 
@@ -73,7 +73,9 @@ contains
     end do
   end subroutine write_materials
 
-  !> /bodies/<name>: reference positions, volumes, supports, boundary and polylines.
+  !> /bodies/<name>: reference positions, volumes, supports, boundary and polylines. A
+  !! body held as a rank's share (body_t row0 > 0, mfcd_mpi) gets its rows from every rank
+  !! afterwards (write_body_rows, collectively), the rest here.
   subroutine write_bodies(f, bodies, deck, err)
     type(h5file_t), intent(in) :: f
     type(body_t), intent(in) :: bodies(:)
@@ -81,25 +83,14 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, nd
     character(len=:), allocatable :: g
-    character(len=3) :: vunit
     call h5_group(f, '/bodies', err)
     do k = 1, size(bodies)
       if (allocated(err)) return
       associate (b => bodies(k))
         nd = b%ndim
         g = '/bodies/'//trim(b%name)
-        vunit = 'm'
-        if (nd == 2) vunit = 'm^2'
-        if (nd == 3) vunit = 'm^3'
         call h5_group(f, g, err)
-        if (.not. allocated(err)) call h5_write(f, g//'/x', b%x, 'm', err, &
-          'reference particle positions (ndim, np)')
-        if (.not. allocated(err)) call h5_write(f, g//'/volume', b%vol, trim(vunit), err, &
-          'particle volume Delta V (length in 1D, area in 2D)')
-        if (.not. allocated(err)) call h5_write(f, g//'/support', b%rho, 'm', err, &
-          'support radius rho per direction (ndim, np)')
-        if (.not. allocated(err)) call h5_write(f, g//'/boundary', merge(1, 0, b%boundary), &
-          '1', err, '1 for boundary particles')
+        if (b%row0 == 0) call body_rows(f, b, err)
         if (.not. allocated(err)) call h5_write(f, g//'/loop_ptr', b%loop_ptr, '1', err, &
           'CSR pointer of boundary polylines (1-based, nloops + 1)')
         if (.not. allocated(err)) call h5_write(f, g//'/loop_idx', b%loop_idx, '1', err, &
@@ -108,16 +99,8 @@ contains
           call h5_write(f, g//'/facets', b%facets - 1, '1', err, 'the closed boundary '// &
           'surface: particle (node) indices (0-based) of each triangle, counter-clockwise '// &
           'seen from outside (3, nf)')
-        if (allocated(b%cells) .and. b%ndim == 3 .and. .not. allocated(err)) then
-          call h5_write(f, g//'/tetrahedra', b%cells - 1, '1', err, 'linear tetrahedra '// &
-            '(averaged nodal pressure): node indices (0-based, as XDMF reads them), '// &
-            'positive volume (4, ne)')
-        else if (allocated(b%cells) .and. .not. allocated(err)) then
-          call h5_write(f, g//'/triangles', b%cells - 1, '1', err, 'CST4 elements: node '// &
-            'indices (0-based, as XDMF reads them) of each triangle, counter-clockwise (3, ne)')
-        end if
         if (.not. allocated(err)) call h5_attr(f, g, 'discretization', &
-          trim(merge('fem ', 'rkpm', allocated(b%cells))), err)
+          trim(merge('fem ', 'rkpm', b%ncells > 0 .or. allocated(b%cells))), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'shape', trim(b%shape), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'kernel', trim(kernel_names(b%kid)), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'window', &
@@ -134,4 +117,58 @@ contains
       end associate
     end do
   end subroutine write_bodies
+
+  !> The rows of the bodies held as ranks' shares (body_t row0 > 0): each rank writes its
+  !! share into /bodies/<name> (its group made by write_bodies), collectively, in a file
+  !! every rank has opened with MPI-IO; the same datasets as a whole body's.
+  subroutine write_body_rows(f, bodies, err)
+    type(h5file_t), intent(in) :: f
+    type(body_t), intent(in) :: bodies(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k
+    do k = 1, size(bodies)
+      if (allocated(err)) return
+      if (bodies(k)%row0 > 0) call body_rows(f, bodies(k), err)
+    end do
+  end subroutine write_body_rows
+
+  !> Body b's datasets over its particles and elements: all of them (row0 = 0), or its
+  !! share's rows of the whole body's datasets.
+  subroutine body_rows(f, b, err)
+    type(h5file_t), intent(in) :: f
+    type(body_t), intent(in) :: b
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: gid(:), gc(:), flags(:), cells0(:, :)
+    integer :: i, n0, c0
+    character(len=:), allocatable :: g
+    character(len=3) :: vunit
+    g = '/bodies/'//trim(b%name)
+    vunit = 'm'
+    if (b%ndim == 2) vunit = 'm^2'
+    if (b%ndim == 3) vunit = 'm^3'
+    n0 = max(b%row0, 1)
+    gid = [(n0 + i - 1, i = 1, size(b%vol))]
+    flags = merge(1, 0, b%boundary)
+    call h5_write_rows(f, g//'/x', b%x, gid, b%np, 'm', err, &
+      'reference particle positions (ndim, np)')
+    if (.not. allocated(err)) call h5_write_rows(f, g//'/volume', b%vol, gid, b%np, &
+      trim(vunit), err, 'particle volume Delta V (length in 1D, area in 2D)')
+    if (.not. allocated(err)) call h5_write_rows(f, g//'/support', b%rho, gid, b%np, 'm', &
+      err, 'support radius rho per direction (ndim, np)')
+    if (.not. allocated(err)) call h5_write_rows(f, g//'/boundary', flags, gid, b%np, '1', &
+      err, '1 for boundary particles')
+    if (.not. allocated(b%cells) .or. allocated(err)) return
+    c0 = max(b%cell0, 1)
+    gc = [(c0 + i - 1, i = 1, size(b%cells, 2))]
+    cells0 = b%cells - 1
+    if (b%ndim == 3) then
+      call h5_write_rows(f, g//'/tetrahedra', cells0, gc, max(b%ncells, size(b%cells, 2)), &
+        '1', err, 'linear tetrahedra (averaged nodal pressure): node indices (0-based, as '// &
+        'XDMF reads them), positive volume (4, ne)')
+    else
+      call h5_write_rows(f, g//'/triangles', cells0, gc, max(b%ncells, size(b%cells, 2)), &
+        '1', err, 'CST4 elements: node indices (0-based, as XDMF reads them) of each '// &
+        'triangle, counter-clockwise (3, ne)')
+    end if
+  end subroutine body_rows
 end module run_output_m

@@ -28,6 +28,7 @@ module mpi_domain_m
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
   use body_m, only: body_t
+  use run_output_m, only: write_body_rows
   use solid_m, only: solid_t, solid_init, solid_set_owned, part_halo_t, state_fields, &
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
     solid_energies, solid_set_energies, solid_set_gravity, solid_state_t, solid_sub_t, &
@@ -101,6 +102,7 @@ module mpi_domain_m
     procedure :: counters => mpi_counters
     procedure :: checkpoint => mpi_checkpoint
     procedure :: snapshot_solids => mpi_snapshot
+    procedure :: bodies_rows => mpi_bodies_rows
     procedure :: finish => mpi_finish
   end type mpi_domain_t
 
@@ -600,6 +602,30 @@ contains
     if (dom%any_error(err)) return
     if (dom%root) call h5_open_rw(out%f, path, err)
   end subroutine mpi_snapshot
+
+  !> The bodies the ranks hold as shares (body_keep_share: mfcd_mpi's deformable bodies)
+  !! into /bodies of the run's file, every rank its rows (run_output_m write_body_rows),
+  !! collectively; rank 0 wrote the rest of each body (write_bodies) and keeps the file.
+  subroutine mpi_bodies_rows(dom, out, bodies, err)
+    class(mpi_domain_t), intent(inout) :: dom
+    type(run_files_t), intent(inout) :: out
+    type(body_t), intent(in) :: bodies(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    character(len=:), allocatable :: path
+    if (.not. any(bodies%row0 > 0)) return
+    path = ''
+    if (dom%root) path = out%f%path
+    call dom%ranks%bcast_text(0, path)
+    if (dom%root) call h5_close(out%f, err)
+    if (dom%any_error(err)) return
+    call h5_open_collective(f, path, dom%mcomm, err)
+    if (dom%any_error(err)) return
+    call write_body_rows(f, bodies, err)
+    call h5_close_collective(f, err)
+    if (dom%any_error(err)) return
+    if (dom%root) call h5_open_rw(out%f, path, err)
+  end subroutine mpi_bodies_rows
 
   !> A checkpoint of the state after step r%n in the serial layout, which any number of
   !! ranks can restart from (the ghost sets of contact and skip_far's schedule start

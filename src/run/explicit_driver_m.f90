@@ -103,6 +103,9 @@ contains
       history_geometry(solids(1)%t%dims%ndim, solids(1)%t%axisym))))
     if (dom%root) call run_files_open(deck, bodies, out, err, restart)
     if (dom%any_error(err)) return
+    ! (on ranks the deformable bodies' rows from every rank's share, collectively)
+    call dom%bodies_rows(out, bodies, err)
+    if (dom%any_error(err)) return
     ! rank 0's whole solids (their sizes and tables; their state when gathered, here for
     ! det(M) fields at t = 0 only)
     needs_state = snapshot_needs_state(deck)

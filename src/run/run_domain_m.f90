@@ -52,6 +52,7 @@ module run_domain_m
     procedure(counters_i), deferred :: counters
     procedure(checkpoint_i), deferred :: checkpoint
     procedure(snapshot_i), deferred :: snapshot_solids
+    procedure(bodies_rows_i), deferred :: bodies_rows
     procedure(finish_i), deferred :: finish
     procedure :: any_error => domain_any_error
     procedure :: agree_error => domain_agree_error
@@ -145,6 +146,16 @@ module run_domain_m
       type(error_t), allocatable, intent(inout) :: err
       type(contact_pair_t), intent(inout), optional :: pairs(:)
     end subroutine snapshot_i
+    !> The rows of the bodies that the ranks hold as shares (body_t row0 > 0: mfcd_mpi's
+    !! deformable bodies) into /bodies of out's file, which rank 0 opened and wrote the
+    !! rest of (run_files_open); collective. A serial run's bodies are whole: nothing.
+    subroutine bodies_rows_i(dom, out, bodies, err)
+      import :: run_domain_t, run_files_t, body_t, error_t
+      class(run_domain_t), intent(inout) :: dom
+      type(run_files_t), intent(inout) :: out
+      type(body_t), intent(in) :: bodies(:)
+      type(error_t), allocatable, intent(inout) :: err
+    end subroutine bodies_rows_i
     subroutine finish_i(dom, solids, pairs, r)
       import :: run_domain_t, solid_t, contact_pair_t, run_record_t
       class(run_domain_t), intent(inout) :: dom
@@ -168,6 +179,7 @@ module run_domain_m
     procedure :: counters => serial_counters
     procedure :: checkpoint => serial_checkpoint
     procedure :: snapshot_solids => serial_snapshot
+    procedure :: bodies_rows => serial_bodies_rows
     procedure :: finish => serial_finish
   end type serial_domain_t
 
@@ -306,6 +318,15 @@ contains
     if (present(pairs) .and. .not. allocated(err)) call self_det_out(out%f, lab, pairs, &
       solids, err)
   end subroutine serial_snapshot
+
+  subroutine serial_bodies_rows(dom, out, bodies, err)
+    class(serial_domain_t), intent(inout) :: dom
+    type(run_files_t), intent(inout) :: out
+    type(body_t), intent(in) :: bodies(:)
+    type(error_t), allocatable, intent(inout) :: err
+    if (.not. dom%root .or. size(bodies) < 0 .or. len(out%f%path) < 0 .or. allocated(err)) &
+      continue
+  end subroutine serial_bodies_rows
 
   subroutine serial_checkpoint(dom, out, bodies, r, solids, pairs, t_loop, err)
     class(serial_domain_t), intent(inout), target :: dom

@@ -17,6 +17,8 @@ not to the bit). Then:
     contact forces and friction work, the reactions;
   - /summary: the same status and step count, the same body measures and energies to the
     bit;
+  - /bodies: every dataset and attribute as the serial run's (on ranks each rank writes
+    its share of a deformable body's rows, rank 0 the rest);
   - the file of each rank count after the first is the same bytes as the first one's, once
     the attributes that record when the run was made and how fast it went (TIMING below,
     /summary/timing) are set to zeros in copies of both (each rank count runs in its own
@@ -196,6 +198,25 @@ def compare(tag, ref, new, record=True, continued=False):
                 bad.append(p)
     check(f"{tag}: {len(paths)} snapshot datasets equal to the serial run's, bit for bit",
           paths and not bad, bad[:8])
+    # the bodies' reference configuration (on ranks each rank writes its share of a
+    # deformable body's rows, rank 0 the rest): every dataset and attribute as serial
+    bad = []
+    with h5py.File(ref, "r") as a, h5py.File(new, "r") as b:
+        items = []
+        a["bodies"].visititems(lambda n, o: items.append((n, o)))
+        for n, o in items:
+            p = "bodies/" + n
+            if p not in b:
+                bad.append(p + " (missing)")
+                continue
+            if isinstance(o, h5py.Dataset) and not (
+                    o.dtype == b[p].dtype and np.array_equal(o[()], b[p][()])):
+                bad.append(p)
+            for k in o.attrs:
+                if not np.array_equal(np.asarray(o.attrs[k]), np.asarray(b[p].attrs.get(k))):
+                    bad.append(f"{p}@{k}")
+    check(f"{tag}: /bodies ({len(items)} groups and datasets) equal to the serial run's",
+          items and not bad, bad[:8])
     with MfcdFile(ref) as fa, MfcdFile(new) as fb:
         ha, hb = fa.history(), fb.history()
         sa, sb = fa.summary, fb.summary
