@@ -588,20 +588,42 @@ contains
     type(contact_pair_t), intent(inout), optional :: pairs(:)
     type(h5file_t) :: f
     character(len=:), allocatable :: path
+    call all_open(dom, out, f, path, err)
+    if (dom%any_error(err)) return
+    call snapshot_write(f, lab, r%t, r%n, solids, err)
+    if (present(pairs) .and. .not. allocated(err)) call self_det_out(f, lab, pairs, solids, &
+      err)
+    call all_close(dom, out, f, path, err)
+  end subroutine mpi_snapshot
+
+  !> A phase where every rank writes the run's file (collectively): rank 0 closes its
+  !! handle and all open the file with MPI-IO as f (path: its name on every rank); err on
+  !! this rank, any_error tells all.
+  subroutine all_open(dom, out, f, path, err)
+    class(mpi_domain_t), intent(inout) :: dom
+    type(run_files_t), intent(inout) :: out
+    type(h5file_t), intent(out) :: f
+    character(len=:), allocatable, intent(out) :: path
+    type(error_t), allocatable, intent(inout) :: err
     path = ''
     if (dom%root) path = out%f%path
     call dom%ranks%bcast_text(0, path)
     if (dom%root) call h5_close(out%f, err)
     if (dom%any_error(err)) return
     call h5_open_collective(f, path, dom%mcomm, err)
-    if (dom%any_error(err)) return
-    call snapshot_write(f, lab, r%t, r%n, solids, err)
-    if (present(pairs) .and. .not. allocated(err)) call self_det_out(f, lab, pairs, solids, &
-      err)
+  end subroutine all_open
+
+  !> The end of all_open's phase: all close f, rank 0 opens the file again for itself.
+  subroutine all_close(dom, out, f, path, err)
+    class(mpi_domain_t), intent(inout) :: dom
+    type(run_files_t), intent(inout) :: out
+    type(h5file_t), intent(inout) :: f
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
     call h5_close_collective(f, err)
     if (dom%any_error(err)) return
     if (dom%root) call h5_open_rw(out%f, path, err)
-  end subroutine mpi_snapshot
+  end subroutine all_close
 
   !> The bodies the ranks hold as shares (body_keep_share: mfcd_mpi's deformable bodies)
   !! into /bodies of the run's file, every rank its rows (run_output_m write_body_rows),
@@ -614,17 +636,10 @@ contains
     type(h5file_t) :: f
     character(len=:), allocatable :: path
     if (.not. any(bodies%row0 > 0)) return
-    path = ''
-    if (dom%root) path = out%f%path
-    call dom%ranks%bcast_text(0, path)
-    if (dom%root) call h5_close(out%f, err)
-    if (dom%any_error(err)) return
-    call h5_open_collective(f, path, dom%mcomm, err)
+    call all_open(dom, out, f, path, err)
     if (dom%any_error(err)) return
     call write_body_rows(f, bodies, err)
-    call h5_close_collective(f, err)
-    if (dom%any_error(err)) return
-    if (dom%root) call h5_open_rw(out%f, path, err)
+    call all_close(dom, out, f, path, err)
   end subroutine mpi_bodies_rows
 
   !> A checkpoint of the state after step r%n in the serial layout, which any number of

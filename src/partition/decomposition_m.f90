@@ -20,8 +20,7 @@
 !! only the entries of its local nodes: it is never evaluated locally.
 module decomposition_m
   use kinds_m, only: wp, i64
-  use sorting_m, only: sort_index
-  use rank_comm_m, only: rank_comm_t
+  use rank_comm_m, only: rank_comm_t, single_rank_t
   use solid_tables_m, only: solid_tables_t, tables_transpose, tables_copy_scalars
   implicit none
   private
@@ -50,75 +49,28 @@ module decomposition_m
 
 contains
 
-  !> The bisection of the points x (ndim, n) into nparts parts: at each level the box is cut
-  !! across its longest extent, at the coordinate that leaves floor(nparts/2)/nparts of its
-  !! points below (points on the cut go above, so a lattice row is never split and the
-  !! parts differ by up to a row).
+  !> The bisection of the points x (ndim, n) into nparts parts (rcb_build_ranks on one
+  !! rank: every point here).
   subroutine rcb_build(x, nparts, tree)
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: nparts
     type(rcb_tree_t), intent(out) :: tree
-    integer, allocatable :: idx(:)
-    integer :: i, next_part
-    tree%nparts = nparts
-    allocate(tree%part(2*nparts), tree%axis(2*nparts), tree%lo(2*nparts), &
-      tree%hi(2*nparts), tree%cut(2*nparts))
-    tree%part = 0
-    tree%axis = 0
-    tree%lo = 0
-    tree%hi = 0
-    tree%cut = 0.0_wp
-    idx = [(i, i = 1, size(x, 2))]
-    tree%nt = 1
-    next_part = 1
-    call split(1, idx, nparts)
-  contains
-    recursive subroutine split(k, set, np)
-      integer, intent(in) :: k, set(:), np
-      integer, allocatable :: order(:)
-      real(wp), allocatable :: key(:)
-      real(wp) :: ext(size(x, 1))
-      integer :: ax, nlo, plo
-      if (np == 1) then
-        tree%part(k) = next_part
-        next_part = next_part + 1
-        return
-      end if
-      ext = 0.0_wp
-      if (size(set) > 0) ext = maxval(x(:, set), dim=2) - minval(x(:, set), dim=2)
-      ax = maxloc(ext, dim=1)   ! the longest, the first of equal ones
-      plo = np/2
-      key = x(ax, set)
-      allocate(order(size(set)))
-      call sort_index(key, order)
-      nlo = int((int(size(set), i64)*plo)/np)
-      ! the cut halfway between the last point below and the first above; equal coordinates
-      ! all go above, so the cut decides for any point, also one not in this set
-      if (nlo > 0 .and. nlo < size(set)) then
-        tree%cut(k) = 0.5_wp*(key(order(nlo)) + key(order(nlo + 1)))
-      else if (nlo == 0) then
-        tree%cut(k) = -huge(1.0_wp)
-      else
-        tree%cut(k) = huge(1.0_wp)
-      end if
-      tree%axis(k) = ax
-      tree%lo(k) = tree%nt + 1
-      tree%hi(k) = tree%nt + 2
-      tree%nt = tree%nt + 2
-      call split(tree%lo(k), pack(set, x(ax, set) < tree%cut(k)), plo)
-      call split(tree%hi(k), pack(set, .not. (x(ax, set) < tree%cut(k))), np - plo)
-    end subroutine split
+    type(single_rank_t) :: one
+    call rcb_build_ranks(x, nparts, one, tree)
   end subroutine rcb_build
 
-  !> rcb_build's tree over points that the ranks of comm share: x holds this rank's share
-  !! (every point on exactly one rank, any share, none at all too), and every rank gets the
-  !! tree rcb_build makes of all of them, cut for cut (the same axes, the same cut values,
-  !! the same numbering), while no rank holds more than its share: the extents are maxima
-  !! over the ranks, and each cut's two order statistics (the nlo-th and nlo+1-th
-  !! coordinate along the axis, whose midpoint is the cut) are found by bisection over the
-  !! coordinates' bit patterns, ordered as the numbers are (order_statistics: at most 65
-  !! counts summed over the ranks a cut). A rank's work is its share's counts; the tree's
-  !! nparts - 1 cuts are made one after the other, in rcb_build's order. Collective.
+  !> The bisection into nparts parts of the points that the ranks of comm share: x holds
+  !! this rank's share (every point on exactly one rank, any share, none at all too). At
+  !! each level the box is cut across its longest extent (the first of equal ones), at the
+  !! coordinate that leaves floor(np/2)/np of its points below: halfway between the nlo-th
+  !! and the nlo+1-th coordinate along that axis (points on the cut go above, so a lattice
+  !! row is never split and the parts differ by up to a row; the cut decides for any point,
+  !! also one not in the set). Every rank gets the same tree whatever the shares, while no
+  !! rank holds more than its share: the extents are maxima over the ranks, and each cut's
+  !! two order statistics are found by bisection over the coordinates' bit patterns,
+  !! ordered as the numbers are (order_statistics: at most 65 counts summed over the ranks
+  !! a cut). A rank's work is its share's counts; the nparts - 1 cuts are made one after
+  !! the other, depth first. Collective.
   subroutine rcb_build_ranks(x, nparts, comm, tree)
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: nparts
