@@ -142,8 +142,11 @@ contains
     integer(i64), intent(in) :: r(2)
     class(rank_comm_t), intent(inout) :: comm
     real(wp), intent(out) :: v(2)
-    integer(i64) :: key(size(vals)), klo(2), khi(2), mid(2), c(2)
+    ! (on the heap: a rank's share may be millions of values)
+    integer(i64), allocatable :: key(:)
+    integer(i64) :: klo(2), khi(2), mid(2), c(2)
     integer :: i, j
+    allocate(key(size(vals)))
     do i = 1, size(vals)
       key(i) = ordered_key(vals(i))
     end do
