@@ -7,7 +7,7 @@ module rank_comm_m
   use kinds_m, only: wp, i64
   implicit none
   private
-  public :: rank_comm_t, single_rank_t
+  public :: rank_comm_t, single_rank_t, share_first
 
   !> The ranks: this one (me, from 0) of nranks. Every procedure is collective.
   type, abstract :: rank_comm_t
@@ -85,6 +85,15 @@ module rank_comm_m
   end type single_rank_t
 
 contains
+
+  !> The first of rank r's share of n items among nranks ranks, the contiguous runs
+  !! n*r/nranks + 1 ... n*(r + 1)/nranks (n + 1 for r = nranks: the end of the last run).
+  !! The shares a body's particles are split by before the bisection exists (its tree,
+  !! its fingerprint, its rows in /bodies).
+  pure integer function share_first(n, r, nranks) result(i)
+    integer, intent(in) :: n, r, nranks
+    i = int((int(n, i64)*r)/nranks) + 1
+  end function share_first
 
   subroutine single_max(c, v)
     class(single_rank_t), intent(inout) :: c

@@ -3,11 +3,12 @@
 !! the ordered boundary polylines contact needs (master surface segments, eqs. 89-92), plus
 !! the window/basis choice and the exact geometry when a generator made it.
 module body_m
-  use kinds_m, only: wp, i64
+  use kinds_m, only: wp
+  use rank_comm_m, only: share_first
   use geometry_m, only: geometry_t
   implicit none
   private
-  public :: body_t, name_len, max_cell_vertices, body_keep_share, share_first
+  public :: body_t, name_len, max_cell_vertices, body_keep_share
 
   integer, parameter :: name_len = 64
   !> Vertices of one integration cell at most (a clipped lattice cell, a file's cell)
@@ -110,11 +111,4 @@ contains
     if (allocated(b%loop_closed)) deallocate(b%loop_closed)
     if (allocated(b%facets)) deallocate(b%facets)
   end subroutine body_keep_share
-
-  !> The first of rank r's share of n items (of nranks): n*r/nranks + 1 (n + 1 for r =
-  !! nranks).
-  pure integer function share_first(n, r, nranks) result(i)
-    integer, intent(in) :: n, r, nranks
-    i = int((int(n, i64)*r)/nranks) + 1
-  end function share_first
 end module body_m

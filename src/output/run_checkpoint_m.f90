@@ -36,7 +36,7 @@ module run_checkpoint_m
     solid_account_sums
   use exact_sum_m, only: exact_sum_t, exact_value, exact_add, exact_pack, exact_unpack, &
     exact_pack_size, exact_allsum_many
-  use rank_comm_m, only: rank_comm_t
+  use rank_comm_m, only: rank_comm_t, share_first
   use contact_pair_m, only: contact_pair_t
   use run_report_m, only: run_record_t
   use dynamic_output_m, only: history_t, history_width, history_geometry, output_rows
@@ -345,12 +345,11 @@ contains
     class(rank_comm_t), intent(inout) :: comm
     type(exact_sum_t) :: a(2*size(bodies))
     real(wp) :: v(2*size(bodies))
-    integer :: k, i, j, i0, i1
+    integer :: k, i, j
     do k = 1, size(bodies)
       associate (b => bodies(k))
-        i0 = int((int(b%np, i64)*comm%me)/comm%nranks) + 1
-        i1 = int((int(b%np, i64)*(comm%me + 1))/comm%nranks)
-        do i = i0, i1
+        do i = share_first(b%np, comm%me, comm%nranks), &
+          share_first(b%np, comm%me + 1, comm%nranks) - 1
           do j = 1, size(b%x, 1)
             call exact_add(a(2*k - 1), b%x(j, i))
           end do

@@ -90,7 +90,7 @@ contains
         nd = b%ndim
         g = '/bodies/'//trim(b%name)
         call h5_group(f, g, err)
-        if (b%row0 == 0) call body_rows(f, b, err)
+        if (b%row0 == 0 .and. .not. allocated(err)) call body_rows(f, b, err)
         if (.not. allocated(err)) call h5_write(f, g//'/loop_ptr', b%loop_ptr, '1', err, &
           'CSR pointer of boundary polylines (1-based, nloops + 1)')
         if (.not. allocated(err)) call h5_write(f, g//'/loop_idx', b%loop_idx, '1', err, &
@@ -100,7 +100,7 @@ contains
           'surface: particle (node) indices (0-based) of each triangle, counter-clockwise '// &
           'seen from outside (3, nf)')
         if (.not. allocated(err)) call h5_attr(f, g, 'discretization', &
-          trim(merge('fem ', 'rkpm', b%ncells > 0 .or. allocated(b%cells))), err)
+          trim(merge('fem ', 'rkpm', allocated(b%cells))), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'shape', trim(b%shape), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'kernel', trim(kernel_names(b%kid)), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'window', &
@@ -139,7 +139,7 @@ contains
     type(body_t), intent(in) :: b
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: gid(:), gc(:), flags(:), cells0(:, :)
-    integer :: i, n0, c0
+    integer :: i, n0, c0, ne
     character(len=:), allocatable :: g
     character(len=3) :: vunit
     g = '/bodies/'//trim(b%name)
@@ -158,17 +158,20 @@ contains
     if (.not. allocated(err)) call h5_write_rows(f, g//'/boundary', flags, gid, b%np, '1', &
       err, '1 for boundary particles')
     if (.not. allocated(b%cells) .or. allocated(err)) return
+    ! (a share's elements are cell0 ... of ncells; a whole body's all of its cells)
     c0 = max(b%cell0, 1)
+    ne = b%ncells
+    if (b%cell0 == 0) ne = size(b%cells, 2)
     gc = [(c0 + i - 1, i = 1, size(b%cells, 2))]
     cells0 = b%cells - 1
     if (b%ndim == 3) then
-      call h5_write_rows(f, g//'/tetrahedra', cells0, gc, max(b%ncells, size(b%cells, 2)), &
-        '1', err, 'linear tetrahedra (averaged nodal pressure): node indices (0-based, as '// &
-        'XDMF reads them), positive volume (4, ne)')
+      call h5_write_rows(f, g//'/tetrahedra', cells0, gc, ne, '1', err, 'linear '// &
+        'tetrahedra (averaged nodal pressure): node indices (0-based, as XDMF reads them), '// &
+        'positive volume (4, ne)')
     else
-      call h5_write_rows(f, g//'/triangles', cells0, gc, max(b%ncells, size(b%cells, 2)), &
-        '1', err, 'CST4 elements: node indices (0-based, as XDMF reads them) of each '// &
-        'triangle, counter-clockwise (3, ne)')
+      call h5_write_rows(f, g//'/triangles', cells0, gc, ne, '1', err, 'CST4 elements: '// &
+        'node indices (0-based, as XDMF reads them) of each triangle, counter-clockwise '// &
+        '(3, ne)')
     end if
   end subroutine body_rows
 end module run_output_m

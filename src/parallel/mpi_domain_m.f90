@@ -37,7 +37,7 @@ module mpi_domain_m
     local_part_sets, local_part_rows
   use solid_tables_m, only: solid_tables_t, tables_copy_scalars, tables_move, tables_transpose
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
-  use rank_comm_m, only: rank_comm_t
+  use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_value, exact_allmerge, exact_allsum_many
   use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
   use contact_pair_m, only: contact_pair_t, contact_stats_t, stat_sums, stats_values, &
@@ -272,8 +272,8 @@ contains
     associate (g => dom%gs(k), lp => dom%lp(k), h => dom%halos(k))
       ! (the tree of the set-up's region_box: each rank gives its share of the nodes)
       associate (r => dom%ranks%me, nr => dom%ranks%nranks)
-        call rcb_build_ranks(g%x0(:, int((int(g%np, i64)*r)/nr) + 1: &
-          int((int(g%np, i64)*(r + 1))/nr)), nr, dom%ranks, tree)
+        call rcb_build_ranks(g%x0(:, share_first(g%np, r, nr):share_first(g%np, r + 1, nr) &
+          - 1), nr, dom%ranks, tree)
       end associate
       allocate(node_part(g%np), point_part(g%nq))
       do i = 1, g%np
@@ -312,31 +312,29 @@ contains
       owner = node_part - 1
       call halo_plan_build(dom%mcomm, lp, node_part, point_part, h%plan, err)
       if (allocated(err)) return
-      associate (n => lp%nglob)
-        call solid_init(p, g%name, lp%t, x0, g%mat_params, 0.0_wp, &
-          spread(0.0_wp, 1, size(x0, 1)), pres, vpres, err)
-        if (allocated(err)) return
-        call solid_set_owned(p, lp%own_point, lp%own_node)
-        p%part%nglob = lp%nglob
-        p%part%qglob = lp%qglob
-        p%part%np_whole = g%np
-        p%part%nq_whole = g%nq
-        ! the whole solid's options: RKPM's SCNI stabilization (elements have none), the
-        ! health limits
-        p%opt = g%opt
-        call solid_set_gravity(p, p%opt%gravity)
-        if (allocated(bc_of)) call move_alloc(bc_of, p%bc_of)
-        p%state%v = v
-        p%acc%ke0 = 0.0_wp
-        do j = 1, size(p%part%own_n)
-          i = p%part%own_n(j)
-          p%acc%ke0 = p%acc%ke0 + 0.5_wp*p%t%mass(i)*sum(p%state%v(:, i)**2)
-        end do
-        p%acc%ke = p%acc%ke0
-        p%spacing = g%spacing
-        p%dt_cal = g%dt_cal
-        allocate(h%w(2*p%t%dims%ndim, p%np))
-      end associate
+      call solid_init(p, g%name, lp%t, x0, g%mat_params, 0.0_wp, &
+        spread(0.0_wp, 1, size(x0, 1)), pres, vpres, err)
+      if (allocated(err)) return
+      call solid_set_owned(p, lp%own_point, lp%own_node)
+      p%part%nglob = lp%nglob
+      p%part%qglob = lp%qglob
+      p%part%np_whole = g%np
+      p%part%nq_whole = g%nq
+      ! the whole solid's options: RKPM's SCNI stabilization (elements have none), the
+      ! health limits
+      p%opt = g%opt
+      call solid_set_gravity(p, p%opt%gravity)
+      if (allocated(bc_of)) call move_alloc(bc_of, p%bc_of)
+      p%state%v = v
+      p%acc%ke0 = 0.0_wp
+      do j = 1, size(p%part%own_n)
+        i = p%part%own_n(j)
+        p%acc%ke0 = p%acc%ke0 + 0.5_wp*p%t%mass(i)*sum(p%state%v(:, i)**2)
+      end do
+      p%acc%ke = p%acc%ke0
+      p%spacing = g%spacing
+      p%dt_cal = g%dt_cal
+      allocate(h%w(2*p%t%dims%ndim, p%np))
     end associate
   end subroutine make_part
 

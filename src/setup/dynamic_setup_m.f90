@@ -6,12 +6,12 @@
 module dynamic_setup_m
   use, intrinsic :: iso_fortran_env, only: output_unit
   use omp_lib, only: omp_get_wtime
-  use kinds_m, only: wp, i64
+  use kinds_m, only: wp
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
   use deck_m, only: deck_t, body_spec_t
   use body_m, only: body_t
-  use rank_comm_m, only: rank_comm_t
+  use rank_comm_m, only: rank_comm_t, share_first
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
@@ -357,23 +357,11 @@ contains
     end if
     ! (each rank gives its share of the particles, a contiguous run of the numbering, as
     ! the bodies will be generated per part: the tree is the same, rcb_build's)
-    call rcb_build_ranks(b%x(:, share_lo(b%np, part):share_lo(b%np, part, 1) - 1), &
-      part%nranks, part%comm, tree)
+    call rcb_build_ranks(b%x(:, share_first(b%np, part%me, part%nranks): &
+      share_first(b%np, part%me + 1, part%nranks) - 1), part%nranks, part%comm, tree)
     has = part%me > 0 .or. .not. part%root_whole
     if (has) call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
   end function region_box
-
-  !> The first of this rank's share of n particles (the next rank's with next = 1): the
-  !! contiguous runs n*r/nranks + 1 ... n*(r + 1)/nranks, r = me (from 0).
-  pure integer function share_lo(n, part, next) result(i)
-    integer, intent(in) :: n
-    type(setup_part_t), intent(in) :: part
-    integer, intent(in), optional :: next
-    integer :: r
-    r = part%me
-    if (present(next)) r = r + next
-    i = int((int(n, i64)*r)/part%nranks) + 1
-  end function share_lo
 
   !> The lumped masses of an RKPM solid whole on every rank of a decomposed set-up: a rank that
   !! integrated only the cells its box needs (tl_build_3d's and tl_build's box) has the masses of
