@@ -572,14 +572,15 @@ contains
     end associate
     s%skip_far = .true.
     s%travel = 0.0_wp
-    allocate(s%due(s%np), s%d_scr(size(solids(s%isolid)%state%d, 1), s%np))
+    allocate(s%due(s%np), s%d_scr(solids(s%isolid)%t%dims%ndim, s%np))
     s%due = -1.0_wp
     if (allocated(s%cand)) then
       allocate(s%clear(s%np), s%x_pass(size(s%x_pred, 1), s%np))
       s%clear = 0.0_wp
       s%x_pass = s%x_pred
     end if
-    s%d_scr = solids(s%isolid)%state%d
+    ! (the coefficients at the set-up: zero; a solid on ranks has none yet, a shell)
+    s%d_scr = 0.0_wp
     s%near = .true.
   end subroutine skip_far_init
 

@@ -253,7 +253,7 @@ contains
     type(tet4_mesh_t) :: tmesh
     type(rcb_tree_t) :: tree
     real(wp) :: alpha, box(3, 2)
-    logical :: split
+    logical :: split, shell
     bs = deck%bodies(k)
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
     if (allocated(b%cells) .and. b%ndim == 3) then
@@ -309,8 +309,12 @@ contains
     call kinematic_masks(deck, k, b, pres, vpres, bc_of, err)
     if (allocated(err)) return
     if (b%ndim == 3) call symmetry_holds(b, pres, vpres)
+    ! on ranks a shell (but on rank 0 when it keeps the whole solids for its det(M)
+    ! fields): what the split reads of the whole solid, without its state
+    shell = .false.
+    if (present(part)) shell = part%me > 0 .or. .not. part%root_whole
     call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
-      bs%velocity(1:b%ndim), pres, vpres, e2)
+      bs%velocity(1:b%ndim), pres, vpres, e2, shell)
     if (allocated(e2)) then
       call set_error(err, where//": "//e2%message)
       return
@@ -320,7 +324,8 @@ contains
     s%spacing = minval(b%spacing(1:b%ndim))
     call solid_set_gravity(s, deck%run%gravity(1:b%ndim))
     if (bs%angular_velocity /= 0.0_wp) call solid_add_spin(s, bs%angular_velocity)
-    if (deck%solver%skip_quiet) then
+    ! (quiet points are skipped by the serial driver only: a part has none)
+    if (deck%solver%skip_quiet .and. .not. shell) then
       call solid_quiet_init(s, bs%velocity(1:b%ndim))
       ! quiet points are those still in the uniform initial motion: under gravity or a
       ! spin no point is (a free fall strains nothing, but the skipping does not know it)

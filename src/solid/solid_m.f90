@@ -282,7 +282,11 @@ contains
   !! only), the initial velocity v0 (ndim) (m/s) and the kinematic conditions pres/vpres
   !! (ndim, np). Components on the symmetry axis (t%fix1) are held at zero in addition.
   !! The shapes of the state are those of the tables' geometry (t%dims).
-  subroutine solid_init(s, name, t, x0, params, alpha, v0, pres, vpres, err)
+  !! shell: the whole solid of a decomposed set-up, which only the split reads (mpi_domain_m
+  !! make_part: reference positions, kinematic conditions, velocities, tables, material,
+  !! options): no state beyond the velocities, no work arrays, no stiffness measures, so
+  !! that no rank holds the whole body's state (it makes its part's at the split).
+  subroutine solid_init(s, name, t, x0, params, alpha, v0, pres, vpres, err, shell)
     type(solid_t), intent(out) :: s
     character(len=*), intent(in) :: name
     type(solid_tables_t), intent(inout) :: t
@@ -292,8 +296,11 @@ contains
     logical, intent(in) :: pres(:, :)
     real(wp), intent(in) :: vpres(:, :)
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: shell
     integer :: i, np, nq, nd, nf, nc
-    logical :: plane, space
+    logical :: plane, space, whole
+    whole = .true.
+    if (present(shell)) whole = .not. shell
     plane = t%dims%ndim == dims_plane%ndim .and. t%dims%nf == dims_plane%nf .and. &
       t%dims%ncomp == dims_plane%ncomp
     space = t%dims%ndim == dims_3d%ndim .and. t%dims%nf == dims_3d%nf .and. &
@@ -318,6 +325,17 @@ contains
     s%nq = nq
     s%opt%stab_normal = alpha*(s%mat%lambda + 2.0_wp*s%mat%g)
     s%opt%stab_shear = alpha*s%mat%g
+    if (.not. whole) then
+      s%x0 = x0
+      allocate(s%state%v(nd, np))
+      do i = 1, np
+        s%state%v(:, i) = v0
+      end do
+      call solid_conditions(s, pres, vpres)
+      s%acc%ke0 = solid_kinetic_energy(s)
+      s%acc%ke = s%acc%ke0
+      return
+    end if
     allocate(s%stab(s%t%dims%nstab, nq), s%estab(nq), s%state%work_q(2, nq), &
       s%state%work_n(4, np))
     s%stab = 0.0_wp
@@ -349,11 +367,7 @@ contains
     do i = 1, np
       s%state%v(:, i) = v0
     end do
-    s%pres = pres
-    s%vpres = vpres
-    s%pres(1, :) = s%pres(1, :) .or. s%t%fix1
-    where (s%t%fix1) s%vpres(1, :) = 0.0_wp
-    where (s%pres) s%state%v = s%vpres
+    call solid_conditions(s, pres, vpres)
     allocate(s%state%f(nf, nq), s%state%f_old(nf, nq), s%state%p(nf, nq), &
       s%state%p_old(nf, nq), s%dr(nc, nq), s%spin(merge(3, 1, space), nq), s%dwp(nq))
     do i = 1, nq
@@ -381,6 +395,19 @@ contains
     s%acc%ke = s%acc%ke0
     call step_metric(s)
   end subroutine solid_init
+
+  !> The kinematic conditions pres/vpres of solid s, with the components on the symmetry
+  !! axis (t%fix1) held at zero, and its velocities where they are prescribed.
+  subroutine solid_conditions(s, pres, vpres)
+    type(solid_t), intent(inout) :: s
+    logical, intent(in) :: pres(:, :)
+    real(wp), intent(in) :: vpres(:, :)
+    s%pres = pres
+    s%vpres = vpres
+    s%pres(1, :) = s%pres(1, :) .or. s%t%fix1
+    where (s%t%fix1) s%vpres(1, :) = 0.0_wp
+    where (s%pres) s%state%v = s%vpres
+  end subroutine solid_conditions
 
   !> The reference stiffness measure of each integration point L for the time-step
   !! estimate: with the reference gradients g of the shape functions touching L (both
@@ -1500,6 +1527,8 @@ contains
     gv = 0.0_wp
     gv(1:nd) = g(1:nd)
     s%opt%gravity = gv
+    ! (a shell, solid_init's, has no forces: its part's are set at the split)
+    if (.not. allocated(s%fext)) return
     do i = 1, s%np
       s%fext(:, i) = s%t%mass(i)*s%opt%gravity(1:nd)
     end do
