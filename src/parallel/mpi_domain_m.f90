@@ -35,7 +35,7 @@ module mpi_domain_m
     solid_account_sums
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_part, local_part_t, &
     local_part_sets, local_part_rows
-  use solid_tables_m, only: solid_tables_t, tables_copy_scalars, tables_move, tables_transpose
+  use solid_tables_m, only: solid_tables_t, tables_copy_scalars, tables_transpose
   use halo_m, only: halo_plan_t, halo_plan_build, halo_nodes, halo_points
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_value, exact_allmerge, exact_allsum_many
@@ -234,13 +234,6 @@ contains
     keeps_whole = dom%root .and. dom%root_whole
   end function keeps_whole
 
-  !> Tables t reduced to their scalars (the arrays freed).
-  subroutine tables_release(t)
-    type(solid_tables_t), intent(inout) :: t
-    type(solid_tables_t) :: gone
-    call tables_move(t, gone)
-  end subroutine tables_release
-
   !> The whole solid g reduced to its name, sizes and the scalars of its tables (what the
   !! XDMF file and the summary say of it; the arrays freed).
   subroutine release_whole(g)
@@ -303,11 +296,11 @@ contains
         deallocate(g%x0, g%pres, g%vpres, g%state%v)
         if (allocated(g%bc_of)) deallocate(g%bc_of)
       end if
-      call local_part_rows(g%t, lp, transpose=.false.)
-      ! the whole solid's tables are done with (but on rank 0 when its det(M) fields draw
-      ! on them): freed before the part's transpose, so that the split's peak holds one
-      ! set of rows, the part's
-      if (.not. keeps_whole(dom)) call tables_release(g%t)
+      ! the whole solid's tables (the region's rows) are freed as the part's rows are
+      ! copied, array by array, and before the part's transpose (but on rank 0 when its
+      ! det(M) fields draw on them), so that the split's peak holds one set of rows, the
+      ! part's, and its transpose
+      call local_part_rows(g%t, lp, transpose=.false., release=.not. keeps_whole(dom))
       call tables_transpose(lp%t)
       owner = node_part - 1
       call halo_plan_build(dom%mcomm, lp, node_part, point_part, h%plan, err)

@@ -21,7 +21,8 @@
 module decomposition_m
   use kinds_m, only: wp, i64
   use rank_comm_m, only: rank_comm_t, single_rank_t
-  use solid_tables_m, only: solid_tables_t, tables_transpose, tables_copy_scalars
+  use solid_tables_m, only: solid_tables_t, tables_transpose, tables_copy_scalars, &
+    tables_move
   implicit none
   private
   public :: rcb_tree_t, rcb_build, rcb_build_ranks, rcb_part, rcb_box, local_part_t, &
@@ -241,7 +242,7 @@ contains
   !! owners of t's nodes and points (see the module's header). transpose .false.: without
   !! the local tables' transpose (the caller frees t first, then transposes).
   subroutine local_part_build(t, node_part, point_part, r, lp, transpose)
-    type(solid_tables_t), intent(in) :: t
+    type(solid_tables_t), intent(inout) :: t
     integer, intent(in) :: node_part(:), point_part(:), r
     type(local_part_t), intent(out) :: lp
     logical, intent(in), optional :: transpose
@@ -302,20 +303,25 @@ contains
   end subroutine local_part_sets
 
   !> The local tables of rank lp%rank's share of t (local_part_build), its sets made
-  !! (local_part_sets).
-  subroutine local_part_rows(t, lp, transpose)
-    type(solid_tables_t), intent(in) :: t
+  !! (local_part_sets). release: t's arrays are freed as their rows are copied, each array
+  !! once the part's copy of it is made (t keeps its scalars), so that the part's rows and
+  !! t's are never held whole together (mpi_domain_m make_part: the split's peak).
+  subroutine local_part_rows(t, lp, transpose, release)
+    type(solid_tables_t), intent(inout) :: t
     type(local_part_t), intent(inout) :: lp
-    logical, intent(in), optional :: transpose
-    integer, allocatable :: nloc(:)
+    logical, intent(in), optional :: transpose, release
+    integer, allocatable :: nloc(:), src(:)
     integer :: q, e, j, k, nql, npl, nnz
-    logical :: with_gs
+    logical :: with_gs, free
+    free = .false.
+    if (present(release)) free = release
     nql = size(lp%qglob)
     npl = size(lp%nglob)
     allocate(nloc(t%np))
     nloc = 0
     nloc(lp%nglob) = [(k, k = 1, npl)]
-    ! the local tables: rows of the local points over their local nodes, in global order
+    ! the local tables: rows of the local points over their local nodes, in global order;
+    ! src: each local entry's entry of t
     nnz = 0
     do k = 1, nql
       q = lp%qglob(k)
@@ -327,8 +333,19 @@ contains
       call tables_copy_scalars(t, u)
       u%np = npl
       u%nq = nql
-      allocate(u%ptr(nql + 1), u%nbr(nnz), u%g(t%dims%ngrad, nnz), u%h(nnz))
-      if (with_gs) allocate(u%gs(t%dims%ngrad, nnz))
+      allocate(u%ptr(nql + 1), u%nbr(nnz), src(nnz))
+      u%ptr(1) = 1
+      nnz = 0
+      do k = 1, nql
+        q = lp%qglob(k)
+        do e = t%ptr(q), t%ptr(q + 1) - 1
+          if (nloc(t%nbr(e)) == 0) cycle
+          nnz = nnz + 1
+          u%nbr(nnz) = nloc(t%nbr(e))
+          src(nnz) = e
+        end do
+        u%ptr(k + 1) = nnz + 1
+      end do
       u%xq = t%xq(:, lp%qglob)
       u%owner = t%owner(lp%qglob)
       ! (a ghost point whose owner node is not local: -1; 0 is a point without an owner)
@@ -338,20 +355,6 @@ contains
       if (allocated(t%ws)) u%ws = t%ws(:, lp%qglob)
       u%mass = t%mass(lp%nglob)
       u%fix1 = t%fix1(lp%nglob)
-      u%ptr(1) = 1
-      nnz = 0
-      do k = 1, nql
-        q = lp%qglob(k)
-        do e = t%ptr(q), t%ptr(q + 1) - 1
-          if (nloc(t%nbr(e)) == 0) cycle
-          nnz = nnz + 1
-          u%nbr(nnz) = nloc(t%nbr(e))
-          u%g(:, nnz) = t%g(:, e)
-          u%h(nnz) = t%h(e)
-          if (with_gs) u%gs(:, nnz) = t%gs(:, e)
-        end do
-        u%ptr(k + 1) = nnz + 1
-      end do
       ! position table rows of the local nodes over their local neighbours (exact for the
       ! owned nodes, whose neighbours are all local)
       if (allocated(t%pptr)) then
@@ -375,10 +378,34 @@ contains
           end do
         end do
       end if
+      if (free) call free_rows(t)
+      ! the entries' values, one array at a time
+      u%g = t%g(:, src)
+      if (free) deallocate(t%g)
+      u%h = t%h(src)
+      if (free) deallocate(t%h)
+      if (with_gs) then
+        u%gs = t%gs(:, src)
+        if (free) deallocate(t%gs)
+      end if
     end associate
     if (present(transpose)) then
       if (.not. transpose) return
     end if
     call tables_transpose(lp%t)
   end subroutine local_part_rows
+
+  !> Tables t without their rows' structure and their arrays over points and nodes (what
+  !! local_part_rows has copied before the entries' values): those values stay.
+  subroutine free_rows(t)
+    type(solid_tables_t), intent(inout) :: t
+    type(solid_tables_t) :: kept, gone
+    call move_alloc(t%g, kept%g)
+    call move_alloc(t%h, kept%h)
+    call move_alloc(t%gs, kept%gs)
+    call tables_move(t, gone)
+    call move_alloc(kept%g, t%g)
+    call move_alloc(kept%h, t%h)
+    call move_alloc(kept%gs, t%gs)
+  end subroutine free_rows
 end module decomposition_m
