@@ -50,6 +50,7 @@ module contact_pair_m
   use rank_comm_m, only: rank_comm_t
   use solid_tables_m, only: solid_tables_t
   use exact_sum_m, only: exact_sum_t, exact_add, exact_merge, exact_value
+  use sorting_m, only: sort_index
   implicit none
   private
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
@@ -399,7 +400,9 @@ contains
       call check_3d(prm, bs, axisym, err)
       if (allocated(err)) return
     end if
-    call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err)
+    ! (a slave against a rigid master is never a master: no det(M), no surface of its own)
+    call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err, &
+      slave_only=isolid_m == 0 .and. .not. p%self)
     if (allocated(err)) return
     call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
     if (allocated(err)) return
@@ -477,7 +480,10 @@ contains
     end if
   end subroutine check_3d
 
-  subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err)
+  !> Side s of a pair over body b (solid isolid, 0: rigid). slave_only: the slave against a
+  !! rigid master, which only the master's det(M), surface and buckets are read against
+  !! (contact_correct): without a cloud, det(M) measures or surface of its own.
+  subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err, slave_only)
     type(side_t), intent(out) :: s
     type(body_t), intent(in) :: b
     integer, intent(in) :: isolid
@@ -485,14 +491,24 @@ contains
     logical, intent(in) :: axisym
     real(wp), intent(in) :: eps_cr, eps_rel
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: slave_only
+    logical :: own
+    real(wp) :: rmax(3)
+    own = .true.
+    if (present(slave_only)) own = .not. slave_only
     s%name = b%name
     s%np = b%np
     s%isolid = isolid
-    call body_cloud(b, s%cloud, err)
-    if (allocated(err)) return
-    s%plateau = body_plateau(b, s%cloud)
-    s%threshold = detection_threshold(eps_cr, eps_rel, s%plateau)
-    s%surface_det = surface_det_median(b, s%cloud)
+    rmax = 0.0_wp
+    if (b%np > 0) rmax(1:b%ndim) = maxval(b%rho, dim=2)
+    if (own) then
+      call body_cloud(b, s%cloud, err)
+      if (allocated(err)) return
+      s%plateau = body_plateau(b, s%cloud)
+      s%threshold = detection_threshold(eps_cr, eps_rel, s%plateau)
+      s%surface_det = surface_det_median(b, s%cloud)
+      rmax = s%cloud%rmax
+    end if
     s%ndim = b%ndim
     if (b%ndim == 3) then
       if (.not. allocated(b%facets)) then
@@ -501,21 +517,21 @@ contains
           "box, an extruded polygon or a cylinder")
         return
       end if
-      call surface3d_build(s%surf3, b%x, b%facets, err)
+      if (own) call surface3d_build(s%surf3, b%x, b%facets, err)
       if (allocated(err)) then
         err%message = "body '"//trim(b%name)//"': "//err%message
         return
       end if
       allocate(s%bary(3, b%np))
       s%bary = 0.0_wp
-    else
+    else if (own) then
       call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
         axis_fraction*minval(b%spacing(1:b%ndim)), err)
       if (allocated(err)) return
     end if
-    s%lo = minval(b%x, dim=2) - s%cloud%rmax(1:b%ndim)
-    s%hi = maxval(b%x, dim=2) + s%cloud%rmax(1:b%ndim)
-    if (b%ndim == 2) call nts_build(s%buckets, s%surface)
+    s%lo = minval(b%x, dim=2) - rmax(1:b%ndim)
+    s%hi = maxval(b%x, dim=2) + rmax(1:b%ndim)
+    if (b%ndim == 2 .and. own) call nts_build(s%buckets, s%surface)
     allocate(s%x_old(b%ndim, b%np), s%x_pred(b%ndim, b%np), s%fphys(b%ndim, b%np), &
       s%active(b%np), s%seg(b%np), s%xi(b%np), s%imass(b%np), s%gap(b%np), s%slip(b%np), &
       s%nrm(b%ndim, b%np), s%tng(b%ndim, b%np), s%share(b%np))
@@ -623,6 +639,7 @@ contains
     type(rk_cloud_t), intent(in) :: c
     real(wp) :: dmed
     real(wp), allocatable :: dets(:)
+    integer, allocatable :: idx(:)
     integer :: i, n
     allocate(dets(count(b%boundary)))
     n = 0
@@ -633,25 +650,11 @@ contains
     end do
     dmed = 0.0_wp
     if (n == 0) return
-    call sort_in_place(dets(1:n))
-    dmed = dets((n + 1)/2)
+    ! (a heap sort: the insertion sort this was took minutes on a surface of 10^5)
+    allocate(idx(n))
+    call sort_index(dets(1:n), idx)
+    dmed = dets(idx((n + 1)/2))
   end function surface_det_median
-
-  pure subroutine sort_in_place(a)
-    real(wp), intent(inout) :: a(:)
-    integer :: i, j
-    real(wp) :: v
-    do i = 2, size(a)
-      v = a(i)
-      j = i - 1
-      do while (j >= 1)
-        if (a(j) <= v) exit
-        a(j + 1) = a(j)
-        j = j - 1
-      end do
-      a(j + 1) = v
-    end do
-  end subroutine sort_in_place
 
   !> Contact corrections of pair p for the step dt: the coefficients d (predicted by eq. 64
   !! from d_old) and a_n of the deformable bodies in solids are corrected in place; the
