@@ -222,6 +222,11 @@ module contact_pair_m
     logical :: listed = .false.
     integer :: nlist = 0
     integer, allocatable :: list(:)
+    !> A slave against a rigid master on a rank of a decomposed set-up (side_init's rows):
+    !! the numbers in the whole body of the particles the arrays hold, ascending (the
+    !! rank's region), and the whole body's count; unallocated: every particle, in order
+    integer, allocatable :: glob(:)
+    integer :: np_whole = 0
   end type side_t
 
   !> Distributed memory, one side of a pair whose master deforms, on one rank
@@ -354,7 +359,8 @@ contains
   !> Pair p between the slave body bs and the master body bm; isolid_s, isolid_m index their
   !! solids in solids (0: the body is rigid). Errors name the variable; the caller adds the
   !! deck and group.
-  subroutine contact_pair_init(p, prm, bs, isolid_s, bm, isolid_m, solids, axisym, err)
+  subroutine contact_pair_init(p, prm, bs, isolid_s, bm, isolid_m, solids, axisym, err, &
+    rows)
     type(contact_pair_t), intent(out) :: p
     type(contact_params_t), intent(in) :: prm
     type(body_t), intent(in) :: bs, bm
@@ -362,6 +368,9 @@ contains
     type(solid_t), intent(in) :: solids(:)
     logical, intent(in) :: axisym
     type(error_t), allocatable, intent(inout) :: err
+    !> a rank's region of the slave (ascending numbers in bs; side_init's rows): the slave
+    !! side of a pair with a rigid master holds these particles only
+    integer, intent(in), optional :: rows(:)
     integer :: j
     real(wp) :: best
     p%eps_cr = prm%eps_cr
@@ -401,8 +410,13 @@ contains
       if (allocated(err)) return
     end if
     ! (a slave against a rigid master is never a master: no det(M), no surface of its own)
-    call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err, &
-      slave_only=isolid_m == 0 .and. .not. p%self)
+    if (present(rows) .and. isolid_m == 0 .and. .not. p%self) then
+      call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err, &
+        slave_only=.true., rows=rows)
+    else
+      call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err, &
+        slave_only=isolid_m == 0 .and. .not. p%self)
+    end if
     if (allocated(err)) return
     call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
     if (allocated(err)) return
@@ -482,8 +496,10 @@ contains
 
   !> Side s of a pair over body b (solid isolid, 0: rigid). slave_only: the slave against a
   !! rigid master, which only the master's det(M), surface and buckets are read against
-  !! (contact_correct): without a cloud, det(M) measures or surface of its own.
-  subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err, slave_only)
+  !! (contact_correct): without a cloud, det(M) measures or surface of its own; with rows
+  !! (ascending numbers in b), over those particles only (a rank's region of a decomposed
+  !! set-up, which the split cuts to its part: contact_pair_cut).
+  subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err, slave_only, rows)
     type(side_t), intent(out) :: s
     type(body_t), intent(in) :: b
     integer, intent(in) :: isolid
@@ -492,12 +508,20 @@ contains
     real(wp), intent(in) :: eps_cr, eps_rel
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: slave_only
+    integer, intent(in), optional :: rows(:)
     logical :: own
     real(wp) :: rmax(3)
+    integer :: n, i
     own = .true.
     if (present(slave_only)) own = .not. slave_only
     s%name = b%name
     s%np = b%np
+    if (present(rows)) then
+      s%glob = rows
+      s%np_whole = b%np
+      s%np = size(rows)
+    end if
+    n = s%np
     s%isolid = isolid
     rmax = 0.0_wp
     if (b%np > 0) rmax(1:b%ndim) = maxval(b%rho, dim=2)
@@ -522,7 +546,7 @@ contains
         err%message = "body '"//trim(b%name)//"': "//err%message
         return
       end if
-      allocate(s%bary(3, b%np))
+      allocate(s%bary(3, n))
       s%bary = 0.0_wp
     else if (own) then
       call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
@@ -532,16 +556,22 @@ contains
     s%lo = minval(b%x, dim=2) - rmax(1:b%ndim)
     s%hi = maxval(b%x, dim=2) + rmax(1:b%ndim)
     if (b%ndim == 2 .and. own) call nts_build(s%buckets, s%surface)
-    allocate(s%x_old(b%ndim, b%np), s%x_pred(b%ndim, b%np), s%fphys(b%ndim, b%np), &
-      s%active(b%np), s%seg(b%np), s%xi(b%np), s%imass(b%np), s%gap(b%np), s%slip(b%np), &
-      s%nrm(b%ndim, b%np), s%tng(b%ndim, b%np), s%share(b%np))
-    s%x_old = b%x
-    s%x_pred = b%x
-    allocate(s%near(b%np))
+    allocate(s%x_old(b%ndim, n), s%x_pred(b%ndim, n), s%fphys(b%ndim, n), &
+      s%active(n), s%seg(n), s%xi(n), s%imass(n), s%gap(n), s%slip(n), &
+      s%nrm(b%ndim, n), s%tng(b%ndim, n), s%share(n))
+    allocate(s%near(n))
     s%near = .true.
-    s%rho = b%rho
-    s%x_ref = b%x
-    s%vol = b%vol
+    if (allocated(s%glob)) then
+      s%x_ref = b%x(:, s%glob)
+      s%rho = b%rho(:, s%glob)
+      s%vol = b%vol(s%glob)
+    else
+      s%x_ref = b%x
+      s%rho = b%rho
+      s%vol = b%vol
+    end if
+    s%x_old = s%x_ref
+    s%x_pred = s%x_ref
     s%kid = b%kid
     s%wshape = b%wshape
     s%bid = b%bid
@@ -561,10 +591,22 @@ contains
     ! a node whose velocity is prescribed in every component does not yield to contact:
     ! infinite mass in eq. (93) (a driven plate), so the other side takes the whole gap
     if (isolid > 0) then
-      s%imass = 1.0_wp/solids(isolid)%t%mass
-      where (all(solids(isolid)%pres, dim=1)) s%imass = 0.0_wp
+      associate (sol => solids(isolid))
+        do i = 1, n
+          s%imass(i) = 1.0_wp/sol%t%mass(side_whole(s, i))
+          if (all(sol%pres(:, side_whole(s, i)))) s%imass(i) = 0.0_wp
+        end do
+      end associate
     end if
   end subroutine side_init
+
+  !> The number in the whole body of particle i of side s (side_t glob).
+  pure integer function side_whole(s, i) result(j)
+    type(side_t), intent(in) :: s
+    integer, intent(in) :: i
+    j = i
+    if (allocated(s%glob)) j = s%glob(i)
+  end function side_whole
 
   !> Skipping far particles on slave side s: the Lipschitz constant of its positions in
   !! its coefficients, lip = |(max_j sum_I |N1_I(X_j)|, max_j sum_I |N2_I(X_j)|)| (the
@@ -582,7 +624,7 @@ contains
       if (t%interpolating) then
         s%lip = 1.0_wp
       else
-        l = position_sums(t, [(j, j = 1, s%np)])
+        l = position_sums(t, [(side_whole(s, j), j = 1, s%np)])
         s%lip = norm2(l(:size(t%pn, 1)))
       end if
     end associate
@@ -1118,12 +1160,60 @@ contains
     type(contact_pair_t), intent(inout) :: p
     integer, intent(in) :: nglob(:)
     type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: at(:)
     if (p%both_ways .or. p%self .or. p%side(2)%isolid /= 0) then
       call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
         trim(p%side(2)%name)//"': a rank's part of a solid takes rigid masters only")
       return
     end if
     associate (s => p%side(1))
+      if (allocated(s%glob)) then
+        ! (the side holds the rank's region: nglob's places in it)
+        call region_places(s, nglob, at, err)
+        if (allocated(err)) return
+      else
+        at = nglob
+      end if
+      call side_cut(s, at)
+    end associate
+  end subroutine contact_pair_cut
+
+  !> The places in slave side s's region (s%glob) of the particles nglob (numbers in the
+  !! whole body, ascending): every one is in it, since a rank's region holds its part.
+  subroutine region_places(s, nglob, at, err)
+    type(side_t), intent(in) :: s
+    integer, intent(in) :: nglob(:)
+    integer, allocatable, intent(out) :: at(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: k, i, n
+    allocate(at(size(nglob)))
+    n = size(s%glob)
+    i = 1
+    do k = 1, size(nglob)
+      do while (i <= n)
+        if (s%glob(i) >= nglob(k)) exit
+        i = i + 1
+      end do
+      if (i > n) then
+        at(k) = 0
+      else if (s%glob(i) /= nglob(k)) then
+        at(k) = 0
+      else
+        at(k) = i
+      end if
+      if (at(k) == 0) then
+        call set_error(err, "contact of '"//trim(s%name)//"': particle "//itoa(nglob(k))// &
+          " of the rank's part is not in its region (an internal error of the set-up)")
+        return
+      end if
+    end do
+  end subroutine region_places
+
+  !> Slave side s (a rigid master's) cut to its particles at(:) (places in its arrays).
+  subroutine side_cut(s, at)
+    type(side_t), intent(inout) :: s
+    integer, intent(in) :: at(:)
+    associate (nglob => at)
       s%np = size(nglob)
       s%x_old = s%x_old(:, nglob)
       s%x_pred = s%x_pred(:, nglob)
@@ -1151,9 +1241,10 @@ contains
       s%surface = master_surface_t()
       s%surf3 = surface3d_t()
       s%buckets = nts_buckets_t()
+      if (allocated(s%glob)) deallocate(s%glob)
       s%cut = .true.
     end associate
-  end subroutine contact_pair_cut
+  end subroutine side_cut
 
   !> The particles of side s that this step's passes look at: all of them, or with
   !! subcycling the solid's nodes of the rate being stepped (the only ones that move).

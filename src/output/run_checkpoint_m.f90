@@ -568,10 +568,15 @@ contains
           call h5_read(f, '/contacts/contact'//itoa(k)//'_skipped', nskip, err)
           if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
             '_skip_travel', travel, err)
-          if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
-            '_skip_due', s%due, err)
-          if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
-            '_skip_d', s%d_scr, err)
+          if (allocated(s%glob)) then
+            ! (a rank's region of the slave: its rows only)
+            call read_side_rows(f, '/contacts/contact'//itoa(k), pairs(k), err)
+          else
+            if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
+              '_skip_due', s%due, err)
+            if (.not. allocated(err)) call h5_read(f, '/contacts/contact'//itoa(k)// &
+              '_skip_d', s%d_scr, err)
+          end if
           if (allocated(err)) exit
           pairs(k)%count%skipped = nskip(1)
           s%travel = travel(1)
@@ -776,6 +781,24 @@ contains
     call solid_state_derived(s)
     if (s%quiet_on .and. .not. allocated(err)) call read_quiet(f, g, s, err)
   end subroutine read_solid
+
+  !> skip_far's state of pair p's slave side when it holds a rank's region of the body
+  !! (contact_pair_m side_t glob), from the datasets c_skip_due and c_skip_d: the
+  !! region's rows.
+  subroutine read_side_rows(f, c, p, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: c
+    type(contact_pair_t), intent(inout) :: p
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: due(:, :)
+    associate (s => p%side(1))
+      allocate(due(1, s%np))
+      call h5_read_rows(f, c//'_skip_due', due, s%glob, s%np_whole, .true., err)
+      if (.not. allocated(err)) s%due = due(1, :)
+      if (.not. allocated(err)) call h5_read_rows(f, c//'_skip_d', s%d_scr, s%glob, &
+        s%np_whole, size(s%d_scr, 1) == 1, err)
+    end associate
+  end subroutine read_side_rows
 
   !> The state fields of solid p, a rank's part, from the checkpoint at path (checked
   !! already by checkpoint_read, which read the scalars): the rows of its local nodes and

@@ -43,6 +43,12 @@ module dynamic_setup_m
 
   !> What the set-up of a dynamic run builds before anything is written: the solids of the
   !! deformable bodies (isolid(k): body k's solid, 0 if rigid) and the contact pairs.
+  !> A rank's region of a solid in a decomposed set-up: the numbers of the particles its
+  !! tables' rows touch or its box holds (ascending), a superset of its part's nodes
+  type :: region_rows_t
+    integer, allocatable :: glob(:)
+  end type region_rows_t
+
   type :: dynamic_setup_t
     type(solid_t), allocatable :: solids(:)
     integer, allocatable :: isolid(:)
@@ -70,15 +76,16 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: quiet
     type(setup_part_t), intent(in), optional :: part
+    type(region_rows_t), allocatable :: regions(:)
     su%wall0 = omp_get_wtime()
     if (.not. present(quiet)) then
       call log_materials(deck)
     else if (.not. quiet) then
       call log_materials(deck)
     end if
-    call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet, part)
+    call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet, part, regions)
     if (.not. allocated(err)) call setup_contacts(deck, bodies, su%solids, su%isolid, &
-      su%pairs, err, quiet)
+      su%pairs, err, quiet, regions)
     if (allocated(err)) return
     if (.not. present(quiet)) then
       call scale_warnings(deck, bodies, su%solids, su%isolid)
@@ -164,7 +171,7 @@ contains
 
   !> The solids of the deck's deformable bodies, in deck order; isolid(k) is body k's solid
   !! (0 for a rigid body). quiet: no log lines (a set-up made only for its checks).
-  subroutine setup_solids(deck, bodies, solids, isolid, err, quiet, part)
+  subroutine setup_solids(deck, bodies, solids, isolid, err, quiet, part, regions)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(solid_t), allocatable, intent(out) :: solids(:)
@@ -172,6 +179,8 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: quiet
     type(setup_part_t), intent(in), optional :: part
+    !> on a rank of a decomposed set-up, each solid's region (setup_solid's rows)
+    type(region_rows_t), allocatable, intent(out) :: regions(:)
     integer :: k, n, ndef
     logical :: axisym
     axisym = deck%run%geometry == 'axisymmetric'
@@ -188,11 +197,11 @@ contains
         "deformable body (role = 'deformable')")
       return
     end if
-    allocate(solids(ndef))
+    allocate(solids(ndef), regions(ndef))
     do k = 1, deck%nbodies
       n = isolid(k)
       if (n == 0) cycle
-      call setup_solid(deck, k, bodies(k), axisym, solids(n), err, part)
+      call setup_solid(deck, k, bodies(k), axisym, solids(n), err, part, regions(n)%glob)
       if (allocated(err)) return
       if (present(quiet)) then
         if (quiet) cycle
@@ -234,7 +243,7 @@ contains
   end function discretization_text
 
   !> The solid of deformable body k.
-  subroutine setup_solid(deck, k, b, axisym, s, err, part)
+  subroutine setup_solid(deck, k, b, axisym, s, err, part, rows)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
     type(body_t), intent(in) :: b
@@ -242,6 +251,8 @@ contains
     type(solid_t), intent(out) :: s
     type(error_t), allocatable, intent(inout) :: err
     type(setup_part_t), intent(in), optional :: part
+    !> with part, when the solid is a shell: its region (region_of)
+    integer, allocatable, intent(out) :: rows(:)
     type(body_spec_t) :: bs
     type(solid_tables_t) :: t
     type(error_t), allocatable :: e2
@@ -313,6 +324,7 @@ contains
     ! fields): what the split reads of the whole solid, without its state
     shell = .false.
     if (present(part)) shell = part%me > 0 .or. .not. part%root_whole
+    if (shell) call region_of(t, b, box, rows)
     call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
       bs%velocity(1:b%ndim), pres, vpres, e2, shell)
     if (allocated(e2)) then
@@ -367,6 +379,39 @@ contains
     has = part%me > 0 .or. .not. part%root_whole
     if (has) call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
   end function region_box
+
+  !> The region of a rank's tables t of body b with its box (region_box): every particle
+  !! a kept row touches (the points' nodes and owners, the position rows' particles and
+  !! their neighbours) or the box holds (its part's own nodes), ascending: every node of
+  !! the part the split will make from these rows (decomposition_m local_part_sets).
+  subroutine region_of(t, b, box, rows)
+    type(solid_tables_t), intent(in) :: t
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: box(3, 2)
+    integer, allocatable, intent(out) :: rows(:)
+    logical, allocatable :: mark(:)
+    integer :: q, j, i, nd
+    nd = b%ndim
+    allocate(mark(b%np))
+    mark = .false.
+    do q = 1, t%nq
+      if (t%ptr(q + 1) == t%ptr(q)) cycle
+      mark(t%nbr(t%ptr(q):t%ptr(q + 1) - 1)) = .true.
+      if (t%owner(q) > 0) mark(t%owner(q)) = .true.
+    end do
+    if (allocated(t%pptr)) then
+      do j = 1, t%np
+        if (t%pptr(j + 1) == t%pptr(j)) cycle
+        mark(j) = .true.
+        mark(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) = .true.
+      end do
+    end if
+    do i = 1, b%np
+      if (all(b%x(:, i) >= box(1:nd, 1)) .and. all(b%x(:, i) <= box(1:nd, 2))) &
+        mark(i) = .true.
+    end do
+    rows = pack([(i, i = 1, b%np)], mark)
+  end subroutine region_of
 
   !> The lumped masses of an RKPM solid whole on every rank of a decomposed set-up: a rank that
   !! integrated only the cells its box needs (tl_build_3d's and tl_build's box) has the masses of
@@ -465,7 +510,7 @@ contains
   end subroutine kinematic_masks
 
   !> The contact pairs of the deck's &contact groups, with their log lines (none if quiet).
-  subroutine setup_contacts(deck, bodies, solids, isolid, pairs, err, quiet)
+  subroutine setup_contacts(deck, bodies, solids, isolid, pairs, err, quiet, regions)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(solid_t), intent(in) :: solids(:)
@@ -473,6 +518,10 @@ contains
     type(contact_pair_t), allocatable, intent(out) :: pairs(:)
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: quiet
+    !> the solids' regions on a rank (setup_solids): a slave's side against a rigid
+    !! master holds its region only
+    type(region_rows_t), intent(in), optional :: regions(:)
+    logical :: cut
     type(contact_params_t) :: prm
     type(error_t), allocatable :: e2
     integer :: k, im, is
@@ -495,8 +544,16 @@ contains
         ! a rigid master moves at its &body velocity (a ram, a die)
         prm%master_velocity = 0.0_wp
         if (isolid(im) == 0) prm%master_velocity = deck%bodies(im)%velocity
-        call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
-          isolid(im), solids, deck%run%geometry == 'axisymmetric', e2)
+        cut = .false.
+        if (present(regions) .and. isolid(is) > 0) cut = allocated(regions(isolid(is))%glob)
+        if (cut) then
+          call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
+            isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &
+            regions(isolid(is))%glob)
+        else
+          call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
+            isolid(im), solids, deck%run%geometry == 'axisymmetric', e2)
+        end if
         if (allocated(e2)) then
           call set_error(err, "deck '"//deck%path//"', group &contact (contact "// &
             itoa(k)//"): "//e2%message)
