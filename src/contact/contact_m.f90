@@ -59,6 +59,8 @@ module contact_m
     integer(i64) :: cmp_det = 0, cmp_gap = 0, cmp_buffer = 0, cmp_missed = 0
     integer(i64) :: cmp_det_max = 0, cmp_gap_max = 0
     real(wp) :: buffer_gap_sum = 0.0_wp  !< sum of g over the buffer-zone flags (m)
+    !> that sum exactly (exact_sum_m: the same bits for any threads and ranks)
+    type(exact_sum_t) :: buffer_gap_exact
     real(wp) :: buffer_gap_max = 0.0_wp  !< largest such g: the buffer zone's depth (m)
     real(wp) :: t_detect = 0.0_wp        !< wall time in the pair's detector (s)
     !> wall time in the pair's whole correction (positions, re-binning, detection, forces,

@@ -2044,23 +2044,28 @@ contains
   !! compare_detectors): det(M_b) > threshold against the gap to b's closest segment at
   !! any distance (g < 0). Where they disagree: det(M) flags a particle outside the surface
   !! (the buffer zone, with its gap recorded), or misses a penetrating one.
+  !! The particles are those the pass looks at (side_select: a rank's own ones), the gaps'
+  !! sum exact, so that the counters add up to the serial ones over the ranks.
   subroutine compare_detectors(p, a, b)
     type(contact_pair_t), intent(inout) :: p
     type(side_t), intent(in) :: a, b
-    integer :: j
+    integer :: j, jj
     integer(i64) :: nd, ng, nbuf, nmiss
-    real(wp) :: det, g, nrm(2), tng(2), gsum, gmax, xq(2)
+    real(wp) :: det, g, nrm(2), tng(2), gmax, xq(2)
+    type(exact_sum_t) :: gsum, gall
     logical :: found, fd, fg
     nd = 0
     ng = 0
     nbuf = 0
     nmiss = 0
-    gsum = 0.0_wp
     gmax = 0.0_wp
-    !$omp parallel do default(none) shared(a, b) &
-    !$omp private(det, found, g, nrm, tng, fd, fg, xq) &
-    !$omp reduction(+: nd, ng, nbuf, nmiss, gsum) reduction(max: gmax) schedule(static)
-    do j = 1, a%np
+    !$omp parallel default(none) shared(a, b, gall) &
+    !$omp private(j, det, found, g, nrm, tng, fd, fg, xq, gsum) &
+    !$omp reduction(+: nd, ng, nbuf, nmiss) reduction(max: gmax)
+    gsum = exact_sum_t()
+    !$omp do schedule(static)
+    do jj = 1, a%nlist
+      j = side_particle(a, jj)
       if (.not. a%near(j)) cycle   ! skip_far: cannot have reached b's box
       xq = a%x_pred(:, j) - b%shift   ! (b's reference frame)
       if (any(xq < b%lo) .or. any(xq > b%hi)) cycle
@@ -2072,17 +2077,22 @@ contains
       if (fg) ng = ng + 1
       if (fd .and. .not. fg) then
         nbuf = nbuf + 1
-        gsum = gsum + g
+        call exact_add(gsum, g)
         gmax = max(gmax, g)
       end if
       if (fg .and. .not. fd) nmiss = nmiss + 1
     end do
-    !$omp end parallel do
+    !$omp end do
+    !$omp critical (compare_gaps)
+    call exact_merge(gall, gsum)
+    !$omp end critical (compare_gaps)
+    !$omp end parallel
     p%count%cmp_det = p%count%cmp_det + nd
     p%count%cmp_gap = p%count%cmp_gap + ng
     p%count%cmp_buffer = p%count%cmp_buffer + nbuf
     p%count%cmp_missed = p%count%cmp_missed + nmiss
-    p%count%buffer_gap_sum = p%count%buffer_gap_sum + gsum
+    call exact_merge(p%count%buffer_gap_exact, gall)
+    p%count%buffer_gap_sum = exact_value(p%count%buffer_gap_exact)
     p%count%buffer_gap_max = max(p%count%buffer_gap_max, gmax)
     p%step%n_cmp_det = p%step%n_cmp_det + int(nd)
     p%step%n_cmp_gap = p%step%n_cmp_gap + int(ng)

@@ -599,6 +599,9 @@ contains
         c%cmp_det_max = more(6)
         c%cmp_gap_max = more(7)
         c%buffer_gap_sum = bgap(1)
+        ! (continued exactly from the rounded sum: a mean's last bit may differ)
+        c%buffer_gap_exact = exact_sum_t()
+        call exact_add(c%buffer_gap_exact, bgap(1))
         c%buffer_gap_max = bgap(2)
         c%t_detect = tdet(1)
       end associate

@@ -91,6 +91,8 @@ module mpi_domain_m
     type(mpi_halo_t), allocatable :: halos(:)     !< each part's halo (its solid points here)
     type(contact_pair_t), allocatable :: pairs_whole(:)   !< rank 0: the pairs as set up
     integer(i64), allocatable :: flag_max(:)      !< each pair's most flagged in one step
+    !> each pair's most flagged in one step by det(M) and by the gap (compare_detectors)
+    integer(i64), allocatable :: cmp_max(:, :)
   contains
     procedure :: split => mpi_split
     procedure :: whole => mpi_whole
@@ -143,6 +145,10 @@ contains
     class(rank_comm_t), pointer :: comm_ptr
     ! every rank read the whole state; rank 0 keeps the pairs' counters (sums)
     dom%flag_max = [(pairs(k)%count%detected_max, k = 1, size(pairs))]
+    allocate(dom%cmp_max(2, size(pairs)))
+    do k = 1, size(pairs)
+      dom%cmp_max(:, k) = [pairs(k)%count%cmp_det_max, pairs(k)%count%cmp_gap_max]
+    end do
     if (.not. dom%root) then
       do k = 1, size(pairs)
         pairs(k)%count = contact_counters_t()
@@ -497,7 +503,7 @@ contains
     type(contact_pair_t), intent(inout) :: pairs(:)
     integer :: ni(4), nt(4), k, j
     real(wp) :: rm(3), rmt(3)
-    integer :: nf(size(pairs)), nft(size(pairs))
+    integer :: nf(3, size(pairs)), nft(3, size(pairs))
     type(exact_sum_t) :: xs(stat_sums*size(pairs))
     real(wp) :: pft(stat_sums*size(pairs))
     ni = [c%n_contact, c%n_flagged, c%n_cmp_det, merge(1, 0, c%edge_in_contact)]
@@ -528,9 +534,13 @@ contains
         c%force_normal = c%force_normal + st%force_normal
       end associate
     end do
-    nf = [(pairs(k)%step%n_flagged, k = 1, size(pairs))]
-    call MPI_Allreduce(nf, nft, size(pairs), MPI_INTEGER, MPI_SUM, dom%mcomm)
-    dom%flag_max = max(dom%flag_max, int(nft, i64))
+    ! (each pair's flags of the step, and each detector's in compare mode, over the ranks)
+    do k = 1, size(pairs)
+      nf(:, k) = [pairs(k)%step%n_flagged, pairs(k)%step%n_cmp_det, pairs(k)%step%n_cmp_gap]
+    end do
+    call MPI_Allreduce(nf, nft, size(nf), MPI_INTEGER, MPI_SUM, dom%mcomm)
+    dom%flag_max = max(dom%flag_max, int(nft(1, :), i64))
+    dom%cmp_max = max(dom%cmp_max, int(nft(2:3, :), i64))
   end subroutine mpi_stats
 
   !> The pairs' counters summed over the ranks (most in one step: the largest); with
@@ -541,23 +551,36 @@ contains
     logical, intent(in) :: restore
     type(contact_counters_t), allocatable :: keep(:)
     integer :: k
-    integer(i64) :: a(6), b(6)
+    integer(i64) :: a(10), b(10)
+    real(wp) :: g
     if (restore) allocate(keep(size(pairs)), source=[(pairs(k)%count, k = 1, size(pairs))])
     do k = 1, size(pairs)
       associate (c => pairs(k)%count)
         ! (exact: the serial value to the bit; the sum itself for a checkpoint)
         c%w_friction_sum = exact_allmerge(c%w_friction_sum, dom%comm)
         c%w_friction = exact_value(c%w_friction_sum)
-        a = [c%screened, c%evaluated, c%detected, c%contacts, c%skipped, c%self_unsure]
-        call MPI_Allreduce(a, b, 6, MPI_INTEGER8, MPI_SUM, dom%mcomm)
+        a = [c%screened, c%evaluated, c%detected, c%contacts, c%skipped, c%self_unsure, &
+          c%cmp_det, c%cmp_gap, c%cmp_buffer, c%cmp_missed]
+        call MPI_Allreduce(a, b, size(a), MPI_INTEGER8, MPI_SUM, dom%mcomm)
         c%screened = b(1)
         c%evaluated = b(2)
         c%detected = b(3)
         c%contacts = b(4)
         c%skipped = b(5)
         c%self_unsure = b(6)
+        c%cmp_det = b(7)
+        c%cmp_gap = b(8)
+        c%cmp_buffer = b(9)
+        c%cmp_missed = b(10)
+        ! (compare_detectors: the buffer zone's gaps, exactly; its depth)
+        c%buffer_gap_exact = exact_allmerge(c%buffer_gap_exact, dom%comm)
+        c%buffer_gap_sum = exact_value(c%buffer_gap_exact)
+        call MPI_Allreduce(c%buffer_gap_max, g, 1, MPI_DOUBLE_PRECISION, MPI_MAX, dom%mcomm)
+        c%buffer_gap_max = g
         ! (the most flagged in one step over all ranks: mpi_stats)
         c%detected_max = dom%flag_max(k)
+        c%cmp_det_max = dom%cmp_max(1, k)
+        c%cmp_gap_max = dom%cmp_max(2, k)
       end associate
     end do
     if (.not. restore) return

@@ -250,11 +250,17 @@ def compare(tag, ref, new, record=True, continued=False):
     # particle at the first step and starts afresh (exact; the results are checked above)
     counts = ("screened", "detected", "contacts", "detected_max_per_step", "self_unsure")
     if not continued:
-        counts += ("evaluated", "skipped_far")
+        # (and &contact compare_detectors' counters: both detectors at the particles a rank
+        # owns, the buffer zone's gaps summed exactly; not continued: they count skip_far's
+        # screenings, and the gaps' sum continues from its rounded value)
+        counts += ("evaluated", "skipped_far", "compare_det", "compare_gap", "compare_buffer",
+                   "compare_missed", "compare_det_max", "compare_gap_max", "buffer_gap_mean",
+                   "buffer_gap_max")
     cdiff = [(k, n, ca[k].get(n), cb.get(k, {}).get(n)) for k in ca for n in counts
              if n in ca[k] and ca[k][n] != cb.get(k, {}).get(n)]
     check(f"{tag}: /summary contact counts (screened, evaluated, skipped, detected, contacts, "
-          "most flagged in a step, 3D self-contact's flags of a sign not sure) equal", not cdiff,
+          "most flagged in a step, 3D self-contact's flags of a sign not sure, the detectors' "
+          "comparison) equal", not cdiff,
           cdiff)
     if record:
         for name, cond, detail in outcome:
