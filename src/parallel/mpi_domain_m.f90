@@ -134,11 +134,12 @@ contains
 
   !> solids (the whole set-up, and with restarted the state a checkpoint held) become this
   !! rank's parts; the whole ones are kept for output; the pairs are narrowed to the parts.
-  subroutine mpi_split(dom, solids, pairs, restarted, err)
+  subroutine mpi_split(dom, solids, pairs, restarted, trees, err)
     class(mpi_domain_t), intent(inout), target :: dom
     type(solid_t), allocatable, intent(inout), target :: solids(:)
     type(contact_pair_t), intent(inout) :: pairs(:)
     logical, intent(in) :: restarted
+    type(rcb_tree_t), intent(in) :: trees(:)
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, nk
     type(part_owner_t), allocatable :: own(:)
@@ -168,7 +169,7 @@ contains
     ! cuts the slave sides against rigid masters
     if (keeps_whole(dom)) allocate(dom%pairs_whole, source=pairs)
     do k = 1, nk
-      call make_part(dom, k, solids(k), own(k)%owner, pairs, err)
+      call make_part(dom, k, trees(k), solids(k), own(k)%owner, pairs, err)
       if (dom%any_error(err)) return
       ! (the halo first: a restart's averaged nodal pressure takes the ghosts' J through it)
       solids(k)%part%halo => dom%halos(k)
@@ -252,13 +253,15 @@ contains
     g = shell
   end subroutine release_whole
 
-  !> Solid k's part on this rank: the bisection of the whole solid's nodes and points, the
-  !! part's tables, its halo plan, the part solid (its velocities, kinetic energy at t = 0 of
-  !! its own nodes, limits and stabilization as the whole solid's); owner(:) the rank (from
-  !! 0) of every node of the whole solid.
-  subroutine make_part(dom, k, p, owner, pairs, err)
+  !> Solid k's part on this rank: the bisection of the whole solid's nodes and points by
+  !! set_tree (the set-up's, whose boxes its region was built for; on one rank, where the
+  !! set-up made none, made here), the part's tables, its halo plan, the part solid (its
+  !! velocities, kinetic energy at t = 0 of its own nodes, limits and stabilization as the
+  !! whole solid's); owner(:) the rank (from 0) of every node of the whole solid.
+  subroutine make_part(dom, k, set_tree, p, owner, pairs, err)
     type(mpi_domain_t), intent(inout), target :: dom
     integer, intent(in) :: k
+    type(rcb_tree_t), intent(in) :: set_tree
     type(solid_t), intent(out) :: p
     integer, allocatable, intent(out) :: owner(:)
     type(contact_pair_t), intent(inout) :: pairs(:)
@@ -269,10 +272,14 @@ contains
     logical, allocatable :: pres(:, :)
     integer :: i, q, j
     associate (g => dom%gs(k), lp => dom%lp(k), h => dom%halos(k))
-      ! (the tree of the set-up's region_box: each rank gives its share of the nodes)
       associate (r => dom%ranks%me, nr => dom%ranks%nranks)
-        call rcb_build_ranks(g%x0(:, share_first(g%np, r, nr):share_first(g%np, r + 1, nr) &
-          - 1), nr, dom%ranks, tree)
+        if (allocated(set_tree%part) .and. set_tree%nparts == nr) then
+          tree = set_tree
+        else
+          ! (each rank gives its share of the nodes: rcb_build's tree)
+          call rcb_build_ranks(g%x0(:, share_first(g%np, r, nr):share_first(g%np, r + 1, &
+            nr) - 1), nr, dom%ranks, tree)
+        end if
       end associate
       allocate(node_part(g%np), point_part(g%nq))
       do i = 1, g%np

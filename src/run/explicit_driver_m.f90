@@ -93,7 +93,7 @@ contains
         snap_times0, err, fields=.not. dom%reads_parts)
       if (dom%any_error(err)) return
     end if
-    call dom%split(solids, pairs, present(restart), err)
+    call dom%split(solids, pairs, present(restart), su%trees, err)
     if (dom%any_error(err)) return
     ! the step from the power iteration on the parts (a restart's is the checkpoint's)
     if (.not. present(restart)) call run_first_step(deck, solids, r, dom)

@@ -19,6 +19,7 @@ module run_domain_m
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t
+  use decomposition_m, only: rcb_tree_t
   use contact_pair_m, only: contact_pair_t, contact_stats_t
   use body_measures_m, only: measures_t, body_measures
   use run_report_m, only: run_record_t, self_det_out
@@ -61,13 +62,15 @@ module run_domain_m
 
   abstract interface
     !> The whole solids of the set-up (with restarted, the state a checkpoint held) become
-    !! this rank's parts, and the pairs are narrowed to them.
-    subroutine split_i(dom, solids, pairs, restarted, err)
-      import :: run_domain_t, solid_t, contact_pair_t, error_t
+    !! this rank's parts, cut by the set-up's bisection of each (trees: dynamic_setup_t's),
+    !! and the pairs are narrowed to them.
+    subroutine split_i(dom, solids, pairs, restarted, trees, err)
+      import :: run_domain_t, solid_t, contact_pair_t, error_t, rcb_tree_t
       class(run_domain_t), intent(inout), target :: dom
       type(solid_t), allocatable, intent(inout), target :: solids(:)
       type(contact_pair_t), intent(inout) :: pairs(:)
       logical, intent(in) :: restarted
+      type(rcb_tree_t), intent(in) :: trees(:)
       type(error_t), allocatable, intent(inout) :: err
     end subroutine split_i
     !> The whole solids, for output on the root rank (collective): with full, all a
@@ -237,14 +240,15 @@ contains
     r%fail_key = keys(:, first(1) + 1)
   end subroutine domain_agree_failure
 
-  subroutine serial_split(dom, solids, pairs, restarted, err)
+  subroutine serial_split(dom, solids, pairs, restarted, trees, err)
     class(serial_domain_t), intent(inout), target :: dom
     type(solid_t), allocatable, intent(inout), target :: solids(:)
     type(contact_pair_t), intent(inout) :: pairs(:)
     logical, intent(in) :: restarted
+    type(rcb_tree_t), intent(in) :: trees(:)
     type(error_t), allocatable, intent(inout) :: err
     ! one rank: each part is its whole solid, every pair sees it whole
-    if (size(pairs) < 0 .or. allocated(err) .or. &
+    if (size(pairs) < 0 .or. allocated(err) .or. size(trees) < 0 .or. &
       .not. dom%root .or. .not. allocated(solids) .or. restarted) continue
   end subroutine serial_split
 

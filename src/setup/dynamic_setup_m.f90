@@ -53,6 +53,9 @@ module dynamic_setup_m
     type(solid_t), allocatable :: solids(:)
     integer, allocatable :: isolid(:)
     type(contact_pair_t), allocatable :: pairs(:)
+    !> on ranks each solid's bisection (region_box), which the split cuts it by (one
+    !! part, no cut: serially)
+    type(rcb_tree_t), allocatable :: trees(:)
     real(wp) :: wall0 = 0.0_wp             !< wall clock when the set-up began (s)
   end type dynamic_setup_t
 
@@ -83,7 +86,8 @@ contains
     else if (.not. quiet) then
       call log_materials(deck)
     end if
-    call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet, part, regions)
+    call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet, part, regions, &
+      su%trees)
     if (.not. allocated(err)) call setup_contacts(deck, bodies, su%solids, su%isolid, &
       su%pairs, err, quiet, regions)
     if (allocated(err)) return
@@ -171,7 +175,7 @@ contains
 
   !> The solids of the deck's deformable bodies, in deck order; isolid(k) is body k's solid
   !! (0 for a rigid body). quiet: no log lines (a set-up made only for its checks).
-  subroutine setup_solids(deck, bodies, solids, isolid, err, quiet, part, regions)
+  subroutine setup_solids(deck, bodies, solids, isolid, err, quiet, part, regions, trees)
     type(deck_t), intent(in) :: deck
     type(body_t), intent(in) :: bodies(:)
     type(solid_t), allocatable, intent(out) :: solids(:)
@@ -179,8 +183,10 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: quiet
     type(setup_part_t), intent(in), optional :: part
-    !> on a rank of a decomposed set-up, each solid's region (setup_solid's rows)
+    !> on a rank of a decomposed set-up, each solid's region (setup_solid's rows) and
+    !! bisection (setup_solid's tree)
     type(region_rows_t), allocatable, intent(out) :: regions(:)
+    type(rcb_tree_t), allocatable, intent(out) :: trees(:)
     integer :: k, n, ndef
     logical :: axisym
     axisym = deck%run%geometry == 'axisymmetric'
@@ -197,11 +203,12 @@ contains
         "deformable body (role = 'deformable')")
       return
     end if
-    allocate(solids(ndef), regions(ndef))
+    allocate(solids(ndef), regions(ndef), trees(ndef))
     do k = 1, deck%nbodies
       n = isolid(k)
       if (n == 0) cycle
-      call setup_solid(deck, k, bodies(k), axisym, solids(n), err, part, regions(n)%glob)
+      call setup_solid(deck, k, bodies(k), axisym, solids(n), err, part, regions(n)%glob, &
+        trees(n))
       if (allocated(err)) return
       if (present(quiet)) then
         if (quiet) cycle
@@ -243,7 +250,7 @@ contains
   end function discretization_text
 
   !> The solid of deformable body k.
-  subroutine setup_solid(deck, k, b, axisym, s, err, part, rows)
+  subroutine setup_solid(deck, k, b, axisym, s, err, part, rows, tree)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
     type(body_t), intent(in) :: b
@@ -253,6 +260,9 @@ contains
     type(setup_part_t), intent(in), optional :: part
     !> with part, when the solid is a shell: its region (region_of)
     integer, allocatable, intent(out) :: rows(:)
+    !> with part on more than one rank: the bisection of its nodes the split will cut it
+    !! by (region_box's), the same on every rank
+    type(rcb_tree_t), intent(out) :: tree
     type(body_spec_t) :: bs
     type(solid_tables_t) :: t
     type(error_t), allocatable :: e2
@@ -262,7 +272,6 @@ contains
     character(len=:), allocatable :: where
     type(cst4_mesh_t) :: mesh
     type(tet4_mesh_t) :: tmesh
-    type(rcb_tree_t) :: tree
     real(wp) :: alpha, box(3, 2)
     logical :: split, shell
     bs = deck%bodies(k)
