@@ -66,14 +66,17 @@ GHOST_LAYERS_3D = (4.0, 4.0)  # ghost nodes, points per particle of a cut face (
 BYTES_GHOST_3D = (168.0, 144.0)  # B per ghost node, point and step (measured)
 SNAP_BYTES_3D = 160.0         # B per particle of a snapshot's gathered fields (measured)
 MEASURED_3D = 0.82            # weak-scaling efficiency on 2 ranks (measured, this guest)
-# a rank's peak memory (the split's), measured 2026-11-29 on the bench's bar (109 nodes a
-# point; doc/parallel.md, "Weak scaling of the set-up"): a fixed share, its part's tables
-# (0.81 GB on 2 ranks of 37,467 particles, 0.47 GB on 4), and what it still holds of the
-# whole body (bodies, the whole solid's reference arrays, contact sides: 0.79 -> 0.94 GB
-# from 37,467 to 149,247 particles at 18,700 a rank, bench/mpi_weak_3d.sh)
+# a rank's memory, measured 2026-11-29 on the bench's bar (109 nodes a point;
+# doc/parallel.md, "Against rigid masters the time loop holds nothing of the whole body"):
+# a fixed share; at the split (the peak) its part's rows and their transpose, nothing of
+# the whole body (0.73 GB a rank on 2, 4 and 8 ranks at 18,700 particles a rank); at the
+# end of the set-up its region's rows and what it still holds of the whole body (the
+# bodies, the tables' arrays over every point, the shell solid's arrays: rank 1 411 MB
+# on 2 ranks, 460 MB on 8, bench/mpi_weak_3d.sh's runs with probes)
 FIXED_BYTES_3D = 0.07e9       # B per rank whatever its part (runtime, Open MPI, HDF5)
-PART_BYTES_3D = 36.0e3        # B per particle of the part at the peak (measured)
-WHOLE_BYTES_3D = 1.3e3        # B per particle of the whole body on every rank (measured)
+PART_BYTES_3D = 35.0e3        # B per particle of the part at the split's peak (measured)
+SETUP_PART_BYTES_3D = 17.3e3  # B per particle of the part at the set-up's end (measured)
+WHOLE_BYTES_3D = 0.44e3       # B per particle of the whole body at the set-up (measured)
 FS_BANDWIDTH = 100.0e9        # B/s of a parallel file system, aggregate (assumed)
 MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
 STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)
@@ -96,14 +99,15 @@ def step_times_3d(p, n):
 
 
 def peak_bytes_3d(p, n, whole=WHOLE_BYTES_3D):
-    """A rank's peak memory (B) on p ranks of n particles each: the fixed share, its part,
-    and the whole body's p n particles at `whole` B each."""
-    return FIXED_BYTES_3D + n * PART_BYTES_3D + p * n * whole
+    """A rank's peak memory (B) on p ranks of n particles each: the fixed share and the
+    larger of the split's (its part) and the set-up's (its part's share there and the
+    whole body's p n particles at `whole` B each)."""
+    return FIXED_BYTES_3D + max(n * PART_BYTES_3D, n * SETUP_PART_BYTES_3D + p * n * whole)
 
 
 def largest_part_3d(p, whole=WHOLE_BYTES_3D):
     """The most particles a rank's part can have on p ranks within MEM_PER_RANK."""
-    return (MEM_PER_RANK - FIXED_BYTES_3D) / (PART_BYTES_3D + p * whole)
+    return (MEM_PER_RANK - FIXED_BYTES_3D) / max(PART_BYTES_3D, SETUP_PART_BYTES_3D + p * whole)
 
 
 def output_times_3d(p, n):
@@ -151,8 +155,8 @@ def main_3d(out):
         axs[1].loglog(ranks, [p * n * SNAP_BYTES_3D / 2 ** 30 for p in ranks], mk + "--",
                       base=2, label=f"rank 0's gathered snapshot, {lab}")
     print(f"\n3D, the largest problem within {MEM_PER_RANK / 2 ** 30:.0f} GiB a rank: with "
-          f"the whole body's {WHOLE_BYTES_3D / 1e3:.1f} kB a particle on every rank (now), "
-          "and without it (bodies, solid and contact sides built per part)")
+          f"the whole body's {WHOLE_BYTES_3D / 1e3:.2f} kB a particle on every rank at the "
+          "set-up (now), and without it (bodies, tables and solid built per part)")
     print("| ranks | particles a rank, now | whole problem, now | particles a rank, per "
           "part | whole problem, per part |")
     print("|---|---|---|---|---|")
@@ -173,7 +177,7 @@ def main_3d(out):
     axs[1].set_ylabel("memory per rank (GiB)")
     axs[1].grid(True, which="both", alpha=0.3)
     axs[1].legend(loc="upper left", fontsize=7)
-    axs[1].set_title("what breaks first: what every rank holds of the whole body", fontsize=9)
+    axs[1].set_title("what breaks first: the whole body at every rank's set-up", fontsize=9)
     fig.tight_layout()
     fig.savefig(out)
     print(f"wrote {os.path.normpath(out)}")
