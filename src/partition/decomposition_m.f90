@@ -69,16 +69,105 @@ contains
   !! also one not in the set). Every rank gets the same tree whatever the shares, while no
   !! rank holds more than its share: the extents are maxima over the ranks, and each cut's
   !! two order statistics are found by bisection over the coordinates' bit patterns,
-  !! ordered as the numbers are (order_statistics: at most 65 counts summed over the ranks
-  !! a cut). A rank's work is its share's counts; the nparts - 1 cuts are made one after
-  !! the other, depth first. Collective.
+  !! ordered as the numbers are (ordered_key: at most 65 counts summed over the ranks). The
+  !! boxes of a level are cut together (their counts, extents and order statistics in one
+  !! reduction each: some 67 reductions a level, log2(nparts) levels, rather than 67 a
+  !! cut), and the tree is numbered depth first, its parts left to right, as a cut after
+  !! cut would make it. A rank's work is its share's counts. Collective.
   subroutine rcb_build_ranks(x, nparts, comm, tree)
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: nparts
     class(rank_comm_t), intent(inout) :: comm
     type(rcb_tree_t), intent(out) :: tree
-    integer :: i, next_part, nd
+    ! b: the tree as the levels make it (breadth first); npk: the parts each node makes
+    type(rcb_tree_t) :: b
+    integer, allocatable :: node_of(:), npk(:), cur(:), nxt(:), slot(:), ax(:)
+    integer(i64), allocatable :: n(:), r(:, :)
+    real(wp), allocatable :: mm(:), v(:, :), lim(:, :)
+    integer :: i, j, k, nd, m, plo, next_part
+    integer(i64) :: nlo
     nd = size(x, 1)
+    allocate(b%part(2*nparts), b%axis(2*nparts), b%lo(2*nparts), b%hi(2*nparts), &
+      b%cut(2*nparts), npk(2*nparts), slot(2*nparts))
+    b%part = 0
+    b%axis = 0
+    b%lo = 0
+    b%hi = 0
+    b%cut = 0.0_wp
+    b%nt = 1
+    npk = 0
+    npk(1) = nparts
+    allocate(node_of(size(x, 2)))
+    node_of = 1
+    cur = [integer ::]
+    if (nparts > 1) cur = [1]
+    do while (size(cur) > 0)
+      m = size(cur)
+      slot = 0
+      slot(cur) = [(j, j = 1, m)]
+      ! each box's count and extremes (the smallest as the largest of the negatives: exact)
+      allocate(n(m), mm(2*nd*m), ax(m), r(2, m), v(2, m), lim(2, m))
+      n = 0
+      mm = -huge(1.0_wp)
+      do i = 1, size(x, 2)
+        j = slot(node_of(i))
+        if (j == 0) cycle
+        n(j) = n(j) + 1
+        associate (mj => mm(2*nd*(j - 1) + 1:2*nd*j))
+          mj(1:nd) = max(mj(1:nd), x(:, i))
+          mj(nd + 1:) = max(mj(nd + 1:), -x(:, i))
+        end associate
+      end do
+      call comm%sum_i8(n)
+      call comm%max_real(mm)
+      ! each box's axis and the ranks of its cut's two order statistics (0: no cut inside)
+      do j = 1, m
+        associate (mj => mm(2*nd*(j - 1) + 1:2*nd*j))
+          ax(j) = 1
+          if (n(j) > 0) ax(j) = maxloc(mj(1:nd) - (-mj(nd + 1:)), dim=1)
+          lim(:, j) = [-mj(nd + ax(j)), mj(ax(j))]
+        end associate
+        plo = npk(cur(j))/2
+        nlo = (n(j)*plo)/npk(cur(j))
+        r(:, j) = 0
+        if (nlo > 0 .and. nlo < n(j)) r(:, j) = [nlo, nlo + 1]
+      end do
+      call level_statistics(x, node_of, slot, ax, r, lim, comm, v)
+      ! the cuts, and the children (numbered breadth first here)
+      nxt = [integer ::]
+      do j = 1, m
+        k = cur(j)
+        plo = npk(k)/2
+        nlo = (n(j)*plo)/npk(k)
+        if (r(1, j) > 0) then
+          b%cut(k) = 0.5_wp*(v(1, j) + v(2, j))
+        else if (nlo == 0) then
+          b%cut(k) = -huge(1.0_wp)
+        else
+          b%cut(k) = huge(1.0_wp)
+        end if
+        b%axis(k) = ax(j)
+        b%lo(k) = b%nt + 1
+        b%hi(k) = b%nt + 2
+        b%nt = b%nt + 2
+        npk(b%lo(k)) = plo
+        npk(b%hi(k)) = npk(k) - plo
+        if (plo > 1) nxt = [nxt, b%lo(k)]
+        if (npk(k) - plo > 1) nxt = [nxt, b%hi(k)]
+      end do
+      do i = 1, size(x, 2)
+        k = node_of(i)
+        if (slot(k) == 0) cycle
+        if (x(b%axis(k), i) < b%cut(k)) then
+          node_of(i) = b%lo(k)
+        else
+          node_of(i) = b%hi(k)
+        end if
+      end do
+      deallocate(n, mm, ax, r, v, lim)
+      call move_alloc(nxt, cur)
+    end do
+    ! numbered depth first, the parts left to right
     tree%nparts = nparts
     allocate(tree%part(2*nparts), tree%axis(2*nparts), tree%lo(2*nparts), &
       tree%hi(2*nparts), tree%cut(2*nparts))
@@ -89,90 +178,89 @@ contains
     tree%cut = 0.0_wp
     tree%nt = 1
     next_part = 1
-    call split(1, [(i, i = 1, size(x, 2))], nparts)
+    call renumber(1, 1)
   contains
-    recursive subroutine split(k, set, np)
-      integer, intent(in) :: k, set(:), np
-      real(wp) :: ext(nd), mm(2*nd), v(2)
-      integer(i64) :: n(1), nlo
-      integer :: ax, plo
-      if (np == 1) then
-        tree%part(k) = next_part
+    !> Node kb of b as node kt of the tree, its children after it.
+    recursive subroutine renumber(kb, kt)
+      integer, intent(in) :: kb, kt
+      if (npk(kb) == 1) then
+        tree%part(kt) = next_part
         next_part = next_part + 1
         return
       end if
-      n(1) = size(set)
-      call comm%sum_i8(n)
-      ! the largest coordinates, and the smallest as the largest of their negatives (exact)
-      mm = -huge(1.0_wp)
-      if (size(set) > 0) then
-        mm(1:nd) = maxval(x(:, set), dim=2)
-        mm(nd + 1:) = -minval(x(:, set), dim=2)
-      end if
-      call comm%max_real(mm)
-      ext = 0.0_wp
-      if (n(1) > 0) ext = mm(1:nd) - (-mm(nd + 1:))
-      ax = maxloc(ext, dim=1)
-      plo = np/2
-      nlo = (n(1)*plo)/np
-      if (nlo > 0 .and. nlo < n(1)) then
-        call order_statistics(x(ax, set), [nlo, nlo + 1], -mm(nd + ax), mm(ax), comm, v)
-        tree%cut(k) = 0.5_wp*(v(1) + v(2))
-      else if (nlo == 0) then
-        tree%cut(k) = -huge(1.0_wp)
-      else
-        tree%cut(k) = huge(1.0_wp)
-      end if
-      tree%axis(k) = ax
-      tree%lo(k) = tree%nt + 1
-      tree%hi(k) = tree%nt + 2
+      tree%axis(kt) = b%axis(kb)
+      tree%cut(kt) = b%cut(kb)
+      tree%lo(kt) = tree%nt + 1
+      tree%hi(kt) = tree%nt + 2
       tree%nt = tree%nt + 2
-      call split(tree%lo(k), pack(set, x(ax, set) < tree%cut(k)), plo)
-      call split(tree%hi(k), pack(set, .not. (x(ax, set) < tree%cut(k))), np - plo)
-    end subroutine split
+      call renumber(b%lo(kb), tree%lo(kt))
+      call renumber(b%hi(kb), tree%hi(kt))
+    end subroutine renumber
   end subroutine rcb_build_ranks
 
-  !> v(j): the r(j)-th smallest (from 1) of the values the ranks of comm hold (this rank's
-  !! vals; all of them within [vmin, vmax]), exactly, as a value one of them holds (a zero
-  !! as +0). Each value's bit pattern is made an integer that orders as the values do
-  !! (ordered_key); the smallest key K with at least r(j) keys <= K is bisected between the
-  !! keys of vmin and vmax, a count summed over the ranks each halving (both j at once).
+  !> v(:, j): the r(1, j)-th and r(2, j)-th smallest (from 1) of the coordinates along
+  !! axis ax(j) of the points the ranks of comm hold in box j of a level (node_of(i): the
+  !! node of point i, slot(node): its box, 0 for none), exactly, as values one of them
+  !! holds (a zero as +0); all of them within lim(:, j). Each value's bit pattern is made
+  !! an integer that orders as the values do (ordered_key); for every box at once the
+  !! smallest key K with at least r keys <= K is bisected between the keys of lim, the
+  !! counts summed over the ranks each halving. Boxes with r(:, j) = 0 have no cut.
   !! Collective.
-  subroutine order_statistics(vals, r, vmin, vmax, comm, v)
-    real(wp), intent(in) :: vals(:), vmin, vmax
-    integer(i64), intent(in) :: r(2)
+  subroutine level_statistics(x, node_of, slot, ax, r, lim, comm, v)
+    real(wp), intent(in) :: x(:, :), lim(:, :)
+    integer, intent(in) :: node_of(:), slot(:), ax(:)
+    integer(i64), intent(in) :: r(:, :)
     class(rank_comm_t), intent(inout) :: comm
-    real(wp), intent(out) :: v(2)
+    real(wp), intent(out) :: v(:, :)
     ! (on the heap: a rank's share may be millions of values)
-    integer(i64), allocatable :: key(:)
-    integer(i64) :: klo(2), khi(2), mid(2), c(2)
-    integer :: i, j
-    allocate(key(size(vals)))
-    do i = 1, size(vals)
-      key(i) = ordered_key(vals(i))
+    integer(i64), allocatable :: key(:), klo(:, :), khi(:, :), mid(:, :), c(:, :), cs(:)
+    integer :: i, j, l, m
+    m = size(ax)
+    allocate(key(size(x, 2)), klo(2, m), khi(2, m), mid(2, m), c(2, m))
+    key = 0
+    do i = 1, size(x, 2)
+      j = slot(node_of(i))
+      if (j == 0) cycle
+      key(i) = ordered_key(x(ax(j), i))
     end do
-    klo = ordered_key(vmin)
-    khi = ordered_key(vmax)
+    klo = 0
+    khi = 0
+    do j = 1, m
+      if (r(1, j) == 0) cycle
+      klo(:, j) = ordered_key(lim(1, j))
+      khi(:, j) = ordered_key(lim(2, j))
+    end do
     do while (any(klo < khi))
       ! the floor of the midpoint, without overflow
       mid = shifta(klo, 1) + shifta(khi, 1) + iand(iand(klo, khi), 1_i64)
-      do j = 1, 2
-        c(j) = count(key <= mid(j))
+      c = 0
+      do i = 1, size(x, 2)
+        j = slot(node_of(i))
+        if (j == 0) cycle
+        do l = 1, 2
+          if (key(i) <= mid(l, j)) c(l, j) = c(l, j) + 1
+        end do
       end do
-      call comm%sum_i8(c)
-      do j = 1, 2
-        if (klo(j) >= khi(j)) cycle
-        if (c(j) >= r(j)) then
-          khi(j) = mid(j)
-        else
-          klo(j) = mid(j) + 1
-        end if
+      cs = reshape(c, [2*m])
+      call comm%sum_i8(cs)
+      c = reshape(cs, [2, m])
+      do j = 1, m
+        do l = 1, 2
+          if (klo(l, j) >= khi(l, j)) cycle
+          if (c(l, j) >= r(l, j)) then
+            khi(l, j) = mid(l, j)
+          else
+            klo(l, j) = mid(l, j) + 1
+          end if
+        end do
       end do
     end do
-    do j = 1, 2
-      v(j) = key_value(klo(j))
+    do j = 1, m
+      do l = 1, 2
+        v(l, j) = key_value(klo(l, j))
+      end do
     end do
-  end subroutine order_statistics
+  end subroutine level_statistics
 
   !> An integer that orders as the real values do (a zero of either sign is 0): the bit
   !! pattern of a value >= 0, minus one less the magnitude's bits of a negative one.
