@@ -87,14 +87,8 @@ contains
     integer :: i, j, k, nd, m, plo, next_part
     integer(i64) :: nlo
     nd = size(x, 1)
-    allocate(b%part(2*nparts), b%axis(2*nparts), b%lo(2*nparts), b%hi(2*nparts), &
-      b%cut(2*nparts), npk(2*nparts), slot(2*nparts))
-    b%part = 0
-    b%axis = 0
-    b%lo = 0
-    b%hi = 0
-    b%cut = 0.0_wp
-    b%nt = 1
+    call tree_empty(b, nparts)
+    allocate(npk(2*nparts), slot(2*nparts))
     npk = 0
     npk(1) = nparts
     allocate(node_of(size(x, 2)))
@@ -168,15 +162,7 @@ contains
       call move_alloc(nxt, cur)
     end do
     ! numbered depth first, the parts left to right
-    tree%nparts = nparts
-    allocate(tree%part(2*nparts), tree%axis(2*nparts), tree%lo(2*nparts), &
-      tree%hi(2*nparts), tree%cut(2*nparts))
-    tree%part = 0
-    tree%axis = 0
-    tree%lo = 0
-    tree%hi = 0
-    tree%cut = 0.0_wp
-    tree%nt = 1
+    call tree_empty(tree, nparts)
     next_part = 1
     call renumber(1, 1)
   contains
@@ -197,6 +183,21 @@ contains
       call renumber(b%hi(kb), tree%hi(kt))
     end subroutine renumber
   end subroutine rcb_build_ranks
+
+  !> A tree of nparts parts with its root only (room for its 2 nparts - 1 nodes).
+  subroutine tree_empty(t, nparts)
+    type(rcb_tree_t), intent(out) :: t
+    integer, intent(in) :: nparts
+    t%nparts = nparts
+    allocate(t%part(2*nparts), t%axis(2*nparts), t%lo(2*nparts), t%hi(2*nparts), &
+      t%cut(2*nparts))
+    t%part = 0
+    t%axis = 0
+    t%lo = 0
+    t%hi = 0
+    t%cut = 0.0_wp
+    t%nt = 1
+  end subroutine tree_empty
 
   !> v(:, j): the r(1, j)-th and r(2, j)-th smallest (from 1) of the coordinates along
   !! axis ax(j) of the points the ranks of comm hold in box j of a level (node_of(i): the
