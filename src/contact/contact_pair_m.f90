@@ -1235,12 +1235,6 @@ contains
       if (allocated(s%imass)) deallocate(s%imass)
       if (allocated(s%d_scr)) deallocate(s%d_scr)
       if (allocated(s%due)) s%due = s%due(nglob)
-      ! a slave against a rigid master is never a master: its cloud (det(M)), surface and
-      ! segment buckets over the whole body go too
-      s%cloud = rk_cloud_t()
-      s%surface = master_surface_t()
-      s%surf3 = surface3d_t()
-      s%buckets = nts_buckets_t()
       if (allocated(s%glob)) deallocate(s%glob)
       s%cut = .true.
     end associate
