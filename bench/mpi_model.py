@@ -77,6 +77,17 @@ FIXED_BYTES_3D = 0.07e9       # B per rank whatever its part (runtime, Open MPI,
 PART_BYTES_3D = 35.0e3        # B per particle of the part at the split's peak (measured)
 SETUP_PART_BYTES_3D = 17.3e3  # B per particle of the part at the set-up's end (measured)
 WHOLE_BYTES_3D = 0.44e3       # B per particle of the whole body at the set-up (measured)
+# measured 2026-11-30 on a lent 16-core machine (one socket; doc/parallel.md, "3D on 16
+# cores"): the loop's weak efficiency of the bench's bar 30 mm a rank (18,700 particles a
+# rank, 50 steps) on 1-16 ranks; 16 independent one-rank runs at once took 6.29 s a run
+# against 4.73 s alone (the socket's memory bandwidth shared: a node full of ranks steps
+# at NODE_SHARE_3D of one rank alone, whatever the messages); in weak scaling the set-up
+# grew by about 5 s for 280,000 particles of the whole body beyond what 16 runs at once
+# cost (SETUP_WHOLE_S_3D: generating the bodies, the whole masses' sum, the maps)
+MEASURED_WEAK_16 = {1: 1.00, 2: 0.87, 4: 0.73, 8: 0.69, 16: 0.56}
+NODE_SHARE_3D = 0.75          # a full node's step against one rank alone (measured)
+RANKS_PER_NODE = 16           # the lent machine's cores (nodes full from this count on)
+SETUP_WHOLE_S_3D = 20.0e-6    # s of set-up per particle of the whole body (measured, +-30%)
 FS_BANDWIDTH = 100.0e9        # B/s of a parallel file system, aggregate (assumed)
 MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
 STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)
@@ -118,6 +129,12 @@ def output_times_3d(p, n):
     return total / BANDWIDTH, total / min(p * BANDWIDTH, FS_BANDWIDTH)
 
 
+def full(p, eff):
+    """The efficiency against one rank alone on its node when the nodes are full of ranks
+    (from RANKS_PER_NODE ranks on): the communication model's times the measured share."""
+    return f"{NODE_SHARE_3D * eff:.0f}%" if p >= RANKS_PER_NODE else "-"
+
+
 def main_3d(out):
     """The 3D model: a table for 10^5 and 10^6 particles per rank, 1 to 1,024 ranks, and
     its figure (efficiency of the steps, the share of the snapshots' output, and the
@@ -127,10 +144,11 @@ def main_3d(out):
     fig, axs = plt.subplots(1, 2, figsize=(10.0, 4.0))
     for n, mk in ((1.0e5, "o"), (1.0e6, "s")):
         print(f"\n3D, {n:.0e} particles per rank")
-        print("| ranks | step (ms) | halos + reductions (ms) | efficiency | snapshot, "
-              "gather (s) | snapshot, MPI-IO (s) | output share, gather | peak memory "
-              "per rank, part + whole body (GiB) | rank 0's gathered snapshot (GiB) |")
-        print("|---|---|---|---|---|---|---|---|---|")
+        print("| ranks | step (ms) | halos + reductions (ms) | efficiency | with full "
+              "nodes | snapshot, gather (s) | snapshot, MPI-IO (s) | output share, gather | "
+              "peak memory per rank, part + whole body (GiB) | rank 0's gathered snapshot "
+              "(GiB) | set-up, whole-body share (s) |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         eff, share_g, share_io, mem = [], [], [], []
         for p in ranks:
             w, c = step_times_3d(p, n)
@@ -140,15 +158,20 @@ def main_3d(out):
             share_g.append(100 * g / (per + g))
             share_io.append(100 * io / (per + io))
             mem.append(peak_bytes_3d(p, n) / 2 ** 30)
-            print(f"| {p} | {1e3 * w:.0f} | {1e3 * c:.3f} | {eff[-1]:.2f}% | {g:.2f} | "
+            print(f"| {p} | {1e3 * w:.0f} | {1e3 * c:.3f} | {eff[-1]:.2f}% | "
+                  f"{full(p, eff[-1])} | {g:.2f} | "
                   f"{io:.3f} | {share_g[-1]:.1f}% | {mem[-1]:.1f} | "
-                  f"{p * n * SNAP_BYTES_3D / 2 ** 30:.2f} |")
+                  f"{p * n * SNAP_BYTES_3D / 2 ** 30:.2f} | {p * n * SETUP_WHOLE_S_3D:.0f} |")
         lab = f"{n:.0e} particles per rank"
         axs[0].semilogx(ranks, eff, mk + "-", base=2, label=f"steps, {lab}")
         axs[0].semilogx(ranks, [100 - x for x in share_g], mk + "--", base=2,
                         label=f"with snapshots gathered to rank 0, {lab}")
         axs[0].semilogx(ranks, [100 - x for x in share_io], mk + ":", base=2,
                         label=f"with snapshots by MPI-IO, {lab}")
+        big = [i for i, p in enumerate(ranks) if p >= RANKS_PER_NODE]
+        axs[0].semilogx([ranks[i] for i in big], [NODE_SHARE_3D * eff[i] for i in big],
+                        mk + "-.", base=2,
+                        alpha=0.6, label=f"steps, nodes full of ranks (x{NODE_SHARE_3D}), {lab}")
         axs[1].loglog(ranks, mem, mk + "-", base=2, label=f"peak per rank, {lab}")
         axs[1].loglog(ranks, [peak_bytes_3d(1, n) / 2 ** 30] * len(ranks), mk + ":", base=2,
                       label=f"the part's own, {lab}")
@@ -165,13 +188,15 @@ def main_3d(out):
         print(f"| {p} | {a:.3g} | {p * a:.3g} | {b:.3g} | {p * b:.3g} |")
     axs[0].plot([2], [100 * MEASURED_3D], "^", ms=9,
                 label="measured, 2 ranks (3D Taylor quarter, 37,467 particles per rank)")
+    axs[0].plot(list(MEASURED_WEAK_16), [100 * e for e in MEASURED_WEAK_16.values()], "kv",
+                ms=7, label="measured, 1-16 ranks of one 16-core socket (18,700 per rank)")
     axs[1].axhline(MEM_PER_RANK / 2 ** 30, color="k", lw=1.0,
                    label=f"memory per rank ({MEM_PER_RANK / 2 ** 30:.0f} GiB, assumed)")
     axs[0].set_xlabel("MPI ranks")
     axs[0].set_ylabel("efficiency (%)")
-    axs[0].set_ylim(75, 101)
+    axs[0].set_ylim(15, 102)
     axs[0].grid(True, which="both", alpha=0.3)
-    axs[0].legend(loc="lower left", fontsize=7)
+    axs[0].legend(loc="lower right", fontsize=6)
     axs[0].set_title(f"3D weak scaling; a snapshot every {STEPS_PER_SNAPSHOT} steps", fontsize=9)
     axs[1].set_xlabel("MPI ranks")
     axs[1].set_ylabel("memory per rank (GiB)")

@@ -7,8 +7,9 @@
 # holds or does for the whole body shows as the growth of its peak memory and set-up time.
 # Prints, per run, the particles, the summary's set-up and time-loop seconds, and every
 # rank's peak resident memory (GNU time's %M).
-# Usage: bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
-#   default: build-mpi-rel/bin (bench/mpi_scaling.sh builds it), ranks 2 4 8
+# Usage: [STEPS=N] bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
+#   default: build-mpi-rel/bin (bench/mpi_scaling.sh builds it), ranks 2 4 8, 10 steps of 15 ns
+#   (more steps, e.g. STEPS=50, to time the time loop's weak scaling too)
 # More ranks than cores run oversubscribed: the memory holds, the set-up's seconds are then
 # the ranks sharing a core (divide by ranks / cores for one core's work).
 set -euo pipefail
@@ -18,15 +19,16 @@ shift || true
 ranks=("$@")
 [ ${#ranks[@]} -gt 0 ] || ranks=(2 4 8)
 [ -x /usr/bin/time ] || { echo "mpi_weak_3d: needs GNU time (apt-get install time)" >&2; exit 2; }
+steps=${STEPS:-10}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "# mfcd_mpi weak scaling of the set-up, 3D Taylor bar 30 mm a rank, 10 steps"
+echo "# mfcd_mpi weak scaling of the set-up, 3D Taylor bar 30 mm a rank, $steps steps"
 echo "- date: $(date -Iseconds); commit: $(git -C "$root" rev-parse --short HEAD 2>/dev/null); bin: $bin"
 echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc --all)"
 for n in "${ranks[@]}"; do
   len=$(python3 -c "print(f'{0.03*$n:.4f}')")
-  sed -e "s#file = 'output/#file = '$work/#" -e 's/t_end = 4.5e-6/t_end = 1.5e-7/' \
+  sed -e "s#file = 'output/#file = '$work/#" -e "s/t_end = 4.5e-6/t_end = $(python3 -c "print(f'{15e-9*$steps:.4e}')")/" \
     -e "s/extrude = 0.0, 0.06/extrude = 0.0, $len/" \
     "$root/bench/decks/taylor_bar_3d_rkpm_bench.nml" > "$work/t.nml"
   echo "== $n rank(s), bar $len m long"
