@@ -82,12 +82,14 @@ WHOLE_BYTES_3D = 0.44e3       # B per particle of the whole body at the set-up (
 # rank, 50 steps) on 1-16 ranks; 16 independent one-rank runs at once took 6.29 s a run
 # against 4.73 s alone (the socket's memory bandwidth shared: a node full of ranks steps
 # at NODE_SHARE_3D of one rank alone, whatever the messages); in weak scaling the set-up
-# grew by about 5 s for 280,000 particles of the whole body beyond what 16 runs at once
-# cost (SETUP_WHOLE_S_3D: generating the bodies, the whole masses' sum, the maps)
+# grew from 4 to 16 ranks (parts of the same shape) by 7-8 s beyond what 4 and 16 runs at
+# once cost, for 224,000 more particles of the whole body (SETUP_WHOLE_S_3D: 20-35 us a
+# particle, 1 -> 16 ranks and 4 -> 16 ranks; not broken down: no whole-body routine leads
+# a profile, page clearing of fresh memory grows most)
 MEASURED_WEAK_16 = {1: 1.00, 2: 0.87, 4: 0.73, 8: 0.69, 16: 0.56}
 NODE_SHARE_3D = 0.75          # a full node's step against one rank alone (measured)
 RANKS_PER_NODE = 16           # the lent machine's cores (nodes full from this count on)
-SETUP_WHOLE_S_3D = 20.0e-6    # s of set-up per particle of the whole body (measured, +-30%)
+SETUP_WHOLE_S_3D = 25.0e-6    # s of set-up per particle of the whole body (measured, 20-35)
 FS_BANDWIDTH = 100.0e9        # B/s of a parallel file system, aggregate (assumed)
 MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
 STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)

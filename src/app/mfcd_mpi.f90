@@ -95,6 +95,13 @@ program mfcd_mpi
     ' deck '//trim(arg)//', MPI ranks: '//itoa(nranks))
   call read_deck(trim(arg), deck, err)
   if (.not. allocated(err)) call mpi_scene_check(deck, err)
+  ! (said, not silent: a part has no quiet state)
+  if (.not. allocated(err)) then
+    if (deck%solver%skip_quiet .and. any(deck%bodies(1:deck%nbodies)%role == 'deformable')) &
+      call log_print('mfcd_mpi: &solver skip_quiet is not applied on ranks: every point '// &
+      'is evaluated every step (the serial skipping is exact to round-off, not to the '// &
+      'bit: give skip_quiet = .false. to compare with a serial run bit for bit)')
+  end if
   if (.not. allocated(err)) call build_bodies(deck, bodies, err)
   ! the ranks (the set-up's sums go through them too)
   call mpi_domain_init(ranks, MPI_COMM_WORLD, ghost_margin, ghost_refresh, &
