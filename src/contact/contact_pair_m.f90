@@ -1137,7 +1137,9 @@ contains
       s%imass = 1.0_wp/sol%t%mass
       where (all(sol%pres, dim=1)) s%imass = 0.0_wp
       if (allocated(s%due)) then
-        s%d_scr = sol%state%d
+        ! (the coefficients at the last screening: the cut's, zero at the start as the
+        ! part's d, or a checkpoint's, whose d the part reads later)
+        if (.not. allocated(s%d_scr)) s%d_scr = sol%state%d
         if (associated(ranks)) call lip_over_ranks(s, sol, ranks)
       end if
       s%ranks => ranks
@@ -1231,9 +1233,10 @@ contains
       s%x_ref = s%x_ref(:, nglob)
       s%vol = s%vol(nglob)
       if (allocated(s%bary)) s%bary = s%bary(:, nglob)
-      ! (the part's masses and state set them: contact_pair_localize)
+      ! (the part's masses set them: contact_pair_localize)
       if (allocated(s%imass)) deallocate(s%imass)
-      if (allocated(s%d_scr)) deallocate(s%d_scr)
+      ! (skip_far's schedule: zero, or a restart's, read for the region)
+      if (allocated(s%d_scr)) s%d_scr = s%d_scr(:, nglob)
       if (allocated(s%due)) s%due = s%due(nglob)
       if (allocated(s%glob)) deallocate(s%glob)
       s%cut = .true.

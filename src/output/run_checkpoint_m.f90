@@ -64,6 +64,9 @@ module run_checkpoint_m
     character(len=:), allocatable :: git  !< git commit of the mfcd that wrote it
   end type checkpoint_info_t
 
+  character(len=*), parameter :: skip_due_text = 'travel at which each particle is '// &
+    'screened again', skip_d_text = 'coefficients at the last screening'
+
 contains
 
   !> Write the state of the run after step r%n to a new file at path (created exclusively;
@@ -144,10 +147,11 @@ contains
             [pairs(k)%count%skipped], '1', err, 'screenings skipped since t = 0 (skip_far)')
           if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
             '_skip_travel', [s%travel], 'm', err, 'bound on the particles'' motion since t = 0')
-          if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
-            '_skip_due', s%due, 'm', err, 'travel at which each particle is screened again')
-          if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
-            '_skip_d', s%d_scr, 'm', err, 'coefficients at the last screening')
+          ! (on ranks each rank writes its own particles' rows: checkpoint_write_fields)
+          if (with_fields .and. .not. allocated(err)) call h5_write(f, '/contacts/contact'// &
+            itoa(k)//'_skip_due', s%due, 'm', err, skip_due_text)
+          if (with_fields .and. .not. allocated(err)) call h5_write(f, '/contacts/contact'// &
+            itoa(k)//'_skip_d', s%d_scr, 'm', err, skip_d_text)
         end if
       end associate
     end do
@@ -263,16 +267,57 @@ contains
   !> The state fields of the solids into their groups /solids/<name> (made by
   !! checkpoint_write with fields = .false.): on MPI ranks, every rank its part's rows into
   !! the file opened on all with MPI-IO, collectively.
-  subroutine checkpoint_write_fields(f, solids, err)
+  subroutine checkpoint_write_fields(f, solids, pairs, err)
     type(h5file_t), intent(in) :: f
     type(solid_t), intent(in) :: solids(:)
+    type(contact_pair_t), intent(in) :: pairs(:)
     type(error_t), allocatable, intent(inout) :: err
     integer :: k
     do k = 1, size(solids)
       if (.not. allocated(err)) call write_fields(f, '/solids/'//trim(solids(k)%name), &
         solids(k), err)
     end do
+    do k = 1, size(pairs)
+      if (.not. allocated(err)) call write_skip_rows(f, k, pairs(k), solids, err)
+    end do
   end subroutine checkpoint_write_fields
+
+  !> skip_far's schedule of pair p (number k), the datasets /contacts/contact<k>_skip_due and
+  !! _skip_d of a serial checkpoint, from the ranks: each writes the rows of the slave
+  !! particles it owns by their numbers in the whole body, collectively. A rank keeps the
+  !! schedule of its own particles as the serial run does (its passes and add_travel look at
+  !! those; the bound on the motion is taken over the ranks), so the rows are the serial
+  !! arrays, and a restart on any number of ranks, or by the serial program, skips what the
+  !! uninterrupted run skips.
+  subroutine write_skip_rows(f, k, p, solids, err)
+    type(h5file_t), intent(in) :: f
+    integer, intent(in) :: k
+    type(contact_pair_t), intent(in) :: p
+    type(solid_t), intent(in) :: solids(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: own(:), gn(:), oq(:), gq(:)
+    real(wp), allocatable :: due(:), d(:, :)
+    integer :: n, nqw
+    character(len=:), allocatable :: c
+    associate (s => p%side(1))
+      if (.not. (s%skip_far .and. allocated(s%due))) return
+      if (allocated(p%dist)) then
+        ! (a deforming master's or self-contact's side: over the whole body's particles)
+        own = p%dist%side(1)%own
+        gn = own
+        n = s%np
+      else
+        ! (a rigid master's slave side: over the part's nodes)
+        call output_rows(solids(s%isolid), own, gn, n, oq, gq, nqw)
+      end if
+      due = s%due(own)
+      d = s%d_scr(:, own)
+      c = '/contacts/contact'//itoa(k)
+      call h5_write_rows(f, c//'_skip_due', due, gn, n, 'm', err, skip_due_text)
+      if (.not. allocated(err)) call h5_write_rows(f, c//'_skip_d', d, gn, n, 'm', err, &
+        skip_d_text)
+    end associate
+  end subroutine write_skip_rows
 
   !> Each state field (state_fields) of solid s as dataset g/<name>: (rows, np) on nodes,
   !! (rows, nq) on integration points, one row as a 1-D dataset; the rows of the whole

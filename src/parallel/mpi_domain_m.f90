@@ -664,11 +664,12 @@ contains
   end subroutine mpi_bodies_rows
 
   !> A checkpoint of the state after step r%n in the serial layout, which any number of
-  !! ranks can restart from (the ghost sets of contact and skip_far's schedule start
-  !! afresh, which is exact): rank 0 writes the record, the solids' sizes and scalars (the
-  !! energies and the pairs' counters summed over the ranks), the contacts and the history;
-  !! then every rank writes its part's rows of the state fields into it with MPI-IO,
-  !! collectively (no gather), and rank 0 renames it over the previous checkpoint.
+  !! ranks can restart from (the ghost sets of contact start afresh, which is exact): rank
+  !! 0 writes the record, the solids' sizes and scalars (the energies and the pairs'
+  !! counters summed over the ranks), the contacts and the history; then every rank writes
+  !! its part's rows of the state fields and its own slave particles' rows of skip_far's
+  !! schedule into it with MPI-IO, collectively (no gather), and rank 0 renames it over
+  !! the previous checkpoint.
   subroutine mpi_checkpoint(dom, out, bodies, r, solids, pairs, t_loop, err)
     class(mpi_domain_t), intent(inout), target :: dom
     type(run_files_t), intent(inout) :: out
@@ -683,7 +684,6 @@ contains
     integer :: k
     type(exact_sum_t) :: e(8)
     real(wp) :: et(8)
-    logical :: skip(size(pairs))
     do k = 1, size(solids)
       ! the accounts the history records: exact sums over the parts' entries
       e = exact_sum_t()
@@ -705,7 +705,7 @@ contains
       if (dom%root) call run_files_checkpoint_failed(out, r, err)
       return
     end if
-    call checkpoint_write_fields(f, solids, err)
+    call checkpoint_write_fields(f, solids, pairs, err)
     call h5_close_collective(f, err)
     if (dom%any_error(err)) then
       if (dom%root) call run_files_checkpoint_failed(out, r, err)
@@ -719,17 +719,10 @@ contains
       integer :: j
       allocate(keep(size(pairs)), source=[(pairs(j)%count, j = 1, size(pairs))])
       call mpi_counters(dom, pairs, .false.)
-      if (dom%root) then
-        ! (skip_far's schedule is each rank's own: not written)
-        skip = [(pairs(j)%side(1)%skip_far, j = 1, size(pairs))]
-        do j = 1, size(pairs)
-          pairs(j)%side(1)%skip_far = .false.
-        end do
+      ! (skip_far's schedule: its count and bound here, every rank's own particles' rows
+      ! with the fields)
+      if (dom%root) &
         call run_files_checkpoint(out, bodies, r, dom%gs, pairs, t_loop, err, fields=.false.)
-        do j = 1, size(pairs)
-          pairs(j)%side(1)%skip_far = skip(j)
-        end do
-      end if
       do j = 1, size(pairs)
         pairs(j)%count = keep(j)
       end do

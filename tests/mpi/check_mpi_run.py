@@ -245,15 +245,15 @@ def compare(tag, ref, new, record=True, continued=False):
     # the detection counts are sums over the ranks of their own particles' counts, the
     # det(M) evaluations and skipped screenings too: each particle is screened at the
     # steps the serial run screens it (skip_far's travel over the ranks; a self-contact's
-    # clearances from ghosts that cover its search). Not after a restart from an MPI
-    # checkpoint, which does not hold the ranks' schedules: skip_far screens every
-    # particle at the first step and starts afresh (exact; the results are checked above)
-    counts = ("screened", "detected", "contacts", "detected_max_per_step", "self_unsure")
+    # clearances from ghosts that cover its search); after a restart too: the checkpoint
+    # holds skip_far's schedule, every rank its own particles' rows
+    counts = ("screened", "detected", "contacts", "detected_max_per_step", "self_unsure",
+              "evaluated", "skipped_far")
     if not continued:
         # (and &contact compare_detectors' counters: both detectors at the particles a rank
-        # owns, the buffer zone's gaps summed exactly; not continued: they count skip_far's
-        # screenings, and the gaps' sum continues from its rounded value)
-        counts += ("evaluated", "skipped_far", "compare_det", "compare_gap", "compare_buffer",
+        # owns, the buffer zone's gaps summed exactly; not continued: the gaps' sum
+        # continues from its rounded value)
+        counts += ("compare_det", "compare_gap", "compare_buffer",
                    "compare_missed", "compare_det_max", "compare_gap_max", "buffer_gap_mean",
                    "buffer_gap_max")
     cdiff = [(k, n, ca[k].get(n), cb.get(k, {}).get(n)) for k in ca for n in counts
