@@ -126,6 +126,9 @@ contains
           '_buffer_gap', [c%buffer_gap_sum, c%buffer_gap_max], 'm', err, &
           'buffer-zone gaps since t = 0: sum, largest')
         if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
+          '_buffer_gap_exact', exact_pack(c%buffer_gap_exact), '1', err, 'buffer-zone '// &
+          'gaps since t = 0, their exact sum (as _w_friction_exact), to go on adding to')
+        if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
           '_detect_time', [c%t_detect], 's', err, 'wall time in the detector since t = 0')
         if (.not. allocated(err)) call h5_write(f, '/contacts/contact'//itoa(k)// &
           '_pair_time', [c%t_pair], 's', err, 'wall time in the pair''s correction since '// &
@@ -644,9 +647,15 @@ contains
         c%cmp_det_max = more(6)
         c%cmp_gap_max = more(7)
         c%buffer_gap_sum = bgap(1)
-        ! (continued exactly from the rounded sum: a mean's last bit may differ)
+        ! (the exact sum; absent from checkpoints written before 2026-11-30: then continued
+        ! from the rounded sum, and a mean's last bit may differ)
         c%buffer_gap_exact = exact_sum_t()
-        call exact_add(c%buffer_gap_exact, bgap(1))
+        if (h5_has(f, '/contacts/contact'//itoa(k)//'_buffer_gap_exact')) then
+          call h5_read(f, '/contacts/contact'//itoa(k)//'_buffer_gap_exact', limbs, err)
+          if (.not. allocated(err)) c%buffer_gap_exact = exact_unpack(limbs)
+        else
+          call exact_add(c%buffer_gap_exact, bgap(1))
+        end if
         c%buffer_gap_max = bgap(2)
         c%t_detect = tdet(1)
       end associate

@@ -247,15 +247,12 @@ def compare(tag, ref, new, record=True, continued=False):
     # steps the serial run screens it (skip_far's travel over the ranks; a self-contact's
     # clearances from ghosts that cover its search); after a restart too: the checkpoint
     # holds skip_far's schedule, every rank its own particles' rows
+    # (and &contact compare_detectors' counters: both detectors at the particles a rank
+    # owns, the buffer zone's gaps summed exactly, their exact sum in the checkpoint)
     counts = ("screened", "detected", "contacts", "detected_max_per_step", "self_unsure",
-              "evaluated", "skipped_far")
-    if not continued:
-        # (and &contact compare_detectors' counters: both detectors at the particles a rank
-        # owns, the buffer zone's gaps summed exactly; not continued: the gaps' sum
-        # continues from its rounded value)
-        counts += ("compare_det", "compare_gap", "compare_buffer",
-                   "compare_missed", "compare_det_max", "compare_gap_max", "buffer_gap_mean",
-                   "buffer_gap_max")
+              "evaluated", "skipped_far", "compare_det", "compare_gap", "compare_buffer",
+              "compare_missed", "compare_det_max", "compare_gap_max", "buffer_gap_mean",
+              "buffer_gap_max")
     cdiff = [(k, n, ca[k].get(n), cb.get(k, {}).get(n)) for k in ca for n in counts
              if n in ca[k] and ca[k][n] != cb.get(k, {}).get(n)]
     check(f"{tag}: /summary contact counts (screened, evaluated, skipped, detected, contacts, "
