@@ -12,6 +12,7 @@ module dynamic_setup_m
   use deck_m, only: deck_t, body_spec_t
   use body_m, only: body_t
   use rank_comm_m, only: rank_comm_t, share_first
+  use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
@@ -316,10 +317,16 @@ contains
             deck%materials(bs%imat)%params%density, t, e2)
         end if
       end if
-      ! (every rank, after an error too: collective)
+      ! (every rank, after an error too: collective; every rank takes the same branch)
       split = .false.
       if (present(part)) split = part%nranks > 1
-      if (split) call whole_masses(part, tree, b, t, e2)
+      if (split) then
+        if (region_masses_do(deck, k, part)) then
+          call region_masses(part, tree, b, t, box, rows, e2)
+        else
+          call whole_masses(part, tree, b, t, e2)
+        end if
+      end if
       alpha = bs%stabilization
     end if
     if (allocated(e2)) then
@@ -333,7 +340,7 @@ contains
     ! fields): what the split reads of the whole solid, without its state
     shell = .false.
     if (present(part)) shell = part%me > 0 .or. .not. part%root_whole
-    if (shell) call region_of(t, b, box, rows)
+    if (shell .and. .not. allocated(rows)) call region_of(t, b, box, rows)
     call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
       bs%velocity(1:b%ndim), pres, vpres, e2, shell)
     if (allocated(e2)) then
@@ -421,6 +428,112 @@ contains
     end do
     rows = pack([(i, i = 1, b%np)], mark)
   end subroutine region_of
+
+  !> Whether the ranks complete the masses of body k's RKPM solid over their regions only
+  !! (region_masses) rather than over every particle (whole_masses): when every rank
+  !! holds a shell of it (no rank keeps the whole solids) and nothing reads a mass outside
+  !! a rank's region before the split: no deforming master or self-contact on the body
+  !! (their sides hold every particle's inverse mass), no plane spin (its centre of mass
+  !! sums every particle's). The same on every rank (the deck's).
+  logical function region_masses_do(deck, k, part) result(yes)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    type(setup_part_t), intent(in) :: part
+    integer :: j
+    yes = .not. part%root_whole .and. deck%bodies(k)%angular_velocity == 0.0_wp
+    do j = 1, deck%ncontacts
+      associate (cs => deck%contacts(j))
+        if ((cs%islave == k .or. cs%imaster == k) .and. &
+          deck%bodies(cs%imaster)%role == 'deformable') yes = .false.
+      end associate
+    end do
+  end function region_masses_do
+
+  !> The lumped masses of an RKPM solid t of body b over a rank's region (region_of, made
+  !! here: rows) in a decomposed set-up, each the serial one to the bit, without a sum
+  !! over every particle: a rank that integrated only the cells its box needs has the
+  !! masses of the particles in its box (its part, tree) whole, the same sums in the same
+  !! order as the serial run; the region's other particles' masses come from the ranks
+  !! whose boxes hold them (the requests' counts gathered, then the numbers and the masses
+  !! point to point to those ranks only). The masses outside the region are set to 0
+  !! (nothing reads them: region_masses_do), the total is the exact sum of the parts'
+  !! (for the log). An error on a rank (a cell too few particles cover) reaches all first.
+  !! Collective.
+  subroutine region_masses(part, tree, b, t, box, rows, err)
+    type(setup_part_t), intent(in) :: part
+    type(rcb_tree_t), intent(in) :: tree
+    type(body_t), intent(in) :: b
+    type(solid_tables_t), intent(inout) :: t
+    real(wp), intent(in) :: box(3, 2)
+    integer, allocatable, intent(out) :: rows(:)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: flag(1)
+    real(wp), allocatable :: cnt(:), all(:, :), sbuf(:), rbuf(:), back(:), got(:)
+    integer, allocatable :: owner(:), to(:), from(:), sptr(:), rptr(:), bptr(:), fill(:)
+    logical, allocatable :: keep(:)
+    type(exact_sum_t) :: e
+    integer :: i, j, r, np, me
+    if (.not. associated(part%comm)) error stop 'region_masses: setup_part_t%comm not set'
+    me = part%comm%me
+    np = part%comm%nranks
+    flag = 0.0_wp
+    if (allocated(err) .or. .not. allocated(t%mass)) flag = 1.0_wp
+    call part%comm%max_real(flag)
+    if (flag(1) > 0.0_wp) then
+      if (.not. allocated(err)) call set_error(err, 'the set-up failed on another '// &
+        'rank (its message is on its standard error)')
+      return
+    end if
+    call region_of(t, b, box, rows)
+    ! each region particle's part (0-based rank); the requests grouped by rank
+    allocate(owner(size(rows)), cnt(np))
+    cnt = 0.0_wp
+    do j = 1, size(rows)
+      owner(j) = rcb_part(tree, b%x(:, rows(j))) - 1
+      if (owner(j) /= me) cnt(owner(j) + 1) = cnt(owner(j) + 1) + 1.0_wp
+    end do
+    allocate(all(np, np))
+    call part%comm%allgather_real(cnt, all)
+    to = pack([(r, r = 0, np - 1)], cnt > 0.0_wp)
+    from = pack([(r, r = 0, np - 1)], all(me + 1, :) > 0.0_wp)
+    allocate(sptr(size(to) + 1), fill(np))
+    sptr(1) = 1
+    do i = 1, size(to)
+      fill(to(i) + 1) = sptr(i)
+      sptr(i + 1) = sptr(i) + nint(cnt(to(i) + 1))
+    end do
+    allocate(sbuf(sptr(size(to) + 1) - 1), rptr(size(from) + 1), rbuf(0))
+    do j = 1, size(rows)
+      r = owner(j)
+      if (r == me) cycle
+      sbuf(fill(r + 1)) = real(rows(j), wp)
+      fill(r + 1) = fill(r + 1) + 1
+    end do
+    call part%comm%sparse_exchange(to, sptr, sbuf, from, rptr, rbuf)
+    ! the answers: the masses of the particles asked for, which this rank's box holds
+    allocate(back(rptr(size(from) + 1) - 1), bptr(size(to) + 1), got(0))
+    do i = 1, size(back)
+      back(i) = t%mass(nint(rbuf(i)))
+    end do
+    call part%comm%sparse_exchange(from, rptr, back, to, bptr, got)
+    ! in the order asked (the requests' order per rank)
+    fill(to + 1) = sptr(1:size(to))
+    allocate(keep(b%np))
+    keep = .false.
+    e = exact_sum_t()
+    do j = 1, size(rows)
+      keep(rows(j)) = .true.
+      r = owner(j)
+      if (r == me) then
+        call exact_add(e, t%mass(rows(j)))
+        cycle
+      end if
+      t%mass(rows(j)) = got(fill(r + 1))
+      fill(r + 1) = fill(r + 1) + 1
+    end do
+    where (.not. keep) t%mass = 0.0_wp
+    t%total_mass = exact_allsum(e, part%comm)
+  end subroutine region_masses
 
   !> The lumped masses of an RKPM solid whole on every rank of a decomposed set-up: a rank that
   !! integrated only the cells its box needs (tl_build_3d's and tl_build's box) has the masses of
