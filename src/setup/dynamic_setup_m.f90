@@ -455,7 +455,8 @@ contains
   !! masses of the particles in its box (its part, tree) whole, the same sums in the same
   !! order as the serial run; the region's other particles' masses come from the ranks
   !! whose boxes hold them (the requests' counts gathered, then the numbers and the masses
-  !! point to point to those ranks only). The masses outside the region are set to 0
+  !! point to point to those ranks only; the gathered counts are P^2 numbers, 8 MB on
+  !! 1,024 ranks: an all-to-all of counts would hold P). The masses outside the region are set to 0
   !! (nothing reads them: region_masses_do), the total is the exact sum of the parts'
   !! (for the log). An error on a rank (a cell too few particles cover) reaches all first.
   !! Collective.
