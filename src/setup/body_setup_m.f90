@@ -21,7 +21,8 @@ module body_setup_m
   use hdf5_io_m, only: read_particle_file_h5, h5file_t, h5_open_read, h5_close, h5_has, &
     h5_shape, h5_read
   use detection_m, only: body_cloud, body_plateau
-  use geometry_m, only: geom_none, geom_segment, geom_polygon, geom_annulus, signed_distance
+  use geometry_m, only: geom_none, geom_segment, geom_polygon, geom_annulus, geom_prism, &
+    geom_cylinder, signed_distance
   use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
   use rk_cloud_m, only: cloud_det
   use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_annulus
@@ -431,17 +432,23 @@ contains
       spread(s%translate(1:nd), 2, size(b%cell_centre, 2))
     if (allocated(b%merged_centre)) b%merged_centre = b%merged_centre + &
       spread(s%translate(1:nd), 2, size(b%merged_centre, 2))
+    ! (explicit cells are x-y polygons, in 3D those of an extruded body's sections)
     if (allocated(b%cell_xy)) b%cell_xy = b%cell_xy + &
-      spread(s%translate(1:nd), 2, size(b%cell_xy, 2))
+      spread(s%translate(1:2), 2, size(b%cell_xy, 2))
     select case (b%geom%kind)
     case (geom_segment)
       b%geom%a = b%geom%a + s%translate(1)
       b%geom%b = b%geom%b + s%translate(1)
-    case (geom_polygon)
+    case (geom_polygon, geom_prism)
       b%geom%v = b%geom%v + spread(s%translate(1:2), 2, size(b%geom%v, 2))
-    case (geom_annulus)
+    case (geom_annulus, geom_cylinder)
       b%geom%center = b%geom%center + s%translate(1:2)
     end select
+    ! an extruded body's span along z (its cells are clipped by it)
+    if (b%geom%kind == geom_prism .or. b%geom%kind == geom_cylinder) then
+      b%geom%z0 = b%geom%z0 + s%translate(3)
+      b%geom%z1 = b%geom%z1 + s%translate(3)
+    end if
 
   contains
 
