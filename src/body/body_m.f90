@@ -8,7 +8,7 @@ module body_m
   use geometry_m, only: geometry_t
   implicit none
   private
-  public :: body_t, name_len, max_cell_vertices, body_keep_share
+  public :: body_t, name_len, max_cell_vertices, body_keep_share, body_cell
 
   integer, parameter :: name_len = 64
   !> Vertices of one integration cell at most (a clipped lattice cell, a file's cell)
@@ -40,6 +40,10 @@ module body_m
     !! and their areas are the volumes. Unallocated: lattice cells (or none)
     integer, allocatable :: cell_ptr(:)
     real(wp), allocatable :: cell_xy(:, :)
+    !> > 0: the explicit cells repeat every cell_period particles (an extruded body's
+    !! layers, whose sections are the same polygons: particle i's cell is cell
+    !! body_cell(b, i) of cell_ptr, which holds cell_period cells); 0: one cell a particle
+    integer :: cell_period = 0
     !> Boundary polylines in CSR form: loop k is loop_idx(loop_ptr(k) : loop_ptr(k+1)-1),
     !! counter-clockwise (outward normal = e3 x t on the right of the walking direction).
     integer :: nloops = 0
@@ -74,6 +78,14 @@ module body_m
 
 contains
 
+  !> The explicit cell (of cell_ptr, cell_xy) of particle i of body b.
+  pure integer function body_cell(b, i) result(k)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: i
+    k = i
+    if (b%cell_period > 0) k = mod(i - 1, b%cell_period) + 1
+  end function body_cell
+
   !> Body b reduced to rank me's share of it (of nranks), for the ranks of mfcd_mpi once
   !! the set-up has read it: the rows of its particles row0 .. row0 + nrows - 1 (the
   !! contiguous run np*me/nranks + 1 ... np*(me + 1)/nranks) of the positions, volumes,
@@ -104,6 +116,7 @@ contains
     if (allocated(b%merged_centre)) deallocate(b%merged_centre)
     if (allocated(b%cell_ptr)) deallocate(b%cell_ptr)
     if (allocated(b%cell_xy)) deallocate(b%cell_xy)
+    b%cell_period = 0
     if (allocated(b%tets)) deallocate(b%tets)
     if (me == 0) return
     if (allocated(b%loop_ptr)) deallocate(b%loop_ptr)

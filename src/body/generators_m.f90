@@ -796,17 +796,12 @@ contains
     b%geom%z1 = z1
     call extruded_facets(b2, nz, b)
     if (allocated(b2%cell_ptr)) then
-      ! the x-y cells, the same polygon for each layer of a particle
+      ! the x-y cells, the same polygon for each layer of a particle: held once, particle
+      ! i + (k - 1) n2 takes cell i (body_cell; a copy a layer was some 90 B a particle)
       n = b2%cell_ptr(n2 + 1) - 1
-      allocate(b%cell_ptr(b%np + 1), b%cell_xy(2, n*nz))
-      b%cell_ptr(1) = 1
-      do k = 1, nz
-        b%cell_xy(:, (k - 1)*n + 1:k*n) = b2%cell_xy(:, 1:n)
-        do i = 1, n2
-          q = i + (k - 1)*n2
-          b%cell_ptr(q + 1) = (k - 1)*n + b2%cell_ptr(i + 1)
-        end do
-      end do
+      b%cell_ptr = b2%cell_ptr(1:n2 + 1)
+      b%cell_xy = b2%cell_xy(:, 1:n)
+      b%cell_period = n2
     end if
   end subroutine extrude_body
 

@@ -44,7 +44,7 @@ module rkpm_tl3d_m
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
-  use body_m, only: body_t, max_cell_vertices
+  use body_m, only: body_t, max_cell_vertices, body_cell
   use dims_m, only: dims_3d, dims_3d_folded
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box, polygon_area, &
@@ -459,14 +459,14 @@ contains
     integer, intent(inout) :: bad
     real(wp) :: cv(2, max_cv), half(3), o(3), za, zb, zm, area, vh(3), hcs(2, max_cv, 2)
     real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), lo(2), hi(2), xc(2, max_cv), wc(max_cv)
-    integer :: ncv, ngp, i, j, q, r, np, dir, nhs(2), nc
+    integer :: ncv, ngp, i, j, q, r, np, dir, nhs(2), nc, ic
     type(cell_work_t) :: w
     real(wp), parameter :: big = huge(1.0_wp)/4.0_wp
     np = b%np
     half = 0.5_wp*b%spacing(1:3)
     !$omp parallel default(none) shared(b, c, f, i0, maxk, keep, cells, vol, ws, half, np) &
     !$omp private(cv, o, za, zb, zm, area, vh, hcs, xg, wg, lo, hi, xc, wc, ncv, ngp, &
-    !$omp i, q, r, dir, nhs, nc, w) reduction(max: bad)
+    !$omp i, ic, q, r, dir, nhs, nc, w) reduction(max: bad)
     call work_init(w, np, c%np, 3*f%ncg, maxk)
     ! (chunks of 16: a block of 4096 cells still keeps 16 threads busy to its end)
     !$omp do schedule(dynamic, 16)
@@ -475,8 +475,9 @@ contains
       w%nl = 0
       o = b%x(:, i)
       if (allocated(b%cell_ptr)) then
-        ncv = min(b%cell_ptr(i + 1) - b%cell_ptr(i), max_cv)
-        cv(:, 1:ncv) = b%cell_xy(:, b%cell_ptr(i):b%cell_ptr(i) + ncv - 1)
+        ic = body_cell(b, i)
+        ncv = min(b%cell_ptr(ic + 1) - b%cell_ptr(ic), max_cv)
+        cv(:, 1:ncv) = b%cell_xy(:, b%cell_ptr(ic):b%cell_ptr(ic) + ncv - 1)
       else
         call clip_polygon_box(b%geom%v, o(1:2) - half(1:2), o(1:2) + half(1:2), cv, ncv)
       end if
