@@ -874,6 +874,7 @@ contains
     if (allocated(err)) return
     g = '/solids/'//trim(p%name)//'/'
     do k = 1, size(state_fields)
+      if (.not. field_in(f, g, k)) cycle
       associate (fk => state_fields(k))
         rows = solid_field_rows(p, k)
         if (fk%nodal) then
@@ -898,6 +899,18 @@ contains
     call solid_state_derived(p)
   end subroutine checkpoint_read_part
 
+  !> Whether group g (ending in '/') of a checkpoint holds state field k: every field
+  !! but 'estab' must (checkpoints before 2026-11-30 have none: the points' stabilization
+  !! energies are then zero until the next force evaluation, which a run that goes on
+  !! makes at its first step).
+  logical function field_in(f, g, k) result(yes)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: g
+    integer, intent(in) :: k
+    yes = .true.
+    if (state_fields(k)%name == 'estab') yes = h5_has(f, g//trim(state_fields(k)%name))
+  end function field_in
+
   !> State field k (state_fields) of solid s from dataset g/<name> (write_field's shape).
   subroutine read_field(f, g, s, k, err)
     type(h5file_t), intent(in) :: f
@@ -909,6 +922,7 @@ contains
     integer :: rows, n, i
     rows = solid_field_rows(s, k)
     n = merge(s%np, s%nq, state_fields(k)%nodal)
+    if (.not. field_in(f, g//'/', k)) return
     allocate(buf(rows, n))
     if (rows == 1) then
       allocate(row(n))

@@ -89,7 +89,7 @@ module solid_m
     character(len=128) :: what
   end type state_field_t
 
-  type(state_field_t), parameter :: state_fields(13) = [ &
+  type(state_field_t), parameter :: state_fields(14) = [ &
     state_field_t('d', 'm', .true., .true., 'nodal coefficients of the displacement'), &
     state_field_t('v', 'm/s', .true., .true., 'nodal coefficients of the velocity'), &
     state_field_t('a', 'm/s^2', .true., .false., 'nodal coefficients of the acceleration'), &
@@ -109,7 +109,9 @@ module solid_m
       'point since t = 0 (J/m in plane strain)'), &
     state_field_t('work_nodes', 'J', .true., .false., 'work of the kinematic conditions, '// &
       'of contact and of the body force at each node since t = 0, and its kinetic energy '// &
-      'at t = 0')]
+      'at t = 0'), &
+    state_field_t('estab', 'J', .false., .false., 'stabilization energy at each point, '// &
+      'of the last force evaluation (J/m in plane strain)')]
 
   !> A rank's part of a solid and its neighbour ranks (distributed memory, doc/parallel.md):
   !! the ghost entries of local arrays from their owners. The MPI build implements it
@@ -1375,8 +1377,12 @@ contains
       p(1:1, 1:size(s%state%st%epsdot)) => s%state%st%epsdot
     case (12)
       p => s%state%work_q
-    case default
+    case (13)
       p => s%state%work_n
+    case default
+      ! (not s%state's: computed by every force evaluation, kept for a restart whose run
+      ! ends before its next step, which the internal work takes it from)
+      p(1:1, 1:size(s%estab)) => s%estab
     end select
   end function state_field
 

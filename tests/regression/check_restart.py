@@ -17,6 +17,8 @@ friction, adaptive step, the edge particle tracked), with OMP_NUM_THREADS = 1 an
 Other decks (arguments 3...: deformable master, CST4 elements, a prescribed velocity,
 self-contact with its skipping state), one thread: the run is restarted from the last checkpoint of the uninterrupted run, taken at
 about 60% of its steps, and must equal it likewise.
+The first other deck also from a checkpoint taken at its last step (no step left): its
+/history and /summary as the uninterrupted run's.
 Refused with exit 2, nothing created: the checkpoint with a deck that differs in one number
 (the message names both files and says 'written by a different deck'); an mfcd output file;
 a file that is not HDF5; a checkpoint of another format or mfcd version; --check with the
@@ -217,6 +219,49 @@ def other_deck(src, root):
         compare(tag, ref, os.path.join(work, "out", "run.h5"), s)
 
 
+def final_step(src, root):
+    """A checkpoint taken at the run's last step, continued: no step is left, and the
+    summary (every value but the timings) and the history must still be the uninterrupted
+    run's. The points' stabilization energies, which the internal work takes in, are made
+    by each force evaluation: the checkpoint keeps them (until 2026-11-30 it did not, and
+    such a continuation reported the internal work without them)."""
+    tag = os.path.basename(src) + ", checkpoint at the last step"
+    work = os.path.join(root, os.path.basename(src).replace(".nml", "") + "_final")
+    os.makedirs(work)
+    probe = make_deck(src, work, 0, name="probe.nml")
+    rc, _, err = run([probe], work)
+    check(f"{tag}: first run exits 0", rc == 0, err)
+    if rc:
+        return
+    with MfcdFile(os.path.join(work, "out", "run.h5")) as f:
+        nsteps = int(f.summary["steps"])
+    deck = make_deck(src, work, nsteps)
+    rc, _, err = run([deck], work)
+    check(f"{tag}: reference run with checkpoint_every = {nsteps} exits 0", rc == 0, err)
+    if rc:
+        return
+    ref = os.path.join(work, "ref.h5")
+    shutil.move(os.path.join(work, "out", "run.h5"), ref)
+    ck = os.path.join(work, "out", "run.checkpoint.h5")
+    with h5py.File(ck, "r") as f:
+        e_stab = sum(float(np.asarray(g.attrs["energies"])[7]) for g in f["solids"].values())
+    check(f"{tag}: checkpoint at step {step_of(ck)} of {nsteps}, stabilization energy "
+          f"{e_stab:.3e} (not zero: the test sees it)", step_of(ck) == nsteps and e_stab != 0)
+    rc, _, err = run(["--restart", ck, deck], work)
+    check(f"{tag}: continued, exits 0", rc == 0, err)
+    if rc:
+        return
+    with MfcdFile(ref) as fa, MfcdFile(os.path.join(work, "out", "run.h5")) as fb:
+        ha, hb = fa.history(), fb.history()
+        bad = [c for c in ha if c not in hb or not np.array_equal(ha[c], hb[c])]
+        check(f"{tag}: /history equal", not bad, bad)
+        sa, sb = fa.summary_flat(), fb.summary_flat()
+        keys = [k for k in sa if not is_timing(k)]
+        diff = [k for k in keys if not np.array_equal(np.asarray(sa[k]), np.asarray(sb.get(k)))]
+        check(f"{tag}: /summary equal but the timings (internal work "
+              f"{sb.get('internal_work')})", not diff, [(k, sa[k], sb.get(k)) for k in diff])
+
+
 def refusals(root, ref, ck, deck):
     """Bad restarts exit 2 and create nothing."""
     work = os.path.join(root, "bad")
@@ -290,6 +335,8 @@ def main():
         got = got or r
     for src in OTHERS:
         other_deck(src, root)
+    if OTHERS:
+        final_step(OTHERS[0], root)
     if got:
         refusals(root, *got)
     else:
