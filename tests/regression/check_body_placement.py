@@ -181,8 +181,9 @@ def main():
                     for n in ("slab", "block"))
         check(f"translated_3d: positions shifted ({d:.1e} m)", d < 1e-15, d)
         compare("translated_3d", fa, fb, name="slab")
-        # a quarter cylinder (explicit section cells) with its target, moved along z: the
-        # cells' volumes and the first steps as the original's
+        # a quarter cylinder (explicit section cells; its two symmetry planes through its
+        # axis) with its target, moved by (0.01, 0.02, 0.002) m: the cells' volumes and
+        # the first steps as the original's (the symmetry planes move with the centre)
         cyl = open(os.path.join(ROOT, "bench", "decks", "taylor_bar_3d_rkpm_bench.nml")).read()
         cyl = cyl.replace("extrude = 0.0, 0.06", "extrude = 0.0, 0.006").replace(
             "t_end = 4.5e-6", "t_end = 1.5e-7").replace(
@@ -190,7 +191,7 @@ def main():
         fa, pa = run(work, "cylinder", cyl)
         t = cyl
         for n in ("bar", "target"):
-            t = add_to_body(t, n, "  translate = 0.0, 0.0, 0.002\n")
+            t = add_to_body(t, n, "  translate = 0.01, 0.02, 0.002\n")
         fb, pb = run(work, "cylinder_translated", t)
         mass = [re.search(r"body 'bar':.*mass ([0-9.E+-]+) kg", p.stdout) for p in (pa, pb)]
         check("cylinder_translated: the bar's mass as the original's (the cells' volumes)",
