@@ -191,27 +191,37 @@ def main_deck(threads, root):
     return ref, ck, deck_ref
 
 
-def other_deck(src, root):
-    """Restart from the last checkpoint of the uninterrupted run, at ~60% of its steps."""
-    tag = os.path.basename(src)
-    work = os.path.join(root, tag.replace(".nml", ""))
+def reference(src, root, tag, sub, every_of):
+    """The uninterrupted run of src in root/sub with checkpoint_every = every_of(its step
+    count, from a first run without checkpoints): (work, deck, ref, checkpoint, steps), or
+    None when a run fails."""
+    work = os.path.join(root, sub)
     os.makedirs(work)
     probe = make_deck(src, work, 0, name="probe.nml")
     rc, _, err = run([probe], work)
     check(f"{tag}: first run exits 0", rc == 0, err)
     if rc:
-        return
+        return None
     with MfcdFile(os.path.join(work, "out", "run.h5")) as f:
         nsteps = int(f.summary["steps"])
-    every = max(1, (6 * nsteps) // 10)
+    every = every_of(nsteps)
     deck = make_deck(src, work, every)
     rc, _, err = run([deck], work)
     check(f"{tag}: reference run with checkpoint_every = {every} exits 0", rc == 0, err)
     if rc:
-        return
+        return None
     ref = os.path.join(work, "ref.h5")
     shutil.move(os.path.join(work, "out", "run.h5"), ref)
-    ck = os.path.join(work, "out", "run.checkpoint.h5")
+    return work, deck, ref, os.path.join(work, "out", "run.checkpoint.h5"), nsteps
+
+
+def other_deck(src, root):
+    """Restart from the last checkpoint of the uninterrupted run, at ~60% of its steps."""
+    tag = os.path.basename(src)
+    got = reference(src, root, tag, tag.replace(".nml", ""), lambda n: max(1, (6 * n) // 10))
+    if got is None:
+        return
+    work, deck, ref, ck, nsteps = got
     s = step_of(ck)
     rc, _, err = run(["--restart", ck, deck], work)
     check(f"{tag}: restart from step {s} of {nsteps} exits 0", rc == 0, err)
@@ -226,23 +236,11 @@ def final_step(src, root):
     by each force evaluation: the checkpoint keeps them (until 2026-11-30 it did not, and
     such a continuation reported the internal work without them)."""
     tag = os.path.basename(src) + ", checkpoint at the last step"
-    work = os.path.join(root, os.path.basename(src).replace(".nml", "") + "_final")
-    os.makedirs(work)
-    probe = make_deck(src, work, 0, name="probe.nml")
-    rc, _, err = run([probe], work)
-    check(f"{tag}: first run exits 0", rc == 0, err)
-    if rc:
+    got = reference(src, root, tag, os.path.basename(src).replace(".nml", "") + "_final",
+                    lambda n: n)
+    if got is None:
         return
-    with MfcdFile(os.path.join(work, "out", "run.h5")) as f:
-        nsteps = int(f.summary["steps"])
-    deck = make_deck(src, work, nsteps)
-    rc, _, err = run([deck], work)
-    check(f"{tag}: reference run with checkpoint_every = {nsteps} exits 0", rc == 0, err)
-    if rc:
-        return
-    ref = os.path.join(work, "ref.h5")
-    shutil.move(os.path.join(work, "out", "run.h5"), ref)
-    ck = os.path.join(work, "out", "run.checkpoint.h5")
+    work, deck, ref, ck, nsteps = got
     with h5py.File(ck, "r") as f:
         e_stab = sum(float(np.asarray(g.attrs["energies"])[7]) for g in f["solids"].values())
     check(f"{tag}: checkpoint at step {step_of(ck)} of {nsteps}, stabilization energy "
