@@ -471,7 +471,6 @@ contains
     real(wp) :: flag(1)
     real(wp), allocatable :: cnt(:), all(:, :), sbuf(:), rbuf(:), back(:), got(:)
     integer, allocatable :: owner(:), to(:), from(:), sptr(:), rptr(:), bptr(:), fill(:)
-    logical, allocatable :: keep(:)
     type(exact_sum_t) :: e
     integer :: i, j, r, np, me
     if (.not. associated(part%comm)) error stop 'region_masses: setup_part_t%comm not set'
@@ -519,11 +518,8 @@ contains
     call part%comm%sparse_exchange(from, rptr, back, to, bptr, got)
     ! in the order asked (the requests' order per rank)
     fill(to + 1) = sptr(1:size(to))
-    allocate(keep(b%np))
-    keep = .false.
     e = exact_sum_t()
     do j = 1, size(rows)
-      keep(rows(j)) = .true.
       r = owner(j)
       if (r == me) then
         call exact_add(e, t%mass(rows(j)))
@@ -532,7 +528,17 @@ contains
       t%mass(rows(j)) = got(fill(r + 1))
       fill(r + 1) = fill(r + 1) + 1
     end do
-    where (.not. keep) t%mass = 0.0_wp
+    ! (zero between the region's particles, ascending: no mask over the whole body)
+    j = 1
+    do i = 1, b%np
+      if (j <= size(rows)) then
+        if (rows(j) == i) then
+          j = j + 1
+          cycle
+        end if
+      end if
+      t%mass(i) = 0.0_wp
+    end do
     t%total_mass = exact_allsum(e, part%comm)
   end subroutine region_masses
 
