@@ -5,8 +5,9 @@
 # ranks hold the bench's bar), 10 steps, on each rank count given, one thread a rank. The
 # part per rank stays the same while the whole body grows with the ranks, so what every rank
 # holds or does for the whole body shows as the growth of its peak memory and set-up time.
-# Prints, per run, the particles, the summary's set-up and time-loop seconds, and every
-# rank's peak resident memory (GNU time's %M).
+# Prints, per run, the particles, the summary's set-up and time-loop seconds, every rank's
+# resident memory after the set-up and at the end (the smallest and largest, mfcd_mpi's log),
+# and every rank's peak resident memory (GNU time's %M).
 # Usage: [STEPS=N] bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
 #   default: build-mpi-rel/bin (bench/mpi_scaling.sh builds it), ranks 2 4 8, 10 steps of 15 ns
 #   (more steps, e.g. STEPS=50, to time the time loop's weak scaling too)
@@ -36,7 +37,7 @@ for n in "${ranks[@]}"; do
   (cd "$work" && mpiexec --oversubscribe --bind-to none -n "$n" sh -c \
     'exec /usr/bin/time -o "mem.$OMPI_COMM_WORLD_RANK" -f "%M" "$1" t.nml' sh \
     "$bin/mfcd_mpi" > log.txt 2> err.txt) || { tail -5 "$work/err.txt"; exit 1; }
-  grep -E "body 'bar':.*nodes|summary: [0-9]+ steps|summary: time loop" "$work/log.txt" \
+  grep -E "body 'bar':.*nodes|summary: [0-9]+ steps|summary: time loop|resident memory" "$work/log.txt" \
     | sed -e 's/^/  /' -e 's/, material.*kg;/;/'
   for r in $(seq 0 $((n - 1))); do
     printf '  mem rank %d %s kB\n' "$r" "$(cat "$work/mem.$r")"

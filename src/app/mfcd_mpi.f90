@@ -12,9 +12,9 @@
 !! written), 1 run failed.
 program mfcd_mpi
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
-  use kinds_m, only: wp
+  use kinds_m, only: wp, i64
   use mpi_f08
-  use memory_policy_m, only: memory_policy_apply
+  use memory_policy_m, only: memory_policy_apply, resident_kib
   use errors_m, only: error_t, exit_bad_input
   use strings_m, only: itoa
   use version_m, only: code_name, code_version, git_commit
@@ -129,6 +129,7 @@ program mfcd_mpi
   do k = 1, deck%nbodies
     if (deck%bodies(k)%role == 'deformable') call body_keep_share(bodies(k), me, nranks)
   end do
+  call log_memory('after the set-up')
   ! the serial program's driver, given the ranks instead of one
   if (len(restart_path) > 0) then
     call run_dynamic(deck, bodies, su, ranks, err, restart_path)
@@ -136,10 +137,33 @@ program mfcd_mpi
     call run_dynamic(deck, bodies, su, ranks, err)
   end if
   call agree_or_fail(1)
+  call log_memory('at the end')
   call log_print('mfcd_mpi: completed: wrote '//output_result_text(deck))
   call finish(0)
 
 contains
+
+  !> The ranks' resident memory now and their peaks so far, smallest and largest (MiB),
+  !! in the log (what a rank holds of the whole body shows in how these grow with it:
+  !! doc/parallel.md). Collective.
+  subroutine log_memory(when)
+    character(len=*), intent(in) :: when
+    integer(i64) :: m(2), lo(2), hi(2)
+    call resident_kib(m(1), m(2))
+    call MPI_Allreduce(m, lo, 2, MPI_INTEGER8, MPI_MIN, MPI_COMM_WORLD)
+    call MPI_Allreduce(m, hi, 2, MPI_INTEGER8, MPI_MAX, MPI_COMM_WORLD)
+    ! (not on Linux: nothing to say)
+    if (any(lo < 0)) return
+    call log_print('mfcd_mpi: resident memory '//when//': '//mib(lo(1), hi(1))// &
+      ' MiB a rank (peak so far '//mib(lo(2), hi(2))//' MiB)')
+  end subroutine log_memory
+
+  function mib(lo, hi) result(txt)
+    integer(i64), intent(in) :: lo, hi
+    character(len=:), allocatable :: txt
+    txt = itoa(int((lo + 512)/1024))
+    if (hi /= lo) txt = txt//'-'//itoa(int((hi + 512)/1024))
+  end function mib
 
   !> Any rank's error ends every rank with the code of its kind (bad input 2, else 1).
   subroutine agree_or_fail(kind)

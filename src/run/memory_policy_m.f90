@@ -7,7 +7,7 @@ module memory_policy_m
   use kinds_m, only: i64
   implicit none
   private
-  public :: memory_policy_apply, mapped_bytes
+  public :: memory_policy_apply, mapped_bytes, resident_kib
 
   interface
     function c_memory_policy() bind(c, name='mfcd_memory_policy') result(rc)
@@ -36,4 +36,24 @@ contains
   integer(i64) function mapped_bytes() result(n)
     n = int(c_mapped_bytes(), i64)
   end function mapped_bytes
+
+  !> This process's resident memory now and its peak so far (VmRSS and VmHWM of
+  !! /proc/self/status, KiB), -1 each where the system does not tell (not Linux).
+  subroutine resident_kib(now, peak)
+    integer(i64), intent(out) :: now, peak
+    character(len=256) :: line
+    integer :: u, ios
+    now = -1_i64
+    peak = -1_i64
+    open(newunit=u, file='/proc/self/status', action='read', status='old', iostat=ios)
+    if (ios /= 0) return
+    do
+      read(u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (index(line, 'VmRSS:') == 1) read(line(7:), *, iostat=ios) now
+      if (index(line, 'VmHWM:') == 1) read(line(7:), *, iostat=ios) peak
+      if (ios /= 0) exit
+    end do
+    close(u)
+  end subroutine resident_kib
 end module memory_policy_m
