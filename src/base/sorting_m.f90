@@ -3,7 +3,7 @@ module sorting_m
   use kinds_m, only: wp
   implicit none
   private
-  public :: sort_index
+  public :: sort_index, sorted_place
 
 contains
 
@@ -44,4 +44,26 @@ contains
         root = child
       end do
   end subroutine sift
+
+  !> The place k of v in the ascending array a (a(k) == v), 0 when v is not in it: a
+  !! bisection, so that a map from global numbers to local places needs no array over the
+  !! global numbering.
+  pure integer function sorted_place(a, v) result(k)
+    integer, intent(in) :: a(:), v
+    integer :: lo, hi, mid
+    lo = 1
+    hi = size(a)
+    k = 0
+    do while (lo <= hi)
+      mid = lo + (hi - lo)/2
+      if (a(mid) == v) then
+        k = mid
+        return
+      else if (a(mid) < v) then
+        lo = mid + 1
+      else
+        hi = mid - 1
+      end if
+    end do
+  end function sorted_place
 end module sorting_m

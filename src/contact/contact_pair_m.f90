@@ -46,7 +46,7 @@ module contact_pair_m
   use contact_nts_m, only: nts_buckets_t, nts_build, nts_update, nts_gap
   use omp_lib, only: omp_get_wtime
   use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
-    solid_correct, at_step_start, at_prediction, solid_share_corrections
+    solid_correct, at_step_start, at_prediction, solid_share_corrections, solid_node_place
   use rank_comm_m, only: rank_comm_t
   use solid_tables_m, only: solid_tables_t
   use exact_sum_m, only: exact_sum_t, exact_add, exact_merge, exact_value
@@ -511,7 +511,7 @@ contains
     integer, intent(in), optional :: rows(:)
     logical :: own
     real(wp) :: rmax(3)
-    integer :: n, i
+    integer :: n, i, j
     own = .true.
     if (present(slave_only)) own = .not. slave_only
     s%name = b%name
@@ -593,8 +593,15 @@ contains
     if (isolid > 0) then
       associate (sol => solids(isolid))
         do i = 1, n
-          s%imass(i) = 1.0_wp/sol%t%mass(side_whole(s, i))
-          if (all(sol%pres(:, side_whole(s, i)))) s%imass(i) = 0.0_wp
+          j = solid_node_place(sol, side_whole(s, i))
+          if (j == 0) then
+            call set_error(err, "body '"//trim(b%name)//"': particle "// &
+              itoa(side_whole(s, i))//" of a contact side is not in the rank's region of "// &
+              "its solid (an internal error of the set-up)")
+            return
+          end if
+          s%imass(i) = 1.0_wp/sol%t%mass(j)
+          if (all(sol%pres(:, j))) s%imass(i) = 0.0_wp
         end do
       end associate
     end if
@@ -624,7 +631,9 @@ contains
       if (t%interpolating) then
         s%lip = 1.0_wp
       else
-        l = position_sums(t, [(side_whole(s, j), j = 1, s%np)])
+        ! (the side's particles' places in the solid: a region shell's on ranks)
+        l = position_sums(t, [(solid_node_place(solids(s%isolid), side_whole(s, j)), &
+          j = 1, s%np)])
         s%lip = norm2(l(:size(t%pn, 1)))
       end if
     end associate

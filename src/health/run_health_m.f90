@@ -4,6 +4,7 @@
 !! each with a message that says where.
 module run_health_m
   use kinds_m, only: wp
+  use rank_comm_m, only: rank_comm_t
   use strings_m, only: itoa, rtoa
   use solid_m, only: solid_t, solid_worst_node, health_j, health_stress, health_epsbar, &
     solid_energies, solid_node_number, solid_point_number
@@ -93,15 +94,23 @@ contains
   !! for that; an instability grows past any bound (the one first reported: 6238 m/s)
   !! and is caught a few steps later; epsbar below
   !! epsbar_limit; its increment in one step below deps_limit; J inside j_limits.
-  subroutine set_health_limits(solids)
+  !! On ranks (comm) the set-up's solids may be region shells (solid_part_t region):
+  !! v_ref is then the largest over the ranks, whose regions cover every particle.
+  subroutine set_health_limits(solids, comm)
     type(solid_t), intent(inout) :: solids(:)
-    real(wp) :: vref
+    class(rank_comm_t), intent(inout) :: comm
+    real(wp) :: vref, v(1)
     integer :: k
     vref = 0.0_wp
     do k = 1, size(solids)
+      ! (a region with no particle: none; maxval of nothing is -huge)
+      if (solids(k)%np == 0) cycle
       vref = max(vref, sqrt(maxval(sum(solids(k)%state%v**2, dim=1))), &
         sqrt(maxval(sum(solids(k)%vpres**2, dim=1))))
     end do
+    v = vref
+    call comm%max_real(v)
+    vref = v(1)
     do k = 1, size(solids)
       solids(k)%opt%v_limit = 5.0_wp*vref + 0.2_wp*solids(k)%mat%dilatational_speed()
       solids(k)%opt%epsbar_limit = epsbar_limit

@@ -13,6 +13,7 @@ module halo_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
   use decomposition_m, only: local_part_t
+  use sorting_m, only: sorted_place
   implicit none
   private
   public :: halo_plan_t, halo_plan_build, halo_nodes, halo_points
@@ -40,7 +41,9 @@ module halo_m
 
 contains
 
-  !> The plan of rank lp%rank - 1 (parts are numbered from 1, MPI ranks from 0).
+  !> The plan of rank lp%rank - 1 (parts are numbered from 1, MPI ranks from 0);
+  !! node_part(k), point_part(k): the parts owning lp's local node k and local point k
+  !! (lp%nglob and lp%qglob the global numbers: no array over the whole solid).
   subroutine halo_plan_build(comm, lp, node_part, point_part, plan, err)
     type(MPI_Comm), intent(in) :: comm
     type(local_part_t), intent(in) :: lp
@@ -48,9 +51,8 @@ contains
     type(halo_plan_t), intent(out) :: plan
     type(error_t), allocatable, intent(inout) :: err
     plan%comm = comm
-    call side_build(comm, lp%nglob, node_part(lp%nglob), plan%nodes, err)
-    if (.not. allocated(err)) call side_build(comm, lp%qglob, point_part(lp%qglob), &
-      plan%points, err)
+    call side_build(comm, lp%nglob, node_part, plan%nodes, err)
+    if (.not. allocated(err)) call side_build(comm, lp%qglob, point_part, plan%points, err)
   end subroutine halo_plan_build
 
   !> The local entries with global numbers glob (ascending) and owning parts owner
@@ -62,7 +64,6 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer :: nranks, me, k, r, n
     integer, allocatable :: nask(:), ngive(:), sdisp(:), rdisp(:), ask(:), give(:), fill(:)
-    integer, allocatable :: loc_of(:)
     call MPI_Comm_size(comm, nranks)
     call MPI_Comm_rank(comm, me)
     allocate(nask(0:nranks - 1), ngive(0:nranks - 1), sdisp(0:nranks - 1), &
@@ -89,10 +90,8 @@ contains
       fill(r) = fill(r) + 1
     end do
     call MPI_Alltoallv(ask, nask, sdisp, MPI_INTEGER, give, ngive, rdisp, MPI_INTEGER, comm)
-    ! local numbers of the global ones this rank holds
-    allocate(loc_of(maxval([glob, give, 0])))
-    loc_of = 0
-    loc_of(glob) = [(k, k = 1, size(glob))]
+    ! local numbers of the global ones this rank holds: their places in glob (ascending),
+    ! by bisection (no array over the global numbering, whose size is the whole solid's)
     h%nnb = count(nask > 0 .or. ngive > 0)
     allocate(h%nb(h%nnb), h%sptr(h%nnb + 1), h%rptr(h%nnb + 1), h%slist(size(give)), &
       h%rlist(size(ask)))
@@ -103,9 +102,13 @@ contains
       if (nask(r) == 0 .and. ngive(r) == 0) cycle
       n = n + 1
       h%nb(n) = r
-      h%slist(h%sptr(n):h%sptr(n) + ngive(r) - 1) = loc_of(give(rdisp(r) + 1:rdisp(r) + ngive(r)))
+      do k = 1, ngive(r)
+        h%slist(h%sptr(n) + k - 1) = sorted_place(glob, give(rdisp(r) + k))
+      end do
       h%sptr(n + 1) = h%sptr(n) + ngive(r)
-      h%rlist(h%rptr(n):h%rptr(n) + nask(r) - 1) = loc_of(ask(sdisp(r) + 1:sdisp(r) + nask(r)))
+      do k = 1, nask(r)
+        h%rlist(h%rptr(n) + k - 1) = sorted_place(glob, ask(sdisp(r) + k))
+      end do
       h%rptr(n + 1) = h%rptr(n) + nask(r)
     end do
     ! (the parts of every rank come from the same decomposition: a miss is a bug upstream)

@@ -32,7 +32,7 @@ module mpi_domain_m
   use solid_m, only: solid_t, solid_init, solid_set_owned, part_halo_t, state_fields, &
     solid_field_rows, solid_get_field, solid_put_field, solid_state_derived, &
     solid_energies, solid_set_energies, solid_set_gravity, solid_state_t, solid_sub_t, &
-    solid_account_sums
+    solid_account_sums, solid_np_whole, solid_nq_whole
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_part, local_part_t, &
     local_part_sets, local_part_rows
   use solid_tables_m, only: solid_tables_t, tables_copy_scalars, tables_transpose
@@ -247,9 +247,12 @@ contains
     type(solid_t), intent(inout) :: g
     type(solid_t) :: shell
     shell%name = g%name
-    shell%np = g%np
-    shell%nq = g%nq
+    ! (a region shell's whole counts: what the output says of the whole solid)
+    shell%np = solid_np_whole(g)
+    shell%nq = solid_nq_whole(g)
     call tables_copy_scalars(g%t, shell%t)
+    shell%t%np = shell%np
+    shell%t%nq = shell%nq
     g = shell
   end subroutine release_whole
 
@@ -281,6 +284,8 @@ contains
             nr) - 1), nr, dom%ranks, tree)
         end if
       end associate
+      ! (a region shell's nodes and points: the region's, numbered over it; lp's sets
+      ! are places in it until its rows are made, then the whole solid's numbers)
       allocate(node_part(g%np), point_part(g%nq))
       do i = 1, g%np
         node_part(i) = rcb_part(tree, g%x0(:, i))
@@ -294,7 +299,11 @@ contains
       ! (contact_pair_localize does the rest once the part solid exists)
       do j = 1, size(pairs)
         if (pairs(j)%side(1)%isolid /= k .or. pairs(j)%side(2)%isolid /= 0) cycle
-        call contact_pair_cut(pairs(j), lp%nglob, err)
+        if (g%part%region) then
+          call contact_pair_cut(pairs(j), g%part%nglob(lp%nglob), err)
+        else
+          call contact_pair_cut(pairs(j), lp%nglob, err)
+        end if
         if (allocated(err)) return
       end do
       ! what the part solid takes of the whole solid's arrays over its nodes, taken now
@@ -315,7 +324,15 @@ contains
       ! part's, and its transpose
       call local_part_rows(g%t, lp, transpose=.false., release=.not. keeps_whole(dom))
       call tables_transpose(lp%t)
+      ! (the region's node owners; every node's for a whole shell: contact_pair_distribute)
       owner = node_part - 1
+      node_part = node_part(lp%nglob)
+      point_part = point_part(lp%qglob)
+      if (g%part%region) then
+        lp%nglob = g%part%nglob(lp%nglob)
+        lp%qglob = g%part%qglob(lp%qglob)
+        deallocate(g%part%nglob, g%part%qglob)
+      end if
       call halo_plan_build(dom%mcomm, lp, node_part, point_part, h%plan, err)
       if (allocated(err)) return
       call solid_init(p, g%name, lp%t, x0, g%mat_params, 0.0_wp, &
@@ -324,8 +341,8 @@ contains
       call solid_set_owned(p, lp%own_point, lp%own_node)
       p%part%nglob = lp%nglob
       p%part%qglob = lp%qglob
-      p%part%np_whole = g%np
-      p%part%nq_whole = g%nq
+      p%part%np_whole = solid_np_whole(g)
+      p%part%nq_whole = solid_nq_whole(g)
       ! the whole solid's options: RKPM's SCNI stabilization (elements have none), the
       ! health limits
       p%opt = g%opt

@@ -21,12 +21,13 @@
 module decomposition_m
   use kinds_m, only: wp, i64
   use rank_comm_m, only: rank_comm_t, single_rank_t
+  use body_m, only: body_t
   use solid_tables_m, only: solid_tables_t, tables_transpose, tables_copy_scalars, &
     tables_move
   implicit none
   private
   public :: rcb_tree_t, rcb_build, rcb_build_ranks, rcb_part, rcb_box, local_part_t, &
-    local_part_build, local_part_sets, local_part_rows
+    local_part_build, local_part_sets, local_part_rows, region_of, region_rows
 
   !> The bisection tree: node k (1 the root) is a leaf of part part(k), or cuts along axis
   !! axis(k) at cut(k), with the points below the cut in child lo(k), the others in hi(k).
@@ -483,6 +484,108 @@ contains
     end if
     call tables_transpose(lp%t)
   end subroutine local_part_rows
+
+  !> The region of a rank's tables t of body b with its box (dynamic_setup_m region_box):
+  !! every particle a kept row touches (the points' nodes and owners, the position rows'
+  !! particles and their neighbours) or the box holds (its part's own nodes), ascending:
+  !! every node of the part the split will make from these rows (local_part_sets).
+  subroutine region_of(t, b, box, rows)
+    type(solid_tables_t), intent(in) :: t
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: box(3, 2)
+    integer, allocatable, intent(out) :: rows(:)
+    logical, allocatable :: mark(:)
+    integer :: q, j, i, nd
+    nd = b%ndim
+    allocate(mark(b%np))
+    mark = .false.
+    do q = 1, t%nq
+      if (t%ptr(q + 1) == t%ptr(q)) cycle
+      mark(t%nbr(t%ptr(q):t%ptr(q + 1) - 1)) = .true.
+      if (t%owner(q) > 0) mark(t%owner(q)) = .true.
+    end do
+    if (allocated(t%pptr)) then
+      do j = 1, t%np
+        if (t%pptr(j + 1) == t%pptr(j)) cycle
+        mark(j) = .true.
+        mark(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) = .true.
+      end do
+    end if
+    do i = 1, b%np
+      if (all(b%x(:, i) >= box(1:nd, 1)) .and. all(b%x(:, i) <= box(1:nd, 2))) &
+        mark(i) = .true.
+    end do
+    rows = pack([(i, i = 1, b%np)], mark)
+  end subroutine region_of
+
+  !> Tables t (rows numbered over the whole solid) renumbered in place over nodes (ascending
+  !! node numbers) and the points with a row (ascending, returned in points): a rank's
+  !! region (dynamic_setup_m), whose rows hold only its nodes, so that every entry stays,
+  !! in the same order: the entries' values (g, h, gs, pn) are kept as they are, not
+  !! copied; the points' and nodes' arrays are taken at the region's; the rows' node
+  !! numbers (nbr, pnbr, owner) become places in nodes. ok: .false. when a row touches a
+  !! node outside nodes, or a node outside nodes has a position row (t is then not
+  !! usable).
+  subroutine region_rows(t, nodes, points, ok)
+    type(solid_tables_t), intent(inout) :: t
+    integer, intent(in) :: nodes(:)
+    integer, allocatable, intent(out) :: points(:)
+    logical, intent(out) :: ok
+    integer, allocatable :: nloc(:), ptr(:)
+    integer :: q, k, j, npl, nql
+    npl = size(nodes)
+    allocate(nloc(t%np))
+    nloc = 0
+    nloc(nodes) = [(k, k = 1, npl)]
+    points = pack([(q, q = 1, t%nq)], t%ptr(2:t%nq + 1) > t%ptr(1:t%nq))
+    nql = size(points)
+    ! every entry's node in the region, every kept point's owner too
+    ok = all(nloc(t%nbr) > 0)
+    if (ok) ok = all(t%owner(points) >= 0)
+    if (ok) ok = all(nloc(pack(t%owner(points), t%owner(points) > 0)) > 0)
+    if (ok .and. allocated(t%pptr)) then
+      ok = all(nloc(t%pnbr) > 0)
+      ! (a position row of a node outside the region would be dropped)
+      if (ok) ok = t%pptr(t%np + 1) - t%pptr(1) == &
+        sum(t%pptr(nodes + 1) - t%pptr(nodes))
+    end if
+    if (.not. ok) return
+    ! (a transpose over the whole numbering, if a builder made one: the split makes the
+    ! part's)
+    if (allocated(t%tptr)) deallocate(t%tptr)
+    if (allocated(t%tent)) deallocate(t%tent)
+    if (allocated(t%tq)) deallocate(t%tq)
+    if (allocated(t%tg)) deallocate(t%tg)
+    if (allocated(t%th)) deallocate(t%th)
+    if (allocated(t%tgs)) deallocate(t%tgs)
+    allocate(ptr(nql + 1))
+    ptr(1) = 1
+    do k = 1, nql
+      q = points(k)
+      ptr(k + 1) = ptr(k) + t%ptr(q + 1) - t%ptr(q)
+    end do
+    call move_alloc(ptr, t%ptr)
+    t%nbr = nloc(t%nbr)
+    t%xq = t%xq(:, points)
+    t%owner = t%owner(points)
+    where (t%owner > 0) t%owner = nloc(t%owner)
+    t%wgt = t%wgt(points)
+    if (allocated(t%ws)) t%ws = t%ws(:, points)
+    t%mass = t%mass(nodes)
+    t%fix1 = t%fix1(nodes)
+    if (allocated(t%pptr)) then
+      allocate(ptr(npl + 1))
+      ptr(1) = 1
+      do k = 1, npl
+        j = nodes(k)
+        ptr(k + 1) = ptr(k) + t%pptr(j + 1) - t%pptr(j)
+      end do
+      call move_alloc(ptr, t%pptr)
+      t%pnbr = nloc(t%pnbr)
+    end if
+    t%np = npl
+    t%nq = nql
+  end subroutine region_rows
 
   !> Tables t without their rows' structure and their arrays over points and nodes (what
   !! local_part_rows has copied before the entries' values): those values stay.

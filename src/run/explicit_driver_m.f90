@@ -21,6 +21,7 @@ module explicit_driver_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
   use log_m, only: log_print
+  use rank_comm_m, only: rank_comm_t
   use deck_m, only: deck_t
   use body_m, only: body_t
   use solid_m, only: solid_t, solid_start, solid_predict, solid_internal_force, &
@@ -83,7 +84,7 @@ contains
     logical :: needs_state
     integer :: gathers0
     real(wp) :: tw, t_loop0, bad_j
-    call run_take_setup(deck, su, solids, isolid, pairs, r)
+    call run_take_setup(deck, su, solids, isolid, pairs, r, dom%comm)
     allocate(bms(size(solids)))
     if (present(restart)) then
       ! the record, the solids' scalars, the pairs' counters, the history; the state fields
@@ -261,20 +262,21 @@ contains
   end subroutine snapshots_due
 
   !> The set-up's solids, body-to-solid map and pairs moved out of su, the health limits
-  !! set, and the run record started.
-  subroutine run_take_setup(deck, su, solids, isolid, pairs, r)
+  !! set (over the ranks of comm), and the run record started.
+  subroutine run_take_setup(deck, su, solids, isolid, pairs, r, comm)
     type(deck_t), intent(in) :: deck
     type(dynamic_setup_t), intent(inout) :: su
     type(solid_t), allocatable, intent(out) :: solids(:)
     integer, allocatable, intent(out) :: isolid(:)
     type(contact_pair_t), allocatable, intent(out) :: pairs(:)
     type(run_record_t), intent(inout) :: r
+    class(rank_comm_t), intent(inout) :: comm
     r%wall0 = su%wall0
     r%reason = ''
     call move_alloc(su%solids, solids)
     call move_alloc(su%isolid, isolid)
     call move_alloc(su%pairs, pairs)
-    call set_health_limits(solids)
+    call set_health_limits(solids, comm)
     r%t_end = deck%solver%t_end
   end subroutine run_take_setup
 

@@ -13,13 +13,15 @@ module dynamic_setup_m
   use body_m, only: body_t
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
-  use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part
+  use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part, region_of, &
+    region_rows
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use tet4_m, only: tet4_mesh_t, tet4_tables
-  use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin
+  use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin, &
+    solid_np_whole, solid_nq_whole
   use material_m, only: material_constant_names, material_constant
   use stable_step_m, only: step_control_t, step_control_calibrate, spacing_step
   use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init, &
@@ -215,25 +217,27 @@ contains
         if (quiet) cycle
       end if
       write(output_unit, '(a)') 'dynamic: body '''//trim(bodies(k)%name)//''': '// &
-        itoa(solids(n)%np)//' nodes, '//itoa(solids(n)%nq)//' integration points ('// &
+        itoa(solid_np_whole(solids(n)))//' nodes, '//itoa(solid_nq_whole(solids(n)))// &
+        ' integration points ('// &
         discretization_text(deck%bodies(k), bodies(k)%ndim)//'), material '''// &
         trim(deck%materials(deck%bodies(k)%imat)%name)//''' ('// &
         solids(n)%mat%model_name()//'), mass '//rtoa(solids(n)%t%total_mass)//' kg'// &
         trim(merge('/m', '  ', .not. axisym .and. bodies(k)%ndim == 2))//'; '// &
-        entries_text(solids(n)%t)
+        entries_text(solids(n)%t, solid_nq_whole(solids(n)))
       flush(output_unit)
     end do
   end subroutine setup_solids
 
   !> The tables' entries for the log: all of them, or (a rank's region of a decomposed
-  !! set-up, rkpm_tl3d_m's box) those of the points it kept.
-  function entries_text(t) result(txt)
+  !! set-up, the builders' box) those of the points it kept; nq: the whole solid's points.
+  function entries_text(t, nq) result(txt)
     type(solid_tables_t), intent(in) :: t
+    integer, intent(in) :: nq
     character(len=:), allocatable :: txt
     integer :: nk
     nk = count(t%ptr(2:t%nq + 1) > t%ptr(1:t%nq))
     txt = itoa(size(t%nbr))//' point-node entries'
-    if (nk < t%nq) txt = txt//" in this rank's region ("//itoa(nk)//' points)'
+    if (nk < nq) txt = txt//" in this rank's region ("//itoa(nk)//' points)'
     txt = txt//' (mean '//itoa(nint(real(size(t%nbr))/real(max(nk, 1))))//' nodes per point)'
   end function entries_text
 
@@ -274,7 +278,9 @@ contains
     type(cst4_mesh_t) :: mesh
     type(tet4_mesh_t) :: tmesh
     real(wp) :: alpha, box(3, 2)
-    logical :: split, shell
+    logical :: split, shell, region, ok
+    integer, allocatable :: qrows(:)
+    integer :: nq_whole
     bs = deck%bodies(k)
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
     if (allocated(b%cells) .and. b%ndim == 3) then
@@ -321,7 +327,7 @@ contains
       split = .false.
       if (present(part)) split = part%nranks > 1
       if (split) then
-        if (region_masses_do(deck, k, part)) then
+        if (region_solid_do(deck, k, part)) then
           call region_masses(part, tree, b, t, box, rows, e2)
         else
           call whole_masses(part, tree, b, t, e2)
@@ -341,8 +347,33 @@ contains
     shell = .false.
     if (present(part)) shell = part%me > 0 .or. .not. part%root_whole
     if (shell .and. .not. allocated(rows)) call region_of(t, b, box, rows)
-    call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
-      bs%velocity(1:b%ndim), pres, vpres, e2, shell)
+    region = .false.
+    if (shell) region = region_solid_do(deck, k, part)
+    if (region) then
+      ! the shell numbered over its region: its tables, positions, conditions and
+      ! velocities at the region's particles and the points whose rows it kept, with the
+      ! maps to the whole solid's numbers (what the split reads of it, mpi_domain_m)
+      nq_whole = t%nq
+      if (.not. allocated(e2)) then
+        call region_rows(t, rows, qrows, ok)
+        if (.not. ok) call set_error(e2, "the region of this rank lacks a particle its "// &
+          "kept rows touch (an internal error of the set-up)")
+      end if
+      if (.not. allocated(e2)) call solid_init(s, b%name, t, b%x(:, rows), &
+        deck%materials(bs%imat)%params, alpha, bs%velocity(1:b%ndim), pres(:, rows), &
+        vpres(:, rows), e2, shell)
+      if (.not. allocated(e2)) then
+        s%part%region = .true.
+        call move_alloc(qrows, s%part%qglob)
+        s%part%nglob = rows
+        s%part%np_whole = b%np
+        s%part%nq_whole = nq_whole
+        if (allocated(bc_of)) bc_of = bc_of(:, rows)
+      end if
+    else
+      call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
+        bs%velocity(1:b%ndim), pres, vpres, e2, shell)
+    end if
     if (allocated(e2)) then
       call set_error(err, where//": "//e2%message)
       return
@@ -396,46 +427,14 @@ contains
     if (has) call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
   end function region_box
 
-  !> The region of a rank's tables t of body b with its box (region_box): every particle
-  !! a kept row touches (the points' nodes and owners, the position rows' particles and
-  !! their neighbours) or the box holds (its part's own nodes), ascending: every node of
-  !! the part the split will make from these rows (decomposition_m local_part_sets).
-  subroutine region_of(t, b, box, rows)
-    type(solid_tables_t), intent(in) :: t
-    type(body_t), intent(in) :: b
-    real(wp), intent(in) :: box(3, 2)
-    integer, allocatable, intent(out) :: rows(:)
-    logical, allocatable :: mark(:)
-    integer :: q, j, i, nd
-    nd = b%ndim
-    allocate(mark(b%np))
-    mark = .false.
-    do q = 1, t%nq
-      if (t%ptr(q + 1) == t%ptr(q)) cycle
-      mark(t%nbr(t%ptr(q):t%ptr(q + 1) - 1)) = .true.
-      if (t%owner(q) > 0) mark(t%owner(q)) = .true.
-    end do
-    if (allocated(t%pptr)) then
-      do j = 1, t%np
-        if (t%pptr(j + 1) == t%pptr(j)) cycle
-        mark(j) = .true.
-        mark(t%pnbr(t%pptr(j):t%pptr(j + 1) - 1)) = .true.
-      end do
-    end if
-    do i = 1, b%np
-      if (all(b%x(:, i) >= box(1:nd, 1)) .and. all(b%x(:, i) <= box(1:nd, 2))) &
-        mark(i) = .true.
-    end do
-    rows = pack([(i, i = 1, b%np)], mark)
-  end subroutine region_of
-
-  !> Whether the ranks complete the masses of body k's RKPM solid over their regions only
-  !! (region_masses) rather than over every particle (whole_masses): when every rank
-  !! holds a shell of it (no rank keeps the whole solids) and nothing reads a mass outside
-  !! a rank's region before the split: no deforming master or self-contact on the body
-  !! (their sides hold every particle's inverse mass), no plane spin (its centre of mass
-  !! sums every particle's). The same on every rank (the deck's).
-  logical function region_masses_do(deck, k, part) result(yes)
+  !> Whether body k's solid is set up as a region shell on every rank (region_rows: no
+  !! array over the whole solid; for RKPM its masses completed over the regions only,
+  !! region_masses, rather than over every particle, whole_masses): when every rank
+  !! holds a shell of it (no rank keeps the whole solids) and nothing reads the solid
+  !! outside a rank's region before the split: no deforming master or self-contact on the
+  !! body (their sides hold every particle's inverse mass), no plane spin (its centre of
+  !! mass sums every particle's). The same on every rank (the deck's).
+  logical function region_solid_do(deck, k, part) result(yes)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
     type(setup_part_t), intent(in) :: part
@@ -447,7 +446,7 @@ contains
           deck%bodies(cs%imaster)%role == 'deformable') yes = .false.
       end associate
     end do
-  end function region_masses_do
+  end function region_solid_do
 
   !> The lumped masses of an RKPM solid t of body b over a rank's region (region_of, made
   !! here: rows) in a decomposed set-up, each the serial one to the bit, without a sum
@@ -457,7 +456,7 @@ contains
   !! whose boxes hold them (the requests' counts gathered, then the numbers and the masses
   !! point to point to those ranks only; the gathered counts are P^2 numbers, 8 MB on
   !! 1,024 ranks: an all-to-all of counts would hold P). The masses outside the region are set to 0
-  !! (nothing reads them: region_masses_do), the total is the exact sum of the parts'
+  !! (nothing reads them: region_solid_do), the total is the exact sum of the parts'
   !! (for the log). An error on a rank (a cell too few particles cover) reaches all first.
   !! Collective.
   subroutine region_masses(part, tree, b, t, box, rows, err)

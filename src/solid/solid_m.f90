@@ -24,6 +24,7 @@ module solid_m
   use material_m, only: material_t, material_state_t, material_params_t, make_material
   use dims_m, only: dims_plane, dims_3d, max_dim
   use exact_sum_m, only: exact_sum_t, exact_add
+  use sorting_m, only: sorted_place
   use solid_tables_m, only: solid_tables_t, tables_move
   use tl_kinematics_m, only: f_identity, deformation_gradient, rate_of_deformation, piola_stress, &
     internal_force, physical_positions, jacobian, deformation_gradient_list, &
@@ -39,7 +40,7 @@ module solid_m
   public :: solid_clear_contact, solid_add_point_forces, solid_correct, solid_quiet_init, &
     solid_quiet_blocks
   public :: at_step_start, at_prediction, solid_step_estimate, solid_worst_node, &
-    solid_node_number, solid_point_number
+    solid_node_number, solid_point_number, solid_np_whole, solid_nq_whole, solid_node_place
   public :: health_ok, health_j, health_stress, health_epsbar, health_deps, health_names
   public :: solid_set_owned, solid_points_force, solid_nodes_force, part_halo_t, &
     solid_share_corrections
@@ -163,6 +164,10 @@ module solid_m
   !! ghost node's, from its owner's v and a, is its owner's to the bit.
   type :: solid_part_t
     logical :: on = .false.                      !< a rank's part (else the whole solid)
+    !> the set-up's shell of a rank's region of the solid (mfcd_mpi, before the split):
+    !! its nodes and points are the whole solid's nglob and qglob (ascending), np_whole
+    !! and nq_whole the whole counts; no array over the whole solid (doc/parallel.md)
+    logical :: region = .false.
     integer, allocatable :: own_q(:), own_n(:)   !< owned points, owned nodes (local numbers)
     integer, allocatable :: nglob(:)             !< the local nodes' numbers in the whole solid
     integer, allocatable :: qglob(:)             !< the local points' numbers in the whole solid
@@ -1858,11 +1863,34 @@ contains
   end subroutine solid_worst_node
 
   !> The number of node i of solid s in the whole solid (a rank's part numbers its own).
+  !> The whole solid's node count of s (a region shell's np_whole, else s%np).
+  pure integer function solid_np_whole(s) result(n)
+    type(solid_t), intent(in) :: s
+    n = s%np
+    if (s%part%region .or. s%part%on) n = s%part%np_whole
+  end function solid_np_whole
+
+  !> The whole solid's integration point count of s (a region shell's nq_whole, else s%nq).
+  pure integer function solid_nq_whole(s) result(n)
+    type(solid_t), intent(in) :: s
+    n = s%nq
+    if (s%part%region .or. s%part%on) n = s%part%nq_whole
+  end function solid_nq_whole
+
+  !> The place in solid s of node j of the whole solid: j itself, or in a region shell
+  !! its place among the region's nodes (0: not in the region).
+  pure integer function solid_node_place(s, j) result(i)
+    type(solid_t), intent(in) :: s
+    integer, intent(in) :: j
+    i = j
+    if (s%part%region) i = sorted_place(s%part%nglob, j)
+  end function solid_node_place
+
   pure integer function solid_node_number(s, i) result(g)
     type(solid_t), intent(in) :: s
     integer, intent(in) :: i
     g = i
-    if (s%part%on .and. allocated(s%part%nglob)) g = s%part%nglob(i)
+    if ((s%part%on .or. s%part%region) .and. allocated(s%part%nglob)) g = s%part%nglob(i)
   end function solid_node_number
 
   !> The number of integration point q of solid s in the whole solid.
@@ -1870,6 +1898,6 @@ contains
     type(solid_t), intent(in) :: s
     integer, intent(in) :: q
     g = q
-    if (s%part%on .and. allocated(s%part%qglob)) g = s%part%qglob(q)
+    if ((s%part%on .or. s%part%region) .and. allocated(s%part%qglob)) g = s%part%qglob(q)
   end function solid_point_number
 end module solid_m

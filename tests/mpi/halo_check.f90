@@ -120,7 +120,8 @@ contains
       point_part(q) = rcb_part(tree, t%xq(:, q))
     end do
     call local_part_build(t, node_part, point_part, me + 1, lp)
-    call halo_plan_build(MPI_COMM_WORLD, lp, node_part, point_part, plan, err)
+    call halo_plan_build(MPI_COMM_WORLD, lp, node_part(lp%nglob), point_part(lp%qglob), &
+      plan, err)
     if (allocated(err)) error stop err%message
     nbad = 0
     ! nodes: owned values in, ghosts from their owners
