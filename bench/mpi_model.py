@@ -66,17 +66,20 @@ GHOST_LAYERS_3D = (4.0, 4.0)  # ghost nodes, points per particle of a cut face (
 BYTES_GHOST_3D = (168.0, 144.0)  # B per ghost node, point and step (measured)
 SNAP_BYTES_3D = 160.0         # B per particle of a snapshot's gathered fields (measured)
 MEASURED_3D = 0.82            # weak-scaling efficiency on 2 ranks (measured, this guest)
-# a rank's memory, measured 2026-11-29 on the bench's bar (109 nodes a point;
-# doc/parallel.md, "Against rigid masters the time loop holds nothing of the whole body"):
-# a fixed share; at the split (the peak) its part's rows and their transpose, nothing of
-# the whole body (0.73 GB a rank on 2, 4 and 8 ranks at 18,700 particles a rank); at the
-# end of the set-up its region's rows and what it still holds of the whole body (the
-# bodies, the tables' arrays over every point, the shell solid's arrays: rank 1 411 MB
-# on 2 ranks, 460 MB on 8, bench/mpi_weak_3d.sh's runs with probes)
+# a rank's memory, measured 2026-11-29 and 2026-11-30 on the bench's bar (109 nodes a
+# point; doc/parallel.md, "Against rigid masters the time loop holds nothing of the whole
+# body" and "The set-up's solid numbered over the region"): a fixed share; at the split
+# (the run's peak) its part's rows and their transpose, nothing of the whole body (0.73 GB
+# a rank on 2, 4 and 8 ranks at 18,700 particles a rank); at the set-up's peak its
+# region's rows and what the set-up still holds of the whole body (the bodies as
+# generated, the builders' arrays over every particle and point before the region's cut:
+# 428-431 MiB a rank on 2 ranks, 440-460 on 8, mfcd_mpi's logged peaks in
+# bench/mpi_weak_3d.sh's runs; 0.11 kB a particle of the whole run at the end ranks, 0.16
+# at the interior ones; 0.44 kB before the set-up's solid was numbered over the region)
 FIXED_BYTES_3D = 0.07e9       # B per rank whatever its part (runtime, Open MPI, HDF5)
 PART_BYTES_3D = 35.0e3        # B per particle of the part at the split's peak (measured)
-SETUP_PART_BYTES_3D = 17.3e3  # B per particle of the part at the set-up's end (measured)
-WHOLE_BYTES_3D = 0.44e3       # B per particle of the whole body at the set-up (measured)
+SETUP_PART_BYTES_3D = 20.0e3  # B per particle of the part at the set-up's peak (measured)
+WHOLE_BYTES_3D = 0.13e3       # B per particle of the whole body at the set-up (measured)
 # measured 2026-11-30 on a lent 16-core machine (one socket; doc/parallel.md, "3D on 16
 # cores"): the loop's weak efficiency of the bench's bar 30 mm a rank (18,700 particles a
 # rank, 50 steps) on 1-16 ranks; 16 independent one-rank runs at once took 6.29 s a run

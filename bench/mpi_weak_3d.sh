@@ -8,7 +8,9 @@
 # Prints, per run, the particles, the summary's set-up and time-loop seconds, every rank's
 # resident memory after the set-up and at the end (the smallest and largest, mfcd_mpi's log),
 # and every rank's peak resident memory (GNU time's %M).
-# Usage: [STEPS=N] bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
+# SELF=1 adds the bar's self-contact (a &contact group of the bar with itself: 3D
+# self-contact's sides, which hold arrays over all their particles on every rank).
+# Usage: [STEPS=N] [SELF=1] bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
 #   default: build-mpi-rel/bin (bench/mpi_scaling.sh builds it), ranks 2 4 8, 10 steps of 15 ns
 #   (more steps, e.g. STEPS=50, to time the time loop's weak scaling too)
 # More ranks than cores run oversubscribed: the memory holds, the set-up's seconds are then
@@ -24,7 +26,7 @@ steps=${STEPS:-10}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "# mfcd_mpi weak scaling of the set-up, 3D Taylor bar 30 mm a rank, $steps steps"
+echo "# mfcd_mpi weak scaling of the set-up, 3D Taylor bar 30 mm a rank, $steps steps$([ "${SELF:-0}" = 1 ] && echo ', with its self-contact')"
 echo "- date: $(date -Iseconds); commit: $(git -C "$root" rev-parse --short HEAD 2>/dev/null); bin: $bin"
 echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc --all)"
 for n in "${ranks[@]}"; do
@@ -32,6 +34,9 @@ for n in "${ranks[@]}"; do
   sed -e "s#file = 'output/#file = '$work/#" -e "s/t_end = 4.5e-6/t_end = $(python3 -c "print(f'{15e-9*$steps:.4e}')")/" \
     -e "s/extrude = 0.0, 0.06/extrude = 0.0, $len/" \
     "$root/bench/decks/taylor_bar_3d_rkpm_bench.nml" > "$work/t.nml"
+  if [ "${SELF:-0}" = 1 ]; then
+    printf "&contact\n  master = 'bar'\n  slave = 'bar'\n/\n" >> "$work/t.nml"
+  fi
   echo "== $n rank(s), bar $len m long"
   rm -f "$work"/mem.* "$work"/taylor_bar_3d_rkpm_bench*
   (cd "$work" && mpiexec --oversubscribe --bind-to none -n "$n" sh -c \

@@ -1,6 +1,7 @@
 !> The ranks of a run (doc/parallel.md) as the layers below the program see them, without
-!! naming MPI: reductions, broadcasts, the allgather of contact's ghost refresh and
-!! point-to-point messages to chosen ranks. The MPI build extends it (mpi_comm_m, library
+!! naming MPI: reductions, broadcasts, the allgather of contact's ghost refresh,
+!! point-to-point messages to chosen ranks and an all-to-all of counts. The MPI build
+!! extends it (mpi_comm_m, library
 !! mfcd_parallel); single_rank_t is the one-rank case, a serial run's, whose collectives
 !! leave every value as it is.
 module rank_comm_m
@@ -27,6 +28,9 @@ module rank_comm_m
     procedure(bcast_text_i), deferred :: bcast_text
     !> all(:, r + 1) becomes rank r's mine(:) (the same length on every rank).
     procedure(allgather_i), deferred :: allgather_real
+    !> got(r + 1) becomes rank r's mine(me + 1) (one count to each rank and one from each:
+    !! P numbers a rank, where an allgather of every rank's counts holds P^2).
+    procedure(alltoall_i), deferred :: alltoall_int
     !> Messages between chosen ranks: sbuf(sptr(k) : sptr(k+1) - 1) goes to rank to(k);
     !! one message (of any length, empty too) comes from each rank of from(:), placed in
     !! rbuf(rptr(k) : rptr(k+1) - 1) in from's order (rbuf grows when short). Each rank of
@@ -62,6 +66,12 @@ module rank_comm_m
       real(wp), intent(in) :: mine(:)
       real(wp), intent(out) :: all(:, :)
     end subroutine allgather_i
+    subroutine alltoall_i(c, mine, got)
+      import :: rank_comm_t
+      class(rank_comm_t), intent(inout) :: c
+      integer, intent(in) :: mine(:)
+      integer, intent(out) :: got(:)
+    end subroutine alltoall_i
     subroutine sparse_i(c, to, sptr, sbuf, from, rptr, rbuf)
       import :: rank_comm_t, wp
       class(rank_comm_t), intent(inout) :: c
@@ -81,6 +91,7 @@ module rank_comm_m
     procedure :: min_int => single_int
     procedure :: bcast_text => single_text
     procedure :: allgather_real => single_allgather
+    procedure :: alltoall_int => single_alltoall
     procedure :: sparse_exchange => single_sparse
   end type single_rank_t
 
@@ -130,6 +141,13 @@ contains
     real(wp), intent(out) :: all(:, :)
     all(:, c%me + 1) = mine
   end subroutine single_allgather
+
+  subroutine single_alltoall(c, mine, got)
+    class(single_rank_t), intent(inout) :: c
+    integer, intent(in) :: mine(:)
+    integer, intent(out) :: got(:)
+    got(c%me + 1) = mine(c%me + 1)
+  end subroutine single_alltoall
 
   subroutine single_sparse(c, to, sptr, sbuf, from, rptr, rbuf)
     class(single_rank_t), intent(inout) :: c

@@ -19,6 +19,7 @@ module mpi_comm_m
     procedure :: min_int => ranks_min_int
     procedure :: bcast_text => ranks_bcast_text
     procedure :: allgather_real => ranks_allgather
+    procedure :: alltoall_int => ranks_alltoall
     procedure :: sparse_exchange => ranks_sparse
   end type mpi_ranks_t
 
@@ -82,6 +83,13 @@ contains
     call MPI_Allgather(mine, size(mine), MPI_DOUBLE_PRECISION, all, size(mine), &
       MPI_DOUBLE_PRECISION, c%comm)
   end subroutine ranks_allgather
+
+  subroutine ranks_alltoall(c, mine, got)
+    class(mpi_ranks_t), intent(inout) :: c
+    integer, intent(in) :: mine(:)
+    integer, intent(out) :: got(:)
+    call MPI_Alltoall(mine, 1, MPI_INTEGER, got, 1, MPI_INTEGER, c%comm)
+  end subroutine ranks_alltoall
 
   !> Nonblocking sends to the ranks of to; from each rank of from, in turn, the message's
   !! length is probed and it is received into rbuf.

@@ -279,8 +279,8 @@ contains
     type(tet4_mesh_t) :: tmesh
     real(wp) :: alpha, box(3, 2)
     logical :: split, shell, region, ok
-    integer, allocatable :: qrows(:)
-    integer :: nq_whole
+    integer, allocatable :: qrows(:), at(:)
+    integer :: nq_whole, j
     bs = deck%bodies(k)
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
     if (allocated(b%cells) .and. b%ndim == 3) then
@@ -339,9 +339,6 @@ contains
       call set_error(err, where//": "//e2%message)
       return
     end if
-    call kinematic_masks(deck, k, b, pres, vpres, bc_of, err)
-    if (allocated(err)) return
-    if (b%ndim == 3) call symmetry_holds(b, pres, vpres)
     ! on ranks a shell (but on rank 0 when it keeps the whole solids for its det(M)
     ! fields): what the split reads of the whole solid, without its state
     shell = .false.
@@ -349,6 +346,16 @@ contains
     if (shell .and. .not. allocated(rows)) call region_of(t, b, box, rows)
     region = .false.
     if (shell) region = region_solid_do(deck, k, part)
+    ! (a region shell's conditions at its region's particles only)
+    if (region) then
+      at = rows
+    else
+      at = [(j, j = 1, b%np)]
+    end if
+    call kinematic_masks(deck, k, b, pres, vpres, bc_of, err, at)
+    if (allocated(err)) return
+    if (b%ndim == 3) call symmetry_holds(b, at, pres, vpres)
+    deallocate(at)
     if (region) then
       ! the shell numbered over its region: its tables, positions, conditions and
       ! velocities at the region's particles and the points whose rows it kept, with the
@@ -360,15 +367,14 @@ contains
           "kept rows touch (an internal error of the set-up)")
       end if
       if (.not. allocated(e2)) call solid_init(s, b%name, t, b%x(:, rows), &
-        deck%materials(bs%imat)%params, alpha, bs%velocity(1:b%ndim), pres(:, rows), &
-        vpres(:, rows), e2, shell)
+        deck%materials(bs%imat)%params, alpha, bs%velocity(1:b%ndim), pres, vpres, e2, &
+        shell)
       if (.not. allocated(e2)) then
         s%part%region = .true.
         call move_alloc(qrows, s%part%qglob)
         s%part%nglob = rows
         s%part%np_whole = b%np
         s%part%nq_whole = nq_whole
-        if (allocated(bc_of)) bc_of = bc_of(:, rows)
       end if
     else
       call solid_init(s, b%name, t, b%x, deck%materials(bs%imat)%params, alpha, &
@@ -453,12 +459,11 @@ contains
   !! over every particle: a rank that integrated only the cells its box needs has the
   !! masses of the particles in its box (its part, tree) whole, the same sums in the same
   !! order as the serial run; the region's other particles' masses come from the ranks
-  !! whose boxes hold them (the requests' counts gathered, then the numbers and the masses
-  !! point to point to those ranks only; the gathered counts are P^2 numbers, 8 MB on
-  !! 1,024 ranks: an all-to-all of counts would hold P). The masses outside the region are set to 0
-  !! (nothing reads them: region_solid_do), the total is the exact sum of the parts'
-  !! (for the log). An error on a rank (a cell too few particles cover) reaches all first.
-  !! Collective.
+  !! whose boxes hold them (the requests' counts by an all-to-all, P numbers a rank, then
+  !! the numbers and the masses point to point to those ranks only). The masses outside
+  !! the region are set to 0 (nothing reads them: region_solid_do), the total is the exact
+  !! sum of the parts' (for the log). An error on a rank (a cell too few particles cover)
+  !! reaches all first. Collective.
   subroutine region_masses(part, tree, b, t, box, rows, err)
     type(setup_part_t), intent(in) :: part
     type(rcb_tree_t), intent(in) :: tree
@@ -468,8 +473,9 @@ contains
     integer, allocatable, intent(out) :: rows(:)
     type(error_t), allocatable, intent(inout) :: err
     real(wp) :: flag(1)
-    real(wp), allocatable :: cnt(:), all(:, :), sbuf(:), rbuf(:), back(:), got(:)
-    integer, allocatable :: owner(:), to(:), from(:), sptr(:), rptr(:), bptr(:), fill(:)
+    real(wp), allocatable :: sbuf(:), rbuf(:), back(:), got(:)
+    integer, allocatable :: owner(:), to(:), from(:), sptr(:), rptr(:), bptr(:), fill(:), &
+      cnt(:), asked(:)
     type(exact_sum_t) :: e
     integer :: i, j, r, np, me
     if (.not. associated(part%comm)) error stop 'region_masses: setup_part_t%comm not set'
@@ -485,21 +491,21 @@ contains
     end if
     call region_of(t, b, box, rows)
     ! each region particle's part (0-based rank); the requests grouped by rank
-    allocate(owner(size(rows)), cnt(np))
-    cnt = 0.0_wp
+    allocate(owner(size(rows)), cnt(np), asked(np))
+    cnt = 0
     do j = 1, size(rows)
       owner(j) = rcb_part(tree, b%x(:, rows(j))) - 1
-      if (owner(j) /= me) cnt(owner(j) + 1) = cnt(owner(j) + 1) + 1.0_wp
+      if (owner(j) /= me) cnt(owner(j) + 1) = cnt(owner(j) + 1) + 1
     end do
-    allocate(all(np, np))
-    call part%comm%allgather_real(cnt, all)
-    to = pack([(r, r = 0, np - 1)], cnt > 0.0_wp)
-    from = pack([(r, r = 0, np - 1)], all(me + 1, :) > 0.0_wp)
+    ! (each rank learns how many each other rank asks it for: P counts a rank)
+    call part%comm%alltoall_int(cnt, asked)
+    to = pack([(r, r = 0, np - 1)], cnt > 0)
+    from = pack([(r, r = 0, np - 1)], asked > 0)
     allocate(sptr(size(to) + 1), fill(np))
     sptr(1) = 1
     do i = 1, size(to)
       fill(to(i) + 1) = sptr(i)
-      sptr(i + 1) = sptr(i) + nint(cnt(to(i) + 1))
+      sptr(i + 1) = sptr(i) + cnt(to(i) + 1)
     end do
     allocate(sbuf(sptr(size(to) + 1) - 1), rptr(size(from) + 1), rbuf(0))
     do j = 1, size(rows)
@@ -580,9 +586,11 @@ contains
   !> A body with symmetry planes (a quarter or half cylinder, rkpm_tl3d_m): the particles
   !! on a plane are their own mirror images, so their component normal to it is held at 0
   !! (as the 2D axisymmetric solid holds the radial component on the axis); no &bc group
-  !! holds it (no reaction is reported).
-  subroutine symmetry_holds(b, pres, vpres)
+  !! holds it (no reaction is reported). pres and vpres over the particles at
+  !! (kinematic_masks').
+  subroutine symmetry_holds(b, at, pres, vpres)
     type(body_t), intent(in) :: b
+    integer, intent(in) :: at(:)
     logical, intent(inout) :: pres(:, :)
     real(wp), intent(inout) :: vpres(:, :)
     integer :: normal(2), n, m, i
@@ -590,8 +598,8 @@ contains
     call symmetry_planes_3d(b, normal, pos, n)
     tol = 1.0e-9_wp*maxval(b%spacing(1:3))
     do m = 1, n
-      do i = 1, b%np
-        if (abs(b%x(normal(m), i) - pos(m)) <= tol) then
+      do i = 1, size(at)
+        if (abs(b%x(normal(m), at(i)) - pos(m)) <= tol) then
           pres(normal(m), i) = .true.
           vpres(normal(m), i) = 0.0_wp
         end if
@@ -601,8 +609,9 @@ contains
 
   !> The deck's &bc groups of body k as masks over the nodes' reference positions: a node
   !! inside a group's box has that component prescribed (held at 0 for 'fixed', moved at
-  !! the given velocity for 'velocity').
-  subroutine kinematic_masks(deck, k, b, pres, vpres, bc_of, err)
+  !! the given velocity for 'velocity'). The masks over the particles at (every one, or a
+  !! rank's region); a box that holds no particle of the whole body is an error.
+  subroutine kinematic_masks(deck, k, b, pres, vpres, bc_of, err, at)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
     type(body_t), intent(in) :: b
@@ -610,23 +619,26 @@ contains
     real(wp), allocatable, intent(out) :: vpres(:, :)
     integer, allocatable, intent(out) :: bc_of(:, :)   !< the group of each (the last)
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in) :: at(:)
     integer :: j, i, c, nsel
-    allocate(pres(b%ndim, b%np), vpres(b%ndim, b%np), bc_of(b%ndim, b%np))
+    allocate(pres(b%ndim, size(at)), vpres(b%ndim, size(at)), bc_of(b%ndim, size(at)))
     pres = .false.
     vpres = 0.0_wp
     bc_of = 0
     do j = 1, deck%nbcs
       if (deck%bcs(j)%ibody /= k) cycle
       c = deck%bcs(j)%component
-      nsel = 0
-      do i = 1, b%np
-        if (all(b%x(:, i) >= deck%bcs(j)%region_lo(1:b%ndim)) .and. &
-          all(b%x(:, i) <= deck%bcs(j)%region_hi(1:b%ndim))) then
+      do i = 1, size(at)
+        if (in_bc(at(i))) then
           pres(c, i) = .true.
           vpres(c, i) = merge(deck%bcs(j)%value, 0.0_wp, deck%bcs(j)%kind == 'velocity')
           bc_of(c, i) = j
-          nsel = nsel + 1
         end if
+      end do
+      ! (the whole body's count: the same answer on every rank)
+      nsel = 0
+      do i = 1, b%np
+        if (in_bc(i)) nsel = nsel + 1
       end do
       if (nsel == 0) then
         call set_error(err, "deck '"//deck%path//"', group &bc (bc "//itoa(j)// &
@@ -635,6 +647,14 @@ contains
         return
       end if
     end do
+
+  contains
+
+    logical function in_bc(i)
+      integer, intent(in) :: i
+      in_bc = all(b%x(:, i) >= deck%bcs(j)%region_lo(1:b%ndim)) .and. &
+        all(b%x(:, i) <= deck%bcs(j)%region_hi(1:b%ndim))
+    end function in_bc
   end subroutine kinematic_masks
 
   !> The contact pairs of the deck's &contact groups, with their log lines (none if quiet).
