@@ -177,8 +177,9 @@ def deck_copy(src, work, out, checkpoint_every=0):
     return path
 
 
-def compare(tag, ref, new, record=True, continued=False):
-    """The checks of a run against the serial one; record False: only whether all hold."""
+def compare(tag, ref, new, record=True, continued=None):
+    """The checks of a run against the serial one; record False: only whether all hold;
+    continued: the step of the checkpoint a continuation started from."""
     outcome = []
 
     def check(name, cond, detail=""):  # noqa: F811 (collects, then records or not)
@@ -189,15 +190,26 @@ def compare(tag, ref, new, record=True, continued=False):
         paths = []
         a["snapshots"].visititems(
             lambda n, o: paths.append(n) if isinstance(o, h5py.Dataset) else None)
-        if continued:
-            # a continuation writes the snapshots after its checkpoint only
-            paths = [n for n in paths if n.split("/")[0] in b["snapshots"]]
+        later = None
+        if continued is not None:
+            # a continuation writes the snapshots after its checkpoint only: each of the
+            # serial run's after that step (none when the checkpoint is at the last one)
+            later = [g for g in a["snapshots"]
+                     if int(a["snapshots"][g].attrs["step"]) > continued]
+            bad += [f"snapshots/{g} (missing)" for g in later if g not in b["snapshots"]]
+            bad += [f"snapshots/{g} (not the serial run's after the checkpoint)"
+                    for g in b["snapshots"] if g not in later]
+            paths = [n for n in paths if n.split("/")[0] in later]
         for n in paths:
             p = "snapshots/" + n
             if p not in b or not np.array_equal(a[p][()], b[p][()]):
                 bad.append(p)
-    check(f"{tag}: {len(paths)} snapshot datasets equal to the serial run's, bit for bit",
-          paths and not bad, bad[:8])
+    if later == []:
+        check(f"{tag}: no snapshot after the checkpoint's step in the serial run, none "
+              "written", not bad, bad[:8])
+    else:
+        check(f"{tag}: {len(paths)} snapshot datasets equal to the serial run's, bit for "
+              "bit", paths and not bad, bad[:8])
     # the bodies' reference configuration (on ranks each rank writes its share of a
     # deformable body's rows, rank 0 the rest): every dataset and attribute as serial
     bad = []
@@ -398,7 +410,8 @@ def main():
                           p.stdout[-1500:] + p.stderr[-1500:])
                     if p.returncode == 0:
                         compare(f"{name}, {n1} ranks, {how} from step {step[-1]}",
-                                os.path.join(work, f"{name}_serial.h5"), out, continued=True)
+                                os.path.join(work, f"{name}_serial.h5"), out,
+                                continued=int(step[-1]))
         if NO_REFRESH:
             n = NO_REFRESH
             deck = deck_copy(src, work, f"{name}_np{n}_norefresh.h5")
