@@ -532,7 +532,7 @@ contains
     integer, allocatable, intent(out) :: points(:)
     logical, intent(out) :: ok
     integer, allocatable :: nloc(:), ptr(:)
-    integer :: q, k, j, npl, nql
+    integer :: q, k, npl, nql
     npl = size(nodes)
     allocate(nloc(t%np))
     nloc = 0
@@ -558,12 +558,7 @@ contains
     if (allocated(t%tg)) deallocate(t%tg)
     if (allocated(t%th)) deallocate(t%th)
     if (allocated(t%tgs)) deallocate(t%tgs)
-    allocate(ptr(nql + 1))
-    ptr(1) = 1
-    do k = 1, nql
-      q = points(k)
-      ptr(k + 1) = ptr(k) + t%ptr(q + 1) - t%ptr(q)
-    end do
+    ptr = rows_at(t%ptr, points)
     call move_alloc(ptr, t%ptr)
     t%nbr = nloc(t%nbr)
     t%xq = t%xq(:, points)
@@ -574,17 +569,26 @@ contains
     t%mass = t%mass(nodes)
     t%fix1 = t%fix1(nodes)
     if (allocated(t%pptr)) then
-      allocate(ptr(npl + 1))
-      ptr(1) = 1
-      do k = 1, npl
-        j = nodes(k)
-        ptr(k + 1) = ptr(k) + t%pptr(j + 1) - t%pptr(j)
-      end do
+      ptr = rows_at(t%pptr, nodes)
       call move_alloc(ptr, t%pptr)
       t%pnbr = nloc(t%pnbr)
     end if
     t%np = npl
     t%nq = nql
+
+  contains
+
+    !> The CSR pointer of the rows at(:) of the pointer p, in that order.
+    pure function rows_at(p, at) result(r)
+      integer, intent(in) :: p(:), at(:)
+      integer, allocatable :: r(:)
+      integer :: i
+      allocate(r(size(at) + 1))
+      r(1) = 1
+      do i = 1, size(at)
+        r(i + 1) = r(i) + p(at(i) + 1) - p(at(i))
+      end do
+    end function rows_at
   end subroutine region_rows
 
   !> Tables t without their rows' structure and their arrays over points and nodes (what
