@@ -26,7 +26,7 @@
 module surface3d_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
-  use sorting_m, only: sort_index
+  use sorting_m, only: sort_index, sorted_place
   use geometry_m, only: cross => cross3
   implicit none
   private
@@ -35,11 +35,14 @@ module surface3d_m
   type :: surface3d_t
     integer :: nf = 0
     integer, allocatable :: tri(:, :)        !< (3, nf) vertex numbers, CCW from outside
-    real(wp), allocatable :: x(:, :)         !< (3, np) vertex positions (m)
+    !> the vertices: their numbers (nv, ascending; the particles the facets touch, not
+    !! every particle of the body) and each facet's vertices' places among them (3, nf)
+    integer, allocatable :: vid(:), tv(:, :)
+    real(wp), allocatable :: x(:, :)         !< (3, nv) vertex positions (m)
     real(wp), allocatable :: fn(:, :)        !< (3, nf) unit facet normals
     real(wp), allocatable :: en(:, :, :)     !< (3, 3, nf) pseudo-normal of edge k of facet
                                              !! (from its vertex k to k + 1)
-    real(wp), allocatable :: vn(:, :)        !< (3, np) vertex pseudo-normals
+    real(wp), allocatable :: vn(:, :)        !< (3, nv) vertex pseudo-normals
     integer, allocatable :: partner(:, :)    !< (3, nf) the other facet of edge k of facet
                                              !! (0 in a subset without it: surface3d_subset)
     !> the bins: the grid's corner lo (m), its cell size (m) and cells per axis, and the
@@ -73,8 +76,9 @@ contains
     real(wp), allocatable :: key(:)
     s%nf = size(tri, 2)
     s%tri = tri
-    s%x = x
-    allocate(s%fn(3, s%nf), s%en(3, 3, s%nf), s%vn(3, size(x, 2)), s%partner(3, s%nf))
+    call vertices_of(s)
+    s%x = x(:, s%vid)
+    allocate(s%fn(3, s%nf), s%en(3, 3, s%nf), s%vn(3, size(s%vid)), s%partner(3, s%nf))
     ! edges: each undirected edge (smaller, larger vertex) must appear in two facets
     ne = 3*s%nf
     allocate(ea(ne), eb(ne), ef(ne), ek(ne), key(ne), order(ne))
@@ -149,10 +153,44 @@ contains
         s%partner(k, new(m)) = new(full%partner(k, m))
       end do
     end do
-    if (.not. allocated(s%vn)) allocate(s%vn(3, size(x, 2)))
+    call vertices_of(s)
+    if (allocated(s%vn)) deallocate(s%vn)
+    allocate(s%vn(3, size(s%vid)))
     s%cell = full%cell
     call surface3d_update(s, x)
   end subroutine surface3d_subset
+
+  !> The vertices of s's facets (s%tri): their numbers, ascending (vid), and each facet's
+  !! vertices' places among them (tv), by sorting the facets' corners: no array over the
+  !! body's particles, whose numbers they are.
+  subroutine vertices_of(s)
+    type(surface3d_t), intent(inout) :: s
+    real(wp), allocatable :: key(:)
+    integer, allocatable :: order(:), c(:)
+    integer :: i, n, m, k
+    c = reshape(s%tri, [3*s%nf])
+    allocate(key(size(c)), order(size(c)))
+    key = real(c, wp)
+    call sort_index(key, order)
+    if (allocated(s%vid)) deallocate(s%vid)
+    allocate(s%vid(size(c)))
+    n = 0
+    do i = 1, size(c)
+      if (n > 0) then
+        if (s%vid(n) == c(order(i))) cycle
+      end if
+      n = n + 1
+      s%vid(n) = c(order(i))
+    end do
+    s%vid = s%vid(1:n)
+    if (allocated(s%tv)) deallocate(s%tv)
+    allocate(s%tv(3, s%nf))
+    do m = 1, s%nf
+      do k = 1, 3
+        s%tv(k, m) = sorted_place(s%vid, s%tri(k, m))
+      end do
+    end do
+  end subroutine vertices_of
 
   !> The facets binned by their boxes in the current configuration s%x (surface3d_m's
   !! header): the grid over the facets' box, cells of s%cell grown until there are at
@@ -166,8 +204,8 @@ contains
     hi = -huge(1.0_wp)
     do m = 1, s%nf
       do k = 1, 3
-        s%lo = min(s%lo, s%x(:, s%tri(k, m)))
-        hi = max(hi, s%x(:, s%tri(k, m)))
+        s%lo = min(s%lo, s%x(:, s%tv(k, m)))
+        hi = max(hi, s%x(:, s%tv(k, m)))
       end do
     end do
     if (s%nf == 0) then
@@ -192,8 +230,8 @@ contains
     ! count, then fill (cptr(c + 1) counts cell c's facets, then becomes its start)
     do n = 1, 2
       do m = 1, s%nf
-        bl = min(s%x(:, s%tri(1, m)), s%x(:, s%tri(2, m)), s%x(:, s%tri(3, m)))
-        bh = max(s%x(:, s%tri(1, m)), s%x(:, s%tri(2, m)), s%x(:, s%tri(3, m)))
+        bl = min(s%x(:, s%tv(1, m)), s%x(:, s%tv(2, m)), s%x(:, s%tv(3, m)))
+        bh = max(s%x(:, s%tv(1, m)), s%x(:, s%tv(2, m)), s%x(:, s%tv(3, m)))
         il = cell_of(s, bl)
         ih = cell_of(s, bh)
         do k = il(3), ih(3)
@@ -231,10 +269,10 @@ contains
     end if
     if (.not. allocated(s%fr)) allocate(s%fc(3, s%nf), s%fr(s%nf))
     do m = 1, s%nf
-      s%fc(:, m) = (s%x(:, s%tri(1, m)) + s%x(:, s%tri(2, m)) + s%x(:, s%tri(3, m)))/3.0_wp
+      s%fc(:, m) = (s%x(:, s%tv(1, m)) + s%x(:, s%tv(2, m)) + s%x(:, s%tv(3, m)))/3.0_wp
       h = 0.0_wp
       do k = 1, 3
-        h = max(h, norm2(s%x(:, s%tri(k, m)) - s%fc(:, m)))
+        h = max(h, norm2(s%x(:, s%tv(k, m)) - s%fc(:, m)))
       end do
       s%fr(m) = h*(1.0_wp + 1.0e-9_wp) + 1.0e-9_wp*s%cell
     end do
@@ -256,19 +294,20 @@ contains
     real(wp), intent(in) :: x(:, :)
     integer :: m, k
     real(wp) :: e1(3), e2(3), ang, u(3), v(3)
-    s%x = x
+    ! (the vertices' positions only, not every particle's)
+    s%x = x(:, s%vid)
     s%vn = 0.0_wp
     do m = 1, s%nf
-      e1 = x(:, s%tri(2, m)) - x(:, s%tri(1, m))
-      e2 = x(:, s%tri(3, m)) - x(:, s%tri(1, m))
+      e1 = s%x(:, s%tv(2, m)) - s%x(:, s%tv(1, m))
+      e2 = s%x(:, s%tv(3, m)) - s%x(:, s%tv(1, m))
       s%fn(:, m) = cross(e1, e2)
       s%fn(:, m) = s%fn(:, m)/norm2(s%fn(:, m))
       ! the facet's angle at each vertex weights its normal there
       do k = 1, 3
-        u = x(:, s%tri(modulo(k, 3) + 1, m)) - x(:, s%tri(k, m))
-        v = x(:, s%tri(modulo(k + 1, 3) + 1, m)) - x(:, s%tri(k, m))
+        u = s%x(:, s%tv(modulo(k, 3) + 1, m)) - s%x(:, s%tv(k, m))
+        v = s%x(:, s%tv(modulo(k + 1, 3) + 1, m)) - s%x(:, s%tv(k, m))
         ang = acos(max(-1.0_wp, min(1.0_wp, dot_product(u, v)/(norm2(u)*norm2(v)))))
-        s%vn(:, s%tri(k, m)) = s%vn(:, s%tri(k, m)) + ang*s%fn(:, m)
+        s%vn(:, s%tv(k, m)) = s%vn(:, s%tv(k, m)) + ang*s%fn(:, m)
       end do
     end do
     ! an edge's pseudo-normal: the sum of its two facets' normals (in a subset, an edge
@@ -367,7 +406,7 @@ contains
     ! the pseudo-normal of the feature: region 0 the face, 1-3 vertex k, 4-6 edge k
     select case (rbest)
     case (1:3)
-      pn = s%vn(:, s%tri(rbest, jf))
+      pn = s%vn(:, s%tv(rbest, jf))
     case (4:6)
       pn = s%en(:, rbest - 3, jf)
     case default
@@ -445,8 +484,8 @@ contains
     integer, intent(inout) :: jf, rbest
     real(wp) :: q(3), bb(3), d2
     integer :: region
-    call closest_on_triangle(p, s%x(:, s%tri(1, m)), s%x(:, s%tri(2, m)), &
-      s%x(:, s%tri(3, m)), q, bb, region)
+    call closest_on_triangle(p, s%x(:, s%tv(1, m)), s%x(:, s%tv(2, m)), &
+      s%x(:, s%tv(3, m)), q, bb, region)
     d2 = sum((p - q)**2)
     if (d2 < best .or. (d2 == best .and. m < jf)) then
       best = d2
