@@ -1,9 +1,8 @@
 !> The ranks of a run (doc/parallel.md) as the layers below the program see them, without
 !! naming MPI: reductions, broadcasts, the allgather of contact's ghost refresh,
 !! point-to-point messages to chosen ranks and an all-to-all of counts. The MPI build
-!! extends it (mpi_comm_m, library
-!! mfcd_parallel); single_rank_t is the one-rank case, a serial run's, whose collectives
-!! leave every value as it is.
+!! extends it (mpi_comm_m, library mfcd_parallel); single_rank_t is the one-rank case, a
+!! serial run's, whose collectives leave every value as it is.
 module rank_comm_m
   use kinds_m, only: wp, i64
   implicit none

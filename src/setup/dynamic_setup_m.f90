@@ -361,11 +361,9 @@ contains
       ! velocities at the region's particles and the points whose rows it kept, with the
       ! maps to the whole solid's numbers (what the split reads of it, mpi_domain_m)
       nq_whole = t%nq
-      if (.not. allocated(e2)) then
-        call region_rows(t, rows, qrows, ok)
-        if (.not. ok) call set_error(e2, "the region of this rank lacks a particle its "// &
-          "kept rows touch (an internal error of the set-up)")
-      end if
+      call region_rows(t, rows, qrows, ok)
+      if (.not. ok) call set_error(e2, "the region of this rank lacks a particle its "// &
+        "kept rows touch (an internal error of the set-up)")
       if (.not. allocated(e2)) call solid_init(s, b%name, t, b%x(:, rows), &
         deck%materials(bs%imat)%params, alpha, bs%velocity(1:b%ndim), pres, vpres, e2, &
         shell)
@@ -628,18 +626,25 @@ contains
     do j = 1, deck%nbcs
       if (deck%bcs(j)%ibody /= k) cycle
       c = deck%bcs(j)%component
+      nsel = 0
       do i = 1, size(at)
         if (in_bc(at(i))) then
           pres(c, i) = .true.
           vpres(c, i) = merge(deck%bcs(j)%value, 0.0_wp, deck%bcs(j)%kind == 'velocity')
           bc_of(c, i) = j
+          nsel = nsel + 1
         end if
       end do
-      ! (the whole body's count: the same answer on every rank)
-      nsel = 0
-      do i = 1, b%np
-        if (in_bc(i)) nsel = nsel + 1
-      end do
+      ! (none at a rank's region: whether the whole body has one, the same answer on
+      ! every rank, without walking it twice when at is all of it)
+      if (nsel == 0 .and. size(at) < b%np) then
+        do i = 1, b%np
+          if (in_bc(i)) then
+            nsel = 1
+            exit
+          end if
+        end do
+      end if
       if (nsel == 0) then
         call set_error(err, "deck '"//deck%path//"', group &bc (bc "//itoa(j)// &
           "), variable region_lo/region_hi: the box holds no node of body '"// &
