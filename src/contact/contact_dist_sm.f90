@@ -25,14 +25,13 @@
 !! particles, det(M) without the reference neighbours, the two passes of self_correct.
 submodule (contact_pair_m) contact_dist_sm
   use neighbour_bins_m, only: bins_cell_size
-  use sorting_m, only: sort_index
+  use sorting_m, only: sort_index, sorted_place
   implicit none
 
 contains
 
-  module procedure contact_pair_distribute
+  module procedure contact_pair_own
     integer :: sd
-    ! (self-contact: both sides are the same solid, owner1 = owner2)
     character(len=:), allocatable :: what
     what = "contact of '"//trim(p%side(1)%name)//"' on '"//trim(p%side(2)%name)//"': "
     if (.not. p%both_ways) then
@@ -43,26 +42,139 @@ contains
         "detector = 'det_m' only (and compare_detectors = .false.)")
     end if
     if (allocated(err)) return
-    allocate(p%dist)
-    p%dist%comm => comm
-    p%dist%margin = margin
-    p%dist%refresh = refresh
-    call init_side(p%side(1), p%dist%side(1), owner1, nglob1, solids(p%side(1)%isolid)%np)
-    if (allocated(err)) return
-    call init_side(p%side(2), p%dist%side(2), owner2, nglob2, solids(p%side(2)%isolid)%np)
-    if (allocated(err)) return
-    if (p%self) then
-      ! self-contact: each rank's own surface particles are its candidates. With skip_far
-      ! (self_schedule, self_settled) the travel and the second pass's bound are taken
-      ! over the ranks, and side 2's ghost width covers the clearance search (dist_master),
-      ! so that each clearance, hence each schedule, is the serial one
-      if (p%side(1)%skip_far) call self_skip_part(p, solids, comm)
+    if (.not. allocated(p%dist)) allocate(p%dist)
+    if (p%self .and. p%side(1)%isolid == isolid) then
+      ! self-contact: each rank's own surface particles are its candidates; with skip_far
+      ! side 2's ghost width covers the clearance search over every candidate of the body
+      ! (dist_master), so that each clearance, hence each schedule, is the serial one
+      associate (s => p%side(1))
+        if (s%skip_far .and. size(s%cand) > 0) &
+          p%dist%clear_reach = self_reach*maxval(s%rex(s%cand))
+      end associate
+      if (p%side(1)%skip_far) p%side(2)%skip_far = .false.
       do sd = 1, 2
         associate (s => p%side(sd))
-          s%cand = pack(s%cand, owner1(s%cand) == comm%me)
+          s%cand = pack(s%cand, owner(s%cand) == me)
           s%near = .true.
         end associate
       end do
+    end if
+    ! a tracked slave particle: its place among the rank's own (0 on the other ranks)
+    if (p%side(1)%isolid == isolid .and. p%edge > 0) then
+      if (owner(p%edge) == me) then
+        p%edge = count(owner(1:p%edge) == me)
+      else
+        p%edge = 0
+      end if
+    end if
+    do sd = 1, 2
+      if (p%side(sd)%isolid /= isolid) cycle
+      call own_side(p%side(sd), p%dist%side(sd))
+    end do
+
+  contains
+
+    !> Side s's static partners and whole surface's facets kept, its arrays over the whole
+    !! body cut to the rank's own particles (its first nown), their numbers in the whole
+    !! body kept (glob).
+    subroutine own_side(s, ds)
+      type(side_t), intent(inout) :: s
+      type(dist_side_t), intent(inout) :: ds
+      integer :: i, k, kk, q, n, e
+      integer, allocatable :: kown(:), cnt(:), own(:)
+      logical, allocatable :: isp(:)
+      own = pack([(i, i = 1, s%np)], owner == me)
+      ds%nown = size(own)
+      ! the whole surface's facets (segments) only: a rank's subset is taken from them
+      if (s%ndim == 3) then
+        ds%full3%nf = s%surf3%nf
+        ds%full3%tri = s%surf3%tri
+        ds%full3%vid = s%surf3%vid
+        ds%full3%tv = s%surf3%tv
+        ds%full3%partner = s%surf3%partner
+        ds%full3%cell = s%surf3%cell
+        allocate(ds%glo(3), ds%ghi(3))
+      else
+        ds%full%nseg = s%surface%nseg
+        ds%full%i0 = s%surface%i0
+        ds%full%i1 = s%surface%i1
+        allocate(ds%glo(2), ds%ghi(2))
+      end if
+      ds%rmax = s%cloud%rmax(1:size(s%lo))
+      ! the side's cloud and surface over the whole body freed: the first plan makes the
+      ! rank's (make_plan)
+      s%cloud = rk_cloud_t()
+      s%surf3 = surface3d_t()
+      s%surface = master_surface_t()
+      s%buckets = nts_buckets_t()
+      ! static partners: the ranks owning the first end of a segment (the first vertex of
+      ! a facet) whose other end (vertex) is an own particle (they sum the segment's
+      ! midpoint and reach, the facet's edges), and the ranks owning the other ends of the
+      ! segments whose first end is an own particle
+      allocate(kown(s%np), cnt(ds%nown + 1), isp(0:nranks - 1))
+      kown = 0
+      kown(own) = [(k, k = 1, ds%nown)]
+      cnt = 0
+      isp = .false.
+      do kk = 1, nfacet(ds)
+        do e = 2, nvert(ds)
+          k = kown(vert(ds, kk, e))
+          if (k > 0 .and. owner(vert(ds, kk, 1)) /= me) cnt(k + 1) = cnt(k + 1) + 1
+          if (owner(vert(ds, kk, 1)) == me) isp(owner(vert(ds, kk, e))) = .true.
+        end do
+      end do
+      isp(me) = .false.
+      ds%pq = pack([(q, q = 0, nranks - 1)], isp)
+      allocate(ds%pptr(ds%nown + 1))
+      ds%pptr(1) = 1
+      do k = 1, ds%nown
+        ds%pptr(k + 1) = ds%pptr(k) + cnt(k + 1)
+      end do
+      allocate(ds%prank(ds%pptr(ds%nown + 1) - 1))
+      cnt = 0
+      do kk = 1, nfacet(ds)
+        do e = 2, nvert(ds)
+          k = kown(vert(ds, kk, e))
+          q = owner(vert(ds, kk, 1))
+          if (k == 0 .or. q == me) cycle
+          n = ds%pptr(k) + cnt(k + 1)
+          ds%prank(n) = q
+          cnt(k + 1) = cnt(k + 1) + 1
+        end do
+      end do
+      deallocate(kown)
+      ! the arrays cut (the ghosts come with the first plans)
+      s%np_whole = s%np
+      call side_take(s, own, ds%nown)
+      s%glob = own
+      allocate(ds%owner(ds%nown))
+      ds%owner = me
+      if (allocated(s%cand)) then
+        do k = 1, size(s%cand)
+          s%cand(k) = sorted_place(own, s%cand(k))
+        end do
+      end if
+      s%listed = .true.
+      s%list = [(k, k = 1, ds%nown)]
+      s%nlist = ds%nown
+    end subroutine own_side
+  end procedure contact_pair_own
+
+  module procedure contact_pair_distribute
+    integer :: sd
+    p%dist%comm => comm
+    p%dist%margin = margin
+    p%dist%refresh = refresh
+    call part_side(p%side(1), p%dist%side(1), nglob1, solids(p%side(1)%isolid)%np)
+    if (allocated(err)) return
+    call part_side(p%side(2), p%dist%side(2), nglob2, solids(p%side(2)%isolid)%np)
+    if (allocated(err)) return
+    ! self-contact with skip_far (self_schedule, self_settled): the travel and the second
+    ! pass's bound over the ranks (side 1's ranks), lip the largest over the whole body (a
+    ! rank's tables may hold the position rows of its region only: the 3D RKPM set-up)
+    if (p%self .and. p%side(1)%skip_far) then
+      p%side(1)%ranks => comm
+      call lip_over_ranks(p%side(1), solids(p%side(1)%isolid), comm)
     end if
     ! the first plans: the static partners only (the first pass refreshes them)
     do sd = 1, 2
@@ -72,85 +184,103 @@ contains
 
   contains
 
-    subroutine init_side(s, ds, owner, nglob, npart)
+    !> Side s's own particles' nodes in its part solid (nglob: the part's nodes' global
+    !! numbers, ascending; npart their count) and its work arrays.
+    subroutine part_side(s, ds, nglob, npart)
       type(side_t), intent(inout) :: s
       type(dist_side_t), intent(inout) :: ds
-      integer, intent(in) :: owner(:), nglob(:), npart
-      integer :: i, k, kk, q, n, e
-      integer, allocatable :: kown(:), cnt(:)
-      ds%owner = owner
-      ds%own = pack([(i, i = 1, s%np)], owner == comm%me)
-      allocate(ds%gl(s%np))
-      ds%gl = 0
-      ds%gl(nglob) = [(k, k = 1, size(nglob))]
-      if (any(ds%gl(ds%own) == 0)) then
-        call set_error(err, what//"a particle of '"//trim(s%name)//"' owned by rank "// &
+      integer, intent(in) :: nglob(:), npart
+      integer :: k
+      allocate(ds%gl(ds%nown))
+      do k = 1, ds%nown
+        ds%gl(k) = sorted_place(nglob, s%glob(k))
+      end do
+      if (any(ds%gl == 0)) then
+        call set_error(err, "contact of '"//trim(p%side(1)%name)//"' on '"// &
+          trim(p%side(2)%name)//"': a particle of '"//trim(s%name)//"' owned by rank "// &
           itoa(comm%me)//" is not a node of its part")
         return
       end if
-      if (s%ndim == 3) then
-        ds%full3 = s%surf3
-        allocate(ds%glo(3), ds%ghi(3))
-      else
-        ds%full = s%surface
-        allocate(ds%glo(2), ds%ghi(2))
-      end if
-      ds%rmax = s%cloud%rmax(1:size(s%lo))
-      s%listed = .true.
-      s%list = ds%own
-      s%nlist = size(ds%own)
       allocate(ds%f(size(s%x_pred, 1), npart), ds%mptr(comm%nranks + 1), &
         ds%nptr(comm%nranks + 1))
       allocate(ds%sbuf(0), ds%rbuf(0))
-      ! static partners: the ranks owning the first end of a segment (the first vertex of
-      ! a facet) whose other end (vertex) is an own particle (they sum the segment's
-      ! midpoint and reach, the facet's edges)
-      allocate(kown(s%np), cnt(size(ds%own) + 1))
-      kown = 0
-      kown(ds%own) = [(k, k = 1, size(ds%own))]
-      cnt = 0
-      do kk = 1, nfacet(ds)
-        do e = 2, nvert(ds)
-          k = kown(vert(ds, kk, e))
-          if (k > 0 .and. owner(vert(ds, kk, 1)) /= comm%me) cnt(k + 1) = cnt(k + 1) + 1
-        end do
-      end do
-      allocate(ds%pptr(size(ds%own) + 1))
-      ds%pptr(1) = 1
-      do k = 1, size(ds%own)
-        ds%pptr(k + 1) = ds%pptr(k) + cnt(k + 1)
-      end do
-      allocate(ds%prank(ds%pptr(size(ds%own) + 1) - 1))
-      cnt = 0
-      do kk = 1, nfacet(ds)
-        do e = 2, nvert(ds)
-          k = kown(vert(ds, kk, e))
-          q = owner(vert(ds, kk, 1))
-          if (k == 0 .or. q == comm%me) cycle
-          n = ds%pptr(k) + cnt(k + 1)
-          ds%prank(n) = q
-          cnt(k + 1) = cnt(k + 1) + 1
-        end do
-      end do
-    end subroutine init_side
+    end subroutine part_side
   end procedure contact_pair_distribute
 
-  !> Self-contact pair p with skip_far made a rank's: the travel over the ranks (side 1's
-  !! ranks), lip the largest over the whole body (a rank's tables may hold the position rows
-  !! of its region only: the 3D RKPM set-up), the clearance search's largest reach over
-  !! every candidate of the body (before they are narrowed to the rank's).
-  subroutine self_skip_part(p, solids, comm)
-    type(contact_pair_t), intent(inout) :: p
-    type(solid_t), intent(in) :: solids(:)
-    class(rank_comm_t), pointer, intent(in) :: comm
-    associate (s => p%side(1), sol => solids(p%side(1)%isolid))
-      s%ranks => comm
-      call lip_over_ranks(s, sol, comm)
-      p%dist%clear_reach = 0.0_wp
-      if (size(s%cand) > 0) p%dist%clear_reach = self_reach*maxval(s%rex(s%cand))
-    end associate
-    p%side(2)%skip_far = .false.
-  end subroutine self_skip_part
+  !> Side s's arrays over its particles made n long: entries 1..size(at) from the
+  !! particles at (places in the arrays now), the rest zero (not active, near, not
+  !! flagged, due at once) for the ghosts a plan fills in (make_plan). s%glob is left to
+  !! the caller.
+  subroutine side_take(s, at, n)
+    type(side_t), intent(inout) :: s
+    integer, intent(in) :: at(:), n
+    s%np = n
+    call take_r2(s%x_old)
+    call take_r2(s%x_pred)
+    call take_r2(s%fphys)
+    call take_r2(s%nrm)
+    call take_r2(s%tng)
+    call take_r2(s%x_ref)
+    call take_r2(s%rho)
+    call take_r2(s%d_scr)
+    call take_r2(s%x_pass)
+    call take_r2(s%bary)
+    call take_r1(s%xi, 0.0_wp)
+    call take_r1(s%gap, 0.0_wp)
+    call take_r1(s%slip, 0.0_wp)
+    call take_r1(s%share, 0.0_wp)
+    call take_r1(s%imass, 0.0_wp)
+    call take_r1(s%vol, 0.0_wp)
+    call take_r1(s%due, -1.0_wp)
+    call take_r1(s%clear, 0.0_wp)
+    call take_r1(s%rex, 0.0_wp)
+    call take_l1(s%active, .false.)
+    call take_l1(s%near, .true.)
+    call take_l1(s%flagged, .false.)
+    if (allocated(s%seg)) then
+      block
+        integer, allocatable :: t(:)
+        allocate(t(n))
+        t = 0
+        t(1:size(at)) = s%seg(at)
+        call move_alloc(t, s%seg)
+      end block
+    end if
+
+  contains
+
+    subroutine take_r2(a)
+      real(wp), allocatable, intent(inout) :: a(:, :)
+      real(wp), allocatable :: t(:, :)
+      if (.not. allocated(a)) return
+      allocate(t(size(a, 1), n))
+      t = 0.0_wp
+      t(:, 1:size(at)) = a(:, at)
+      call move_alloc(t, a)
+    end subroutine take_r2
+
+    subroutine take_r1(a, fill)
+      real(wp), allocatable, intent(inout) :: a(:)
+      real(wp), intent(in) :: fill
+      real(wp), allocatable :: t(:)
+      if (.not. allocated(a)) return
+      allocate(t(n))
+      t = fill
+      t(1:size(at)) = a(at)
+      call move_alloc(t, a)
+    end subroutine take_r1
+
+    subroutine take_l1(a, fill)
+      logical, allocatable, intent(inout) :: a(:)
+      logical, intent(in) :: fill
+      logical, allocatable :: t(:)
+      if (.not. allocated(a)) return
+      allocate(t(n))
+      t = fill
+      t(1:size(at)) = a(at)
+      call move_alloc(t, a)
+    end subroutine take_l1
+  end subroutine side_take
 
   module procedure contact_dist_report
     integer :: sd
@@ -158,6 +288,8 @@ contains
       associate (ds => p%dist%side(sd))
         nrefresh(sd) = ds%nrefresh
         ghosts(sd) = real(ds%nghost_sum, wp)/real(max(ds%npass, 1_i64), wp)
+        held(sd) = ds%held
+        whole(sd) = p%side(sd)%np_whole
       end associate
     end do
   end procedure contact_dist_report
@@ -172,11 +304,12 @@ contains
     p%dist%side(2)%nghost_sum = nsum
     p%dist%side(2)%npass = npass
     if (allocated(err)) return
-    own = p%dist%side(1)%own
+    ! (the own particles are the rank's first; own: their numbers in the whole body)
+    own = p%side(1)%glob(1:p%dist%side(1)%nown)
     allocate(det(size(own)))
     !$omp parallel do default(none) shared(p, own, det) private(j) schedule(static)
     do k = 1, size(own)
-      j = own(k)
+      j = k
       det(k) = cloud_det_excluding(p%side(2)%cloud, p%side(1)%x_pred(:, j), &
         p%side(1)%x_ref(:, j), p%side(1)%rex(j))
     end do
@@ -195,7 +328,8 @@ contains
       if (p%side(1)%skip_far) then
         call self_schedule(p, solids(p%side(1)%isolid), due, p%dist%side(1)%gl)
         if (.not. due) return
-        p%side(2)%near = p%side(1)%near
+        ! (the own particles, the first of both sides)
+        p%side(2)%near(1:p%dist%side(1)%nown) = p%side(1)%near(1:p%dist%side(1)%nown)
       end if
     end if
     ! the own particles' positions at the step start (they do not change in the step)
@@ -436,25 +570,27 @@ contains
       ! the whole master's extremes; in the plane its segments' midpoints and reach (each
       ! segment by the owner of its first end), in 3D its longest facet edge (each facet by
       ! the owner of its first vertex); the largest displacements since the refresh
+      ! (the rank's surface holds every facet, segment, whose first vertex, end, it owns:
+      ! the static partners)
       v = -huge(1.0_wp)
-      do k = 1, size(db%own)
-        v(1:nd) = max(v(1:nd), -b%x_pred(:, db%own(k)))
-        v(nd + 1:2*nd) = max(v(nd + 1:2*nd), b%x_pred(:, db%own(k)))
+      do k = 1, db%nown
+        v(1:nd) = max(v(1:nd), -b%x_pred(:, k))
+        v(nd + 1:2*nd) = max(v(nd + 1:2*nd), b%x_pred(:, k))
       end do
       if (nd == 3) then
-        do kk = 1, db%full3%nf
-          if (db%owner(db%full3%tri(1, kk)) /= p%dist%comm%me) cycle
+        do kk = 1, b%surf3%nf
+          if (b%surf3%tri(1, kk) > db%nown) cycle
           do e = 1, 3
-            i0 = db%full3%tri(e, kk)
-            i1 = db%full3%tri(modulo(e, 3) + 1, kk)
+            i0 = b%surf3%tri(e, kk)
+            i1 = b%surf3%tri(modulo(e, 3) + 1, kk)
             v(7) = max(v(7), norm2(b%x_pred(:, i1) - b%x_pred(:, i0)))
           end do
         end do
       else
-        do kk = 1, db%full%nseg
-          i0 = db%full%i0(kk)
-          if (db%owner(i0) /= p%dist%comm%me) cycle
-          i1 = db%full%i1(kk)
+        do kk = 1, b%surface%nseg
+          i0 = b%surface%i0(kk)
+          if (i0 > db%nown) cycle
+          i1 = b%surface%i1(kk)
           mid(1:2) = 0.5_wp*(b%x_pred(:, i0) + b%x_pred(:, i1))
           v(5:6) = max(v(5:6), -mid(1:2))
           v(7:8) = max(v(7:8), mid(1:2))
@@ -464,14 +600,14 @@ contains
       ! (squared, then the root of the largest)
       v(im + 1:im + 2) = 0.0_wp
       if (db%width >= 0.0_wp) then
-        do k = 1, size(db%own)
-          v(im + 1) = max(v(im + 1), sum((b%x_pred(:, db%own(k)) - db%xr_m(:, k))**2))
+        do k = 1, db%nown
+          v(im + 1) = max(v(im + 1), sum((b%x_pred(:, k) - db%xr_m(:, k))**2))
         end do
-        do k = 1, size(da%own)
+        do k = 1, da%nown
           if (.not. with_det) then
-            if (.not. a%active(da%own(k))) cycle
+            if (.not. a%active(k)) cycle
           end if
-          v(im + 2) = max(v(im + 2), sum((a%x_pred(:, da%own(k)) - db%xr_s(:, k))**2))
+          v(im + 2) = max(v(im + 2), sum((a%x_pred(:, k) - db%xr_s(:, k))**2))
         end do
       end if
       v(im + 1:im + 2) = sqrt(v(im + 1:im + 2))
@@ -547,23 +683,23 @@ contains
     if (present(active_only)) some = active_only
     if (which == at_step_start) then
       !$omp parallel do default(none) shared(s, ds, sol) private(i) schedule(static)
-      do k = 1, size(ds%own)
-        i = ds%own(k)
+      do k = 1, ds%nown
+        i = k
         call solid_point_position(sol, ds%gl(i), s%x_old(:, i), at_step_start)
       end do
       !$omp end parallel do
     else if (sol%t%interpolating .and. .not. some) then
       ! (element nodes: X + d, as solid_point_position, without a call per node)
       !$omp parallel do default(none) shared(s, ds, sol) private(i) schedule(static)
-      do k = 1, size(ds%own)
-        i = ds%own(k)
+      do k = 1, ds%nown
+        i = k
         s%x_pred(:, i) = sol%x0(:, ds%gl(i)) + sol%state%d(:, ds%gl(i))
       end do
       !$omp end parallel do
     else
       !$omp parallel do default(none) shared(s, ds, sol, some) private(i) schedule(static)
-      do k = 1, size(ds%own)
-        i = ds%own(k)
+      do k = 1, ds%nown
+        i = k
         if (some) then
           if (.not. s%active(i)) cycle
         end if
@@ -607,7 +743,7 @@ contains
     associate (db => p%dist%side(ib))
       nl = db%nptr(size(db%to) + 1) - 1
       db%f = 0.0_wp
-      call sum_records(db, db%sbuf(n0:n - 1), db%rbuf(1:nl))
+      call sum_records(db, db%sbuf(n0:n - 1), db%rbuf(1:nl), p%side(ib)%glob(1:db%nown))
     end associate
   end subroutine route_reactions
 
@@ -640,10 +776,10 @@ contains
         db%wkey(k) = db%wrec(3*k - 1)
       end do
       call sort_index(db%wkey(1:nt), db%widx(1:nt))
-      b%share(db%own) = 0.0_wp
+      b%share(1:db%nown) = 0.0_wp
       do k = 1, nt
         q = db%widx(k)
-        i = nint(db%wrec(3*q - 2))
+        i = sorted_place(b%glob(1:db%nown), nint(db%wrec(3*q - 2)))
         b%share(i) = b%share(i) + db%wrec(3*q)
       end do
       ! the ghosts' sums from their owners
@@ -706,10 +842,12 @@ contains
         if (.not. a%active(j)) cycle
         do e = 0, nv - 1
           i = seg_end(j, e)
+          ! (by the particles' numbers in the whole body)
           if (forces) then
-            rec = [real(i, wp), real(j, wp), end_weight(a, j, e)*a%fphys(:, j)]
+            rec = [real(p%side(ib)%glob(i), wp), real(a%glob(j), wp), &
+              end_weight(a, j, e)*a%fphys(:, j)]
           else
-            rec = [real(i, wp), real(j, wp), end_weight(a, j, e)]
+            rec = [real(p%side(ib)%glob(i), wp), real(a%glob(j), wp), end_weight(a, j, e)]
           end if
           q = db%owner(i)
           if (q == me) then
@@ -742,11 +880,13 @@ contains
     end function seg_end
   end subroutine route_to_owners
 
-  !> The records (master particle, slave particle, force) of rl and rr subtracted into
-  !! ds%f in the order of the slave particles (per master particle the serial order).
-  subroutine sum_records(ds, rl, rr)
+  !> The records (master particle, slave particle, force; numbers in the whole body) of rl
+  !! and rr subtracted into ds%f in the order of the slave particles (per master particle
+  !! the serial order); own: the numbers of the rank's own master particles.
+  subroutine sum_records(ds, rl, rr, own)
     type(dist_side_t), intent(inout) :: ds
     real(wp), intent(in) :: rl(:), rr(:)
+    integer, intent(in) :: own(:)
     real(wp) :: key(size(rl)/(2 + size(ds%f, 1)) + size(rr)/(2 + size(ds%f, 1)))
     real(wp) :: rec(2 + size(ds%f, 1), size(key))
     integer :: idx(size(key)), k, m, nl, nw
@@ -757,7 +897,7 @@ contains
     key = rec(2, :)
     call sort_index(key, idx)
     do k = 1, size(idx)
-      m = ds%gl(nint(rec(1, idx(k))))
+      m = ds%gl(sorted_place(own, nint(rec(1, idx(k)))))
       ds%f(:, m) = ds%f(:, m) - rec(3:nw, idx(k))
     end do
   end subroutine sum_records
@@ -806,32 +946,36 @@ contains
 
   !> A new ghost plan of side ib as the master of side ia's own particles, for the ghost
   !! width w (< 0: the static partners only), with the rank's cloud and surface of its own
-  !! and ghost particles. Collective.
+  !! and ghost particles. The ghosts arrive with their numbers in the whole body, reference
+  !! positions, supports, volumes, inverse masses (self-contact: neighbour radii) and
+  !! positions; side ib's arrays are remade over its own particles (kept in place) and the
+  !! new ghosts, ascending by their numbers. Collective.
   subroutine make_plan(p, ib, ia, w, err)
     type(contact_pair_t), intent(inout), target :: p
     integer, intent(in) :: ib, ia
     real(wp), intent(in) :: w
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: mine(:), boxes(:, :), grown(:)
-    integer :: q, k, i, n, nto, nfrom, me, nr, nd, m
-    logical :: dyn, take
-    logical, allocatable :: mask(:), keep(:)
-    integer, allocatable :: to(:), sptr(:), sids(:), from(:)
+    real(wp), allocatable :: mine(:), boxes(:, :), grown(:), key(:)
+    integer :: q, k, i, n, nto, nfrom, me, nr, nd, m, nw, ng, nown, r, v
+    logical :: dyn, take, rx
+    integer, allocatable :: to(:), sptr(:), sids(:), from(:), ord(:), src(:), vl(:), &
+      num(:, :), num0(:), num1(:), gid(:)
     associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
       db => p%dist%side(ib), comm => p%dist%comm)
       me = comm%me
       nr = comm%nranks
       nd = size(b%lo)
+      nown = db%nown
       ! the boxes of every rank's own slave and own master particles (lo, hi each)
       allocate(mine(4*nd), boxes(4*nd, 0:nr - 1), grown(2*nd))
       boxes = 0.0_wp
       if (w >= 0.0_wp) then
-        mine = [box_of(a%x_pred, da%own), box_of(b%x_pred, db%own)]
+        mine = [box_of(a%x_pred, da%nown), box_of(b%x_pred, nown)]
         call comm%allgather_real(mine, boxes)
       end if
       ! what this rank sends: to rank q, its own master particles in q's slave box grown
       ! by w, and the partners q needs
-      allocate(to(nr), sptr(nr + 1), sids(size(db%own)*min(nr, 8)))
+      allocate(to(nr), sptr(nr + 1), sids(nown*min(nr, 8)))
       nto = 0
       sptr(1) = 1
       n = 0
@@ -842,15 +986,14 @@ contains
         if (.not. (dyn .or. any(db%prank == q))) cycle
         nto = nto + 1
         to(nto) = q
-        do k = 1, size(db%own)
-          i = db%own(k)
+        do k = 1, nown
           take = any(db%prank(db%pptr(k):db%pptr(k + 1) - 1) == q)
-          if (dyn .and. .not. take) take = all(b%x_pred(:, i) >= grown(1:nd)) .and. &
-            all(b%x_pred(:, i) <= grown(nd + 1:2*nd))
+          if (dyn .and. .not. take) take = all(b%x_pred(:, k) >= grown(1:nd)) .and. &
+            all(b%x_pred(:, k) <= grown(nd + 1:2*nd))
           if (.not. take) cycle
           if (n == size(sids)) sids = [sids, sids]
           n = n + 1
-          sids(n) = i
+          sids(n) = k
         end do
         sptr(nto + 1) = n + 1
       end do
@@ -862,7 +1005,7 @@ contains
       do q = 0, nr - 1
         if (q == me) cycle
         dyn = w >= 0.0_wp .and. overlap(boxes(2*nd + 1:4*nd, q), grown)
-        if (.not. dyn) dyn = partner_of(q)
+        if (.not. dyn) dyn = any(db%pq == q)
         if (.not. dyn) cycle
         nfrom = nfrom + 1
         from(nfrom) = q
@@ -871,17 +1014,60 @@ contains
       db%sptr = sptr(1:nto + 1)
       db%sids = sids(1:n)
       db%from = from(1:nfrom)
+      ! each particle sent as (number in the whole body, volume, inverse mass, reference
+      ! position, support, position at the step start, now[, neighbour radius])
+      rx = allocated(b%rex)
+      nw = 3 + 4*nd + merge(1, 0, rx)
+      call ensure(db%sbuf, nw*n)
+      do k = 1, n
+        i = db%sids(k)
+        m = nw*(k - 1)
+        db%sbuf(m + 1:m + 3) = [real(b%glob(i), wp), b%vol(i), b%imass(i)]
+        db%sbuf(m + 4:m + 3 + 4*nd) = [b%x_ref(:, i), b%rho(:, i), b%x_old(:, i), &
+          b%x_pred(:, i)]
+        if (rx) db%sbuf(m + nw) = b%rex(i)
+      end do
+      db%mptr(1:nto + 1) = nw*(db%sptr - 1) + 1
+      call comm%sparse_exchange(db%to, db%mptr(1:nto + 1), db%sbuf(1:nw*n), db%from, &
+        db%nptr(1:nfrom + 1), db%rbuf)
       if (allocated(db%rptr)) deallocate(db%rptr)
-      allocate(db%rptr(nfrom + 1))
-      call comm%sparse_exchange(db%to, db%sptr, real(db%sids, wp), db%from, db%rptr, &
-        db%rbuf)
-      db%rids = nint(db%rbuf(1:db%rptr(nfrom + 1) - 1))
-      ! the rank's cloud and surface: its own particles and the ghosts
-      allocate(mask(b%np))
-      mask = .false.
-      mask(db%own) = .true.
-      mask(db%rids) = .true.
-      db%loc = pack([(i, i = 1, b%np)], mask)
+      db%rptr = (db%nptr(1:nfrom + 1) - 1)/nw + 1
+      ng = db%rptr(nfrom + 1) - 1
+      ! the ghosts ascending by their numbers, after the own particles
+      allocate(gid(ng), key(ng), ord(ng), src(ng))
+      do k = 1, nfrom
+        src(db%rptr(k):db%rptr(k + 1) - 1) = db%from(k)
+      end do
+      do m = 1, ng
+        gid(m) = nint(db%rbuf(nw*(m - 1) + 1))
+        key(m) = real(gid(m), wp)
+      end do
+      call sort_index(key, ord)
+      call side_take(b, [(k, k = 1, nown)], nown + ng)
+      db%held = max(db%held, b%np)
+      call take_int(b%glob, 0)
+      call take_int(db%owner, me)
+      call take_int(db%gl, 0)
+      if (allocated(db%rids)) deallocate(db%rids)
+      allocate(db%rids(ng))
+      do r = 1, ng
+        m = ord(r)
+        i = nown + r
+        db%rids(m) = i
+        k = nw*(m - 1)
+        b%glob(i) = gid(m)
+        b%vol(i) = db%rbuf(k + 2)
+        b%imass(i) = db%rbuf(k + 3)
+        b%x_ref(:, i) = db%rbuf(k + 4:k + 3 + nd)
+        b%rho(:, i) = db%rbuf(k + 4 + nd:k + 3 + 2*nd)
+        b%x_old(:, i) = db%rbuf(k + 4 + 2*nd:k + 3 + 3*nd)
+        b%x_pred(:, i) = db%rbuf(k + 4 + 3*nd:k + 3 + 4*nd)
+        if (rx) b%rex(i) = db%rbuf(k + nw)
+        db%owner(i) = src(m)
+      end do
+      ! the rank's cloud and surface: its own particles and the ghosts, in the order of
+      ! their numbers (the serial one)
+      call merge_order(b%glob(1:nown), b%glob(nown + 1:nown + ng), db%loc)
       call cloud_init(b%cloud, b%x_ref(:, db%loc), b%rho(:, db%loc), b%vol(db%loc), b%kid, &
         b%wshape, b%bid, b%h, err)
       if (allocated(err)) return
@@ -890,56 +1076,98 @@ contains
       if (p%self) call cloud_set_reference(b%cloud, b%x_ref(:, db%loc), p%self_radius)
       if (nd == 3) then
         ! the facets whose three vertices the rank holds
-        allocate(keep(db%full3%nf))
-        do m = 1, db%full3%nf
-          keep(m) = all(mask(db%full3%tri(:, m)))
+        allocate(vl(size(db%full3%vid)), num(3, db%full3%nf))
+        do v = 1, size(vl)
+          vl(v) = place(db%full3%vid(v))
         end do
-        call surface3d_subset(db%full3, keep, b%x_pred, b%surf3)
+        do m = 1, db%full3%nf
+          num(:, m) = vl(db%full3%tv(:, m))
+        end do
+        call surface3d_subset(db%full3, num, b%x_pred, b%surf3)
       else
-        call surface_subset(db%full, mask, b%surface)
+        allocate(num0(db%full%nseg), num1(db%full%nseg))
+        do m = 1, db%full%nseg
+          num0(m) = place(db%full%i0(m))
+          num1(m) = place(db%full%i1(m))
+        end do
+        call surface_subset(db%full, num0, num1, b%surface)
       end if
       if (allocated(db%xl)) deallocate(db%xl)
       allocate(db%xl(size(b%x_pred, 1), size(db%loc)))
       if (w < 0.0_wp) return
       db%width = w
       db%nrefresh = db%nrefresh + 1
-      db%xr_m = b%x_pred(:, db%own)
-      db%xr_s = a%x_pred(:, da%own)
+      db%xr_m = b%x_pred(:, 1:nown)
+      db%xr_s = a%x_pred(:, 1:da%nown)
     end associate
 
   contains
 
-    !> Does rank q own an end (vertex) of a segment (facet) whose first this rank owns?
-    !! (It sends that end's position along: the static partners.)
-    logical function partner_of(q)
-      integer, intent(in) :: q
-      integer :: kk, e
-      associate (db => p%dist%side(ib))
-        partner_of = .true.
-        do kk = 1, nfacet(db)
-          if (db%owner(vert(db, kk, 1)) /= p%dist%comm%me) cycle
-          do e = 2, nvert(db)
-            if (db%owner(vert(db, kk, e)) == q) return
-          end do
-        end do
-        partner_of = .false.
+    !> The rank's number of the particle numbered i in the whole body, 0 if not held.
+    integer function place(i)
+      integer, intent(in) :: i
+      associate (b => p%side(ib), nown => p%dist%side(ib)%nown)
+        place = sorted_place(b%glob(1:nown), i)
+        if (place > 0) return
+        place = sorted_place(b%glob(nown + 1:b%np), i)
+        if (place > 0) place = nown + place
       end associate
-    end function partner_of
+    end function place
+
+    !> a (over side ib's particles) made as long as its arrays, the own entries kept, the
+    !! ghosts' set to fill.
+    subroutine take_int(a, fill)
+      integer, allocatable, intent(inout) :: a(:)
+      integer, intent(in) :: fill
+      integer, allocatable :: t(:)
+      allocate(t(p%side(ib)%np))
+      t = fill
+      t(1:p%dist%side(ib)%nown) = a(1:p%dist%side(ib)%nown)
+      call move_alloc(t, a)
+    end subroutine take_int
   end subroutine make_plan
 
-  !> The box [lo(nd), hi(nd)] of the particles ids of x (nd, :) (empty, lo > hi, when there
-  !! are none).
-  pure function box_of(x, ids) result(box)
+  !> The places 1..size(x) + size(y) of two ascending lists x and y (y's after x's)
+  !! ordered by their values: the merge of the two.
+  pure subroutine merge_order(x, y, order)
+    integer, intent(in) :: x(:), y(:)
+    integer, allocatable, intent(inout) :: order(:)
+    integer :: i, j, k, nx
+    nx = size(x)
+    if (allocated(order)) deallocate(order)
+    allocate(order(nx + size(y)))
+    i = 1
+    j = 1
+    do k = 1, size(order)
+      if (j > size(y)) then
+        order(k) = i
+        i = i + 1
+      else if (i > nx) then
+        order(k) = nx + j
+        j = j + 1
+      else if (x(i) < y(j)) then
+        order(k) = i
+        i = i + 1
+      else
+        order(k) = nx + j
+        j = j + 1
+      end if
+    end do
+  end subroutine merge_order
+
+  !> The box [lo(nd), hi(nd)] of the first n particles of x (nd, :) (empty, lo > hi, when
+  !! there are none).
+  pure function box_of(x, n) result(box)
     real(wp), intent(in) :: x(:, :)
-    integer, intent(in) :: ids(:)
+    integer, intent(in) :: n
     real(wp) :: box(2*size(x, 1))
     integer :: k, nd
     nd = size(x, 1)
     box(1:nd) = huge(1.0_wp)
     box(nd + 1:) = -huge(1.0_wp)
-    do k = 1, size(ids)
-      box(1:nd) = min(box(1:nd), x(:, ids(k)))
-      box(nd + 1:) = max(box(nd + 1:), x(:, ids(k)))
+    do k = 1, n
+      box(1:nd) = min(box(1:nd), x(:, k))
+      box(nd + 1:) = max(box(nd + 1:), x(:, k))
     end do
   end function box_of
 

@@ -121,18 +121,19 @@ contains
     call surface_update(s, x, err)
   end subroutine surface_build
 
-  !> The segments of surface full whose two ends are both kept (keep: over full's
-  !! particles), in full's order and with full's particle numbers (distributed memory: the
-  !! part of a contact master a rank holds). Their geometry comes with surface_update.
-  subroutine surface_subset(full, keep, s)
+  !> The segments of surface full whose two ends are both held, in full's order (distributed
+  !! memory: the part of a contact master a rank holds). num0, num1 (full%nseg): each
+  !! segment's ends' numbers in the subset's numbering (the rank's particles), 0 for an end
+  !! not held. Their geometry comes with surface_update. Of full only its ends are read.
+  subroutine surface_subset(full, num0, num1, s)
     type(master_surface_t), intent(in) :: full
-    logical, intent(in) :: keep(:)
+    integer, intent(in) :: num0(:), num1(:)
     type(master_surface_t), intent(out) :: s
     logical :: both(full%nseg)
-    both = keep(full%i0) .and. keep(full%i1)
+    both = num0 > 0 .and. num1 > 0
     s%nseg = count(both)
-    s%i0 = pack(full%i0, both)
-    s%i1 = pack(full%i1, both)
+    s%i0 = pack(num0, both)
+    s%i1 = pack(num1, both)
     allocate(s%a(2, s%nseg), s%b(2, s%nseg), s%n(2, s%nseg), s%t(2, s%nseg), &
       s%mid(2, s%nseg))
   end subroutine surface_subset

@@ -55,8 +55,8 @@ module contact_pair_m
   private
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
   public :: contact_stats_t, contact_det_fields, contact_step
-  public :: detector_det_m, detector_nts, detector_name, contact_self_det
-  public :: contact_pair_localize, contact_pair_cut, contact_pair_distribute, &
+  public :: detector_det_m, detector_nts, detector_name, contact_self_det, side_np_whole
+  public :: contact_pair_localize, contact_pair_cut, contact_pair_distribute, contact_pair_own, &
     contact_dist_report
   ! (public for the submodule contact_dist_sm only: gfortran 12 leaves out a private module
   ! procedure the submodule calls, even one the module calls too)
@@ -222,27 +222,34 @@ module contact_pair_m
     logical :: listed = .false.
     integer :: nlist = 0
     integer, allocatable :: list(:)
-    !> A slave against a rigid master on a rank of a decomposed set-up (side_init's rows):
-    !! the numbers in the whole body of the particles the arrays hold, ascending (the
-    !! rank's region), and the whole body's count; unallocated: every particle, in order
+      !> The numbers in the whole body of the particles the arrays hold, and the whole body's
+    !! count: a slave against a rigid master on a rank of a decomposed set-up (side_init's
+    !! rows: the rank's region, ascending), a side of a distributed pair (dist_side_t: own
+    !! then ghosts); unallocated: every particle, in order
     integer, allocatable :: glob(:)
     integer :: np_whole = 0
   end type side_t
 
   !> Distributed memory, one side of a pair whose master deforms, on one rank
   !! (contact_pair_distribute; doc/parallel.md, "Contact without a second decomposition"):
-  !! the side's arrays stay indexed by its particles (all of them); the rank computes the
-  !! positions of the ones it owns, and as a master it holds a cloud and a surface of its own
-  !! particles and of the ghosts: the particles of other ranks within the ghost width of its
-  !! slave particles (and the partners of its own surface particles), refreshed when the
-  !! motion since the last refresh has used up the margin.
+  !! the side's arrays hold the rank's particles only, its own first (1..nown, ascending by
+  !! their numbers in the whole body, side_t glob) and then its ghosts (ascending): the
+  !! particles of other ranks within the ghost width of its slave particles (and the
+  !! partners of its own surface particles), refreshed when the motion since the last
+  !! refresh has used up the margin. The rank computes the positions of its own; as a
+  !! master it holds a cloud and a surface of its own particles and the ghosts, whose
+  !! positions, reference data and inverse masses come from their owners.
   type :: dist_side_t
-    integer, allocatable :: owner(:)     !< rank of each particle (np), from 0
-    integer, allocatable :: own(:)       !< the particles this rank owns, ascending
-    integer, allocatable :: gl(:)        !< each particle's node in the rank's part solid, or 0
-    type(master_surface_t) :: full       !< the whole surface (its segments' ends)
-    !> 3D: the whole closed triangle surface (its facets' vertices and edge partners); the
-    !! rank's surf3 is the subset of the facets whose vertices are all own or ghosts
+    integer :: nown = 0                  !< the particles this rank owns: 1..nown
+    integer, allocatable :: owner(:)     !< rank of each of the rank's particles, from 0
+    integer, allocatable :: gl(:)        !< each one's node in the rank's part solid, or 0
+    !> the ranks owning an end (vertex) of a segment (facet) whose first this rank owns:
+    !! it sends them that end's position along at every refresh (the static partners)
+    integer, allocatable :: pq(:)
+    !> the whole surface's segments' ends (facets' vertices and edge partners), by the
+    !! particles' numbers in the whole body; its geometry freed (surface-sized, not
+    !! body-sized: the subset the rank holds is taken from it at a refresh)
+    type(master_surface_t) :: full
     type(surface3d_t) :: full3
     !> 3D: the largest facet edge over the whole master (m), the motion since the refresh
     !! D_s + D_m (m), and the largest radius the gap search has needed, |g| + 2 dmax (m):
@@ -255,13 +262,15 @@ module contact_pair_m
     !! first end of a surface segment whose second end it is (they need its position)
     integer, allocatable :: pptr(:), prank(:)
     !> the ghost plan as a master: own particles sids(sptr(k) : sptr(k+1)-1) go to rank
-    !! to(k); ghosts rids(rptr(k) : rptr(k+1)-1) come from rank from(k); loc: the
-    !! particles of the rank's cloud and surface (own and ghosts, ascending)
+    !! to(k); ghosts rids(rptr(k) : rptr(k+1)-1) come from rank from(k) (the rank's
+    !! numbering); loc: the rank's particles ascending by their numbers in the whole body
+    !! (the order of its cloud, the serial one)
     integer, allocatable :: to(:), sptr(:), sids(:), from(:), rptr(:), rids(:), loc(:)
     !> own positions of this side (xr_m) and of the other (xr_s) at the last refresh (m)
     real(wp), allocatable :: xr_m(:, :), xr_s(:, :)
     real(wp) :: width = -1.0_wp          !< ghost width of the last refresh (m); < 0: none
     integer :: nrefresh = 0              !< refreshes so far
+    integer :: held = 0                  !< the most particles the side's arrays held
     integer(i64) :: nghost_sum = 0       !< ghosts summed over the passes (for the mean)
     integer(i64) :: npass = 0
     real(wp), allocatable :: xl(:, :)    !< positions of loc (work, m)
@@ -308,19 +317,28 @@ module contact_pair_m
   end type contact_pair_t
 
   interface
-    !> Distributed memory (issue 12, doc/parallel.md): pair p, set up on the whole bodies,
-    !! made a rank's part of a pair whose master deforms (or of a self-contact). owner(s):
-    !! the rank (from 0) of each particle of side s; nglob(s): the global numbers of the
-    !! nodes of the rank's part solid of side s; comm: the ranks (kept by pointer).
-    !! margin: the ghost width's margin, a fraction of the width contact needs (> 0:
-    !! refreshes become rarer, the ghost sets larger); refresh .false.: testing only (never
-    !! refresh).
-    module subroutine contact_pair_distribute(p, solids, comm, owner1, owner2, nglob1, &
-      nglob2, margin, refresh, err)
+    !> Distributed memory (issue 12, doc/parallel.md), the first step of making pair p, set
+    !! up on the whole bodies, a rank's part of a pair whose master deforms (or of a
+    !! self-contact): its sides on solid isolid cut to the rank's own particles, before the
+    !! part's rows are made (the split's peak). owner: the rank (from 0) of each particle
+    !! of that solid; me, nranks: this rank, the ranks' count. No communication.
+    module subroutine contact_pair_own(p, isolid, owner, me, nranks, err)
+      type(contact_pair_t), intent(inout) :: p
+      integer, intent(in) :: isolid, owner(:), me, nranks
+      type(error_t), allocatable, intent(inout) :: err
+    end subroutine contact_pair_own
+
+    !> The second step (after contact_pair_own on both sides' solids, once the part solids
+    !! exist): nglob(s): the global numbers of the nodes of the rank's part solid of side
+    !! s, ascending; comm: the ranks (kept by pointer). margin: the ghost width's margin,
+    !! a fraction of the width contact needs (> 0: refreshes become rarer, the ghost sets
+    !! larger); refresh .false.: testing only (never refresh). Collective.
+    module subroutine contact_pair_distribute(p, solids, comm, nglob1, nglob2, margin, &
+      refresh, err)
       type(contact_pair_t), intent(inout) :: p
       type(solid_t), intent(in) :: solids(:)
       class(rank_comm_t), pointer, intent(in) :: comm
-      integer, intent(in) :: owner1(:), owner2(:), nglob1(:), nglob2(:)
+      integer, intent(in) :: nglob1(:), nglob2(:)
       real(wp), intent(in) :: margin
       logical, intent(in) :: refresh
       type(error_t), allocatable, intent(inout) :: err
@@ -347,10 +365,13 @@ module contact_pair_m
 
     !> This rank's refreshes, mean ghost count and bytes of distributed pair p (for the
     !! log), per side as a master.
-    module subroutine contact_dist_report(p, nrefresh, ghosts)
+    module subroutine contact_dist_report(p, nrefresh, ghosts, held, whole)
       type(contact_pair_t), intent(in) :: p
       integer, intent(out) :: nrefresh(2)
       real(wp), intent(out) :: ghosts(2)
+      !> the most particles each side's arrays held on this rank (own and ghosts), and
+      !! each side's body's count
+      integer, intent(out) :: held(2), whole(2)
     end subroutine contact_dist_report
   end interface
 
@@ -606,6 +627,13 @@ contains
       end associate
     end if
   end subroutine side_init
+
+  !> The number of particles of side s's whole body (side_t np_whole).
+  pure integer function side_np_whole(s) result(n)
+    type(side_t), intent(in) :: s
+    n = s%np
+    if (s%np_whole > 0) n = s%np_whole
+  end function side_np_whole
 
   !> The number in the whole body of particle i of side s (side_t glob).
   pure integer function side_whole(s, i) result(j)
@@ -1730,7 +1758,9 @@ contains
         cycle
       end if
       if (lower_only) then
-        if (j >= minval(b%surf3%tri(:, jf))) cycle
+        ! (by the numbers in the whole body: a rank numbers its own particles first)
+        if (side_whole(a, j) >= min(side_whole(b, b%surf3%tri(1, jf)), &
+          side_whole(b, b%surf3%tri(2, jf)), side_whole(b, b%surf3%tri(3, jf)))) cycle
       end if
       call mark_active_3d(a, j, g, nrm, jf, bary)
     end do
@@ -1929,7 +1959,9 @@ contains
         xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j), rexv=b%rex)
       if (.not. found .or. .not. (g < 0.0_wp)) cycle
       if (lower_only) then
-        if (j >= min(b%surface%i0(jseg), b%surface%i1(jseg))) cycle
+        ! (by the numbers in the whole body: a rank numbers its own particles first)
+        if (side_whole(a, j) >= min(side_whole(b, b%surface%i0(jseg)), &
+          side_whole(b, b%surface%i1(jseg)))) cycle
       end if
       call mark_active(a, j, g, nrm, tng, jseg, xi)
     end do

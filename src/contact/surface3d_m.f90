@@ -121,16 +121,19 @@ contains
     call surface3d_update(s, x)
   end subroutine surface3d_build
 
-  !> The facets of full kept by keep (nf), in their order, as a surface of their own over
-  !! the vertices' positions x (3, np) (m): a rank's share of a deforming master on ranks
-  !! (contact_dist_sm). The vertex numbers stay full's; an edge partner left out is 0, and
-  !! a vertex or an edge whose facets are not all kept gets a partial pseudo-normal, so
-  !! only a point whose closest point and the facets around that point's features are all
-  !! kept gets full's gap, normal, facet (numbered in the subset, in full's order, so that
-  !! ties fall the same way) and barycentric coordinates, to the bit.
-  subroutine surface3d_subset(full, keep, x, s)
+  !> The facets of full whose three vertices are held, in their order, as a surface of
+  !! their own over the vertices' positions x (3, :) (m): a rank's share of a deforming
+  !! master on ranks (contact_dist_sm). num (3, nf): each facet's vertices' numbers in the
+  !! subset's numbering (the rank's particles), 0 for a vertex not held (the facet is left
+  !! out). An edge partner left out is 0, and a vertex or an edge whose facets are not all
+  !! kept gets a partial pseudo-normal, so only a point whose closest point and the facets
+  !! around that point's features are all kept gets full's gap, normal, facet (numbered in
+  !! the subset, in full's order, so that ties fall the same way) and barycentric
+  !! coordinates, to the bit. Of full only its facets, their edge partners and its cell
+  !! are read (its geometry may have been freed).
+  subroutine surface3d_subset(full, num, x, s)
     type(surface3d_t), intent(in) :: full
-    logical, intent(in) :: keep(:)
+    integer, intent(in) :: num(:, :)
     real(wp), intent(in) :: x(:, :)
     type(surface3d_t), intent(inout) :: s
     integer :: m, k, n
@@ -139,7 +142,7 @@ contains
     new = 0
     n = 0
     do m = 1, full%nf
-      if (.not. keep(m)) cycle
+      if (any(num(:, m) == 0)) cycle
       n = n + 1
       new(m) = n
     end do
@@ -148,7 +151,7 @@ contains
     allocate(s%tri(3, n), s%partner(3, n), s%fn(3, n), s%en(3, 3, n))
     do m = 1, full%nf
       if (new(m) == 0) cycle
-      s%tri(:, new(m)) = full%tri(:, m)
+      s%tri(:, new(m)) = num(:, m)
       do k = 1, 3
         s%partner(k, new(m)) = new(full%partner(k, m))
       end do

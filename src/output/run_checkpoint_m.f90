@@ -300,15 +300,16 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: own(:), gn(:), oq(:), gq(:)
     real(wp), allocatable :: due(:), d(:, :)
-    integer :: n, nqw
+    integer :: n, nqw, j
     character(len=:), allocatable :: c
     associate (s => p%side(1))
       if (.not. (s%skip_far .and. allocated(s%due))) return
       if (allocated(p%dist)) then
-        ! (a deforming master's or self-contact's side: over the whole body's particles)
-        own = p%dist%side(1)%own
-        gn = own
-        n = s%np
+        ! (a deforming master's or self-contact's side: the rank's own particles first,
+        ! by their numbers in the whole body)
+        own = [(j, j = 1, p%dist%side(1)%nown)]
+        gn = s%glob(own)
+        n = s%np_whole
       else
         ! (a rigid master's slave side: over the part's nodes)
         call output_rows(solids(s%isolid), own, gn, n, oq, gq, nqw)

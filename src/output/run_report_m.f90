@@ -12,7 +12,7 @@ module run_report_m
   use run_health_m, only: energies_t, fail_key_size
   use body_measures_m, only: measures_t, body_measures
   use contact_pair_m, only: contact_pair_t, contact_stats_t, contact_det_fields, detector_name, &
-    contact_self_det, &
+    contact_self_det, side_np_whole, &
     detector_det_m
   use hdf5_io_m, only: h5file_t, h5_group, h5_attr, h5_write, h5_write_rows
   use dynamic_output_m, only: history_names
@@ -131,7 +131,7 @@ contains
       call contact_self_det(pairs(kp), solids, det, own, err)
       g = '/snapshots/'//lab//'/'//trim(pairs(kp)%side(1)%name)
       if (.not. allocated(err)) call h5_write_rows(f, g//'/det_self', det, own, &
-        pairs(kp)%side(1)%np, '1', err, &
+        side_np_whole(pairs(kp)%side(1)), '1', err, &
         'det(M) at each particle from the particles that are not its neighbours in the '// &
         'reference configuration (self-contact of contact'//itoa(kp)//'): above '// &
         'det_self_threshold where faces of the body meet')

@@ -41,7 +41,8 @@ module mpi_domain_m
   use exact_sum_m, only: exact_sum_t, exact_add, exact_value, exact_allmerge, exact_allsum_many
   use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
   use contact_pair_m, only: contact_pair_t, contact_stats_t, stat_sums, stats_values, &
-    contact_pair_localize, contact_pair_cut, contact_pair_distribute, contact_dist_report
+    contact_pair_localize, contact_pair_cut, contact_pair_distribute, contact_pair_own, &
+    contact_dist_report
   use contact_m, only: contact_counters_t
   use body_measures_m, only: measures_t, body_measures_part
   use run_report_m, only: run_record_t, self_det_out
@@ -69,11 +70,6 @@ module mpi_domain_m
     procedure :: nodes2 => halo_node_pair
     procedure :: points => halo_point_array
   end type mpi_halo_t
-
-  !> The rank (from 0) of every node of a whole solid.
-  type :: part_owner_t
-    integer, allocatable :: owner(:)
-  end type part_owner_t
 
   !> The ranks of an MPI communicator: each solid's part, its halo and the whole solids.
   type, extends(run_domain_t) :: mpi_domain_t
@@ -142,7 +138,6 @@ contains
     type(rcb_tree_t), intent(in) :: trees(:)
     type(error_t), allocatable, intent(inout) :: err
     integer :: k, nk
-    type(part_owner_t), allocatable :: own(:)
     class(rank_comm_t), pointer :: comm_ptr
     ! every rank read the whole state; rank 0 keeps the pairs' counters (sums)
     dom%flag_max = [(pairs(k)%count%detected_max, k = 1, size(pairs))]
@@ -163,13 +158,13 @@ contains
         call strip_whole(dom%gs(k))
       end do
     end if
-    allocate(solids(nk), dom%lp(nk), dom%halos(nk), own(nk))
+    allocate(solids(nk), dom%lp(nk), dom%halos(nk))
     ! rank 0's copy of the pairs as set up on the whole bodies, for the det(M) output of
     ! the snapshots (drawn from the gathered state: contact_det_fields); before make_part
     ! cuts the slave sides against rigid masters
     if (keeps_whole(dom)) allocate(dom%pairs_whole, source=pairs)
     do k = 1, nk
-      call make_part(dom, k, trees(k), solids(k), own(k)%owner, pairs, err)
+      call make_part(dom, k, trees(k), solids(k), pairs, err)
       if (dom%any_error(err)) return
       ! (the halo first: a restart's averaged nodal pressure takes the ghosts' J through it)
       solids(k)%part%halo => dom%halos(k)
@@ -184,8 +179,8 @@ contains
         else
           ! a deforming master: each rank its own slave particles against its own and
           ! ghost master particles, and the other way round (contact_dist_sm)
-          call contact_pair_distribute(pairs(k), solids, comm_ptr, own(s1)%owner, &
-            own(s2)%owner, dom%lp(s1)%nglob, dom%lp(s2)%nglob, dom%ghost_margin, &
+          call contact_pair_distribute(pairs(k), solids, comm_ptr, &
+            dom%lp(s1)%nglob, dom%lp(s2)%nglob, dom%ghost_margin, &
             dom%ghost_refresh, err)
         end if
       end associate
@@ -260,13 +255,12 @@ contains
   !! set_tree (the set-up's, whose boxes its region was built for; on one rank, where the
   !! set-up made none, made here), the part's tables, its halo plan, the part solid (its
   !! velocities, kinetic energy at t = 0 of its own nodes, limits and stabilization as the
-  !! whole solid's); owner(:) the rank (from 0) of every node of the whole solid.
-  subroutine make_part(dom, k, set_tree, p, owner, pairs, err)
+  !! whole solid's); the contact sides on it cut to the part before its rows are made.
+  subroutine make_part(dom, k, set_tree, p, pairs, err)
     type(mpi_domain_t), intent(inout), target :: dom
     integer, intent(in) :: k
     type(rcb_tree_t), intent(in) :: set_tree
     type(solid_t), intent(out) :: p
-    integer, allocatable, intent(out) :: owner(:)
     type(contact_pair_t), intent(inout) :: pairs(:)
     type(error_t), allocatable, intent(inout) :: err
     type(rcb_tree_t) :: tree
@@ -306,6 +300,19 @@ contains
         end if
         if (allocated(err)) return
       end do
+      ! so are the sides of this solid in a pair whose master deforms (or a self-contact)
+      ! (their ghosts come once the parts exist: contact_pair_distribute)
+      do j = 1, size(pairs)
+        if (pairs(j)%side(2)%isolid == 0 .or. all(pairs(j)%side(:)%isolid /= k)) cycle
+        if (g%part%region) then
+          call set_error(err, "contact of '"//trim(pairs(j)%side(1)%name)//"' on '"// &
+            trim(pairs(j)%side(2)%name)//"': a deforming master's solid numbered over "// &
+            "a region (an internal error of the set-up)")
+          return
+        end if
+        call contact_pair_own(pairs(j), k, node_part - 1, dom%ranks%me, dom%ranks%nranks, err)
+        if (allocated(err)) return
+      end do
       ! what the part solid takes of the whole solid's arrays over its nodes, taken now
       ! and the whole ones freed before the part's rows too (but on rank 0 when it keeps
       ! the whole solids)
@@ -324,8 +331,6 @@ contains
       ! part's, and its transpose
       call local_part_rows(g%t, lp, transpose=.false., release=.not. keeps_whole(dom))
       call tables_transpose(lp%t)
-      ! (the region's node owners; every node's for a whole shell: contact_pair_distribute)
-      owner = node_part - 1
       node_part = node_part(lp%nglob)
       point_part = point_part(lp%qglob)
       if (g%part%region) then
@@ -754,7 +759,7 @@ contains
     type(contact_pair_t), intent(inout) :: pairs(:)
     type(run_record_t), intent(in) :: r
     integer(i64) :: loc(2), tot(2), b(1), bt(1)
-    integer :: k, ng(2), ngt(2), nref(2)
+    integer :: k, ng(2), ngt(2), nref(2), held(2), whole(2)
     real(wp) :: gh(2), ght(2)
     character(len=240) :: line
     loc = 0
@@ -779,14 +784,20 @@ contains
     call MPI_Allreduce(b, bt, 1, MPI_INTEGER8, MPI_SUM, dom%mcomm)
     do k = 1, size(pairs)
       if (.not. allocated(pairs(k)%dist)) cycle
-      call contact_dist_report(pairs(k), nref, gh)
+      call contact_dist_report(pairs(k), nref, gh, held, whole)
       call MPI_Allreduce(gh, ght, 2, MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
+      call MPI_Allreduce(MPI_IN_PLACE, held, 2, MPI_INTEGER, MPI_MAX, dom%mcomm)
       if (.not. dom%root) cycle
       write(line, '(a,i0,a,i0,a,i0,a,f0.1,a,f0.1,a,es10.3,a)') 'summary: MPI: contact ', &
         k, ': ghost sets refreshed ', nref(1), ' and ', nref(2), &
         ' times (slave, master as masters), ', ght(1), ' and ', ght(2), &
         ' ghost particles on average; contact moved ', real(bt(1), wp)/max(r%n, 1), &
         ' B per step'
+      write(*, '(a)') trim(line)
+      ! (what a rank holds of the sides: its own and ghost particles, not the whole body)
+      write(line, '(a,i0,a,i0,a,i0,a,i0,a,i0,a)') 'summary: MPI: contact ', k, &
+        ': a rank''s sides held at most ', held(1), ' and ', held(2), ' particles (of ', &
+        whole(1), ' and ', whole(2), ')'
       write(*, '(a)') trim(line)
     end do
   end subroutine mpi_finish

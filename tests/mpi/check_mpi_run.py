@@ -41,6 +41,11 @@ the decks start with the bodies farther apart than the ghost width, so the conta
 rank boundaries are missed or changed and that run must NOT equal the serial one (the check
 that proves the refreshes, and this test, see a missed contact).
 
+With --sides-held-below N (decks whose master deforms, or a self-contact): on N ranks every
+side of every such pair must have held fewer particles on each rank than its body has
+(mfcd_mpi's summary: a rank's sides hold its own particles and its ghosts only, not arrays
+over the whole body; the decks are large enough against the ghost width for that to show).
+
 With --restart N1:N2:EVERY: also run on N1 ranks with &output checkpoint_every = EVERY,
 then continue from its last checkpoint on N2 ranks (`mfcd_mpi --restart`): the snapshots the
 continuation wrote, its history from t = 0, body measures and contact counts must equal the
@@ -63,6 +68,7 @@ waiting in a collective), the message on a rank's standard error, nothing writte
 failed on another rank.
 
 Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N] [--fails]
+                        [--sides-held-below N]
                         [--restart N1:N2:EVERY] [--refused DECK]... [--bad-cell DECK]...
                         [--checkpoints EVERY]
                         MFCD MFCD_MPI MPIEXEC DECK...
@@ -98,6 +104,11 @@ NO_REFRESH = None
 if "--no-refresh-differs" in ARGS:
     i = ARGS.index("--no-refresh-differs")
     NO_REFRESH = int(ARGS[i + 1])
+    del ARGS[i:i + 2]
+HELD_BELOW = None
+if "--sides-held-below" in ARGS:
+    i = ARGS.index("--sides-held-below")
+    HELD_BELOW = int(ARGS[i + 1])
     del ARGS[i:i + 2]
 RESTART = None
 if "--restart" in ARGS:
@@ -368,6 +379,13 @@ def main():
                 g = re.findall(r"state gathered to rank 0 (\d+) time", p.stdout)
                 check(f"{name}, {n} ranks: no gather to rank 0 in the time loop (the "
                       "snapshots written from the parts)", g == ["0"], g or p.stdout[-800:])
+            if p.returncode == 0 and HELD_BELOW == n:
+                held = re.findall(r"sides held at most (\d+) and (\d+) particles \(of (\d+) "
+                                  r"and (\d+)\)", p.stdout)
+                check(f"{name}, {n} ranks: each rank's contact sides held fewer particles "
+                      "than their bodies (own and ghosts only)", len(held) > 0 and all(
+                          int(a) < int(c) and int(b) < int(d) for a, b, c, d in held),
+                      held or p.stdout[-800:])
             if p.returncode == rc:
                 compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial{done}"),
                         os.path.join(sub, f"{name}{done}"))
