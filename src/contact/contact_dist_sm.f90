@@ -237,15 +237,7 @@ contains
     call take_l1(s%active, .false.)
     call take_l1(s%near, .true.)
     call take_l1(s%flagged, .false.)
-    if (allocated(s%seg)) then
-      block
-        integer, allocatable :: t(:)
-        allocate(t(n))
-        t = 0
-        t(1:size(at)) = s%seg(at)
-        call move_alloc(t, s%seg)
-      end block
-    end if
+    if (allocated(s%seg)) call take_i1(s%seg, at, n, 0)
 
   contains
 
@@ -281,6 +273,17 @@ contains
       call move_alloc(t, a)
     end subroutine take_l1
   end subroutine side_take
+
+  !> a made n long: entries 1..size(at) from a(at), the rest fill.
+  subroutine take_i1(a, at, n, fill)
+    integer, allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: at(:), n, fill
+    integer, allocatable :: t(:)
+    allocate(t(n))
+    t = fill
+    t(1:size(at)) = a(at)
+    call move_alloc(t, a)
+  end subroutine take_i1
 
   module procedure contact_dist_report
     integer :: sd
@@ -1045,9 +1048,9 @@ contains
       call sort_index(key, ord)
       call side_take(b, [(k, k = 1, nown)], nown + ng)
       db%held = max(db%held, b%np)
-      call take_int(b%glob, 0)
-      call take_int(db%owner, me)
-      call take_int(db%gl, 0)
+      call take_i1(b%glob, [(k, k = 1, nown)], nown + ng, 0)
+      call take_i1(db%owner, [(k, k = 1, nown)], nown + ng, me)
+      call take_i1(db%gl, [(k, k = 1, nown)], nown + ng, 0)
       if (allocated(db%rids)) deallocate(db%rids)
       allocate(db%rids(ng))
       do r = 1, ng
@@ -1113,18 +1116,6 @@ contains
         if (place > 0) place = nown + place
       end associate
     end function place
-
-    !> a (over side ib's particles) made as long as its arrays, the own entries kept, the
-    !! ghosts' set to fill.
-    subroutine take_int(a, fill)
-      integer, allocatable, intent(inout) :: a(:)
-      integer, intent(in) :: fill
-      integer, allocatable :: t(:)
-      allocate(t(p%side(ib)%np))
-      t = fill
-      t(1:p%dist%side(ib)%nown) = a(1:p%dist%side(ib)%nown)
-      call move_alloc(t, a)
-    end subroutine take_int
   end subroutine make_plan
 
   !> The places 1..size(x) + size(y) of two ascending lists x and y (y's after x's)
