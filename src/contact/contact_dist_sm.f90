@@ -44,20 +44,22 @@ contains
     if (allocated(err)) return
     if (.not. allocated(p%dist)) allocate(p%dist)
     if (p%self .and. p%side(1)%isolid == isolid) then
-      ! self-contact: each rank's own surface particles are its candidates; with skip_far
-      ! side 2's ghost width covers the clearance search over every candidate of the body
-      ! (dist_master), so that each clearance, hence each schedule, is the serial one
+      ! self-contact: each rank's own surface particles are its candidates
+      if (p%side(1)%skip_far) p%side(2)%skip_far = .false.
+      do sd = 1, 2
+        associate (s => p%side(sd))
+          s%cand = pack(s%cand, owner(side_whole(s, s%cand)) == me)
+          s%near = .true.
+        end associate
+      end do
+      ! with skip_far side 2's ghost width covers the clearance search over every
+      ! candidate of the body (dist_master; the largest over the ranks' own:
+      ! contact_pair_distribute), so that each clearance, hence each schedule, is the
+      ! serial one
       associate (s => p%side(1))
         if (s%skip_far .and. size(s%cand) > 0) &
           p%dist%clear_reach = self_reach*maxval(s%rex(s%cand))
       end associate
-      if (p%side(1)%skip_far) p%side(2)%skip_far = .false.
-      do sd = 1, 2
-        associate (s => p%side(sd))
-          s%cand = pack(s%cand, owner(s%cand) == me)
-          s%near = .true.
-        end associate
-      end do
     end if
     ! a tracked slave particle: its place among the rank's own (0 on the other ranks)
     if (p%side(1)%isolid == isolid .and. p%edge > 0) then
@@ -75,15 +77,17 @@ contains
   contains
 
     !> Side s's static partners and whole surface's facets kept, its arrays over the whole
-    !! body cut to the rank's own particles (its first nown), their numbers in the whole
-    !! body kept (glob).
+    !! body (or the rank's region) cut to the rank's own particles (its first nown), their
+    !! numbers in the whole body kept (glob).
     subroutine own_side(s, ds)
       type(side_t), intent(inout) :: s
       type(dist_side_t), intent(inout) :: ds
       integer :: i, k, kk, q, n, e
-      integer, allocatable :: kown(:), cnt(:), own(:)
+      integer, allocatable :: cnt(:), own(:), ownw(:)
       logical, allocatable :: isp(:)
-      own = pack([(i, i = 1, s%np)], owner == me)
+      ! (own: their places in the side's arrays; ownw: their numbers in the whole body)
+      own = pack([(i, i = 1, s%np)], owner(side_whole(s, [(i, i = 1, s%np)])) == me)
+      ownw = side_whole(s, own)
       ds%nown = size(own)
       ! the whole surface's facets (segments) only: a rank's subset is taken from them
       if (s%ndim == 3) then
@@ -111,14 +115,12 @@ contains
       ! a facet) whose other end (vertex) is an own particle (they sum the segment's
       ! midpoint and reach, the facet's edges), and the ranks owning the other ends of the
       ! segments whose first end is an own particle
-      allocate(kown(s%np), cnt(ds%nown + 1), isp(0:nranks - 1))
-      kown = 0
-      kown(own) = [(k, k = 1, ds%nown)]
+      allocate(cnt(ds%nown + 1), isp(0:nranks - 1))
       cnt = 0
       isp = .false.
       do kk = 1, nfacet(ds)
         do e = 2, nvert(ds)
-          k = kown(vert(ds, kk, e))
+          k = sorted_place(ownw, vert(ds, kk, e))
           if (k > 0 .and. owner(vert(ds, kk, 1)) /= me) cnt(k + 1) = cnt(k + 1) + 1
           if (owner(vert(ds, kk, 1)) == me) isp(owner(vert(ds, kk, e))) = .true.
         end do
@@ -134,7 +136,7 @@ contains
       cnt = 0
       do kk = 1, nfacet(ds)
         do e = 2, nvert(ds)
-          k = kown(vert(ds, kk, e))
+          k = sorted_place(ownw, vert(ds, kk, e))
           q = owner(vert(ds, kk, 1))
           if (k == 0 .or. q == me) cycle
           n = ds%pptr(k) + cnt(k + 1)
@@ -142,11 +144,10 @@ contains
           cnt(k + 1) = cnt(k + 1) + 1
         end do
       end do
-      deallocate(kown)
       ! the arrays cut (the ghosts come with the first plans)
-      s%np_whole = s%np
+      if (.not. allocated(s%glob)) s%np_whole = s%np
       call side_take(s, own, ds%nown)
-      s%glob = own
+      s%glob = ownw
       allocate(ds%owner(ds%nown))
       ds%owner = me
       if (allocated(s%cand)) then
@@ -162,6 +163,7 @@ contains
 
   module procedure contact_pair_distribute
     integer :: sd
+    real(wp) :: v(1)
     p%dist%comm => comm
     p%dist%margin = margin
     p%dist%refresh = refresh
@@ -175,6 +177,9 @@ contains
     if (p%self .and. p%side(1)%skip_far) then
       p%side(1)%ranks => comm
       call lip_over_ranks(p%side(1), solids(p%side(1)%isolid), comm)
+      v = p%dist%clear_reach
+      call comm%max_real(v)
+      p%dist%clear_reach = v(1)
     end if
     ! the first plans: the static partners only (the first pass refreshes them)
     do sd = 1, 2

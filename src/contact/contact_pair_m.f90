@@ -50,7 +50,7 @@ module contact_pair_m
   use rank_comm_m, only: rank_comm_t
   use solid_tables_m, only: solid_tables_t
   use exact_sum_m, only: exact_sum_t, exact_add, exact_merge, exact_value
-  use sorting_m, only: sort_index
+  use sorting_m, only: sort_index, sorted_place
   implicit none
   private
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
@@ -62,7 +62,7 @@ module contact_pair_m
   ! procedure the submodule calls, even one the module calls too)
   public :: detect_det_m, pass_forces, detect_self, spreads, detect_det_m_3d, pass_forces_3d
   public :: detect_self_3d, self_schedule, self_settled, lip_over_ranks
-  public :: stat_sums, stats_values
+  public :: stat_sums, stats_values, side_whole
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
@@ -208,6 +208,7 @@ module contact_pair_m
     ! self-contact: the candidates are the particles on the surface polylines (an interior
     ! particle is shielded by them); rex: each one's reference-neighbour radius (m)
     integer, allocatable :: cand(:)
+    integer :: ncand = 0                 !< the candidates of the whole body (for the log)
     real(wp), allocatable :: rex(:)
     !> self-contact with skip_far, the first pass's: each screened candidate's clearance
     !! (cloud_clearance, m; 0 when a non-neighbour may cover it) and every particle's
@@ -381,7 +382,7 @@ contains
   !! solids in solids (0: the body is rigid). Errors name the variable; the caller adds the
   !! deck and group.
   subroutine contact_pair_init(p, prm, bs, isolid_s, bm, isolid_m, solids, axisym, err, &
-    rows)
+    rows, rows_m)
     type(contact_pair_t), intent(out) :: p
     type(contact_params_t), intent(in) :: prm
     type(body_t), intent(in) :: bs, bm
@@ -390,8 +391,10 @@ contains
     logical, intent(in) :: axisym
     type(error_t), allocatable, intent(inout) :: err
     !> a rank's region of the slave (ascending numbers in bs; side_init's rows): the slave
-    !! side of a pair with a rigid master holds these particles only
-    integer, intent(in), optional :: rows(:)
+    !! side of a pair with a rigid master holds these particles only; so does each side
+    !! of a pair whose master deforms (or of a self-contact) with rows_m the master's
+    !! region, until the split cuts them to the rank's own (contact_pair_own)
+    integer, intent(in), optional :: rows(:), rows_m(:)
     integer :: j
     real(wp) :: best
     p%eps_cr = prm%eps_cr
@@ -434,12 +437,20 @@ contains
     if (present(rows) .and. isolid_m == 0 .and. .not. p%self) then
       call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err, &
         slave_only=.true., rows=rows)
+    else if (present(rows) .and. present(rows_m) .and. isolid_m > 0) then
+      call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err, &
+        rows=rows)
     else
       call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err, &
         slave_only=isolid_m == 0 .and. .not. p%self)
     end if
     if (allocated(err)) return
-    call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
+    if (present(rows) .and. present(rows_m) .and. isolid_m > 0) then
+      call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err, &
+        rows=rows_m)
+    else
+      call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
+    end if
     if (allocated(err)) return
     if (isolid_m == 0 .and. any(prm%master_velocity(1:bm%ndim) /= 0.0_wp)) then
       p%side(2)%moving = .true.
@@ -448,8 +459,10 @@ contains
     if (p%self) then
       ! either side is the master in turn: det(M) of the non-neighbours needs the
       ! reference positions, the slave pass its candidates and their exclusion radii
+      ! (a side over a rank's region has no cloud: the split's plans make the rank's)
       do j = 1, 2
-        call cloud_set_reference(p%side(j)%cloud, p%side(j)%x_ref, p%self_radius)
+        if (.not. allocated(p%side(j)%glob)) &
+          call cloud_set_reference(p%side(j)%cloud, p%side(j)%x_ref, p%self_radius)
         call self_candidates(p%side(j), prm%self_radius)
       end do
     end if
@@ -553,6 +566,12 @@ contains
       s%threshold = detection_threshold(eps_cr, eps_rel, s%plateau)
       s%surface_det = surface_det_median(b, s%cloud)
       rmax = s%cloud%rmax
+      ! a side over a rank's region (a deforming master's on ranks): the cloud over the
+      ! whole body gave the detection's scalars; the split's plans make the rank's own
+      if (present(rows)) then
+        s%cloud = rk_cloud_t()
+        s%cloud%rmax = rmax
+      end if
     end if
     s%ndim = b%ndim
     if (b%ndim == 3) then
@@ -636,7 +655,7 @@ contains
   end function side_np_whole
 
   !> The number in the whole body of particle i of side s (side_t glob).
-  pure integer function side_whole(s, i) result(j)
+  elemental integer function side_whole(s, i) result(j)
     type(side_t), intent(in) :: s
     integer, intent(in) :: i
     j = i
@@ -691,13 +710,17 @@ contains
     if (s%ndim == 3) then
       ! (the vertices of the closed triangle surface)
       do k = 1, s%surf3%nf
-        on(s%surf3%tri(:, k)) = .true.
+        call mark(s%surf3%tri(1, k))
+        call mark(s%surf3%tri(2, k))
+        call mark(s%surf3%tri(3, k))
       end do
+      s%ncand = size(s%surf3%vid)
     else
       do k = 1, s%surface%nseg
-        on(s%surface%i0(k)) = .true.
-        on(s%surface%i1(k)) = .true.
+        call mark(s%surface%i0(k))
+        call mark(s%surface%i1(k))
       end do
+      s%ncand = count_distinct([s%surface%i0, s%surface%i1])
     end if
     allocate(s%cand(count(on)), s%rex(s%np), s%flagged(s%np))
     s%flagged = .false.
@@ -708,7 +731,36 @@ contains
       n = n + 1
       s%cand(n) = j
     end do
+
+  contains
+
+    !> Particle i of the body (a surface vertex) a candidate, where the side holds it (a
+    !! side over a rank's region: its place there).
+    subroutine mark(i)
+      integer, intent(in) :: i
+      integer :: j
+      j = i
+      if (allocated(s%glob)) j = sorted_place(s%glob, i)
+      if (j > 0) on(j) = .true.
+    end subroutine mark
   end subroutine self_candidates
+
+  !> The number of distinct values in v.
+  function count_distinct(v) result(n)
+    integer, intent(in) :: v(:)
+    integer :: n, k
+    integer :: idx(size(v))
+    real(wp) :: key(size(v))
+    key = real(v, wp)
+    call sort_index(key, idx)
+    n = 0
+    do k = 1, size(v)
+      if (k > 1) then
+        if (v(idx(k)) == v(idx(k - 1))) cycle
+      end if
+      n = n + 1
+    end do
+  end function count_distinct
 
   !> Median det(M) of a body at its own boundary particles (off the symmetry axis): about
   !! what a particle touching the surface sees; a threshold above it misses shallow

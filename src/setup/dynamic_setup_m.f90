@@ -674,7 +674,7 @@ contains
     !> the solids' regions on a rank (setup_solids): a slave's side against a rigid
     !! master holds its region only
     type(region_rows_t), intent(in), optional :: regions(:)
-    logical :: cut
+    logical :: cut, cutm
     type(contact_params_t) :: prm
     type(error_t), allocatable :: e2
     integer :: k, im, is
@@ -699,7 +699,14 @@ contains
         if (isolid(im) == 0) prm%master_velocity = deck%bodies(im)%velocity
         cut = .false.
         if (present(regions) .and. isolid(is) > 0) cut = allocated(regions(isolid(is))%glob)
-        if (cut) then
+        ! (a deforming master's pair, or a self-contact: both sides over the regions)
+        cutm = .false.
+        if (cut .and. isolid(im) > 0) cutm = allocated(regions(isolid(im))%glob)
+        if (cutm) then
+          call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
+            isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &
+            regions(isolid(is))%glob, regions(isolid(im))%glob)
+        else if (cut) then
           call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
             isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &
             regions(isolid(is))%glob)
@@ -735,7 +742,7 @@ contains
           p%side(2)%buckets%cell, ' m, ', p%side(2)%buckets%nc(1), ' x ', &
           p%side(2)%buckets%nc(2), ' cells'
         if (p%self) write(output_unit, '(a,i0,a,f5.2,a)') 'contact: self-contact of '''// &
-          trim(p%side(1)%name)//''': ', size(p%side(1)%cand), ' surface particles checked '// &
+          trim(p%side(1)%name)//''': ', p%side(1)%ncand, ' surface particles checked '// &
           'against det(M) of their non-neighbours (beyond ', deck%contacts(k)%self_radius, &
           ' supports in the reference configuration), two passes a step'
         if (p%shared_mass .and. p%both_ways) write(output_unit, '(a)') 'contact: eq. (93) '// &
