@@ -31,7 +31,6 @@ submodule (contact_pair_m) contact_dist_sm
 contains
 
   module procedure contact_pair_own
-    integer :: sd
     character(len=:), allocatable :: what
     what = "contact of '"//trim(p%side(1)%name)//"' on '"//trim(p%side(2)%name)//"': "
     if (.not. p%both_ways) then
@@ -43,36 +42,23 @@ contains
     end if
     if (allocated(err)) return
     if (.not. allocated(p%dist)) allocate(p%dist)
-    if (p%self .and. p%side(1)%isolid == isolid) then
+    if (p%self) then
       ! self-contact: each rank's own surface particles are its candidates
-      if (p%side(1)%skip_far) p%side(2)%skip_far = .false.
-      do sd = 1, 2
-        associate (s => p%side(sd))
-          s%cand = pack(s%cand, owner(side_whole(s, s%cand)) == me)
-          s%near = .true.
-        end associate
-      end do
+      if (sd == 1 .and. p%side(1)%skip_far) p%side(2)%skip_far = .false.
+      associate (s => p%side(sd))
+        s%cand = pack(s%cand, owner(s%cand) == me)
+        s%near = .true.
+      end associate
       ! with skip_far side 2's ghost width covers the clearance search over every
       ! candidate of the body (dist_master; the largest over the ranks' own:
       ! contact_pair_distribute), so that each clearance, hence each schedule, is the
       ! serial one
       associate (s => p%side(1))
-        if (s%skip_far .and. size(s%cand) > 0) &
+        if (sd == 1 .and. s%skip_far .and. size(s%cand) > 0) &
           p%dist%clear_reach = self_reach*maxval(s%rex(s%cand))
       end associate
     end if
-    ! a tracked slave particle: its place among the rank's own (0 on the other ranks)
-    if (p%side(1)%isolid == isolid .and. p%edge > 0) then
-      if (owner(p%edge) == me) then
-        p%edge = count(owner(1:p%edge) == me)
-      else
-        p%edge = 0
-      end if
-    end if
-    do sd = 1, 2
-      if (p%side(sd)%isolid /= isolid) cycle
-      call own_side(p%side(sd), p%dist%side(sd))
-    end do
+    call own_side(p%side(sd), p%dist%side(sd))
 
   contains
 
@@ -86,9 +72,11 @@ contains
       integer, allocatable :: cnt(:), own(:), ownw(:)
       logical, allocatable :: isp(:)
       ! (own: their places in the side's arrays; ownw: their numbers in the whole body)
-      own = pack([(i, i = 1, s%np)], owner(side_whole(s, [(i, i = 1, s%np)])) == me)
+      own = pack([(i, i = 1, s%np)], owner == me)
       ownw = side_whole(s, own)
       ds%nown = size(own)
+      ! a tracked slave particle: its place among the rank's own (0 on the other ranks)
+      if (sd == 1 .and. p%edge > 0) p%edge = sorted_place(ownw, p%edge)
       ! the whole surface's facets (segments) only: a rank's subset is taken from them
       if (s%ndim == 3) then
         ds%full3%nf = s%surf3%nf
@@ -121,8 +109,8 @@ contains
       do kk = 1, nfacet(ds)
         do e = 2, nvert(ds)
           k = sorted_place(ownw, vert(ds, kk, e))
-          if (k > 0 .and. owner(vert(ds, kk, 1)) /= me) cnt(k + 1) = cnt(k + 1) + 1
-          if (owner(vert(ds, kk, 1)) == me) isp(owner(vert(ds, kk, e))) = .true.
+          if (k > 0 .and. vown(ds, kk, 1) /= me) cnt(k + 1) = cnt(k + 1) + 1
+          if (vown(ds, kk, 1) == me) isp(vown(ds, kk, e)) = .true.
         end do
       end do
       isp(me) = .false.
@@ -137,7 +125,7 @@ contains
       do kk = 1, nfacet(ds)
         do e = 2, nvert(ds)
           k = sorted_place(ownw, vert(ds, kk, e))
-          q = owner(vert(ds, kk, 1))
+          q = vown(ds, kk, 1)
           if (k == 0 .or. q == me) cycle
           n = ds%pptr(k) + cnt(k + 1)
           ds%prank(n) = q
@@ -159,6 +147,17 @@ contains
       s%list = [(k, k = 1, ds%nown)]
       s%nlist = ds%nown
     end subroutine own_side
+
+    !> The rank owning end (vertex) e, from 1, of segment (facet) kk of the whole surface.
+    integer function vown(ds, kk, e)
+      type(dist_side_t), intent(in) :: ds
+      integer, intent(in) :: kk, e
+      if (ds%full3%nf > 0) then
+        vown = vowner(ds%full3%tv(e, kk))
+      else
+        vown = vowner(kk + (e - 1)*ds%full%nseg)
+      end if
+    end function vown
   end procedure contact_pair_own
 
   module procedure contact_pair_distribute

@@ -319,13 +319,16 @@ module contact_pair_m
 
   interface
     !> Distributed memory (issue 12, doc/parallel.md), the first step of making pair p, set
-    !! up on the whole bodies, a rank's part of a pair whose master deforms (or of a
-    !! self-contact): its sides on solid isolid cut to the rank's own particles, before the
-    !! part's rows are made (the split's peak). owner: the rank (from 0) of each particle
-    !! of that solid; me, nranks: this rank, the ranks' count. No communication.
-    module subroutine contact_pair_own(p, isolid, owner, me, nranks, err)
+    !! up on the whole bodies or the ranks' regions, a rank's part of a pair whose master
+    !! deforms (or of a self-contact): its side sd cut to the rank's own particles, before
+    !! the part's rows are made (the split's peak). owner: the rank (from 0) of each of the
+    !! side's particles (its arrays' places); vowner: of each vertex of its whole surface
+    !! (3D: its facets' vertices, surface3d_t vid's order; plane: each segment's first
+    !! ends, then its second ends); me, nranks: this rank, the ranks' count. No
+    !! communication.
+    module subroutine contact_pair_own(p, sd, owner, vowner, me, nranks, err)
       type(contact_pair_t), intent(inout) :: p
-      integer, intent(in) :: isolid, owner(:), me, nranks
+      integer, intent(in) :: sd, owner(:), vowner(:), me, nranks
       type(error_t), allocatable, intent(inout) :: err
     end subroutine contact_pair_own
 

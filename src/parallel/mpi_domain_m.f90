@@ -264,10 +264,10 @@ contains
     type(contact_pair_t), intent(inout) :: pairs(:)
     type(error_t), allocatable, intent(inout) :: err
     type(rcb_tree_t) :: tree
-    integer, allocatable :: node_part(:), point_part(:), bc_of(:, :)
+    integer, allocatable :: node_part(:), point_part(:), bc_of(:, :), ow(:), vo(:)
     real(wp), allocatable :: x0(:, :), vpres(:, :), v(:, :)
     logical, allocatable :: pres(:, :)
-    integer :: i, q, j
+    integer :: i, q, j, sd
     associate (g => dom%gs(k), lp => dom%lp(k), h => dom%halos(k))
       associate (r => dom%ranks%me, nr => dom%ranks%nranks)
         if (allocated(set_tree%part) .and. set_tree%nparts == nr) then
@@ -301,17 +301,35 @@ contains
         if (allocated(err)) return
       end do
       ! so are the sides of this solid in a pair whose master deforms (or a self-contact)
-      ! (their ghosts come once the parts exist: contact_pair_distribute)
+      ! (their ghosts come once the parts exist: contact_pair_distribute); their particles'
+      ! and their whole surfaces' vertices' ranks from the bisection at their reference
+      ! positions (the nodes' own: node_part)
       do j = 1, size(pairs)
-        if (pairs(j)%side(2)%isolid == 0 .or. all(pairs(j)%side(:)%isolid /= k)) cycle
-        if (g%part%region) then
-          call set_error(err, "contact of '"//trim(pairs(j)%side(1)%name)//"' on '"// &
-            trim(pairs(j)%side(2)%name)//"': a deforming master's solid numbered over "// &
-            "a region (an internal error of the set-up)")
-          return
-        end if
-        call contact_pair_own(pairs(j), k, node_part - 1, dom%ranks%me, dom%ranks%nranks, err)
-        if (allocated(err)) return
+        if (pairs(j)%side(2)%isolid == 0) cycle
+        do sd = 1, 2
+          associate (s => pairs(j)%side(sd))
+            if (s%isolid /= k) cycle
+            allocate(ow(s%np))
+            do i = 1, s%np
+              ow(i) = rcb_part(tree, s%x_ref(:, i)) - 1
+            end do
+            if (s%ndim == 3) then
+              allocate(vo(size(s%surf3%vid)))
+              do i = 1, size(vo)
+                vo(i) = rcb_part(tree, s%surf3%x(:, i)) - 1
+              end do
+            else
+              allocate(vo(2*s%surface%nseg))
+              do i = 1, s%surface%nseg
+                vo(i) = rcb_part(tree, s%surface%a(:, i)) - 1
+                vo(s%surface%nseg + i) = rcb_part(tree, s%surface%b(:, i)) - 1
+              end do
+            end if
+          end associate
+          call contact_pair_own(pairs(j), sd, ow, vo, dom%ranks%me, dom%ranks%nranks, err)
+          deallocate(ow, vo)
+          if (allocated(err)) return
+        end do
       end do
       ! what the part solid takes of the whole solid's arrays over its nodes, taken now
       ! and the whole ones freed before the part's rows too (but on rank 0 when it keeps

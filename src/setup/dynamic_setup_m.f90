@@ -435,21 +435,15 @@ contains
   !! array over the whole solid; for RKPM its masses completed over the regions only,
   !! region_masses, rather than over every particle, whole_masses): when every rank
   !! holds a shell of it (no rank keeps the whole solids) and nothing reads the solid
-  !! outside a rank's region before the split: no deforming master or self-contact on the
-  !! body (their sides hold every particle's inverse mass), no plane spin (its centre of
-  !! mass sums every particle's). The same on every rank (the deck's).
+  !! outside a rank's region before the split: no plane spin (its centre of mass sums
+  !! every particle's). (The contact sides on it are set up over the region too, a
+  !! deforming master's and a self-contact's included: their ghosts' inverse masses come
+  !! from their owners.) The same on every rank (the deck's).
   logical function region_solid_do(deck, k, part) result(yes)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
     type(setup_part_t), intent(in) :: part
-    integer :: j
     yes = .not. part%root_whole .and. deck%bodies(k)%angular_velocity == 0.0_wp
-    do j = 1, deck%ncontacts
-      associate (cs => deck%contacts(j))
-        if ((cs%islave == k .or. cs%imaster == k) .and. &
-          deck%bodies(cs%imaster)%role == 'deformable') yes = .false.
-      end associate
-    end do
   end function region_solid_do
 
   !> The lumped masses of an RKPM solid t of body b over a rank's region (region_of, made
