@@ -21,6 +21,9 @@
 !! among the same candidates in the same order; the reactions on a master particle are sent
 !! to its owner and summed there in the order of the slave particles, as the serial pass
 !! sums them. The rest is the serial pass (contact_pair_m), over the rank's own particles.
+!! A side's arrays hold the rank's particles only, its own first and then its ghosts
+!! (dist_side_t), each with its number in the whole body (side_t glob): the records and
+!! the order of the cloud go by those numbers, so nothing depends on the local numbering.
 !! Self-contact: both sides are views of one body, the candidates the rank's own surface
 !! particles, det(M) without the reference neighbours, the two passes of self_correct.
 submodule (contact_pair_m) contact_dist_sm
