@@ -223,7 +223,7 @@ module contact_pair_m
     logical :: listed = .false.
     integer :: nlist = 0
     integer, allocatable :: list(:)
-      !> The numbers in the whole body of the particles the arrays hold, and the whole body's
+    !> The numbers in the whole body of the particles the arrays hold, and the whole body's
     !! count: a slave against a rigid master on a rank of a decomposed set-up (side_init's
     !! rows: the rank's region, ascending), a side of a distributed pair (dist_side_t: own
     !! then ghosts); unallocated: every particle, in order
