@@ -62,7 +62,7 @@ module contact_pair_m
   ! procedure the submodule calls, even one the module calls too)
   public :: detect_det_m, pass_forces, detect_self, spreads, detect_det_m_3d, pass_forces_3d
   public :: detect_self_3d, self_schedule, self_settled, lip_over_ranks
-  public :: stat_sums, stats_values, side_whole
+  public :: stat_sums, stats_values, side_whole, side_take, take_i1
 
   !> Detectors (&contact detector): det(M) of the master (the paper), node-to-segment.
   integer, parameter :: detector_det_m = 1, detector_nts = 2
@@ -1303,37 +1303,95 @@ contains
     end do
   end subroutine region_places
 
-  !> Slave side s (a rigid master's) cut to its particles at(:) (places in its arrays).
+  !> Slave side s (a rigid master's) cut to its particles at(:) (places in its arrays);
+  !! skip_far's schedule kept (zero, or a restart's, read for the region).
   subroutine side_cut(s, at)
     type(side_t), intent(inout) :: s
     integer, intent(in) :: at(:)
-    associate (nglob => at)
-      s%np = size(nglob)
-      s%x_old = s%x_old(:, nglob)
-      s%x_pred = s%x_pred(:, nglob)
-      s%fphys = s%fphys(:, nglob)
-      s%active = s%active(nglob)
-      s%seg = s%seg(nglob)
-      s%xi = s%xi(nglob)
-      s%gap = s%gap(nglob)
-      s%slip = s%slip(nglob)
-      s%nrm = s%nrm(:, nglob)
-      s%tng = s%tng(:, nglob)
-      s%share = s%share(nglob)
-      s%near = s%near(nglob)
-      s%rho = s%rho(:, nglob)
-      s%x_ref = s%x_ref(:, nglob)
-      s%vol = s%vol(nglob)
-      if (allocated(s%bary)) s%bary = s%bary(:, nglob)
-      ! (the part's masses set them: contact_pair_localize)
-      if (allocated(s%imass)) deallocate(s%imass)
-      ! (skip_far's schedule: zero, or a restart's, read for the region)
-      if (allocated(s%d_scr)) s%d_scr = s%d_scr(:, nglob)
-      if (allocated(s%due)) s%due = s%due(nglob)
-      if (allocated(s%glob)) deallocate(s%glob)
-      s%cut = .true.
-    end associate
+    call side_take(s, at, size(at))
+    ! (the part's masses set them: contact_pair_localize)
+    if (allocated(s%imass)) deallocate(s%imass)
+    if (allocated(s%glob)) deallocate(s%glob)
+    s%cut = .true.
   end subroutine side_cut
+
+  !> Side s's arrays over its particles made n long: entries 1..size(at) from the
+  !! particles at (places in the arrays now), the rest zero (not active, near, not
+  !! flagged, due at once) for the ghosts a plan fills in (contact_dist_sm make_plan);
+  !! s%glob is left to the caller. (side_cut, and a distributed pair's sides.)
+  subroutine side_take(s, at, n)
+    type(side_t), intent(inout) :: s
+    integer, intent(in) :: at(:), n
+    s%np = n
+    call take_r2(s%x_old)
+    call take_r2(s%x_pred)
+    call take_r2(s%fphys)
+    call take_r2(s%nrm)
+    call take_r2(s%tng)
+    call take_r2(s%x_ref)
+    call take_r2(s%rho)
+    call take_r2(s%d_scr)
+    call take_r2(s%x_pass)
+    call take_r2(s%bary)
+    call take_r1(s%xi, 0.0_wp)
+    call take_r1(s%gap, 0.0_wp)
+    call take_r1(s%slip, 0.0_wp)
+    call take_r1(s%share, 0.0_wp)
+    call take_r1(s%imass, 0.0_wp)
+    call take_r1(s%vol, 0.0_wp)
+    call take_r1(s%due, -1.0_wp)
+    call take_r1(s%clear, 0.0_wp)
+    call take_r1(s%rex, 0.0_wp)
+    call take_l1(s%active, .false.)
+    call take_l1(s%near, .true.)
+    call take_l1(s%flagged, .false.)
+    if (allocated(s%seg)) call take_i1(s%seg, at, n, 0)
+
+  contains
+
+    subroutine take_r2(a)
+      real(wp), allocatable, intent(inout) :: a(:, :)
+      real(wp), allocatable :: t(:, :)
+      if (.not. allocated(a)) return
+      allocate(t(size(a, 1), n))
+      t = 0.0_wp
+      t(:, 1:size(at)) = a(:, at)
+      call move_alloc(t, a)
+    end subroutine take_r2
+
+    subroutine take_r1(a, fill)
+      real(wp), allocatable, intent(inout) :: a(:)
+      real(wp), intent(in) :: fill
+      real(wp), allocatable :: t(:)
+      if (.not. allocated(a)) return
+      allocate(t(n))
+      t = fill
+      t(1:size(at)) = a(at)
+      call move_alloc(t, a)
+    end subroutine take_r1
+
+    subroutine take_l1(a, fill)
+      logical, allocatable, intent(inout) :: a(:)
+      logical, intent(in) :: fill
+      logical, allocatable :: t(:)
+      if (.not. allocated(a)) return
+      allocate(t(n))
+      t = fill
+      t(1:size(at)) = a(at)
+      call move_alloc(t, a)
+    end subroutine take_l1
+  end subroutine side_take
+
+  !> a made n long: entries 1..size(at) from a(at), the rest fill.
+  subroutine take_i1(a, at, n, fill)
+    integer, allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: at(:), n, fill
+    integer, allocatable :: t(:)
+    allocate(t(n))
+    t = fill
+    t(1:size(at)) = a(at)
+    call move_alloc(t, a)
+  end subroutine take_i1
 
   !> The particles of side s that this step's passes look at: all of them, or with
   !! subcycling the solid's nodes of the rate being stepped (the only ones that move).
