@@ -1,9 +1,10 @@
 !> mfcd on MPI ranks (issue 12; doc/parallel.md): `mpirun -np N mfcd_mpi DECK.nml` runs the
 !! deck's dynamic problem with each rank stepping its part of every solid, and writes the
 !! one HDF5 file (and XDMF) a serial `mfcd DECK.nml` writes, from rank 0. Every rank reads
-!! the deck and builds the set-up (so bad input is found by all, before anything is
-!! written); only rank 0 logs. What the MPI driver does not take yet is refused as bad input
-!! (mpi_domain_m: no subcycling). Options: --restart
+!! the deck and builds the set-up (so bad input is found before anything is written; an
+!! extruded 3D RKPM body is made as each rank's share and region only, and checked there,
+!! so the ranks agree on an error first); only rank 0 logs. What the MPI driver does not
+!! take yet is refused as bad input (mpi_domain_m: no subcycling). Options: --restart
 !! CHECKPOINT.h5, continue from a checkpoint of the deck's run (&output checkpoint_every, by
 !! mfcd or mfcd_mpi on any number of ranks);
 !! --ghost-margin=F, the margin of the ghost width of contact with a deforming master (a
@@ -25,7 +26,7 @@ program mfcd_mpi
   use output_path_m, only: check_output_path, output_result_text
   use log_m, only: log_print, log_flush
   use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic, mpi_scene_check, setup_part_t, &
-    root_needs_whole
+    root_needs_whole, body_per_part
   use explicit_driver_m, only: run_dynamic
   use mpi_domain_m, only: mpi_domain_t, mpi_domain_init, ghost_margin_default
   use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t, body_fingerprints
@@ -38,6 +39,7 @@ program mfcd_mpi
   character(len=:), allocatable :: restart_path
   type(checkpoint_info_t) :: ckpt
   logical :: restart_next
+  logical, allocatable :: per_part(:)
   integer :: me, nranks, code, k, ios, ndeck
   real(wp) :: ghost_margin
   logical :: ghost_refresh
@@ -102,7 +104,17 @@ program mfcd_mpi
       'is evaluated every step (the serial skipping is exact to round-off, not to the '// &
       'bit: give skip_quiet = .false. to compare with a serial run bit for bit)')
   end if
-  if (.not. allocated(err)) call build_bodies(deck, bodies, err)
+  ! (an extruded 3D RKPM body is made as each rank's share, its region later from its
+  ! recipe: no rank makes the whole body; its checks are then the share's, so the ranks
+  ! agree on an error before anything collective)
+  if (.not. allocated(err)) then
+    allocate(per_part(deck%nbodies))
+    do k = 1, deck%nbodies
+      per_part(k) = body_per_part(deck, k, nranks, root_needs_whole(deck))
+    end do
+    call build_bodies(deck, bodies, err, [me, nranks], per_part)
+  end if
+  call agree_or_fail(exit_bad_input)
   ! the ranks (the set-up's sums go through them too)
   call mpi_domain_init(ranks, MPI_COMM_WORLD, ghost_margin, ghost_refresh, &
     root_needs_whole(deck))

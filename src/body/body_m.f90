@@ -8,11 +8,28 @@ module body_m
   use geometry_m, only: geometry_t
   implicit none
   private
-  public :: body_t, name_len, max_cell_vertices, body_keep_share, body_cell
+  public :: body_t, name_len, max_cell_vertices, body_keep_share, body_cell, extrusion_t
+  public :: body_whole
 
   integer, parameter :: name_len = 64
   !> Vertices of one integration cell at most (a clipped lattice cell, a file's cell)
   integer, parameter :: max_cell_vertices = 64
+
+  !> How an extruded 3D body's particles are made (generators_m extrude_body): its section
+  !! (x-y positions, areas and boundary flags of the n2 section particles) and its nz
+  !! layers from z0 to z1, dz apart, particle i of layer k numbered i + (k - 1) n2; then
+  !! moved by shift when shifted (&body translate) and given the supports rho. Held (some
+  !! 30 B a particle of the section) so that a rank can make just the particles its region
+  !! needs (generators_m extrude_pick), the same bits as the whole body's.
+  type :: extrusion_t
+    integer :: n2 = 0, nz = 0
+    real(wp), allocatable :: x2(:, :), vol2(:)
+    logical, allocatable :: bnd2(:)
+    real(wp) :: z0 = 0.0_wp, z1 = 0.0_wp, dz = 0.0_wp
+    logical :: shifted = .false.
+    real(wp) :: shift(3) = 0.0_wp
+    real(wp) :: rho(3) = 0.0_wp
+  end type extrusion_t
 
   type :: body_t
     character(len=name_len) :: name = ''
@@ -58,6 +75,10 @@ module body_m
     !! boundary hold the particles row0, row0 + 1, ..., cells the elements cell0, ... of
     !! ncells
     integer :: row0 = 0, cell0 = 0, ncells = 0
+    !> The body was made as a rank's share only (build_bodies on ranks: generators_m
+    !! extrude_body's rows; the whole body never existed on the rank): x, vol, rho and
+    !! boundary hold particles row0 ... of np, as body_keep_share leaves them
+    logical :: held_share = .false.
     real(wp) :: spacing(3) = 0.0_wp       !< nominal particle spacing per direction (m)
     real(wp) :: support_factor(3) = 0.0_wp
     real(wp) :: h(3) = 1.0_wp             !< basis scale: nominal support radius (m)
@@ -74,6 +95,13 @@ module body_m
     !! (4, ne) over its particles, positive volume, whose median-dual cells are the
     !! particles' integration cells (rkpm_tl3d_m); unallocated for every other body
     integer, allocatable :: tets(:, :)
+    !> An extruded body's recipe (extrusion_t), when its particles can be made per region
+    type(extrusion_t), allocatable :: ext
+    !> Some particles of a larger body (extrude_pick: a rank's region): x, vol, rho and
+    !! boundary hold np particles whose numbers in the whole body (of np_whole) are
+    !! glob (ascending); unallocated for a whole body (or a share, row0)
+    integer, allocatable :: glob(:)
+    integer :: np_whole = 0
   end type body_t
 
 contains
@@ -83,8 +111,18 @@ contains
     type(body_t), intent(in) :: b
     integer, intent(in) :: i
     k = i
-    if (b%cell_period > 0) k = mod(i - 1, b%cell_period) + 1
+    if (allocated(b%glob)) k = b%glob(i)
+    if (b%cell_period > 0) k = mod(k - 1, b%cell_period) + 1
   end function body_cell
+
+  !> The number in the whole body of particle i of b (b%glob where b holds some of a
+  !! larger body's particles).
+  pure integer function body_whole(b, i) result(g)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: i
+    g = i
+    if (allocated(b%glob)) g = b%glob(i)
+  end function body_whole
 
   !> Body b reduced to rank me's share of it (of nranks), for the ranks of mfcd_mpi once
   !! the set-up has read it: the rows of its particles row0 .. row0 + nrows - 1 (the
@@ -92,19 +130,25 @@ contains
   !! supports and boundary flags, and the same share of its elements (cell0, ncells: the
   !! whole count), which the ranks write into /bodies together (run_output_m
   !! write_body_rows); the facets and boundary loops on rank 0 only (surface), which it
-  !! writes; the rest freed (integration cells, the mesh of a body's dual cells). Its
-  !! name, sizes, spacing, supports' factors, kernel, geometry and fingerprint stay.
+  !! writes; the rest freed (integration cells, the mesh of a body's dual cells, an
+  !! extruded body's recipe). Its name, sizes, spacing, supports' factors, kernel, geometry
+  !! and fingerprint stay. A body made as the share (held_share) keeps its rows.
   subroutine body_keep_share(b, me, nranks)
     type(body_t), intent(inout) :: b
     integer, intent(in) :: me, nranks
     integer :: i0, i1, c1
     i0 = share_first(b%np, me, nranks)
     i1 = share_first(b%np, me + 1, nranks) - 1
-    b%row0 = i0
-    b%x = b%x(:, i0:i1)
-    b%vol = b%vol(i0:i1)
-    if (allocated(b%rho)) b%rho = b%rho(:, i0:i1)
-    if (allocated(b%boundary)) b%boundary = b%boundary(i0:i1)
+    ! (a body made as the share holds it already)
+    if (.not. b%held_share) then
+      b%row0 = i0
+      b%x = b%x(:, i0:i1)
+      b%vol = b%vol(i0:i1)
+      if (allocated(b%rho)) b%rho = b%rho(:, i0:i1)
+      if (allocated(b%boundary)) b%boundary = b%boundary(i0:i1)
+    end if
+    b%held_share = .true.
+    if (allocated(b%ext)) deallocate(b%ext)
     if (allocated(b%cells)) then
       b%ncells = size(b%cells, 2)
       b%cell0 = share_first(b%ncells, me, nranks)

@@ -7,17 +7,19 @@
 module generators_m
   use kinds_m, only: wp, pi, i64
   use errors_m, only: error_t, set_error
-  use body_m, only: body_t, max_cell_vertices
+  use body_m, only: body_t, max_cell_vertices, extrusion_t
   use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, geom_prism, &
     geom_cylinder, &
     signed_distance, polygon_area, clip_polygon_box, segment_distance, full_turn_tol
   use sorting_m, only: sort_index
+  use rank_comm_m, only: share_first
   use strings_m, only: itoa, rtoa
   implicit none
   private
   public :: make_segment, make_rectangle, make_polygon, make_annulus, make_from_arrays
   public :: make_disk, disk_ring_count, lattice_cells_explicit, extrude_body
   public :: set_supports, perturb_interior, max_perturbation, section_triangles
+  public :: extrude_pick, extrude_count
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp
@@ -738,13 +740,16 @@ contains
   !! L-shaped or notched block an extruded polygon, a cylinder an extruded disk (its x-y
   !! cells, explicit polygons, kept for every layer). Layer by layer: particle (i, k) is
   !! i + (k - 1) np2. No boundary polylines (a 3D surface is facets).
-  subroutine extrude_body(b2, z0, z1, nz, b, err)
+  subroutine extrude_body(b2, z0, z1, nz, b, err, share)
     type(body_t), intent(in) :: b2
     real(wp), intent(in) :: z0, z1
     integer, intent(in) :: nz
     type(body_t), intent(out) :: b
     type(error_t), allocatable, intent(inout) :: err
-    integer :: k, n2, i, q, n
+    !> [me, nranks]: only rank me's share of the particles (rank_comm_m share_first, as
+    !! body_keep_share cuts it: b%held_share, b%row0)
+    integer, intent(in), optional :: share(2)
+    integer :: k, n2, i, q, n, q0, q1
     real(wp) :: dz, slab
     if (nz < 2 .or. .not. (z1 > z0)) then
       call set_error(err, 'an extruded body needs at least 2 layers and z1 > z0')
@@ -763,12 +768,23 @@ contains
     dz = (z1 - z0)/real(nz - 1, wp)
     b%ndim = 3
     b%np = n2*nz
-    allocate(b%x(3, b%np), b%vol(b%np), b%boundary(b%np))
-    do k = 1, nz
+    q0 = 1
+    q1 = b%np
+    if (present(share)) then
+      q0 = share_first(b%np, share(1), share(2))
+      q1 = share_first(b%np, share(1) + 1, share(2)) - 1
+      b%held_share = .true.
+      b%row0 = q0
+    end if
+    ! (particle q at q - q0 + 1: a share's arrays from 1, as body_keep_share leaves them)
+    allocate(b%x(3, q1 - q0 + 1), b%vol(q1 - q0 + 1), b%boundary(q1 - q0 + 1))
+    do k = (q0 - 1)/n2 + 1, (q1 - 1)/n2 + 1
       slab = dz
       if (k == 1 .or. k == nz) slab = 0.5_wp*dz
       do i = 1, n2
         q = i + (k - 1)*n2
+        if (q < q0 .or. q > q1) cycle
+        q = q - q0 + 1
         b%x(1:2, q) = b2%x(1:2, i)
         b%x(3, q) = z0 + real(k - 1, wp)*dz
         if (k == nz) b%x(3, q) = z1
@@ -794,6 +810,16 @@ contains
     end if
     b%geom%z0 = z0
     b%geom%z1 = z1
+    ! the recipe, for a rank that makes only its region's particles (extrude_pick)
+    allocate(b%ext)
+    b%ext%n2 = n2
+    b%ext%nz = nz
+    b%ext%x2 = b2%x(1:2, :)
+    b%ext%vol2 = b2%vol
+    b%ext%bnd2 = b2%boundary
+    b%ext%z0 = z0
+    b%ext%z1 = z1
+    b%ext%dz = dz
     call extruded_facets(b2, nz, b)
     if (allocated(b2%cell_ptr)) then
       ! the x-y cells, the same polygon for each layer of a particle: held once, particle
@@ -804,6 +830,140 @@ contains
       b%cell_period = n2
     end if
   end subroutine extrude_body
+
+  !> Particle q = i + (k - 1) n2 of the extruded body of recipe e (extrude_body's position,
+  !! volume and boundary flag, then moved by e%shift as build_body's placement does): the
+  !! same operations in the same order, so the same bits.
+  pure subroutine extruded_particle(e, i, k, x, vol, bnd)
+    type(extrusion_t), intent(in) :: e
+    integer, intent(in) :: i, k
+    real(wp), intent(out) :: x(3), vol
+    logical, intent(out) :: bnd
+    real(wp) :: slab
+    slab = e%dz
+    if (k == 1 .or. k == e%nz) slab = 0.5_wp*e%dz
+    x(1:2) = e%x2(1:2, i)
+    x(3) = e%z0 + real(k - 1, wp)*e%dz
+    if (k == e%nz) x(3) = e%z1
+    if (e%shifted) x = x + e%shift
+    vol = e%vol2(i)*slab
+    bnd = e%bnd2(i) .or. k == 1 .or. k == e%nz
+  end subroutine extruded_particle
+
+  !> Some particles of extruded body b (its recipe b%ext, extrude_body's: the whole body is
+  !! never made): those numbered g0 ... g1 whose reference position, or one of its mirror
+  !! images across the planes (nplanes of them: coordinate normal(m) = pos(m); and across
+  !! both), lies within [lo, hi]; ends: of the first and last layers only. As body r, in
+  !! ascending numbers (r%glob, of r%np_whole = b%np): positions, volumes, boundary flags
+  !! and supports (b%ext%rho) the whole body's bits; b's description copied (name, kernel,
+  !! spacing, supports' factors, geometry, the section's cells, the recipe, the whole
+  !! surface's facets: over the whole body's numbers, surface-sized); no boundary loops.
+  !! b may itself be such a body.
+  subroutine extrude_pick(b, g0, g1, lo, hi, nplanes, normal, pos, r, ends)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: g0, g1, nplanes, normal(:)
+    real(wp), intent(in) :: lo(3), hi(3), pos(:)
+    type(body_t), intent(out) :: r
+    logical, intent(in), optional :: ends
+    integer :: n, pass, k, i, q, kk
+    real(wp) :: x(3), vol
+    logical :: bnd, only_ends
+    only_ends = .false.
+    if (present(ends)) only_ends = ends
+    r%name = b%name
+    r%shape = b%shape
+    r%ndim = 3
+    r%spacing = b%spacing
+    r%support_factor = b%support_factor
+    r%h = b%h
+    r%kid = b%kid
+    r%wshape = b%wshape
+    r%bid = b%bid
+    r%geom = b%geom
+    if (allocated(b%cell_ptr)) then
+      r%cell_ptr = b%cell_ptr
+      r%cell_xy = b%cell_xy
+      r%cell_period = b%cell_period
+    end if
+    r%ext = b%ext
+    if (allocated(b%facets)) r%facets = b%facets
+    r%np_whole = b%ext%n2*b%ext%nz
+    r%nloops = 0
+    allocate(r%loop_ptr(1), r%loop_idx(0), r%loop_closed(0))
+    r%loop_ptr = 1
+    associate (e => b%ext)
+      do pass = 1, 2
+        n = 0
+        do kk = 1, e%nz
+          k = kk
+          if (only_ends .and. k > 1 .and. k < e%nz) cycle
+          ! (a layer's z is every one of its particles' and their images': the planes are
+          ! along z; so a region walks its layers' sections only)
+          call extruded_particle(e, 1, k, x, vol, bnd)
+          if ((x(3) < lo(3) .or. x(3) > hi(3)) .and. all(normal(1:nplanes) /= 3)) cycle
+          if ((k - 1)*int(e%n2, i64) + 1 > g1 .or. k*int(e%n2, i64) < g0) cycle
+          do i = 1, e%n2
+            q = i + (k - 1)*e%n2
+            if (q < g0 .or. q > g1) cycle
+            call extruded_particle(e, i, k, x, vol, bnd)
+            if (.not. near(x)) cycle
+            n = n + 1
+            if (pass == 1) cycle
+            r%x(:, n) = x
+            r%vol(n) = vol
+            r%boundary(n) = bnd
+            r%rho(:, n) = e%rho
+            r%glob(n) = q
+          end do
+        end do
+        if (pass == 1) allocate(r%x(3, n), r%vol(n), r%boundary(n), r%rho(3, n), r%glob(n))
+      end do
+    end associate
+    r%np = n
+
+  contains
+
+    !> x or one of its images within [lo, hi]
+    pure logical function near(x) result(yes)
+      real(wp), intent(in) :: x(3)
+      real(wp) :: y(3)
+      integer :: m
+      yes = all(x >= lo) .and. all(x <= hi)
+      if (yes .or. nplanes == 0) return
+      do m = 1, nplanes
+        y = x
+        y(normal(m)) = 2.0_wp*pos(m) - y(normal(m))
+        if (all(y >= lo) .and. all(y <= hi)) yes = .true.
+      end do
+      if (nplanes == 2) then
+        y = x
+        y(normal(1:2)) = 2.0_wp*pos(1:2) - y(normal(1:2))
+        if (all(y >= lo) .and. all(y <= hi)) yes = .true.
+      end if
+    end function near
+  end subroutine extrude_pick
+
+  !> Whether any particle of extruded body b (its recipe, extrude_pick's) lies within [lo,
+  !! hi] (1, else 0), without making them.
+  integer function extrude_count(b, lo, hi) result(n)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: lo(3), hi(3)
+    integer :: k, i
+    real(wp) :: x(3), vol
+    logical :: bnd
+    n = 0
+    do k = 1, b%ext%nz
+      call extruded_particle(b%ext, 1, k, x, vol, bnd)
+      if (x(3) < lo(3) .or. x(3) > hi(3)) cycle
+      do i = 1, b%ext%n2
+        call extruded_particle(b%ext, i, k, x, vol, bnd)
+        if (all(x >= lo) .and. all(x <= hi)) then
+          n = 1
+          return
+        end if
+      end do
+    end do
+  end function extrude_count
 
   !> The closed boundary surface of b, b2 extruded in nz layers (extrude_body), as triangles
   !! over b's particles, counter-clockwise seen from outside: the section's triangulation
@@ -1226,8 +1386,9 @@ contains
     b%support_factor = 0.0_wp
     b%support_factor(1:nd) = factor(1:nd)
     if (allocated(b%rho)) deallocate(b%rho)
-    allocate(b%rho(nd, b%np))
-    do i = 1, b%np
+    ! (a rank's share holds size(b%x, 2) of the np)
+    allocate(b%rho(nd, size(b%x, 2)))
+    do i = 1, size(b%x, 2)
       if (present(local_spacing)) then
         b%rho(:, i) = factor(1:nd)*local_spacing(i)
       else

@@ -535,7 +535,9 @@ contains
   !! rigid master, which only the master's det(M), surface and buckets are read against
   !! (contact_correct): without a cloud, det(M) measures or surface of its own; with rows
   !! (ascending numbers in b), over those particles only (a rank's region of a decomposed
-  !! set-up, which the split cuts to its part: contact_pair_cut).
+  !! set-up, which the split cuts to its part: contact_pair_cut); when b holds some
+  !! particles of a larger body (b%glob: the region a rank made of it, a slave's only),
+  !! rows are places in b.
   subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err, slave_only, rows)
     type(side_t), intent(out) :: s
     type(body_t), intent(in) :: b
@@ -557,6 +559,11 @@ contains
       s%glob = rows
       s%np_whole = b%np
       s%np = size(rows)
+      ! (b some particles of a larger body, a rank's region: rows are places in b)
+      if (allocated(b%glob)) then
+        s%glob = b%glob(rows)
+        s%np_whole = b%np_whole
+      end if
     end if
     n = s%np
     s%isolid = isolid
@@ -604,7 +611,11 @@ contains
       s%nrm(b%ndim, n), s%tng(b%ndim, n), s%share(n))
     allocate(s%near(n))
     s%near = .true.
-    if (allocated(s%glob)) then
+    if (allocated(b%glob)) then
+      s%x_ref = b%x(:, rows)
+      s%rho = b%rho(:, rows)
+      s%vol = b%vol(rows)
+    else if (allocated(s%glob)) then
       s%x_ref = b%x(:, s%glob)
       s%rho = b%rho(:, s%glob)
       s%vol = b%vol(s%glob)

@@ -44,7 +44,8 @@ module rkpm_tl3d_m
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
-  use body_m, only: body_t, max_cell_vertices, body_cell
+  use body_m, only: body_t, max_cell_vertices, body_cell, body_whole
+  use generators_m, only: extrude_pick
   use dims_m, only: dims_3d, dims_3d_folded
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box, polygon_area, &
@@ -55,7 +56,7 @@ module rkpm_tl3d_m
   use tet4_m, only: tet4_mesh_t, tet4_face_neighbours
   implicit none
   private
-  public :: tl_build_3d, symmetry_planes_3d
+  public :: tl_build_3d, tl_region_3d, symmetry_planes_3d
 
   integer, parameter :: max_nb = 1024   !< particles covering one evaluation point (3D)
   integer, parameter :: max_cv = max_cell_vertices
@@ -157,6 +158,7 @@ contains
     real(wp) :: pos(2), tol, y(3), dist, lo(3), hi(3), sg(3)
     real(wp), allocatable :: xe(:, :), rhoe(:, :), vole(:)
     logical :: cross(2)
+    type(body_t) :: ends_b
     call symmetry_planes_3d(b, normal, pos, nplanes)
     f%np = b%np
     f%ncg = merge(3, 1, nplanes > 0)
@@ -171,35 +173,21 @@ contains
       hi = -huge(1.0_wp)
       if (pass == 2) allocate(xe(3, nkeep), rhoe(3, nkeep), vole(nkeep), f%twin(nkeep), &
         f%sgn(3, nkeep))
-      do i = 1, b%np
-        call add_entry(b%x(:, i), i, [1.0_wp, 1.0_wp, 1.0_wp])
-      end do
-      do i = 1, b%np
-        do m = 1, nplanes
-          dist = abs(b%x(normal(m), i) - pos(m))
-          cross(m) = dist > tol .and. dist < b%rho(normal(m), i)
-        end do
-        ! the images across each plane it reaches, and across both (the quarter's corner)
-        do q = 1, 3
-          if (q > 1 .and. nplanes < 2) exit
-          if (q <= 2) then
-            if (.not. cross(min(q, 2))) cycle
-          else
-            if (.not. (cross(1) .and. cross(2))) cycle
-          end if
-          y = b%x(:, i)
-          sg = 1.0_wp
-          do k = 1, nplanes
-            if (q == k .or. q == 3) then
-              y(normal(k)) = 2.0_wp*pos(k) - y(normal(k))
-              sg(normal(k)) = -1.0_wp
-            end if
-          end do
-          call add_entry(y, i, sg)
-        end do
-      end do
+      call walk(b)
       nkeep = ni
     end do
+    if (allocated(b%glob)) then
+      ! b holds some particles of a larger body (a rank's region, made from its recipe:
+      ! generators_m extrude_pick): the whole cloud's extremes are those of its first and
+      ! last layers' entries (the layers' sections are the same, z rises with the layer),
+      ! taken with the same operations (min and max are exact)
+      call extrude_pick(b, 1, huge(1), [(-huge(1.0_wp), m = 1, 3)], &
+        [(huge(1.0_wp), m = 1, 3)], 0, normal, pos, ends_b, ends=.true.)
+      lo = huge(1.0_wp)
+      hi = -huge(1.0_wp)
+      pass = 0
+      call walk(ends_b)
+    end if
     if (present(near)) then
       call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:3), err, lo, hi, &
         maxval(b%rho, dim=2))
@@ -211,21 +199,56 @@ contains
 
   contains
 
-    !> The next entry of the cloud, at y, of particle i with the signs sg: counted and
-    !! stored when within the region; the extremes over every entry.
-    subroutine add_entry(y, i, sg)
+    !> Every particle of body bb and its images, in the cloud's order (add_entry)
+    subroutine walk(bb)
+      type(body_t), intent(in) :: bb
+      do i = 1, bb%np
+        call add_entry(bb, bb%x(:, i), i, [1.0_wp, 1.0_wp, 1.0_wp])
+      end do
+      do i = 1, bb%np
+        do m = 1, nplanes
+          dist = abs(bb%x(normal(m), i) - pos(m))
+          cross(m) = dist > tol .and. dist < bb%rho(normal(m), i)
+        end do
+        ! the images across each plane it reaches, and across both (the quarter's corner)
+        do q = 1, 3
+          if (q > 1 .and. nplanes < 2) exit
+          if (q <= 2) then
+            if (.not. cross(min(q, 2))) cycle
+          else
+            if (.not. (cross(1) .and. cross(2))) cycle
+          end if
+          y = bb%x(:, i)
+          sg = 1.0_wp
+          do k = 1, nplanes
+            if (q == k .or. q == 3) then
+              y(normal(k)) = 2.0_wp*pos(k) - y(normal(k))
+              sg(normal(k)) = -1.0_wp
+            end if
+          end do
+          call add_entry(bb, y, i, sg)
+        end do
+      end do
+    end subroutine walk
+
+    !> The next entry of the cloud, at y, of particle i of bb with the signs sg: counted
+    !! and stored when within the region (pass 1, 2); the extremes over every entry (pass
+    !! 0: only those).
+    subroutine add_entry(bb, y, i, sg)
+      type(body_t), intent(in) :: bb
       real(wp), intent(in) :: y(3), sg(3)
       integer, intent(in) :: i
       lo = min(lo, y)
       hi = max(hi, y)
+      if (pass == 0) return
       if (present(near)) then
         if (any(y < near(:, 1)) .or. any(y > near(:, 2))) return
       end if
       ni = ni + 1
       if (pass == 1) return
       xe(:, ni) = y
-      rhoe(:, ni) = b%rho(:, i)
-      vole(ni) = b%vol(i)
+      rhoe(:, ni) = bb%rho(:, i)
+      vole(ni) = bb%vol(i)
       f%twin(ni) = i
       f%sgn(:, ni) = sg
     end subroutine add_entry
@@ -273,6 +296,34 @@ contains
     t%total_volume = sum(t%wgt)
   end subroutine tl_build_3d
 
+  !> The particles of extruded body b (made from its recipe, generators_m extrude_pick: the
+  !! whole body need not exist) that tl_build_3d's tables for box read: those whose
+  !! position or mirror image lies within the box grown by what its cells can reach
+  !! (scni_tables_3d's region cloud), and one spacing more; as body r numbered over them
+  !! (r%glob: their numbers in b), in b's order. tl_build_3d(r, ..., box) then makes
+  !! the same rows as tl_build_3d(b, ..., box), over r's numbers.
+  subroutine tl_region_3d(b, box, r)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: box(3, 2)
+    type(body_t), intent(out) :: r
+    real(wp) :: grow(3), pos(2)
+    integer :: normal(2), n
+    grow = region_reach(b%ext%rho, 0.5_wp*b%spacing(1:3)) + b%spacing(1:3)
+    call symmetry_planes_3d(b, normal, pos, n)
+    call extrude_pick(b, 1, b%np, box(:, 1) - grow, box(:, 2) + grow, n, normal, pos, r)
+  end subroutine tl_region_3d
+
+  !> How far beyond a rank's box the region cloud of scni_tables_3d reaches: a kept
+  !! cell's particle lies within rmax + reach of the box, a point of the cell within
+  !! reach of its particle, and a particle covering it within rmax of it; one reach more
+  !! for the rounding of the candidates' boxes (cell_candidates) and a perturbed
+  !! lattice's cells. rmax: the largest supports; reach: a cell's reach from its particle.
+  pure function region_reach(rmax, reach) result(grow)
+    real(wp), intent(in) :: rmax(3), reach(3)
+    real(wp) :: grow(3)
+    grow = 2.0_wp*rmax + 3.0_wp*reach
+  end function region_reach
+
   !> tl_build_3d's tables but the transpose. The cells are integrated block by block
   !! (block_np particles), each cell's row kept compact (the entries it has) until its
   !! block is packed; the CSR arrays are allocated once the total is known and filled from
@@ -304,11 +355,8 @@ contains
       reach = dm%lmax
     end if
     if (present(box)) then
-      ! the cloud of the region: a kept cell's particle lies within rmax + reach of the
-      ! box (below), a point of the cell within reach of its particle, and a particle
-      ! covering it within rmax of it; one reach more for the rounding of the candidates'
-      ! boxes (cell_candidates) and a perturbed lattice's cells
-      grow = 2.0_wp*maxval(b%rho, dim=2) + 3.0_wp*reach
+      ! the cloud of the region (region_reach)
+      grow = region_reach(maxval(b%rho, dim=2), reach)
       call folded_cloud(b, c, f, err, reshape([box(:, 1) - grow, box(:, 2) + grow], [3, 2]))
     else
       call folded_cloud(b, c, f, err)
@@ -362,8 +410,8 @@ contains
       ! (the first block with such a cell stops the build: its largest such particle)
       if (bad > 0) then
         call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined in "// &
-          "the cell of particle "//itoa(bad)//" (too few particles cover a point of it; a "// &
-          "larger support_factor mends it)")
+          "the cell of particle "//itoa(body_whole(b, bad))//" (too few particles cover "// &
+          "a point of it; a larger support_factor mends it)")
         return
       end if
       call pack_rows(cells(1:i1 - i0 + 1), ng, rho0, rows(kb), nl(i0:i1), t%mass, &
@@ -1021,7 +1069,7 @@ contains
       !$omp end parallel do
       if (bad > 0) then
         call set_error(err, "body '"//trim(b%name)//"': RK shape functions undefined at "// &
-          "particle "//itoa(bad))
+          "particle "//itoa(body_whole(b, bad)))
         return
       end if
       allocate(rows(kb)%id(sum(cnt(i0:i1))), rows(kb)%a(f%ncg, sum(cnt(i0:i1))))

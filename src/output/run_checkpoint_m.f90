@@ -397,13 +397,23 @@ contains
     integer :: k, i, j
     do k = 1, size(bodies)
       associate (b => bodies(k))
-        do i = share_first(b%np, comm%me, comm%nranks), &
-          share_first(b%np, comm%me + 1, comm%nranks) - 1
-          do j = 1, size(b%x, 1)
-            call exact_add(a(2*k - 1), b%x(j, i))
+        if (b%held_share) then
+          ! (made as the share: build_bodies on ranks)
+          do i = 1, size(b%x, 2)
+            do j = 1, size(b%x, 1)
+              call exact_add(a(2*k - 1), b%x(j, i))
+            end do
+            call exact_add(a(2*k), b%vol(i))
           end do
-          call exact_add(a(2*k), b%vol(i))
-        end do
+        else
+          do i = share_first(b%np, comm%me, comm%nranks), &
+            share_first(b%np, comm%me + 1, comm%nranks) - 1
+            do j = 1, size(b%x, 1)
+              call exact_add(a(2*k - 1), b%x(j, i))
+            end do
+            call exact_add(a(2*k), b%vol(i))
+          end do
+        end if
       end associate
     end do
     v = exact_allsum_many(a, comm)

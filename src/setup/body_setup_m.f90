@@ -9,11 +9,11 @@ module body_setup_m
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
-  use body_m, only: body_t, max_cell_vertices
+  use body_m, only: body_t, max_cell_vertices, body_whole
   use deck_m, only: deck_t, body_spec_t, body_count_var, body_place_var, body_make_vars
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, make_disk, &
-    lattice_cells_explicit, extrude_body, &
+    lattice_cells_explicit, extrude_body, extrude_pick, &
     make_from_arrays, set_supports, perturb_interior
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
@@ -59,14 +59,27 @@ module body_setup_m
 contains
 
   !> Build and check every body of the deck.
-  subroutine build_bodies(deck, bodies, err)
+  subroutine build_bodies(deck, bodies, err, share, per_part)
     type(deck_t), intent(in) :: deck
     type(body_t), allocatable, intent(out) :: bodies(:)
     type(error_t), allocatable, intent(inout) :: err
+    !> [me, nranks] of mfcd_mpi, and the bodies made as each rank's share only (an extruded
+    !! body a rank's set-up makes its region of from the recipe: dynamic_setup_m
+    !! body_per_part): the whole body is never made on a rank (its checks at the rank's
+    !! share, so that the ranks may find different errors)
+    integer, intent(in), optional :: share(2)
+    logical, intent(in), optional :: per_part(:)
     integer :: k
+    logical :: part
     allocate(bodies(deck%nbodies))
     do k = 1, deck%nbodies
-      call build_body(deck, deck%bodies(k), k, bodies(k), err)
+      part = .false.
+      if (present(per_part)) part = per_part(k)
+      if (part) then
+        call build_body(deck, deck%bodies(k), k, bodies(k), err, share)
+      else
+        call build_body(deck, deck%bodies(k), k, bodies(k), err)
+      end if
       if (allocated(err)) return
     end do
     if (deck%run%mode /= 'dynamic') return
@@ -184,12 +197,15 @@ contains
 
 
   !> One body from its spec; err names deck, group and variable on failure.
-  subroutine build_body(deck, s, k, b, err)
+  subroutine build_body(deck, s, k, b, err, share)
     type(deck_t), intent(in) :: deck
     type(body_spec_t), intent(in) :: s
     integer, intent(in) :: k
     type(body_t), intent(out) :: b
     type(error_t), allocatable, intent(inout) :: err
+    !> [me, nranks]: an extruded body made as rank me's share only (generators_m
+    !! extrude_body; build_bodies)
+    integer, intent(in), optional :: share(2)
     character(len=:), allocatable :: where, what
     real(wp), allocatable :: local(:), xs(:, :), vols(:), xy(:, :)
     integer, allocatable :: loop(:), order(:), tri(:, :), ptr(:)
@@ -198,7 +214,10 @@ contains
     logical :: has_tri, has_cells, tets
     type(error_t), allocatable :: e2
     type(cst4_mesh_t) :: mesh
-    type(body_t) :: b2
+    type(body_t) :: b2, ends
+    integer :: none(2)
+    real(wp) :: nowhere(2)
+    logical :: flat
     nd = deck%run%ndim
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(s%name)//"')"
     select case (s%shape)
@@ -219,7 +238,7 @@ contains
         ! the polygon in x-y, extruded along z (the 3D L-shaped or notched block)
         call make_polygon(b2, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
         if (.not. allocated(e2)) call extrude_body(b2, s%extrude(1), s%extrude(2), &
-          max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2)
+          max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2, share)
         if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
       else
         call make_polygon(b, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
@@ -227,7 +246,7 @@ contains
     case ('box')
       ! a rectangle in x-y extruded along z: n(1) x n(2) x n(3) lattice points
       call make_rectangle(b2, s%lo(1:2), s%hi(1:2), s%n(1:2), e2)
-      if (.not. allocated(e2)) call extrude_body(b2, s%lo(3), s%hi(3), s%n(3), b, e2)
+      if (.not. allocated(e2)) call extrude_body(b2, s%lo(3), s%hi(3), s%n(3), b, e2, share)
       if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
     case ('annulus_sector')
       if (s%discretization == 'fem') then
@@ -245,7 +264,7 @@ contains
       ! a disk (or its sector) in x-y, its rings and cells, extruded along z
       call make_disk(b2, s%center, s%radius, s%spacing(1), e2, s%theta_end*pi/180.0_wp)
       if (.not. allocated(e2)) call extrude_body(b2, s%extrude(1), s%extrude(2), &
-        max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2)
+        max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2, share)
       if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
     case ('file', 'geo')
       ! a gmsh script gives in memory what tools/mesh_body.py writes into a particle file:
@@ -329,7 +348,13 @@ contains
     else if (.not. allocated(b%cells) .or. nd == 3) then
       ! (a 3D element body's nodes are its lattice's particles: their det(M) supports too)
       call set_supports(b, s%support_factor)
+      ! (set_supports' supports, for the particles an extruded body's recipe makes)
+      if (allocated(b%ext)) b%ext%rho = s%support_factor(1:3)*b%spacing(1:3)
     end if
+    ! an extruded body's recipe is kept where a rank can make its region from it: a
+    ! deformable RKPM body of a dynamic run (dynamic_setup_m)
+    if (allocated(b%ext) .and. (s%discretization /= 'rkpm' .or. s%role /= 'deformable' .or. &
+      deck%run%mode /= 'dynamic')) deallocate(b%ext)
     ! Theorem 3.1 on the generating lattice: name the smallest support factor that works.
     if (any(s%shape == ['segment  ', 'rectangle', 'polygon  ', 'box      ']) .and. &
       .not. allocated(b%cells)) then
@@ -352,7 +377,18 @@ contains
       call place_body(b, s, deck%run%mode == 'dynamic', where, err)
       if (allocated(err)) return
     end if
-    if (b%ndim > 1 .and. flat_layout(b%x)) then
+    if (b%held_share) then
+      ! a rank's share: the whole body is flat where its first and last layers are (an
+      ! extruded body: where its section is)
+      none = 0
+      nowhere = 0.0_wp
+      call extrude_pick(b, 1, b%np, [(-huge(1.0_wp), i = 1, 3)], [(huge(1.0_wp), i = 1, 3)], &
+        0, none, nowhere, ends, ends=.true.)
+      flat = flat_layout(ends%x)
+    else
+      flat = b%ndim > 1 .and. flat_layout(b%x)
+    end if
+    if (flat) then
       call set_error(err, where//', variable '//body_make_vars(s%shape)//': the '//itoa(b%np)// &
         ' particles lie on one '//trim(merge('line ', 'plane', b%ndim == 2))//', a '// &
         'degenerate layout: a '//itoa(b%ndim)//'-D body needs particles spread in every '// &
@@ -425,9 +461,15 @@ contains
         b%geom%t1 = b%geom%t1 + th
       end select
     end if
-    do i = 1, b%np
+    ! (a rank's share holds size(b%x, 2) of the np)
+    do i = 1, size(b%x, 2)
       b%x(:, i) = b%x(:, i) + s%translate(1:nd)
     end do
+    ! (the particles an extruded body's recipe makes are moved the same way)
+    if (allocated(b%ext)) then
+      b%ext%shifted = .true.
+      b%ext%shift = s%translate(1:3)
+    end if
     if (allocated(b%cell_centre)) b%cell_centre = b%cell_centre + &
       spread(s%translate(1:nd), 2, size(b%cell_centre, 2))
     if (allocated(b%merged_centre)) b%merged_centre = b%merged_centre + &
@@ -573,29 +615,51 @@ contains
   !> det(M) > 0 at every particle of the body (Theorem 3.1 for any distribution). The
   !! message tells too few covering particles (a support too small) from enough particles
   !! in a degenerate layout (all on a line, for instance), which no support can mend.
-  subroutine check_particles(b, s, where, err)
-    type(body_t), intent(in) :: b
+  subroutine check_particles(b0, s, where, err)
+    type(body_t), intent(in), target :: b0
     type(body_spec_t), intent(in) :: s
     character(len=*), intent(in) :: where
     type(error_t), allocatable, intent(inout) :: err
     type(rk_cloud_t) :: c
     real(wp) :: mm(mmax, mmax)
-    integer :: i, ncover, bad_i, bad_n
+    integer :: i, ncover, bad_i, bad_n, g0, g1
     logical :: ok
-    real(wp) :: f
+    real(wp) :: f, grow(3)
+    type(body_t), pointer :: b
+    type(body_t), target :: near
+    integer :: none(2)
+    real(wp) :: nowhere(2)
     !> multiples of the present supports tried when enough particles cover a singular point
     real(wp), parameter :: trial(6) = [1.1_wp, 1.25_wp, 1.5_wp, 1.75_wp, 2.0_wp, 2.5_wp]
+    ! M at the particles g0 ... g1 of body b (its numbers: b%glob where it holds some of a
+    ! larger body's), each from the particles of b that cover it
+    b => b0
+    g0 = 1
+    g1 = b0%np
+    if (b0%held_share) then
+      ! a rank's share of an extruded body (build_bodies on ranks): M at its particles,
+      ! from the particles its largest trial supports reach (made from the recipe)
+      g0 = b0%row0
+      g1 = b0%row0 + size(b0%x, 2) - 1
+      grow = maxval(trial)*b0%ext%rho + b0%spacing(1:3)
+      none = 0
+      nowhere = 0.0_wp
+      call extrude_pick(b0, 1, b0%np, minval(b0%x, dim=2) - grow, &
+        maxval(b0%x, dim=2) + grow, 0, none, nowhere, near)
+      b => near
+    end if
     call body_cloud(b, c, err)
     if (allocated(err)) return
     bad_i = 0
     bad_n = 0
-    !$omp parallel do default(none) shared(b, c) private(mm, ncover, ok) &
+    !$omp parallel do default(none) shared(b, c, g0, g1) private(mm, ncover, ok) &
     !$omp reduction(max: bad_i) reduction(max: bad_n)
     do i = 1, b%np
+      if (body_whole(b, i) < g0 .or. body_whole(b, i) > g1) cycle
       call cloud_moment(c, b%x(:, i), mm, ncover)
       call chol_small(c%m, mm, ok, pivot_tol)
-      if (.not. ok .and. i > bad_i) then
-        bad_i = i
+      if (.not. ok .and. body_whole(b, i) > bad_i) then
+        bad_i = body_whole(b, i)
         bad_n = ncover
       end if
     end do
@@ -648,9 +712,10 @@ contains
         call body_cloud(bb, cc, e2)
         if (allocated(e2)) return
         good = .true.
-        !$omp parallel do default(none) shared(bb, cc) private(m2, nc, okj) &
+        !$omp parallel do default(none) shared(bb, cc, g0, g1) private(m2, nc, okj) &
         !$omp reduction(.and.: good)
         do j = 1, bb%np
+          if (body_whole(bb, j) < g0 .or. body_whole(bb, j) > g1) cycle
           call cloud_moment(cc, bb%x(:, j), m2, nc)
           call chol_small(cc%m, m2, okj, pivot_tol)
           good = good .and. okj

@@ -13,11 +13,13 @@ module dynamic_setup_m
   use body_m, only: body_t
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
+  use sorting_m, only: sorted_place
+  use generators_m, only: extrude_pick, extrude_count
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part, region_of, &
     region_rows
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
-  use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d
+  use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use tet4_m, only: tet4_mesh_t, tet4_tables
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin, &
@@ -29,7 +31,7 @@ module dynamic_setup_m
   implicit none
   private
   public :: setup_solids, setup_contacts, setup_time_step, dynamic_setup_t, setup_dynamic
-  public :: mpi_scene_check, setup_part_t, root_needs_whole
+  public :: mpi_scene_check, setup_part_t, root_needs_whole, body_per_part
 
   !> The rank a set-up is for (mfcd_mpi): rank me (from 0) of nranks. A rank keeps, of a
   !! solid's tables, only the rows its box of the decomposition can need (the builders'
@@ -50,6 +52,11 @@ module dynamic_setup_m
   !! tables' rows touch or its box holds (ascending), a superset of its part's nodes
   type :: region_rows_t
     integer, allocatable :: glob(:)
+    !> the particles of the body the rank made for its region (tl_region_3d), and glob's
+    !! places among them, when it made them: a slave's contact side against a rigid
+    !! master is set up from them (the whole body is not on the rank)
+    type(body_t), allocatable :: body
+    integer, allocatable :: places(:)
   end type region_rows_t
 
   type :: dynamic_setup_t
@@ -116,11 +123,22 @@ contains
     real(wp), parameter :: c_low = 100.0_wp, c_high = 2.0e4_wp   ! m/s
     real(wp), parameter :: size_low = 1.0e-6_wp, size_high = 100.0_wp   ! m
     integer, parameter :: steps_low = 10
-    real(wp) :: c, ext, dt, nsteps
-    integer :: k
+    real(wp) :: c, ext, dt, nsteps, nowhere(2)
+    integer :: k, j, none(2)
+    type(body_t) :: ends
+    none = 0
+    nowhere = 0.0_wp
     dt = huge(1.0_wp)
     do k = 1, size(bodies)
-      ext = maxval(maxval(bodies(k)%x, dim=2) - minval(bodies(k)%x, dim=2))
+      if (bodies(k)%held_share) then
+        ! (a rank's share of an extruded body: the whole one's extent is its first and
+        ! last layers')
+        call extrude_pick(bodies(k), 1, bodies(k)%np, [(-huge(1.0_wp), j = 1, 3)], &
+          [(huge(1.0_wp), j = 1, 3)], 0, none, nowhere, ends, ends=.true.)
+        ext = maxval(maxval(ends%x, dim=2) - minval(ends%x, dim=2))
+      else
+        ext = maxval(maxval(bodies(k)%x, dim=2) - minval(bodies(k)%x, dim=2))
+      end if
       if (ext > size_high) call warn("body '"//trim(bodies(k)%name)//"' is "// &
         rtoa(ext)//' m across, outside 1 um - 100 m: lengths are in m (a length in mm '// &
         'is 1000 times too large, in um 1e6 times)')
@@ -210,7 +228,7 @@ contains
     do k = 1, deck%nbodies
       n = isolid(k)
       if (n == 0) cycle
-      call setup_solid(deck, k, bodies(k), axisym, solids(n), err, part, regions(n)%glob, &
+      call setup_solid(deck, k, bodies(k), axisym, solids(n), err, part, regions(n), &
         trees(n))
       if (allocated(err)) return
       if (present(quiet)) then
@@ -255,16 +273,17 @@ contains
   end function discretization_text
 
   !> The solid of deformable body k.
-  subroutine setup_solid(deck, k, b, axisym, s, err, part, rows, tree)
+  subroutine setup_solid(deck, k, b, axisym, s, err, part, reg, tree)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
-    type(body_t), intent(in) :: b
+    type(body_t), intent(in), target :: b
     logical, intent(in) :: axisym
     type(solid_t), intent(out) :: s
     type(error_t), allocatable, intent(inout) :: err
     type(setup_part_t), intent(in), optional :: part
-    !> with part, when the solid is a shell: its region (region_of)
-    integer, allocatable, intent(out) :: rows(:)
+    !> with part, when the solid is a shell: its region (region_of: glob), and the body
+    !! made for it (tl_region_3d) with the region's places in it
+    type(region_rows_t), intent(out), target :: reg
     !> with part on more than one rank: the bisection of its nodes the split will cut it
     !! by (region_box's), the same on every rank
     type(rcb_tree_t), intent(out) :: tree
@@ -281,7 +300,13 @@ contains
     logical :: split, shell, region, ok
     integer, allocatable :: qrows(:), at(:)
     integer :: nq_whole, j
+    !> the body the solid is made of: b, or on a rank the particles of b its region needs
+    !! (made from b's recipe: tl_region_3d)
+    type(body_t), pointer :: bp
+    integer, allocatable :: rows(:)
+    real(wp) :: made(1)
     bs = deck%bodies(k)
+    bp => b
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
     if (allocated(b%cells) .and. b%ndim == 3) then
       ! linear tetrahedra with averaged nodal pressure (tet4_m); on a rank, the rows of the
@@ -310,7 +335,20 @@ contains
       ! over the ranks
       if (b%ndim == 3) then
         if (region_box(part, b, tree, box)) then
-          call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2, box)
+          if (region_made(deck, k, part, b)) then
+            allocate(reg%body)
+            call tl_region_3d(b, box, reg%body)
+            bp => reg%body
+            ! (the most particles a rank made of the body, for the log: collective, as
+            ! region_made is the same on every rank)
+            made = real(max(reg%body%np, size(b%x, 2)), wp)
+            call part%comm%max_real(made)
+            write(output_unit, '(a)') "dynamic: body '"//trim(b%name)//"': made per rank "// &
+              "(its share, then its region from the body's section and layers), at most "// &
+              itoa(nint(made(1)))//' particles on a rank, of '//itoa(b%np)//' (the whole '// &
+              'body is made on no rank)'
+          end if
+          call tl_build_3d(bp, deck%materials(bs%imat)%params%density, t, e2, box)
         else
           call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
         end if
@@ -328,7 +366,7 @@ contains
       if (present(part)) split = part%nranks > 1
       if (split) then
         if (region_solid_do(deck, k, part)) then
-          call region_masses(part, tree, b, t, box, rows, e2)
+          call region_masses(part, tree, bp, t, box, rows, e2)
         else
           call whole_masses(part, tree, b, t, e2)
         end if
@@ -343,7 +381,7 @@ contains
     ! fields): what the split reads of the whole solid, without its state
     shell = .false.
     if (present(part)) shell = part%me > 0 .or. .not. part%root_whole
-    if (shell .and. .not. allocated(rows)) call region_of(t, b, box, rows)
+    if (shell .and. .not. allocated(rows)) call region_of(t, bp, box, rows)
     region = .false.
     if (shell) region = region_solid_do(deck, k, part)
     ! (a region shell's conditions at its region's particles only)
@@ -352,9 +390,9 @@ contains
     else
       at = [(j, j = 1, b%np)]
     end if
-    call kinematic_masks(deck, k, b, pres, vpres, bc_of, err, at)
+    call kinematic_masks(deck, k, bp, pres, vpres, bc_of, err, at)
     if (allocated(err)) return
-    if (b%ndim == 3) call symmetry_holds(b, at, pres, vpres)
+    if (b%ndim == 3) call symmetry_holds(bp, at, pres, vpres)
     deallocate(at)
     if (region) then
       ! the shell numbered over its region: its tables, positions, conditions and
@@ -364,11 +402,19 @@ contains
       call region_rows(t, rows, qrows, ok)
       if (.not. ok) call set_error(e2, "the region of this rank lacks a particle its "// &
         "kept rows touch (an internal error of the set-up)")
-      if (.not. allocated(e2)) call solid_init(s, b%name, t, b%x(:, rows), &
+      if (.not. allocated(e2)) call solid_init(s, b%name, t, bp%x(:, rows), &
         deck%materials(bs%imat)%params, alpha, bs%velocity(1:b%ndim), pres, vpres, e2, &
         shell)
       if (.not. allocated(e2)) then
         s%part%region = .true.
+        ! (a region body's places as the whole body's numbers; its points are its
+        ! particles)
+        if (allocated(bp%glob)) then
+          reg%places = rows
+          rows = bp%glob(rows)
+          qrows = bp%glob(qrows)
+          nq_whole = bp%np_whole
+        end if
         call move_alloc(qrows, s%part%qglob)
         s%part%nglob = rows
         s%part%np_whole = b%np
@@ -401,6 +447,7 @@ contains
     end if
     ! (read_deck refuses subcycle for anything but element meshes against rigid masters)
     s%sub%on = deck%solver%subcycle .and. s%t%interpolating
+    if (allocated(rows)) call move_alloc(rows, reg%glob)
   end subroutine setup_solid
 
   !> The box of this rank's region of body b for the set-up of its tables (the box of
@@ -425,11 +472,56 @@ contains
     end if
     ! (each rank gives its share of the particles, a contiguous run of the numbering, as
     ! the bodies will be generated per part: the tree is the same, rcb_build's)
-    call rcb_build_ranks(b%x(:, share_first(b%np, part%me, part%nranks): &
-      share_first(b%np, part%me + 1, part%nranks) - 1), part%nranks, part%comm, tree)
+    if (b%held_share) then
+      ! (the body made as the share: build_bodies on ranks)
+      call rcb_build_ranks(b%x, part%nranks, part%comm, tree)
+    else
+      call rcb_build_ranks(b%x(:, share_first(b%np, part%me, part%nranks): &
+        share_first(b%np, part%me + 1, part%nranks) - 1), part%nranks, part%comm, tree)
+    end if
     has = part%me > 0 .or. .not. part%root_whole
     if (has) call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
   end function region_box
+
+  !> Whether body k is made as each rank's share only on nranks ranks (build_bodies'
+  !! per_part: the whole body is never made on a rank; its set-up makes the rank's region
+  !! from the body's recipe, region_made): a deformable 3D RKPM body extruded along z
+  !! (shape 'box', 'cylinder' or 'polygon') set up as a region shell (no rank keeps the
+  !! whole solids, root_whole; no spin: region_solid_do) whose contacts are all as the
+  !! slave of a rigid master (a deforming master's and a self-contact's sides take their
+  !! detection scalars from a cloud over the whole body: contact_pair_m side_init).
+  logical function body_per_part(deck, k, nranks, root_whole) result(yes)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k, nranks
+    logical, intent(in) :: root_whole
+    integer :: j
+    associate (bs => deck%bodies(k))
+      yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &
+        deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
+        bs%discretization == 'rkpm' .and. bs%angular_velocity == 0.0_wp .and. &
+        any(bs%shape == ['box     ', 'cylinder', 'polygon '])
+    end associate
+    do j = 1, deck%ncontacts
+      if (deck%contacts(j)%imaster == k) yes = .false.
+      if (deck%contacts(j)%islave == k .and. &
+        deck%bodies(deck%contacts(j)%imaster)%role == 'deformable') yes = .false.
+    end do
+  end function body_per_part
+
+  !> Whether a rank makes only the particles of body k its region needs (tl_region_3d), not
+  !! the whole body, for the solid's set-up: a 3D extruded body with its recipe (a
+  !! deformable RKPM body: body_setup_m) set up as a region shell (region_solid_do) on
+  !! more than one rank. The same on every rank.
+  logical function region_made(deck, k, part, b) result(yes)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    type(setup_part_t), intent(in), optional :: part
+    type(body_t), intent(in) :: b
+    yes = .false.
+    if (.not. present(part)) return
+    if (part%nranks == 1 .or. b%ndim /= 3 .or. .not. allocated(b%ext)) return
+    yes = region_solid_do(deck, k, part)
+  end function region_made
 
   !> Whether body k's solid is set up as a region shell on every rank (region_rows: no
   !! array over the whole solid; for RKPM its masses completed over the regions only,
@@ -482,6 +574,8 @@ contains
       return
     end if
     call region_of(t, b, box, rows)
+    ! (b may hold some particles of a larger body, glob: the requests and answers are in
+    ! the whole body's numbers)
     ! each region particle's part (0-based rank); the requests grouped by rank
     allocate(owner(size(rows)), cnt(np), asked(np))
     cnt = 0
@@ -503,14 +597,22 @@ contains
     do j = 1, size(rows)
       r = owner(j)
       if (r == me) cycle
-      sbuf(fill(r + 1)) = real(rows(j), wp)
+      if (allocated(b%glob)) then
+        sbuf(fill(r + 1)) = real(b%glob(rows(j)), wp)
+      else
+        sbuf(fill(r + 1)) = real(rows(j), wp)
+      end if
       fill(r + 1) = fill(r + 1) + 1
     end do
     call part%comm%sparse_exchange(to, sptr, sbuf, from, rptr, rbuf)
     ! the answers: the masses of the particles asked for, which this rank's box holds
     allocate(back(rptr(size(from) + 1) - 1), bptr(size(to) + 1), got(0))
     do i = 1, size(back)
-      back(i) = t%mass(nint(rbuf(i)))
+      if (allocated(b%glob)) then
+        back(i) = t%mass(sorted_place(b%glob, nint(rbuf(i))))
+      else
+        back(i) = t%mass(nint(rbuf(i)))
+      end if
     end do
     call part%comm%sparse_exchange(from, rptr, back, to, bptr, got)
     ! in the order asked (the requests' order per rank)
@@ -631,7 +733,10 @@ contains
       end do
       ! (none at a rank's region: whether the whole body has one, the same answer on
       ! every rank, without walking it twice when at is all of it)
-      if (nsel == 0 .and. size(at) < b%np) then
+      if (nsel == 0 .and. allocated(b%glob)) then
+        ! (b some particles of a larger body: any of the whole body's, from its recipe)
+        nsel = extrude_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))
+      else if (nsel == 0 .and. size(at) < b%np) then
         do i = 1, b%np
           if (in_bc(i)) then
             nsel = 1
@@ -700,6 +805,12 @@ contains
           call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
             isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &
             regions(isolid(is))%glob, regions(isolid(im))%glob)
+        else if (cut .and. allocated(regions(isolid(is))%body) .and. isolid(im) == 0 .and. &
+          im /= is) then
+          ! (the slave's region as the rank made it: the whole body is not on the rank)
+          call contact_pair_init(pairs(k), prm, regions(isolid(is))%body, isolid(is), &
+            bodies(im), isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &
+            regions(isolid(is))%places)
         else if (cut) then
           call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
             isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &

@@ -46,6 +46,12 @@ side of every such pair must have held fewer particles on each rank than its bod
 (mfcd_mpi's summary: a rank's sides hold its own particles and its ghosts only, not arrays
 over the whole body; the decks are large enough against the ghost width for that to show).
 
+With --made NAME (repeatable; a deck of the list, by its name without .nml, with an
+extruded 3D RKPM body that is no deforming master and in no self-contact): on 2 ranks and
+more, mfcd_mpi's log must say that each such body was made per rank (each rank its share
+and its region from the body's recipe, never the whole body), and the most particles a rank
+made must be fewer than the body has.
+
 With --restart N1:N2:EVERY: also run on N1 ranks with &output checkpoint_every = EVERY,
 then continue from its last checkpoint on N2 ranks (`mfcd_mpi --restart`): the snapshots the
 continuation wrote, its history from t = 0, body measures and contact counts must equal the
@@ -67,9 +73,16 @@ waiting in a collective), the message on a rank's standard error, nothing writte
 6 ranks (the deck's cut leaves a rank without such a cell) a rank must say that the set-up
 failed on another rank.
 
+With --bad-particle DECK (repeatable): a 3D RKPM deck whose body check finds particles
+where M is singular (too few particles cover them). On ranks each rank makes and checks
+only its share of such a body (never the whole body): on 2, 4 and 6 ranks every run must
+exit 2 within a minute, nothing written, and its standard error must hold the serial run's
+message (said by the rank whose share holds the serial run's particle).
+
 Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N] [--fails]
-                        [--sides-held-below N]
+                        [--sides-held-below N] [--made NAME]...
                         [--restart N1:N2:EVERY] [--refused DECK]... [--bad-cell DECK]...
+                        [--bad-particle DECK]...
                         [--checkpoints EVERY]
                         MFCD MFCD_MPI MPIEXEC DECK...
 (--ranks: the rank counts each deck runs on, 1,2,3,4 by default; --t-end: every deck run to
@@ -110,6 +123,11 @@ if "--sides-held-below" in ARGS:
     i = ARGS.index("--sides-held-below")
     HELD_BELOW = int(ARGS[i + 1])
     del ARGS[i:i + 2]
+MADE = []
+while "--made" in ARGS:
+    i = ARGS.index("--made")
+    MADE.append(ARGS[i + 1])
+    del ARGS[i:i + 2]
 RESTART = None
 if "--restart" in ARGS:
     i = ARGS.index("--restart")
@@ -129,6 +147,11 @@ while "--refused" in ARGS:
     REFUSED.append(os.path.abspath(ARGS[i + 1]))
     del ARGS[i:i + 2]
 BAD_CELL = []
+BAD_PARTICLE = []
+while "--bad-particle" in ARGS:
+    i = ARGS.index("--bad-particle")
+    BAD_PARTICLE.append(os.path.abspath(ARGS[i + 1]))
+    del ARGS[i:i + 2]
 while "--bad-cell" in ARGS:
     i = ARGS.index("--bad-cell")
     BAD_CELL.append(os.path.abspath(ARGS[i + 1]))
@@ -151,6 +174,18 @@ def check(name, cond, detail=""):
     results.append(bool(cond))
     print(("[  OK  ] " if cond else "[ FAIL ] ") + "mpi_run." + name
           + ("" if cond else ": " + str(detail)[-1500:]), flush=True)
+
+
+def refused_on(n, deck, name, work, env):
+    """mfcd_mpi on n ranks of a deck it must refuse (bad input), within a minute: the
+    finished process, or None (a failed check) when some rank was left waiting."""
+    try:
+        return subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI, deck],
+                              cwd=work, env=env, capture_output=True, text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        check(f"{name}, {n} ranks: exits 2 (no rank left waiting)", False,
+              "still running after 60 s")
+        return None
 
 
 def deck_copy(src, work, out, checkpoint_every=0):
@@ -386,6 +421,12 @@ def main():
                       "than their bodies (own and ghosts only)", len(held) > 0 and all(
                           int(a) < int(c) and int(b) < int(d) for a, b, c, d in held),
                       held or p.stdout[-800:])
+            if p.returncode == 0 and name in MADE and n >= 2:
+                made = re.findall(r"made per rank .*?, at most (\d+) particles on a rank, of "
+                                  r"(\d+) \(the whole body is made on no rank\)", p.stdout)
+                check(f"{name}, {n} ranks: each extruded body made per rank, no rank making "
+                      "all its particles", len(made) > 0 and all(
+                          int(a) < int(b) for a, b in made), made or p.stdout[-800:])
             if p.returncode == rc:
                 compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial{done}"),
                         os.path.join(sub, f"{name}{done}"))
@@ -462,13 +503,8 @@ def main():
         check(f"{name}: the serial run exits 2 naming the cell", p.returncode == 2
               and cell in p.stderr, (p.returncode, p.stderr[-600:]))
         for n in (2, 4, 6):
-            try:
-                p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI, deck],
-                                   cwd=work, env=env, capture_output=True, text=True,
-                                   timeout=60)
-            except subprocess.TimeoutExpired:
-                check(f"{name}, {n} ranks: exits 2 (no rank left waiting)", False,
-                      "still running after 60 s")
+            p = refused_on(n, deck, name, work, env)
+            if p is None:
                 continue
             made = set(os.listdir(work)) - before
             check(f"{name}, {n} ranks: exits 2 naming the cell, nothing written",
@@ -477,6 +513,27 @@ def main():
             if n == 6:
                 check(f"{name}, 6 ranks: a rank without such a cell learns of the error",
                       "the set-up failed on another rank" in p.stderr, p.stderr[-800:])
+    for src in BAD_PARTICLE:
+        name = os.path.basename(src).replace(".nml", "")
+        deck = deck_copy(src, work, f"{name}_bad.h5")
+        before = set(os.listdir(work))
+        p = subprocess.run([MFCD, deck], cwd=work, env=env, capture_output=True, text=True,
+                           timeout=60)
+        said = [l.split("mfcd: error: ", 1)[1] for l in p.stderr.splitlines()
+                if l.startswith("mfcd: error: ")]
+        check(f"{name}: the serial run exits 2 naming a particle where M is singular",
+              p.returncode == 2 and len(said) == 1 and "moment matrix singular at particle"
+              in said[0], (p.returncode, p.stderr[-600:]))
+        if not said:
+            continue
+        for n in (2, 4, 6):
+            p = refused_on(n, deck, name, work, env)
+            if p is None:
+                continue
+            made = set(os.listdir(work)) - before
+            check(f"{name}, {n} ranks: exits 2 with the serial run's message, nothing "
+                  "written", p.returncode == 2 and said[0] in p.stderr and not made,
+                  (p.returncode, p.stderr[-1200:], made))
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if results and all(results) else 1)
 
