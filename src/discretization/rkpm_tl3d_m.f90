@@ -46,6 +46,7 @@ module rkpm_tl3d_m
   use strings_m, only: itoa
   use body_m, only: body_t, max_cell_vertices, body_cell, body_whole
   use generators_m, only: extrude_pick
+  use heap_m, only: heap_return
   use dims_m, only: dims_3d, dims_3d_folded
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_prism, geom_cylinder, clip_polygon_box, polygon_area, &
@@ -417,6 +418,10 @@ contains
       call pack_rows(cells(1:i1 - i0 + 1), ng, rho0, rows(kb), nl(i0:i1), t%mass, &
         keep(i0:i1))
     end do
+    ! (the blocks' per-cell rows are freed; the ones below the mmap threshold would stay
+    ! resident on the heap under the CSR arrays below: 15-20 MiB of a rank's set-up peak
+    ! on the weak bench, more on some ranks than others)
+    call heap_return()
     t%xq = b%x
     t%owner = [(i, i = 1, np)]
     t%ptr(1) = 1
