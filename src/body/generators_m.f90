@@ -865,7 +865,7 @@ contains
     real(wp), intent(in) :: lo(3), hi(3), pos(:)
     type(body_t), intent(out) :: r
     logical, intent(in), optional :: ends
-    integer :: n, pass, k, i, q, kk
+    integer :: n, pass, k, i, q
     real(wp) :: x(3), vol
     logical :: bnd, only_ends
     only_ends = .false.
@@ -894,8 +894,7 @@ contains
     associate (e => b%ext)
       do pass = 1, 2
         n = 0
-        do kk = 1, e%nz
-          k = kk
+        do k = 1, e%nz
           if (only_ends .and. k > 1 .and. k < e%nz) cycle
           ! (a layer's z is every one of its particles' and their images': the planes are
           ! along z; so a region walks its layers' sections only)
