@@ -7,7 +7,7 @@ module rank_comm_m
   use kinds_m, only: wp, i64
   implicit none
   private
-  public :: rank_comm_t, single_rank_t, share_first
+  public :: rank_comm_t, single_rank_t, share_first, kth_smallest
 
   !> The ranks: this one (me, from 0) of nranks. Every procedure is collective.
   type, abstract :: rank_comm_t
@@ -104,6 +104,41 @@ contains
     integer, intent(in) :: n, r, nranks
     i = int((int(n, i64)*r)/nranks) + 1
   end function share_first
+
+  !> The k-th smallest (from 1) of the values v(:) >= 0 of every rank together, the same
+  !! on every rank, without gathering them: a bisection over the doubles' bit patterns
+  !! (for values >= 0, -0 taken as 0, they order as the values), one sum of a count over
+  !! the ranks a step (at most 64). It is one of the values, bit for bit: the serial
+  !! sorted list's k-th. 0 when k < 1 or the ranks hold fewer than k values. Collective.
+  real(wp) function kth_smallest(c, v, k) result(x)
+    class(rank_comm_t), intent(inout) :: c
+    real(wp), intent(in) :: v(:)
+    integer(i64), intent(in) :: k
+    integer(i64) :: lo, hi, mid, n(1)
+    integer(i64), allocatable :: bits(:)
+    x = 0.0_wp
+    n = size(v, kind=i64)
+    call c%sum_i8(n)
+    if (k < 1 .or. n(1) < k) return
+    bits = transfer(merge(0.0_wp, v, v <= 0.0_wp), 0_i64, size(v))
+    n = count(bits == 0, kind=i64)
+    call c%sum_i8(n)
+    if (n(1) >= k) return
+    ! count(bits <= lo) < k <= count(bits <= hi) over the ranks (hi - lo without overflow)
+    lo = 0
+    hi = huge(0_i64)
+    do while (hi - lo > 1)
+      mid = lo + (hi - lo)/2
+      n = count(bits <= mid, kind=i64)
+      call c%sum_i8(n)
+      if (n(1) >= k) then
+        hi = mid
+      else
+        lo = mid
+      end if
+    end do
+    x = transfer(hi, 0.0_wp)
+  end function kth_smallest
 
   subroutine single_max(c, v)
     class(single_rank_t), intent(inout) :: c

@@ -11,10 +11,11 @@ module detection_m
   use rk_cloud_m, only: rk_cloud_t, cloud_det, cloud_init
   use sorting_m, only: sort_index
   use neighbour_bins_m, only: bins_candidates
+  use rank_comm_m, only: rank_comm_t, kth_smallest
   implicit none
   private
   public :: det_at_points, body_plateau, classify, buffer_stats, buffer_stats_t
-  public :: detection_threshold, body_cloud
+  public :: detection_threshold, body_cloud, share_det_medians, deep_particles
 
   !> What the classification says about the buffer zone (all distances in m).
   type :: buffer_stats_t
@@ -57,22 +58,11 @@ contains
     type(rk_cloud_t), intent(in) :: c
     real(wp) :: plateau
     real(wp), allocatable :: det(:), deep_det(:)
-    integer, allocatable :: order(:), cand(:)
+    integer, allocatable :: order(:)
     logical, allocatable :: deep(:)
-    integer :: i, k, nc
-    allocate(det(b%np), deep(b%np), cand(b%np))
+    allocate(det(b%np))
     call det_at_points(c, b%x, det)
-    do i = 1, b%np
-      call bins_candidates(c%bins, b%x(:, i), b%rho(:, i), cand, nc)
-      deep(i) = .true.
-      do k = 1, nc
-        if (.not. b%boundary(c%perm(cand(k)))) cycle
-        if (all(abs(c%x(:, cand(k)) - b%x(:, i)) < b%rho(:, i))) then
-          deep(i) = .false.
-          exit
-        end if
-      end do
-    end do
+    deep = deep_particles(c, b%boundary, b%x, b%rho)
     if (.not. any(deep)) then
       plateau = maxval(det)
       return
@@ -82,6 +72,58 @@ contains
     call sort_index(deep_det, order)
     plateau = deep_det(order((size(deep_det) + 1)/2))
   end function body_plateau
+
+  !> Whether each particle at x (ndim, n) with support rho (ndim, n) is deep in cloud c:
+  !! no boundary particle of the cloud (bnd: the flags of the particles c was made from,
+  !! in their order) lies within its support.
+  function deep_particles(c, bnd, x, rho) result(deep)
+    type(rk_cloud_t), intent(in) :: c
+    logical, intent(in) :: bnd(:)
+    real(wp), intent(in) :: x(:, :), rho(:, :)
+    logical, allocatable :: deep(:)
+    integer, allocatable :: cand(:)
+    integer :: i, k, nc
+    allocate(deep(size(x, 2)), cand(c%np))
+    do i = 1, size(x, 2)
+      call bins_candidates(c%bins, x(:, i), rho(:, i), cand, nc)
+      deep(i) = .true.
+      do k = 1, nc
+        if (.not. bnd(c%perm(cand(k)))) cycle
+        if (all(abs(c%x(:, cand(k)) - x(:, i)) < rho(:, i))) then
+          deep(i) = .false.
+          exit
+        end if
+      end do
+    end do
+  end function deep_particles
+
+  !> body_plateau's and the surface median's (contact_pair_m surface_det_median) values of
+  !! a body no rank holds whole, over the ranks (comm), each the serial one to the bit,
+  !! from det(M) at each rank's share of the particles (the shares partition the body:
+  !! det, whether each is deep, deep_particles, and a boundary particle, bnd, in the whole
+  !! body's cloud, or one that gives its bits): the medians are the k-th smallest over the
+  !! ranks (rank_comm_m kth_smallest), the fallback the largest. Collective.
+  subroutine share_det_medians(comm, det, deep, bnd, plateau, surface_det)
+    class(rank_comm_t), intent(inout) :: comm
+    real(wp), intent(in) :: det(:)
+    logical, intent(in) :: deep(:), bnd(:)
+    real(wp), intent(out) :: plateau, surface_det
+    integer(i64) :: n(2)
+    real(wp) :: top(1)
+    n = [count(deep, kind=i64), count(bnd, kind=i64)]
+    call comm%sum_i8(n)
+    if (n(1) == 0) then
+      ! (a body too thin to have deep particles: the largest det(M) of any)
+      top = -huge(1.0_wp)
+      if (size(det) > 0) top = maxval(det)
+      call comm%max_real(top)
+      plateau = top(1)
+    else
+      plateau = kth_smallest(comm, pack(det, deep), (n(1) + 1)/2)
+    end if
+    ! (surface_det_median's: 0 without boundary particles)
+    surface_det = kth_smallest(comm, pack(det, bnd), (n(2) + 1)/2)
+  end subroutine share_det_medians
 
   !> eps_rel x plateau when eps_rel > 0, else eps_cr.
   pure real(wp) function detection_threshold(eps_cr, eps_rel, plateau) result(t)

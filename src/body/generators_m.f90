@@ -19,7 +19,7 @@ module generators_m
   public :: make_segment, make_rectangle, make_polygon, make_annulus, make_from_arrays
   public :: make_disk, disk_ring_count, lattice_cells_explicit, extrude_body
   public :: set_supports, perturb_interior, max_perturbation, section_triangles
-  public :: extrude_pick, extrude_count
+  public :: extrude_pick, extrude_count, extruded_particle
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp

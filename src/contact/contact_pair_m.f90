@@ -53,7 +53,7 @@ module contact_pair_m
   use sorting_m, only: sort_index, sorted_place
   implicit none
   private
-  public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct
+  public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct, side_facts_t
   public :: contact_stats_t, contact_det_fields, contact_step
   public :: detector_det_m, detector_nts, detector_name, contact_self_det, side_np_whole
   public :: contact_pair_localize, contact_pair_cut, contact_pair_distribute, contact_pair_own, &
@@ -146,6 +146,18 @@ module contact_pair_m
     real(wp) :: pen_after = 0.0_wp      !< deepest penetration left after the correction (m)
     logical :: edge_in_contact = .false.
   end type contact_stats_t
+
+  !> What a side over a rank's region of a 3D body that no rank holds whole (a deforming
+  !! master's or a self-contact's, made per rank) takes of the whole body, found over the
+  !! ranks by the set-up (dynamic_setup_m side_facts): det(M)'s interior plateau and its
+  !! median at the surface particles (detection_m share_det_medians), the largest support,
+  !! the reference positions' extremes, and the whole closed surface (made from the
+  !! facets' vertices only). Each is the serial side_init's value, to the bit.
+  type :: side_facts_t
+    real(wp) :: plateau = 0.0_wp, surface_det = 0.0_wp
+    real(wp) :: rmax(3) = 0.0_wp, lo(3) = 0.0_wp, hi(3) = 0.0_wp
+    type(surface3d_t) :: surf3
+  end type side_facts_t
 
   !> One body of a pair as contact sees it.
   type :: side_t
@@ -385,7 +397,7 @@ contains
   !! solids in solids (0: the body is rigid). Errors name the variable; the caller adds the
   !! deck and group.
   subroutine contact_pair_init(p, prm, bs, isolid_s, bm, isolid_m, solids, axisym, err, &
-    rows, rows_m)
+    rows, rows_m, facts_s, facts_m)
     type(contact_pair_t), intent(out) :: p
     type(contact_params_t), intent(in) :: prm
     type(body_t), intent(in) :: bs, bm
@@ -398,6 +410,9 @@ contains
     !! of a pair whose master deforms (or of a self-contact) with rows_m the master's
     !! region, until the split cuts them to the rank's own (contact_pair_own)
     integer, intent(in), optional :: rows(:), rows_m(:)
+    !> with rows and rows_m, of a side whose body (bs, bm) is a rank's region of a body no
+    !! rank holds whole: what the side takes of the whole body (side_init's facts)
+    type(side_facts_t), intent(in), optional :: facts_s, facts_m
     integer :: j
     real(wp) :: best
     p%eps_cr = prm%eps_cr
@@ -442,7 +457,7 @@ contains
         slave_only=.true., rows=rows)
     else if (present(rows) .and. present(rows_m) .and. isolid_m > 0) then
       call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err, &
-        rows=rows)
+        rows=rows, facts=facts_s)
     else
       call side_init(p%side(1), bs, isolid_s, solids, axisym, p%eps_cr, p%eps_rel, err, &
         slave_only=isolid_m == 0 .and. .not. p%self)
@@ -450,7 +465,7 @@ contains
     if (allocated(err)) return
     if (present(rows) .and. present(rows_m) .and. isolid_m > 0) then
       call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err, &
-        rows=rows_m)
+        rows=rows_m, facts=facts_m)
     else
       call side_init(p%side(2), bm, isolid_m, solids, axisym, p%eps_cr, p%eps_rel, err)
     end if
@@ -538,7 +553,8 @@ contains
   !! set-up, which the split cuts to its part: contact_pair_cut); when b holds some
   !! particles of a larger body (b%glob: the region a rank made of it, a slave's only),
   !! rows are places in b.
-  subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err, slave_only, rows)
+  subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err, slave_only, rows, &
+    facts)
     type(side_t), intent(out) :: s
     type(body_t), intent(in) :: b
     integer, intent(in) :: isolid
@@ -548,6 +564,9 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: slave_only
     integer, intent(in), optional :: rows(:)
+    !> what the side takes of the whole body when b is a rank's region of it (b%glob): no
+    !! cloud or surface of b's own is made
+    type(side_facts_t), intent(in), optional :: facts
     logical :: own
     real(wp) :: rmax(3)
     integer :: n, i, j
@@ -569,7 +588,13 @@ contains
     s%isolid = isolid
     rmax = 0.0_wp
     if (b%np > 0) rmax(1:b%ndim) = maxval(b%rho, dim=2)
-    if (own) then
+    if (own .and. present(facts)) then
+      s%plateau = facts%plateau
+      s%threshold = detection_threshold(eps_cr, eps_rel, s%plateau)
+      s%surface_det = facts%surface_det
+      rmax = facts%rmax
+      s%cloud%rmax = rmax
+    else if (own) then
       call body_cloud(b, s%cloud, err)
       if (allocated(err)) return
       s%plateau = body_plateau(b, s%cloud)
@@ -591,7 +616,11 @@ contains
           "box, an extruded polygon or a cylinder")
         return
       end if
-      if (own) call surface3d_build(s%surf3, b%x, b%facets, err)
+      if (own .and. present(facts)) then
+        s%surf3 = facts%surf3
+      else if (own) then
+        call surface3d_build(s%surf3, b%x, b%facets, err)
+      end if
       if (allocated(err)) then
         err%message = "body '"//trim(b%name)//"': "//err%message
         return
@@ -603,8 +632,13 @@ contains
         axis_fraction*minval(b%spacing(1:b%ndim)), err)
       if (allocated(err)) return
     end if
-    s%lo = minval(b%x, dim=2) - rmax(1:b%ndim)
-    s%hi = maxval(b%x, dim=2) + rmax(1:b%ndim)
+    if (present(facts)) then
+      s%lo = facts%lo(1:b%ndim) - rmax(1:b%ndim)
+      s%hi = facts%hi(1:b%ndim) + rmax(1:b%ndim)
+    else
+      s%lo = minval(b%x, dim=2) - rmax(1:b%ndim)
+      s%hi = maxval(b%x, dim=2) + rmax(1:b%ndim)
+    end if
     if (b%ndim == 2 .and. own) call nts_build(s%buckets, s%surface)
     allocate(s%x_old(b%ndim, n), s%x_pred(b%ndim, n), s%fphys(b%ndim, n), &
       s%active(n), s%seg(n), s%xi(n), s%imass(n), s%gap(n), s%slip(n), &

@@ -64,20 +64,31 @@ module surface3d_m
 contains
 
   !> The surface of the facets tri (3, nf) over the vertices x (3, np): normals and the
-  !! pseudo-normals of edges and vertices. err: an edge not shared by exactly two facets
-  !! (the surface is not closed).
-  subroutine surface3d_build(s, x, tri, err)
+  !! pseudo-normals of edges and vertices. at_vertices (.false. by default): x (3, nv)
+  !! holds the facets' distinct vertices' positions only, in ascending number (a body no
+  !! rank holds whole: its surface's vertices made from its recipe). err: an edge not
+  !! shared by exactly two facets (the surface is not closed).
+  subroutine surface3d_build(s, x, tri, err, at_vertices)
     type(surface3d_t), intent(out) :: s
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: tri(:, :)
     type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: at_vertices
     integer :: m, k, a, b, ne, i
     integer, allocatable :: order(:), ea(:), eb(:), ef(:), ek(:)
     real(wp), allocatable :: key(:)
+    logical :: at_v
+    at_v = .false.
+    if (present(at_vertices)) at_v = at_vertices
     s%nf = size(tri, 2)
     s%tri = tri
     call vertices_of(s)
-    s%x = x(:, s%vid)
+    if (at_v) then
+      if (size(x, 2) /= size(s%vid)) error stop 'surface3d_build: x is not at the vertices'
+      s%x = x
+    else
+      s%x = x(:, s%vid)
+    end if
     allocate(s%fn(3, s%nf), s%en(3, 3, s%nf), s%vn(3, size(s%vid)), s%partner(3, s%nf))
     ! edges: each undirected edge (smaller, larger vertex) must appear in two facets
     ne = 3*s%nf
@@ -92,7 +103,8 @@ contains
         eb(i) = max(a, b)
         ef(i) = m
         ek(i) = k
-        key(i) = real(ea(i), wp)*real(size(x, 2) + 1, wp) + real(eb(i), wp)
+        ! (any factor above the largest number orders the edges alike)
+        key(i) = real(ea(i), wp)*real(maxval(tri) + 1, wp) + real(eb(i), wp)
       end do
     end do
     call sort_index(key, order)
@@ -114,11 +126,12 @@ contains
     ! the bins' cell size: the mean of the facets' longest edges in this configuration
     s%cell = 0.0_wp
     do m = 1, s%nf
-      s%cell = s%cell + max(norm2(x(:, tri(2, m)) - x(:, tri(1, m))), &
-        norm2(x(:, tri(3, m)) - x(:, tri(2, m))), norm2(x(:, tri(1, m)) - x(:, tri(3, m))))
+      s%cell = s%cell + max(norm2(s%x(:, s%tv(2, m)) - s%x(:, s%tv(1, m))), &
+        norm2(s%x(:, s%tv(3, m)) - s%x(:, s%tv(2, m))), &
+        norm2(s%x(:, s%tv(1, m)) - s%x(:, s%tv(3, m))))
     end do
     s%cell = s%cell/real(max(s%nf, 1), wp)
-    call surface3d_update(s, x)
+    call surface3d_refresh(s)
   end subroutine surface3d_build
 
   !> The facets of full whose three vertices are held, in their order, as a surface of
@@ -295,10 +308,16 @@ contains
   subroutine surface3d_update(s, x)
     type(surface3d_t), intent(inout) :: s
     real(wp), intent(in) :: x(:, :)
-    integer :: m, k
-    real(wp) :: e1(3), e2(3), ang, u(3), v(3)
     ! (the vertices' positions only, not every particle's)
     s%x = x(:, s%vid)
+    call surface3d_refresh(s)
+  end subroutine surface3d_update
+
+  !> surface3d_update's normals, pseudo-normals and bins at the vertices' positions s%x.
+  subroutine surface3d_refresh(s)
+    type(surface3d_t), intent(inout) :: s
+    integer :: m, k
+    real(wp) :: e1(3), e2(3), ang, u(3), v(3)
     s%vn = 0.0_wp
     do m = 1, s%nf
       e1 = s%x(:, s%tv(2, m)) - s%x(:, s%tv(1, m))
@@ -325,7 +344,7 @@ contains
       end do
     end do
     call bin_facets(s)
-  end subroutine surface3d_update
+  end subroutine surface3d_refresh
 
   !> The closest point of surface s to p: the signed gap g (m, < 0 inside), the outward unit
   !! normal nrm ((p - q)/|p - q| turned outward; the feature's pseudo-normal when p lies on

@@ -13,8 +13,8 @@ module dynamic_setup_m
   use body_m, only: body_t
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
-  use sorting_m, only: sorted_place
-  use generators_m, only: extrude_pick, extrude_count
+  use sorting_m, only: sorted_place, sort_index
+  use generators_m, only: extrude_pick, extrude_count, extruded_particle
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part, region_of, &
     region_rows
   use solid_tables_m, only: solid_tables_t
@@ -27,11 +27,15 @@ module dynamic_setup_m
   use material_m, only: material_constant_names, material_constant
   use stable_step_m, only: step_control_t, step_control_calibrate, spacing_step
   use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init, &
-    detector_det_m, detector_nts, detector_name
+    detector_det_m, detector_nts, detector_name, side_facts_t
+  use rk_cloud_m, only: rk_cloud_t, cloud_init
+  use detection_m, only: share_det_medians, deep_particles, det_at_points
+  use surface3d_m, only: surface3d_build
   implicit none
   private
   public :: setup_solids, setup_contacts, setup_time_step, dynamic_setup_t, setup_dynamic
   public :: mpi_scene_check, setup_part_t, root_needs_whole, body_per_part
+  public :: side_facts_local
 
   !> The rank a set-up is for (mfcd_mpi): rank me (from 0) of nranks. A rank keeps, of a
   !! solid's tables, only the rows its box of the decomposition can need (the builders'
@@ -99,7 +103,7 @@ contains
     call setup_solids(deck, bodies, su%solids, su%isolid, err, quiet, part, regions, &
       su%trees)
     if (.not. allocated(err)) call setup_contacts(deck, bodies, su%solids, su%isolid, &
-      su%pairs, err, quiet, regions)
+      su%pairs, err, quiet, regions, part)
     if (allocated(err)) return
     if (.not. present(quiet)) then
       call scale_warnings(deck, bodies, su%solids, su%isolid)
@@ -487,25 +491,19 @@ contains
   !! per_part: the whole body is never made on a rank; its set-up makes the rank's region
   !! from the body's recipe, region_made): a deformable 3D RKPM body extruded along z
   !! (shape 'box', 'cylinder' or 'polygon') set up as a region shell (no rank keeps the
-  !! whole solids, root_whole; no spin: region_solid_do) whose contacts are all as the
-  !! slave of a rigid master (a deforming master's and a self-contact's sides take their
-  !! detection scalars from a cloud over the whole body: contact_pair_m side_init).
+  !! whole solids, root_whole; no spin: region_solid_do), in any contact: a deforming
+  !! master's and a self-contact's sides take the whole body's detection scalars and
+  !! surface from the ranks (side_facts).
   logical function body_per_part(deck, k, nranks, root_whole) result(yes)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k, nranks
     logical, intent(in) :: root_whole
-    integer :: j
     associate (bs => deck%bodies(k))
       yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         bs%discretization == 'rkpm' .and. bs%angular_velocity == 0.0_wp .and. &
         any(bs%shape == ['box     ', 'cylinder', 'polygon '])
     end associate
-    do j = 1, deck%ncontacts
-      if (deck%contacts(j)%imaster == k) yes = .false.
-      if (deck%contacts(j)%islave == k .and. &
-        deck%bodies(deck%contacts(j)%imaster)%role == 'deformable') yes = .false.
-    end do
   end function body_per_part
 
   !> Whether a rank makes only the particles of body k its region needs (tl_region_3d), not
@@ -762,9 +760,9 @@ contains
   end subroutine kinematic_masks
 
   !> The contact pairs of the deck's &contact groups, with their log lines (none if quiet).
-  subroutine setup_contacts(deck, bodies, solids, isolid, pairs, err, quiet, regions)
+  subroutine setup_contacts(deck, bodies, solids, isolid, pairs, err, quiet, regions, part)
     type(deck_t), intent(in) :: deck
-    type(body_t), intent(in) :: bodies(:)
+    type(body_t), intent(in), target :: bodies(:)
     type(solid_t), intent(in) :: solids(:)
     integer, intent(in) :: isolid(:)
     type(contact_pair_t), allocatable, intent(out) :: pairs(:)
@@ -772,11 +770,21 @@ contains
     logical, intent(in), optional :: quiet
     !> the solids' regions on a rank (setup_solids): a slave's side against a rigid
     !! master holds its region only
-    type(region_rows_t), intent(in), optional :: regions(:)
+    type(region_rows_t), intent(in), optional, target :: regions(:)
+    !> the ranks, for the sides of a body no rank holds whole (side_facts; collective)
+    type(setup_part_t), intent(in), optional :: part
     logical :: cut, cutm
     type(contact_params_t) :: prm
     type(error_t), allocatable :: e2
     integer :: k, im, is
+    !> each body no rank holds whole that is a deforming master or in a self-contact: what
+    !! its sides take of it (side_facts), made once
+    type(side_facts_t), allocatable :: facts(:)
+    logical, allocatable :: made(:)
+    type(body_t), pointer :: bsp, bmp
+    integer, pointer :: rs(:), rm(:)
+    allocate(facts(deck%nbodies), made(deck%nbodies))
+    made = .false.
     allocate(pairs(deck%ncontacts))
     do k = 1, deck%ncontacts
       associate (cs => deck%contacts(k))
@@ -801,7 +809,24 @@ contains
         ! (a deforming master's pair, or a self-contact: both sides over the regions)
         cutm = .false.
         if (cut .and. isolid(im) > 0) cutm = allocated(regions(isolid(im))%glob)
-        if (cutm) then
+        if (cutm .and. (bodies(is)%held_share .or. bodies(im)%held_share)) then
+          ! (a side whose body no rank holds whole: over the region the rank made of it,
+          ! with what it takes of the whole body found over the ranks)
+          call side_of(is, bsp, rs)
+          if (.not. allocated(e2)) call side_of(im, bmp, rm)
+          if (allocated(e2)) then
+            continue
+          else if (bodies(is)%held_share .and. bodies(im)%held_share) then
+            call contact_pair_init(pairs(k), prm, bsp, isolid(is), bmp, isolid(im), solids, &
+              deck%run%geometry == 'axisymmetric', e2, rs, rm, facts(is), facts(im))
+          else if (bodies(is)%held_share) then
+            call contact_pair_init(pairs(k), prm, bsp, isolid(is), bmp, isolid(im), solids, &
+              deck%run%geometry == 'axisymmetric', e2, rs, rm, facts_s=facts(is))
+          else
+            call contact_pair_init(pairs(k), prm, bsp, isolid(is), bmp, isolid(im), solids, &
+              deck%run%geometry == 'axisymmetric', e2, rs, rm, facts_m=facts(im))
+          end if
+        else if (cutm) then
           call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
             isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &
             regions(isolid(is))%glob, regions(isolid(im))%glob)
@@ -858,8 +883,126 @@ contains
         flush(output_unit)
       end associate
     end do
+
+  contains
+
+    !> The body and rows side_init takes for body kb: the region the rank made of it, and
+    !! the places in it, with its facts (made here on first use: collective, and every rank
+    !! walks the same pairs), when no rank holds it whole; else the body and its region.
+    subroutine side_of(kb, bp, rows)
+      integer, intent(in) :: kb
+      type(body_t), pointer, intent(out) :: bp
+      integer, pointer, intent(out) :: rows(:)
+      if (.not. bodies(kb)%held_share) then
+        bp => bodies(kb)
+        rows => regions(isolid(kb))%glob
+        return
+      end if
+      if (.not. allocated(regions(isolid(kb))%body)) error stop &
+        'setup_contacts: a body held as a share without its region made'
+      bp => regions(isolid(kb))%body
+      rows => regions(isolid(kb))%places
+      if (made(kb)) return
+      if (.not. present(part)) error stop 'setup_contacts: a share without the ranks'
+      call side_facts(part%comm, bodies(kb), facts(kb), e2)
+      made(kb) = .true.
+    end subroutine side_of
   end subroutine setup_contacts
 
+  !> What the sides over a rank's region of body b take of the whole body (contact_pair_m
+  !! side_facts_t), when the rank holds only its share of b (b%held_share: made from its
+  !! recipe b%ext, generators_m): side_facts_local's, then det(M)'s plateau and surface
+  !! median over the ranks (detection_m share_det_medians). Each is what side_init makes
+  !! of the whole body, to the bit (test_side_facts; mpi_run_3d_made). Collective; an
+  !! error on a rank reaches every rank.
+  subroutine side_facts(comm, b, f, err)
+    class(rank_comm_t), intent(inout) :: comm
+    type(body_t), intent(in) :: b
+    type(side_facts_t), intent(out) :: f
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: det(:)
+    logical, allocatable :: deep(:)
+    real(wp) :: flag(1)
+    call side_facts_local(b, f, det, deep, err)
+    flag = 0.0_wp
+    if (allocated(err)) flag = 1.0_wp
+    call comm%max_real(flag)
+    if (flag(1) > 0.0_wp) then
+      if (.not. allocated(err)) call set_error(err, "body '"//trim(b%name)//"': its "// &
+        "surface or det(M) failed on another rank")
+      return
+    end if
+    call share_det_medians(comm, det, deep, b%boundary, f%plateau, f%surface_det)
+  end subroutine side_facts
+
+  !> side_facts' part that needs no other rank, of body b held as a rank's share: the
+  !! extremes of the reference positions from the first and last layers (the section is
+  !! every layer's) and the largest support (the recipe's); the whole closed surface from
+  !! the facets and their vertices' positions made from the recipe (surface-sized); det(M)
+  !! at the share's particles and whether each is deep (detection_m deep_particles), in a
+  !! cloud of the particles within a support of them (and a spacing) on the whole cloud's
+  !! bins' grid, so that every sum runs in the whole cloud's order.
+  subroutine side_facts_local(b, f, det, deep, err)
+    type(body_t), intent(in) :: b
+    type(side_facts_t), intent(out) :: f
+    real(wp), allocatable, intent(out) :: det(:)
+    logical, allocatable, intent(out) :: deep(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(body_t) :: ends, near
+    type(rk_cloud_t) :: c
+    integer :: n, j, none(2), nv, g, k
+    real(wp) :: nowhere(2), lo(3), hi(3), reach(3), vol
+    real(wp), allocatable :: key(:), xv(:, :)
+    integer, allocatable :: order(:), v(:), vid(:)
+    logical :: bnd
+    none = 0
+    nowhere = 0.0_wp
+    call extrude_pick(b, 1, huge(1), [(-huge(1.0_wp), j = 1, 3)], &
+      [(huge(1.0_wp), j = 1, 3)], 0, none, nowhere, ends, ends=.true.)
+    f%lo = minval(ends%x, dim=2)
+    f%hi = maxval(ends%x, dim=2)
+    f%rmax = b%ext%rho
+    ! the surface's vertices (ascending) and their positions from the recipe
+    v = reshape(b%facets, [size(b%facets)])
+    key = real(v, wp)
+    allocate(order(size(v)), vid(size(v)))
+    call sort_index(key, order)
+    nv = 0
+    do j = 1, size(v)
+      if (nv > 0) then
+        if (vid(nv) == v(order(j))) cycle
+      end if
+      nv = nv + 1
+      vid(nv) = v(order(j))
+    end do
+    allocate(xv(3, nv))
+    do j = 1, nv
+      g = vid(j) - 1
+      k = g/b%ext%n2
+      call extruded_particle(b%ext, g - k*b%ext%n2 + 1, k + 1, xv(:, j), vol, bnd)
+    end do
+    call surface3d_build(f%surf3, xv, b%facets, err, at_vertices=.true.)
+    if (allocated(err)) then
+      err%message = "body '"//trim(b%name)//"': "//err%message
+      return
+    end if
+    ! the share's particles and those within a support of them (and a spacing)
+    n = size(b%x, 2)
+    reach = f%rmax + maxval(b%spacing)
+    lo = huge(1.0_wp)
+    hi = -huge(1.0_wp)
+    if (n > 0) then
+      lo = minval(b%x, dim=2) - reach
+      hi = maxval(b%x, dim=2) + reach
+    end if
+    call extrude_pick(b, 1, huge(1), lo, hi, 0, none, nowhere, near)
+    call cloud_init(c, near%x, near%rho, near%vol, b%kid, b%wshape, b%bid, b%h(1:3), err, &
+      grid_lo=f%lo, grid_hi=f%hi, rmax=f%rmax)
+    if (allocated(err)) return
+    allocate(det(n))
+    call det_at_points(c, b%x, det)
+    deep = deep_particles(c, near%boundary, b%x, b%rho)
+  end subroutine side_facts_local
   !> The time-step policy: the deck's fixed dt, or (dt = 0) cfl x the critical step that
   !! follows the deformation; calibrated once against the power iteration, on the ranks'
   !! parts (comm: the ranks; collective).
