@@ -77,6 +77,7 @@ contains
     integer :: m, k, a, b, ne, i
     integer, allocatable :: order(:), ea(:), eb(:), ef(:), ek(:)
     real(wp), allocatable :: key(:)
+    real(wp) :: top
     logical :: at_v
     at_v = .false.
     if (present(at_vertices)) at_v = at_vertices
@@ -93,6 +94,9 @@ contains
     ! edges: each undirected edge (smaller, larger vertex) must appear in two facets
     ne = 3*s%nf
     allocate(ea(ne), eb(ne), ef(ne), ek(ne), key(ne), order(ne))
+    ! (any factor above the largest number orders the edges alike)
+    top = 1.0_wp
+    if (size(tri) > 0) top = real(maxval(tri) + 1, wp)
     i = 0
     do m = 1, s%nf
       do k = 1, 3
@@ -103,8 +107,7 @@ contains
         eb(i) = max(a, b)
         ef(i) = m
         ek(i) = k
-        ! (any factor above the largest number orders the edges alike)
-        key(i) = real(ea(i), wp)*real(maxval(tri) + 1, wp) + real(eb(i), wp)
+        key(i) = real(ea(i), wp)*top + real(eb(i), wp)
       end do
     end do
     call sort_index(key, order)
