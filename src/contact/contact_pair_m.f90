@@ -616,10 +616,13 @@ contains
           "box, an extruded polygon or a cylinder")
         return
       end if
+      ! (over a rank's region the whole surface is read for its facets, vertices,
+      ! partners, cell and reference positions only, until the split takes the rank's
+      ! subset and frees it: without normals or bins)
       if (own .and. present(facts)) then
         s%surf3 = facts%surf3
       else if (own) then
-        call surface3d_build(s%surf3, b%x, b%facets, err)
+        call surface3d_build(s%surf3, b%x, b%facets, err, lean=present(rows))
       end if
       if (allocated(err)) then
         err%message = "body '"//trim(b%name)//"': "//err%message

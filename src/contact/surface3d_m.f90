@@ -66,21 +66,26 @@ contains
   !> The surface of the facets tri (3, nf) over the vertices x (3, np): normals and the
   !! pseudo-normals of edges and vertices. at_vertices (.false. by default): x (3, nv)
   !! holds the facets' distinct vertices' positions only, in ascending number (a body no
-  !! rank holds whole: its surface's vertices made from its recipe). err: an edge not
-  !! shared by exactly two facets (the surface is not closed).
-  subroutine surface3d_build(s, x, tri, err, at_vertices)
+  !! rank holds whole: its surface's vertices made from its recipe). lean (.false. by
+  !! default): the facets, vertices, edge partners, positions and cell size only, without
+  !! normals or bins (a whole surface on a rank before the split, which takes its subset
+  !! from these and frees it: a quarter of the memory). err: an edge not shared by
+  !! exactly two facets (the surface is not closed).
+  subroutine surface3d_build(s, x, tri, err, at_vertices, lean)
     type(surface3d_t), intent(out) :: s
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: tri(:, :)
     type(error_t), allocatable, intent(inout) :: err
-    logical, intent(in), optional :: at_vertices
+    logical, intent(in), optional :: at_vertices, lean
     integer :: m, k, a, b, ne, i
     integer, allocatable :: order(:), ea(:), eb(:), ef(:), ek(:)
     real(wp), allocatable :: key(:)
     real(wp) :: top
-    logical :: at_v
+    logical :: at_v, geometry
     at_v = .false.
     if (present(at_vertices)) at_v = at_vertices
+    geometry = .true.
+    if (present(lean)) geometry = .not. lean
     s%nf = size(tri, 2)
     s%tri = tri
     call vertices_of(s)
@@ -90,7 +95,8 @@ contains
     else
       s%x = x(:, s%vid)
     end if
-    allocate(s%fn(3, s%nf), s%en(3, 3, s%nf), s%vn(3, size(s%vid)), s%partner(3, s%nf))
+    allocate(s%partner(3, s%nf))
+    if (geometry) allocate(s%fn(3, s%nf), s%en(3, 3, s%nf), s%vn(3, size(s%vid)))
     ! edges: each undirected edge (smaller, larger vertex) must appear in two facets
     ne = 3*s%nf
     allocate(ea(ne), eb(ne), ef(ne), ek(ne), key(ne), order(ne))
@@ -134,7 +140,7 @@ contains
         norm2(s%x(:, s%tv(1, m)) - s%x(:, s%tv(3, m))))
     end do
     s%cell = s%cell/real(max(s%nf, 1), wp)
-    call surface3d_refresh(s)
+    if (geometry) call surface3d_refresh(s)
   end subroutine surface3d_build
 
   !> The facets of full whose three vertices are held, in their order, as a surface of

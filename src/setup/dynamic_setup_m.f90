@@ -776,7 +776,7 @@ contains
     logical :: cut, cutm
     type(contact_params_t) :: prm
     type(error_t), allocatable :: e2
-    integer :: k, im, is
+    integer :: k, im, is, kb
     !> each body no rank holds whole that is a deforming master or in a self-contact: what
     !! its sides take of it (side_facts), made once
     type(side_facts_t), allocatable :: facts(:)
@@ -850,6 +850,12 @@ contains
           return
         end if
       end associate
+      ! (a body's facts once no later pair reads them: each side keeps its own surface, a
+      ! third copy would add to the set-up's peak)
+      do kb = 1, deck%nbodies
+        if (made(kb) .and. .not. any(deck%contacts(k + 1:)%imaster == kb .or. &
+          deck%contacts(k + 1:)%islave == kb)) facts(kb) = side_facts_t()
+      end do
       if (present(quiet)) then
         if (quiet) cycle
       end if
@@ -938,7 +944,8 @@ contains
   !> side_facts' part that needs no other rank, of body b held as a rank's share: the
   !! extremes of the reference positions from the first and last layers (the section is
   !! every layer's) and the largest support (the recipe's); the whole closed surface from
-  !! the facets and their vertices' positions made from the recipe (surface-sized); det(M)
+  !! the facets and their vertices' positions made from the recipe (surface-sized; lean,
+  !! as side_init builds it over a rank's region); det(M)
   !! at the share's particles and whether each is deep (detection_m deep_particles), in a
   !! cloud of the particles within a support of them (and a spacing) on the whole cloud's
   !! bins' grid, so that every sum runs in the whole cloud's order.
@@ -981,7 +988,7 @@ contains
       k = g/b%ext%n2
       call extruded_particle(b%ext, g - k*b%ext%n2 + 1, k + 1, xv(:, j), vol, bnd)
     end do
-    call surface3d_build(f%surf3, xv, b%facets, err, at_vertices=.true.)
+    call surface3d_build(f%surf3, xv, b%facets, err, at_vertices=.true., lean=.true.)
     if (allocated(err)) then
       err%message = "body '"//trim(b%name)//"': "//err%message
       return
