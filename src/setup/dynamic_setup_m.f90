@@ -969,7 +969,12 @@ contains
     f%lo = minval(ends%x, dim=2)
     f%hi = maxval(ends%x, dim=2)
     f%rmax = b%ext%rho
-    ! the surface's vertices (ascending) and their positions from the recipe
+    ! the surface's vertices (ascending) and their positions from the recipe (none when
+    ! the section has no triangulation that closes it: side_init says so, as serially)
+    if (.not. allocated(b%facets)) then
+      call share_dets()
+      return
+    end if
     v = reshape(b%facets, [size(b%facets)])
     key = real(v, wp)
     allocate(order(size(v)), vid(size(v)))
@@ -993,22 +998,29 @@ contains
       err%message = "body '"//trim(b%name)//"': "//err%message
       return
     end if
-    ! the share's particles and those within a support of them (and a spacing)
-    n = size(b%x, 2)
-    reach = f%rmax + maxval(b%spacing)
-    lo = huge(1.0_wp)
-    hi = -huge(1.0_wp)
-    if (n > 0) then
-      lo = minval(b%x, dim=2) - reach
-      hi = maxval(b%x, dim=2) + reach
-    end if
-    call extrude_pick(b, 1, huge(1), lo, hi, 0, none, nowhere, near)
-    call cloud_init(c, near%x, near%rho, near%vol, b%kid, b%wshape, b%bid, b%h(1:3), err, &
-      grid_lo=f%lo, grid_hi=f%hi, rmax=f%rmax)
-    if (allocated(err)) return
-    allocate(det(n))
-    call det_at_points(c, b%x, det)
-    deep = deep_particles(c, near%boundary, b%x, b%rho)
+    call share_dets()
+
+  contains
+
+    !> det(M) and the deep flags at the share's particles
+    subroutine share_dets()
+      ! the share's particles and those within a support of them (and a spacing)
+      n = size(b%x, 2)
+      reach = f%rmax + maxval(b%spacing)
+      lo = huge(1.0_wp)
+      hi = -huge(1.0_wp)
+      if (n > 0) then
+        lo = minval(b%x, dim=2) - reach
+        hi = maxval(b%x, dim=2) + reach
+      end if
+      call extrude_pick(b, 1, huge(1), lo, hi, 0, none, nowhere, near)
+      call cloud_init(c, near%x, near%rho, near%vol, b%kid, b%wshape, b%bid, b%h(1:3), err, &
+        grid_lo=f%lo, grid_hi=f%hi, rmax=f%rmax)
+      if (allocated(err)) return
+      allocate(det(n))
+      call det_at_points(c, b%x, det)
+      deep = deep_particles(c, near%boundary, b%x, b%rho)
+    end subroutine share_dets
   end subroutine side_facts_local
   !> The time-step policy: the deck's fixed dt, or (dt = 0) cfl x the critical step that
   !! follows the deformation; calibrated once against the power iteration, on the ranks'
