@@ -551,7 +551,8 @@ contains
   !! (contact_correct): without a cloud, det(M) measures or surface of its own; with rows
   !! (ascending numbers in b), over those particles only (a rank's region of a decomposed
   !! set-up, which the split cuts to its part: contact_pair_cut); when b holds some
-  !! particles of a larger body (b%glob: the region a rank made of it, a slave's only),
+  !! particles of a larger body (b%glob: the region a rank made of it; a master's or a
+  !! self-contact's side then takes what it needs of the whole body from facts),
   !! rows are places in b.
   subroutine side_init(s, b, isolid, solids, axisym, eps_cr, eps_rel, err, slave_only, rows, &
     facts)
