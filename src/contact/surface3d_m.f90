@@ -31,6 +31,7 @@ module surface3d_m
   implicit none
   private
   public :: surface3d_t, surface3d_build, surface3d_update, surface3d_gap, surface3d_subset
+  public :: surface3d_vertices
 
   type :: surface3d_t
     integer :: nf = 0
@@ -185,29 +186,37 @@ contains
     call surface3d_update(s, x)
   end subroutine surface3d_subset
 
+  !> The distinct vertex numbers of the facets tri (3, nf), ascending, by sorting the
+  !! facets' corners (no array over the body's particles, whose numbers they are).
+  function surface3d_vertices(tri) result(vid)
+    integer, intent(in) :: tri(:, :)
+    integer, allocatable :: vid(:)
+    real(wp), allocatable :: key(:)
+    integer, allocatable :: order(:), c(:)
+    integer :: i, n
+    c = reshape(tri, [size(tri)])
+    allocate(key(size(c)), order(size(c)), vid(size(c)))
+    key = real(c, wp)
+    call sort_index(key, order)
+    n = 0
+    do i = 1, size(c)
+      if (n > 0) then
+        if (vid(n) == c(order(i))) cycle
+      end if
+      n = n + 1
+      vid(n) = c(order(i))
+    end do
+    vid = vid(1:n)
+  end function surface3d_vertices
+
   !> The vertices of s's facets (s%tri): their numbers, ascending (vid), and each facet's
   !! vertices' places among them (tv), by sorting the facets' corners: no array over the
   !! body's particles, whose numbers they are.
   subroutine vertices_of(s)
     type(surface3d_t), intent(inout) :: s
-    real(wp), allocatable :: key(:)
-    integer, allocatable :: order(:), c(:)
-    integer :: i, n, m, k
-    c = reshape(s%tri, [3*s%nf])
-    allocate(key(size(c)), order(size(c)))
-    key = real(c, wp)
-    call sort_index(key, order)
+    integer :: m, k
     if (allocated(s%vid)) deallocate(s%vid)
-    allocate(s%vid(size(c)))
-    n = 0
-    do i = 1, size(c)
-      if (n > 0) then
-        if (s%vid(n) == c(order(i))) cycle
-      end if
-      n = n + 1
-      s%vid(n) = c(order(i))
-    end do
-    s%vid = s%vid(1:n)
+    s%vid = surface3d_vertices(s%tri)
     if (allocated(s%tv)) deallocate(s%tv)
     allocate(s%tv(3, s%nf))
     do m = 1, s%nf

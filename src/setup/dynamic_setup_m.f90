@@ -13,7 +13,7 @@ module dynamic_setup_m
   use body_m, only: body_t
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
-  use sorting_m, only: sorted_place, sort_index
+  use sorting_m, only: sorted_place
   use generators_m, only: extrude_pick, extrude_count, extruded_particle
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part, region_of, &
     region_rows
@@ -30,7 +30,7 @@ module dynamic_setup_m
     detector_det_m, detector_nts, detector_name, side_facts_t
   use rk_cloud_m, only: rk_cloud_t, cloud_init
   use detection_m, only: share_det_medians, deep_particles, det_at_points
-  use surface3d_m, only: surface3d_build
+  use surface3d_m, only: surface3d_build, surface3d_vertices
   implicit none
   private
   public :: setup_solids, setup_contacts, setup_time_step, dynamic_setup_t, setup_dynamic
@@ -959,8 +959,8 @@ contains
     type(rk_cloud_t) :: c
     integer :: n, j, none(2), nv, g, k
     real(wp) :: nowhere(2), lo(3), hi(3), reach(3), vol
-    real(wp), allocatable :: key(:), xv(:, :)
-    integer, allocatable :: order(:), v(:), vid(:)
+    real(wp), allocatable :: xv(:, :)
+    integer, allocatable :: vid(:)
     logical :: bnd
     none = 0
     nowhere = 0.0_wp
@@ -975,18 +975,8 @@ contains
       call share_dets()
       return
     end if
-    v = reshape(b%facets, [size(b%facets)])
-    key = real(v, wp)
-    allocate(order(size(v)), vid(size(v)))
-    call sort_index(key, order)
-    nv = 0
-    do j = 1, size(v)
-      if (nv > 0) then
-        if (vid(nv) == v(order(j))) cycle
-      end if
-      nv = nv + 1
-      vid(nv) = v(order(j))
-    end do
+    vid = surface3d_vertices(b%facets)
+    nv = size(vid)
     allocate(xv(3, nv))
     do j = 1, nv
       g = vid(j) - 1
