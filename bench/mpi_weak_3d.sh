@@ -10,7 +10,9 @@
 # and every rank's peak resident memory (GNU time's %M).
 # SELF=1 adds the bar's self-contact (a &contact group of the bar with itself: 3D
 # self-contact's sides, which hold arrays over all their particles on every rank).
-# Usage: [STEPS=N] [SELF=1] bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
+# FEM=1 makes the bar of linear tetrahedra on the same lattice (discretization = 'fem': the
+# quarter disk's prisms, three tetrahedra each) instead of RKPM particles.
+# Usage: [STEPS=N] [SELF=1] [FEM=1] bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
 #   default: build-mpi-rel/bin (bench/mpi_scaling.sh builds it), ranks 2 4 8, 10 steps of 15 ns
 #   (more steps, e.g. STEPS=50, to time the time loop's weak scaling too)
 # More ranks than cores run oversubscribed: the memory holds, the set-up's seconds are then
@@ -26,14 +28,17 @@ steps=${STEPS:-10}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "# mfcd_mpi weak scaling of the set-up, 3D Taylor bar 30 mm a rank, $steps steps$([ "${SELF:-0}" = 1 ] && echo ', with its self-contact')"
-echo "- date: $(date -Iseconds); commit: $(git -C "$root" rev-parse --short HEAD 2>/dev/null); bin: $bin"
+echo "# mfcd_mpi weak scaling of the set-up, 3D Taylor bar 30 mm a rank, $steps steps$([ "${FEM:-0}" = 1 ] && echo ', tetrahedra')$([ "${SELF:-0}" = 1 ] && echo ', with its self-contact')"
+echo "- date: $(date -Iseconds); repository at $(git -C "$root" rev-parse --short HEAD 2>/dev/null); bin: $bin (its commit: each run's first log line)"
 echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc --all)"
 for n in "${ranks[@]}"; do
   len=$(python3 -c "print(f'{0.03*$n:.4f}')")
   sed -e "s#file = 'output/#file = '$work/#" -e "s/t_end = 4.5e-6/t_end = $(python3 -c "print(f'{15e-9*$steps:.4e}')")/" \
     -e "s/extrude = 0.0, 0.06/extrude = 0.0, $len/" \
     "$root/bench/decks/taylor_bar_3d_rkpm_bench.nml" > "$work/t.nml"
+  if [ "${FEM:-0}" = 1 ]; then
+    sed -i "s/^  material = 'steel'/  material = 'steel'\n  discretization = 'fem'/" "$work/t.nml"
+  fi
   if [ "${SELF:-0}" = 1 ]; then
     printf "&contact\n  master = 'bar'\n  slave = 'bar'\n/\n" >> "$work/t.nml"
   fi
@@ -42,6 +47,7 @@ for n in "${ranks[@]}"; do
   (cd "$work" && mpiexec --oversubscribe --bind-to none -n "$n" sh -c \
     'exec /usr/bin/time -o "mem.$OMPI_COMM_WORLD_RANK" -f "%M" "$1" t.nml' sh \
     "$bin/mfcd_mpi" > log.txt 2> err.txt) || { tail -5 "$work/err.txt"; exit 1; }
+  grep -m1 -E "^mfcd .*\(git " "$work/log.txt" | sed -e 's/^/  /'
   grep -E "body 'bar':.*nodes|summary: [0-9]+ steps|summary: time loop|resident memory" "$work/log.txt" \
     | sed -e 's/^/  /' -e 's/, material.*kg;/;/'
   for r in $(seq 0 $((n - 1))); do

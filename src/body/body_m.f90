@@ -29,6 +29,9 @@ module body_m
     logical :: shifted = .false.
     real(wp) :: shift(3) = 0.0_wp
     real(wp) :: rho(3) = 0.0_wp
+    !> the section's triangles (3, nt) of a body of tetrahedra (tet4_m tet4_prisms: its
+    !! elements numbered by layer, triangle, then the prism's three), else unallocated
+    integer, allocatable :: tri2(:, :)
   end type extrusion_t
 
   type :: body_t
@@ -149,7 +152,8 @@ contains
     end if
     b%held_share = .true.
     if (allocated(b%ext)) deallocate(b%ext)
-    if (allocated(b%cells)) then
+    ! (a share made as such holds its elements' share already: ncells > 0)
+    if (allocated(b%cells) .and. b%ncells == 0) then
       b%ncells = size(b%cells, 2)
       b%cell0 = share_first(b%ncells, me, nranks)
       c1 = share_first(b%ncells, me + 1, nranks) - 1

@@ -833,19 +833,24 @@ contains
 
   !> Particle q = i + (k - 1) n2 of the extruded body of recipe e (extrude_body's position,
   !! volume and boundary flag, then moved by e%shift as build_body's placement does): the
-  !! same operations in the same order, so the same bits.
-  pure subroutine extruded_particle(e, i, k, x, vol, bnd)
+  !! same operations in the same order, so the same bits. as_made: the position as
+  !! extrude_body made it, before the placement (what its tetrahedra were ordered by).
+  pure subroutine extruded_particle(e, i, k, x, vol, bnd, as_made)
     type(extrusion_t), intent(in) :: e
     integer, intent(in) :: i, k
     real(wp), intent(out) :: x(3), vol
     logical, intent(out) :: bnd
+    logical, intent(in), optional :: as_made
     real(wp) :: slab
+    logical :: moved
+    moved = e%shifted
+    if (present(as_made)) moved = moved .and. .not. as_made
     slab = e%dz
     if (k == 1 .or. k == e%nz) slab = 0.5_wp*e%dz
     x(1:2) = e%x2(1:2, i)
     x(3) = e%z0 + real(k - 1, wp)*e%dz
     if (k == e%nz) x(3) = e%z1
-    if (e%shifted) x = x + e%shift
+    if (moved) x = x + e%shift
     vol = e%vol2(i)*slab
     bnd = e%bnd2(i) .or. k == 1 .or. k == e%nz
   end subroutine extruded_particle

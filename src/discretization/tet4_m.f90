@@ -17,15 +17,16 @@ module tet4_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
-  use body_m, only: body_t
-  use generators_m, only: section_triangles
+  use body_m, only: body_t, extrusion_t
+  use generators_m, only: section_triangles, extruded_particle, extrude_pick
+  use sorting_m, only: sorted_place
   use dims_m, only: dims_3d
   use solid_tables_m, only: solid_tables_t, tables_finish_elements, element_rows
   use mesh_cells_m, only: check_cells, tet_volume
   implicit none
   private
   public :: tet4_mesh_t, tet4_extruded, tet4_prisms, tet4_tables, tet4_boundary_faces, &
-    tet4_volume, tet4_face_neighbours
+    tet4_volume, tet4_face_neighbours, extruded_tets, tet4_region, tet4_section
 
   !> Tetrahedra over the nodes of a body_t.
   type :: tet4_mesh_t
@@ -50,7 +51,6 @@ contains
     type(tet4_mesh_t), intent(out) :: mesh
     type(error_t), allocatable, intent(inout) :: err
     integer, allocatable :: tri(:, :)
-    logical :: ok
     integer :: nz
     if (b%ndim /= 3 .or. b2%np < 3 .or. mod(b%np, max(b2%np, 1)) /= 0) then
       call set_error(err, "body '"//trim(b%name)//"': tetrahedra need the 3D body extruded "// &
@@ -60,15 +60,24 @@ contains
       return
     end if
     nz = b%np/b2%np
-    call section_triangles(b2, tri, ok)
-    if (.not. ok) then
-      call set_error(err, "body '"//trim(b%name)//"': the section has no triangulation "// &
-        'for tetrahedra (a polygon needs its vertices on lattice points; a cylinder must '// &
-        'be whole, theta_end = 360): mesh it (gmsh) or use RKPM')
-      return
-    end if
+    call tet4_section(b2, b%name, tri, err)
+    if (allocated(err)) return
     call tet4_prisms(b%x, tri, b2%np, nz, mesh, err)
   end subroutine tet4_extruded
+
+  !> The triangles tri (3, nt) of the section b2 of body name that tet4_prisms cuts into
+  !! tetrahedra (generators_m section_triangles), refused when it has none.
+  subroutine tet4_section(b2, name, tri, err)
+    type(body_t), intent(in) :: b2
+    character(len=*), intent(in) :: name
+    integer, allocatable, intent(out) :: tri(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    logical :: ok
+    call section_triangles(b2, tri, ok)
+    if (.not. ok) call set_error(err, "body '"//trim(name)//"': the section has no "// &
+      'triangulation for tetrahedra (a polygon needs its vertices on lattice points; a '// &
+      'cylinder must be whole, theta_end = 360): mesh it (gmsh) or use RKPM')
+  end subroutine tet4_section
 
   !> The prisms of the section triangles tri (3, nt) over nz layers of n2 nodes (node (i, k)
   !! is i + (k - 1) n2, x (3, n2 nz) their positions), each cut into three tetrahedra. Each
@@ -87,7 +96,7 @@ contains
     integer, intent(in) :: tri(:, :), n2, nz
     type(tet4_mesh_t), intent(out) :: mesh
     type(error_t), allocatable, intent(inout) :: err
-    integer :: nt, m, k, e, s(3), o, t4(4, 3), j
+    integer :: nt, m, k, e, t4(4), j
     real(wp) :: v
     nt = size(tri, 2)
     if (nz < 2 .or. nt < 1 .or. size(x, 1) /= 3 .or. size(x, 2) < n2*nz) then
@@ -105,17 +114,11 @@ contains
     allocate(mesh%tet(4, mesh%ne))
     e = 0
     do k = 1, nz - 1
-      o = (k - 1)*n2
       do m = 1, nt
-        s = sort3(tri(:, m))
-        ! every other layer the mirror cut (from its highest-numbered section node)
-        if (mod(k, 2) == 0) s = s(3:1:-1)
-        t4(:, 1) = [s(1), s(2), s(3), s(3) + n2] + o
-        t4(:, 2) = [s(1), s(2), s(3) + n2, s(2) + n2] + o
-        t4(:, 3) = [s(1), s(2) + n2, s(3) + n2, s(1) + n2] + o
         do j = 1, 3
-          v = tet4_volume(x(:, t4(:, j)))
-          if (v < 0.0_wp) t4(3:4, j) = t4([4, 3], j)
+          t4 = prism_tet(tri(:, m), k, j, n2)
+          v = tet4_volume(x(:, t4))
+          if (v < 0.0_wp) t4(3:4) = t4([4, 3])
           if (.not. (abs(v) > 0.0_wp)) then
             call set_error(err, 'tetrahedra of an extruded section: triangle '//itoa(m)// &
               ' in layer '//itoa(k)//' gives a tetrahedron of zero volume (a degenerate '// &
@@ -123,20 +126,200 @@ contains
             return
           end if
           e = e + 1
-          mesh%tet(:, e) = t4(:, j)
+          mesh%tet(:, e) = t4
         end do
       end do
     end do
-  contains
-    pure function sort3(a) result(b)
-      integer, intent(in) :: a(3)
-      integer :: b(3)
-      b = a
-      if (b(1) > b(2)) b([1, 2]) = b([2, 1])
-      if (b(2) > b(3)) b([2, 3]) = b([3, 2])
-      if (b(1) > b(2)) b([1, 2]) = b([2, 1])
-    end function sort3
   end subroutine tet4_prisms
+
+  !> The nodes of tetrahedron j (1..3) of the prism over the section triangle tri3 in layer
+  !! k of an extruded body of n2 nodes a layer, tet4_prisms' cut before its orientation:
+  !! the section's nodes sorted p < q < r (reversed in the even layers: the mirror cut), the
+  !! tetrahedra (p, q, r, r'), (p, q, r', q'), (p, q', r', p').
+  pure function prism_tet(tri3, k, j, n2) result(t4)
+    integer, intent(in) :: tri3(3), k, j, n2
+    integer :: t4(4), s(3)
+    s = sort3(tri3)
+    if (mod(k, 2) == 0) s = s(3:1:-1)
+    select case (j)
+    case (1)
+      t4 = [s(1), s(2), s(3), s(3) + n2]
+    case (2)
+      t4 = [s(1), s(2), s(3) + n2, s(2) + n2]
+    case default
+      t4 = [s(1), s(2) + n2, s(3) + n2, s(1) + n2]
+    end select
+    t4 = t4 + (k - 1)*n2
+  end function prism_tet
+
+  pure function sort3(a) result(b)
+    integer, intent(in) :: a(3)
+    integer :: b(3)
+    b = a
+    if (b(1) > b(2)) b([1, 2]) = b([2, 1])
+    if (b(2) > b(3)) b([2, 3]) = b([3, 2])
+    if (b(1) > b(2)) b([1, 2]) = b([2, 1])
+  end function sort3
+
+  !> The tetrahedra g0 ... g1 (tet (4, g1 - g0 + 1)) of the extruded body of recipe e, whose
+  !! section's triangles are e%tri2 (tet4_extruded's mesh, tet4_prisms' numbering: layer,
+  !! triangle, then the prism's three), without the mesh: the nodes as the body's numbers,
+  !! each tetrahedron ordered for a positive volume from the positions as extrude_body made
+  !! them (tet4_extruded's, to the bit). ok: .false. when one of them has zero volume (bad:
+  !! its number).
+  subroutine extruded_tets(e, g0, g1, tet, ok, bad)
+    type(extrusion_t), intent(in) :: e
+    integer, intent(in) :: g0, g1
+    integer, allocatable, intent(out) :: tet(:, :)
+    logical, intent(out) :: ok
+    integer, intent(out) :: bad
+    integer :: g
+    logical :: okg
+    allocate(tet(4, max(0, g1 - g0 + 1)))
+    ok = .true.
+    bad = 0
+    do g = g0, g1
+      call extruded_tet(e, g, tet(:, g - g0 + 1), okg)
+      if (.not. okg .and. ok) bad = g
+      ok = ok .and. okg
+    end do
+  end subroutine extruded_tets
+
+  !> Tetrahedron g of the extruded body of recipe e (extruded_tets).
+  pure subroutine extruded_tet(e, g, t4, ok)
+    type(extrusion_t), intent(in) :: e
+    integer, intent(in) :: g
+    integer, intent(out) :: t4(4)
+    logical, intent(out) :: ok
+    real(wp) :: xt(3, 4), vol, v
+    logical :: bnd
+    integer :: nt, l
+    nt = size(e%tri2, 2)
+    t4 = prism_tet(e%tri2(:, mod((g - 1)/3, nt) + 1), (g - 1)/(3*nt) + 1, mod(g - 1, 3) + 1, &
+      e%n2)
+    do l = 1, 4
+      call extruded_particle(e, mod(t4(l) - 1, e%n2) + 1, (t4(l) - 1)/e%n2 + 1, xt(:, l), &
+        vol, bnd, as_made=.true.)
+    end do
+    v = tet4_volume(xt)
+    if (v < 0.0_wp) t4(3:4) = t4([4, 3])
+    ok = abs(v) > 0.0_wp
+  end subroutine extruded_tet
+
+  !> What a rank makes of the extruded body of tetrahedra b (its recipe b%ext with the
+  !! section's triangles: the whole body is never made) for its box (3, 2) of the
+  !! decomposition: the tetrahedra all of whose nodes lie within 2 l + s of the box (l the
+  !! longest edge of the mesh, s the largest spacing, for the rounding), as mesh over the
+  !! nodes of body r (generators_m extrude_pick's, cut to those the tetrahedra use), with
+  !! their numbers in the whole mesh, eglob (ascending; ne_whole of them). They hold every
+  !! tetrahedron tet4_tables keeps a row of for the box (its centroid or a vertex in it:
+  !! every vertex within l of the box) and every tetrahedron of each of those rows' nodes
+  !! (within l of such a vertex), in the whole mesh's order: those nodes' masses are the
+  !! same sums in the same order as the whole body's.
+  subroutine tet4_region(b, box, r, mesh, eglob, ne_whole, err)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: box(3, 2)
+    type(body_t), intent(out) :: r
+    type(tet4_mesh_t), intent(out) :: mesh
+    integer, allocatable, intent(out) :: eglob(:)
+    integer, intent(out) :: ne_whole
+    type(error_t), allocatable, intent(inout) :: err
+    type(body_t) :: near
+    real(wp) :: lo(3), hi(3), l2, xa(2), xb(2), tlo(2), thi(2)
+    integer :: none(2), nt, k, m, j, g, n, pass, l, i, t4(4), at(4), k0, k1
+    real(wp) :: nowhere(2)
+    logical, allocatable :: used(:), cross(:)
+    integer, allocatable :: loc(:)
+    logical :: ok
+    associate (e => b%ext)
+      nt = size(e%tri2, 2)
+      ne_whole = 3*nt*(e%nz - 1)
+      ! the longest edge: a prism's edges and its side faces' diagonals
+      l2 = e%dz**2
+      do m = 1, nt
+        do j = 1, 3
+          xa = e%x2(:, e%tri2(j, m))
+          xb = e%x2(:, e%tri2(mod(j, 3) + 1, m))
+          l2 = max(l2, sum((xa - xb)**2) + e%dz**2)
+        end do
+      end do
+      lo = box(:, 1) - (2.0_wp*sqrt(l2) + maxval(b%spacing))
+      hi = box(:, 2) + (2.0_wp*sqrt(l2) + maxval(b%spacing))
+      none = 0
+      nowhere = 0.0_wp
+      call extrude_pick(b, 1, b%np, lo, hi, 0, none, nowhere, near)
+      ! (the section's triangles with a node in the x-y range: the others' prisms have none)
+      allocate(cross(nt))
+      do m = 1, nt
+        tlo = minval(e%x2(:, e%tri2(:, m)), dim=2)
+        thi = maxval(e%x2(:, e%tri2(:, m)), dim=2)
+        if (e%shifted) then
+          tlo = tlo + e%shift(1:2)
+          thi = thi + e%shift(1:2)
+        end if
+        cross(m) = all(thi >= lo(1:2)) .and. all(tlo <= hi(1:2))
+      end do
+      allocate(used(near%np))
+      used = .false.
+      k0 = 1
+      k1 = 0
+      if (near%np > 0) then
+        k0 = (near%glob(1) - 1)/e%n2 + 1
+        k1 = min((near%glob(near%np) - 1)/e%n2, e%nz - 1)
+      end if
+      do pass = 1, 2
+        n = 0
+        do k = k0, k1
+          do m = 1, nt
+            if (.not. cross(m)) cycle
+            do j = 1, 3
+              t4 = prism_tet(e%tri2(:, m), k, j, e%n2)
+              do l = 1, 4
+                at(l) = sorted_place(near%glob, t4(l))
+              end do
+              if (any(at == 0)) cycle
+              n = n + 1
+              if (pass == 1) cycle
+              g = 3*(nt*(k - 1) + m - 1) + j
+              call extruded_tet(e, g, t4, ok)
+              if (.not. ok) then
+                call set_error(err, 'tetrahedra of an extruded section: tetrahedron '// &
+                  itoa(g)//' has zero volume (a degenerate section triangle)')
+                return
+              end if
+              do l = 1, 4
+                at(l) = sorted_place(near%glob, t4(l))
+              end do
+              used(at) = .true.
+              mesh%tet(:, n) = at
+              eglob(n) = g
+            end do
+          end do
+        end do
+        if (pass == 1) allocate(mesh%tet(4, n), eglob(n))
+      end do
+      mesh%ne = n
+    end associate
+    ! the nodes the tetrahedra use, renumbered
+    allocate(loc(near%np))
+    loc = 0
+    n = 0
+    do i = 1, near%np
+      if (.not. used(i)) cycle
+      n = n + 1
+      loc(i) = n
+    end do
+    do m = 1, mesh%ne
+      mesh%tet(:, m) = loc(mesh%tet(:, m))
+    end do
+    r = near
+    r%np = n
+    r%x = near%x(:, pack([(i, i = 1, near%np)], used))
+    r%vol = pack(near%vol, used)
+    r%boundary = pack(near%boundary, used)
+    r%rho = near%rho(:, pack([(i, i = 1, near%np)], used))
+    r%glob = pack(near%glob, used)
+  end subroutine tet4_region
 
   !> Signed volume of the tetrahedron xt (3, 4) (m^3): positive when node 4 lies on the side
   !! of the face (1, 2, 3) that its right-hand normal points to.

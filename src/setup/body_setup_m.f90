@@ -18,6 +18,7 @@ module body_setup_m
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
   use kinds_m, only: i64
+  use rank_comm_m, only: share_first
   use hdf5_io_m, only: read_particle_file_h5, h5file_t, h5_open_read, h5_close, h5_has, &
     h5_shape, h5_read
   use detection_m, only: body_cloud, body_plateau
@@ -27,7 +28,8 @@ module body_setup_m
   use rk_cloud_m, only: cloud_det
   use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_annulus
   use mesh_cells_m, only: mesh_from_tags, mesh_body_arrays, tet_volume
-  use tet4_m, only: tet4_mesh_t, tet4_extruded, tet4_boundary_faces
+  use tet4_m, only: tet4_mesh_t, tet4_extruded, tet4_boundary_faces, extruded_tets, &
+    tet4_section
   use gmsh_mesh_m, only: gmsh_mesh_model
   use confine_m, only: confine_limits_t
   use log_m, only: log_print
@@ -352,9 +354,9 @@ contains
       if (allocated(b%ext)) b%ext%rho = s%support_factor(1:3)*b%spacing(1:3)
     end if
     ! an extruded body's recipe is kept where a rank can make its region from it: a
-    ! deformable RKPM body of a dynamic run (dynamic_setup_m)
-    if (allocated(b%ext) .and. (s%discretization /= 'rkpm' .or. s%role /= 'deformable' .or. &
-      deck%run%mode /= 'dynamic')) deallocate(b%ext)
+    ! deformable body of a dynamic run, RKPM or tetrahedra (dynamic_setup_m)
+    if (allocated(b%ext) .and. (.not. any(s%discretization == ['rkpm', 'fem ']) .or. &
+      s%role /= 'deformable' .or. deck%run%mode /= 'dynamic')) deallocate(b%ext)
     ! Theorem 3.1 on the generating lattice: name the smallest support factor that works.
     if (any(s%shape == ['segment  ', 'rectangle', 'polygon  ', 'box      ']) .and. &
       .not. allocated(b%cells)) then
@@ -406,10 +408,30 @@ contains
       type(body_t), intent(inout) :: body
       type(error_t), allocatable, intent(inout) :: e
       type(tet4_mesh_t) :: tm
+      integer, allocatable :: tri2(:, :)
+      integer :: c0, c1, bad
+      logical :: ok
       if (s%discretization /= 'fem' .or. s%role /= 'deformable' .or. &
         deck%run%mode /= 'dynamic') return
-      call tet4_extruded(sec, body, tm, e)
-      if (.not. allocated(e)) call move_alloc(tm%tet, body%cells)
+      ! (named already for the messages, as build_body names it below)
+      body%name = s%name
+      if (.not. body%held_share) then
+        call tet4_extruded(sec, body, tm, e)
+        if (.not. allocated(e)) call move_alloc(tm%tet, body%cells)
+        return
+      end if
+      ! a rank's share (build_bodies on ranks): the section's triangles in the recipe, its
+      ! share of the tetrahedra (for /bodies) made from it, cell0 ... of ncells
+      call tet4_section(sec, body%name, tri2, e)
+      if (allocated(e)) return
+      call move_alloc(tri2, body%ext%tri2)
+      body%ncells = 3*size(body%ext%tri2, 2)*(body%ext%nz - 1)
+      c0 = share_first(body%ncells, share(1), share(2))
+      c1 = share_first(body%ncells, share(1) + 1, share(2)) - 1
+      body%cell0 = c0
+      call extruded_tets(body%ext, c0, c1, body%cells, ok, bad)
+      if (.not. ok) call set_error(e, 'tetrahedra of an extruded section: tetrahedron '// &
+        itoa(bad)//' has zero volume (a degenerate section triangle)')
     end subroutine tets_if_fem
   end subroutine build_body
 

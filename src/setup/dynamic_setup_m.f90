@@ -21,7 +21,7 @@ module dynamic_setup_m
   use rkpm_tl_m, only: tl_build, scheme_id
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
-  use tet4_m, only: tet4_mesh_t, tet4_tables
+  use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin, &
     solid_np_whole, solid_nq_whole
   use material_m, only: material_constant_names, material_constant
@@ -309,17 +309,40 @@ contains
     type(body_t), pointer :: bp
     integer, allocatable :: rows(:)
     real(wp) :: made(1)
+    !> a region's tetrahedra made from the recipe (tet4_region): their whole mesh's numbers
+    integer, allocatable :: eglob(:)
+    integer :: ne_whole
     bs = deck%bodies(k)
     bp => b
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
     if (allocated(b%cells) .and. b%ndim == 3) then
       ! linear tetrahedra with averaged nodal pressure (tet4_m); on a rank, the rows of the
       ! elements of its region (the masses and the rest whole: no sum over the ranks)
-      tmesh%ne = size(b%cells, 2)
-      tmesh%tet = b%cells
       if (region_box(part, b, tree, box)) then
-        call tet4_tables(b, tmesh, deck%materials(bs%imat)%params%density, t, e2, box)
+        if (b%held_share) then
+          ! (a body no rank holds whole: the rank's tetrahedra and nodes made from its
+          ! recipe, tet4_region; the smallest height and the total mass over the ranks)
+          allocate(reg%body)
+          call tet4_region(b, box, reg%body, tmesh, eglob, ne_whole, e2)
+          bp => reg%body
+          if (.not. allocated(e2)) call tet4_tables(bp, tmesh, &
+            deck%materials(bs%imat)%params%density, t, e2, box)
+          call region_tet_sums(part, tree, bp, t, e2)
+          made = real(max(bp%np, size(b%x, 2)), wp)
+          call part%comm%max_real(made)
+          if (.not. allocated(e2)) write(output_unit, '(a)') "dynamic: body '"// &
+            trim(b%name)//"': made per rank (its share, then its region's tetrahedra "// &
+            'from the body''s section and layers), at most '//itoa(nint(made(1)))// &
+            ' particles (nodes) on a rank, of '//itoa(b%np)//' (the whole body is '// &
+            'made on no rank)'
+        else
+          tmesh%ne = size(b%cells, 2)
+          tmesh%tet = b%cells
+          call tet4_tables(b, tmesh, deck%materials(bs%imat)%params%density, t, e2, box)
+        end if
       else
+        tmesh%ne = size(b%cells, 2)
+        tmesh%tet = b%cells
         call tet4_tables(b, tmesh, deck%materials(bs%imat)%params%density, t, e2)
       end if
       alpha = 0.0_wp
@@ -416,8 +439,14 @@ contains
         if (allocated(bp%glob)) then
           reg%places = rows
           rows = bp%glob(rows)
-          qrows = bp%glob(qrows)
-          nq_whole = bp%np_whole
+          if (allocated(eglob)) then
+            ! (a region's tetrahedra: their numbers in the whole mesh)
+            qrows = eglob(qrows)
+            nq_whole = ne_whole
+          else
+            qrows = bp%glob(qrows)
+            nq_whole = bp%np_whole
+          end if
         end if
         call move_alloc(qrows, s%part%qglob)
         s%part%nglob = rows
@@ -489,7 +518,8 @@ contains
 
   !> Whether body k is made as each rank's share only on nranks ranks (build_bodies'
   !! per_part: the whole body is never made on a rank; its set-up makes the rank's region
-  !! from the body's recipe, region_made): a deformable 3D RKPM body extruded along z
+  !! from the body's recipe, region_made, or its tetrahedra's, tet4_region): a deformable
+  !! 3D body of RKPM particles or of tetrahedra extruded along z
   !! (shape 'box', 'cylinder' or 'polygon') set up as a region shell (no rank keeps the
   !! whole solids, root_whole; no spin: region_solid_do), in any contact: a deforming
   !! master's and a self-contact's sides take the whole body's detection scalars and
@@ -501,7 +531,7 @@ contains
     associate (bs => deck%bodies(k))
       yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
-        bs%discretization == 'rkpm' .and. bs%angular_velocity == 0.0_wp .and. &
+        any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
         any(bs%shape == ['box     ', 'cylinder', 'polygon '])
     end associate
   end function body_per_part
@@ -554,7 +584,6 @@ contains
     real(wp), intent(in) :: box(3, 2)
     integer, allocatable, intent(out) :: rows(:)
     type(error_t), allocatable, intent(inout) :: err
-    real(wp) :: flag(1)
     real(wp), allocatable :: sbuf(:), rbuf(:), back(:), got(:)
     integer, allocatable :: owner(:), to(:), from(:), sptr(:), rptr(:), bptr(:), fill(:), &
       cnt(:), asked(:)
@@ -563,14 +592,7 @@ contains
     if (.not. associated(part%comm)) error stop 'region_masses: setup_part_t%comm not set'
     me = part%comm%me
     np = part%comm%nranks
-    flag = 0.0_wp
-    if (allocated(err) .or. .not. allocated(t%mass)) flag = 1.0_wp
-    call part%comm%max_real(flag)
-    if (flag(1) > 0.0_wp) then
-      if (.not. allocated(err)) call set_error(err, 'the set-up failed on another '// &
-        'rank (its message is on its standard error)')
-      return
-    end if
+    if (failed_on_a_rank(part, err, .not. allocated(t%mass))) return
     call region_of(t, b, box, rows)
     ! (b may hold some particles of a larger body, glob: the requests and answers are in
     ! the whole body's numbers)
@@ -638,6 +660,45 @@ contains
     end do
     t%total_mass = exact_allsum(e, part%comm)
   end subroutine region_masses
+
+  !> The whole mesh's smallest height (the time step's) and total mass (for the log) for
+  !! the tables t of a rank's tetrahedra of body b made from its recipe (tet4_region): the
+  !! least of the ranks' heights (every tetrahedron is on some rank: the serial minimum,
+  !! exactly) and the exact sum of the masses of the nodes in each rank's part (tree). An
+  !! error on a rank reaches all first. Collective.
+  subroutine region_tet_sums(part, tree, b, t, err)
+    type(setup_part_t), intent(in) :: part
+    type(rcb_tree_t), intent(in) :: tree
+    type(body_t), intent(in) :: b
+    type(solid_tables_t), intent(inout) :: t
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp) :: h(1)
+    type(exact_sum_t) :: e
+    integer :: i
+    if (failed_on_a_rank(part, err, .not. allocated(t%mass))) return
+    h = -t%hmin
+    call part%comm%max_real(h)
+    t%hmin = -h(1)
+    do i = 1, b%np
+      if (rcb_part(tree, b%x(:, i)) == part%me + 1) call exact_add(e, t%mass(i))
+    end do
+    t%total_mass = exact_allsum(e, part%comm)
+  end subroutine region_tet_sums
+
+  !> Whether the set-up failed on any rank (err, or bad: a result missing) before a
+  !! collective step, said on the ranks without a message of their own. Collective.
+  logical function failed_on_a_rank(part, err, bad) result(failed)
+    type(setup_part_t), intent(in) :: part
+    type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in) :: bad
+    real(wp) :: flag(1)
+    flag = 0.0_wp
+    if (allocated(err) .or. bad) flag = 1.0_wp
+    call part%comm%max_real(flag)
+    failed = flag(1) > 0.0_wp
+    if (failed .and. .not. allocated(err)) call set_error(err, 'the set-up failed on '// &
+      'another rank (its message is on its standard error)')
+  end function failed_on_a_rank
 
   !> The lumped masses of an RKPM solid whole on every rank of a decomposed set-up: a rank that
   !! integrated only the cells its box needs (tl_build_3d's and tl_build's box) has the masses of

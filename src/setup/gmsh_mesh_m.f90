@@ -17,9 +17,9 @@
 !! The calls are those gmsh's parser makes for the same script (Gmsh.y of gmsh 4: a point's
 !! size 0 is "none", a 3-point ellipse is start, centre, start, end), in the script's order,
 !! then synchronize, Mesh.ElementOrder 1, generate 2 (3 in a 3D run), the nodes and the
-!! elements of that dimension, finalize; regression_geo_equivalence checks that the mesh is gmsh's mesh of the script,
-!! bit for bit. Compiled when the build finds gmsh (MFCD_GMSH, cmake/MfcdFindGmsh.cmake);
-!! gmsh_mesh_stub_m.f90 is this module without it.
+!! elements of that dimension, finalize; regression_geo_equivalence checks that the mesh is
+!! gmsh's mesh of the script, bit for bit. Compiled when the build finds gmsh (MFCD_GMSH,
+!! cmake/MfcdFindGmsh.cmake); gmsh_mesh_stub_m.f90 is this module without it.
 !!
 !! The task sets the floating-point traps off in its own thread (a Debug build traps invalid
 !! operations, which gmsh's arithmetic may raise and handle); mfcd's threads keep theirs.

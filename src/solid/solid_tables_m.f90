@@ -107,9 +107,6 @@ contains
     call move_alloc(a%fix1, b%fix1)
   end subroutine tables_move
 
-  !> The end of an element builder's tables (cst4_m, tet4_m), once masses and weights are
-  !! in: the position table N_I(X_J) is the identity (nodal interpolation: eq. 99), the
-  !! totals, the transpose.
   !> The rows an element mesh keeps for a rank's box (the builders' box; doc/parallel.md):
   !! an element's when its point xq(:, e) or one of its vertices cells(:, e) (over the
   !! nodes x, ndim = size(x, 1) rows of box used) lies in the closed box, which holds
@@ -149,20 +146,37 @@ contains
     end function in_box
   end subroutine element_rows
 
+  !> The end of an element builder's tables (cst4_m, tet4_m), once masses and weights are
+  !! in: the position table N_I(X_J) is the identity (nodal interpolation: eq. 99), the
+  !! totals, the transpose.
   subroutine tables_finish_elements(t, transpose)
     type(solid_tables_t), intent(inout) :: t
-    !> build the transpose (default; .false.: a rank's rows, transposed after the split)
+    !> build the transpose (default; .false.: a rank's rows, transposed after the split,
+    !! and position rows only at the nodes those rows touch: the rank's region, not the
+    !! whole mesh's nodes, decomposition_m region_of)
     logical, intent(in), optional :: transpose
-    integer :: i
-    allocate(t%pptr(t%np + 1), t%pnbr(t%np), t%pn(t%dims%npos, t%np))
-    t%pptr = [(i, i = 1, t%np + 1)]
-    t%pnbr = [(i, i = 1, t%np)]
+    logical, allocatable :: has(:)
+    integer :: i, j
+    logical :: rows
+    rows = .false.
+    if (present(transpose)) rows = .not. transpose
+    allocate(has(t%np))
+    has = .not. rows
+    if (rows) has(t%nbr) = .true.
+    allocate(t%pptr(t%np + 1), t%pnbr(count(has)), t%pn(t%dims%npos, count(has)))
+    t%pptr(1) = 1
+    j = 0
+    do i = 1, t%np
+      if (has(i)) then
+        j = j + 1
+        t%pnbr(j) = i
+      end if
+      t%pptr(i + 1) = j + 1
+    end do
     t%pn = 1.0_wp
     t%total_mass = sum(t%mass)
     t%total_volume = sum(t%wgt)
-    if (present(transpose)) then
-      if (.not. transpose) return
-    end if
+    if (rows) return
     call tables_transpose(t)
   end subroutine tables_finish_elements
 

@@ -47,7 +47,7 @@ side of every such pair must have held fewer particles on each rank than its bod
 over the whole body; the decks are large enough against the ghost width for that to show).
 
 With --made NAME (repeatable; a deck of the list, by its name without .nml, with an
-extruded 3D RKPM body that is no deforming master and in no self-contact): on 2 ranks and
+extruded 3D body, of RKPM particles or of tetrahedra): on 2 ranks and
 more, mfcd_mpi's log must say that each such body was made per rank (each rank its share
 and its region from the body's recipe, never the whole body), and the most particles a rank
 made must be fewer than the body has.
@@ -422,7 +422,8 @@ def main():
                           int(a) < int(c) and int(b) < int(d) for a, b, c, d in held),
                       held or p.stdout[-800:])
             if p.returncode == 0 and name in MADE and n >= 2:
-                made = re.findall(r"made per rank .*?, at most (\d+) particles on a rank, of "
+                made = re.findall(r"made per rank .*?, at most (\d+) particles(?: \(nodes\))? "
+                                  r"on a rank, of "
                                   r"(\d+) \(the whole body is made on no rank\)", p.stdout)
                 check(f"{name}, {n} ranks: each extruded body made per rank, no rank making "
                       "all its particles", len(made) > 0 and all(
