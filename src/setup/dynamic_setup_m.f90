@@ -840,7 +840,8 @@ contains
     integer :: k, im, is, kb
     !> each body no rank holds whole that is a deforming master or in a self-contact: what
     !! its sides take of it (side_facts), made once
-    type(side_facts_t), allocatable :: facts(:)
+    type(side_facts_t), allocatable, target :: facts(:)
+    type(side_facts_t), pointer :: fs, fm
     logical, allocatable :: made(:)
     type(body_t), pointer :: bsp, bmp
     integer, pointer :: rs(:), rm(:)
@@ -873,20 +874,12 @@ contains
         if (cutm .and. (bodies(is)%held_share .or. bodies(im)%held_share)) then
           ! (a side whose body no rank holds whole: over the region the rank made of it,
           ! with what it takes of the whole body found over the ranks)
-          call side_of(is, bsp, rs)
-          if (.not. allocated(e2)) call side_of(im, bmp, rm)
-          if (allocated(e2)) then
-            continue
-          else if (bodies(is)%held_share .and. bodies(im)%held_share) then
-            call contact_pair_init(pairs(k), prm, bsp, isolid(is), bmp, isolid(im), solids, &
-              deck%run%geometry == 'axisymmetric', e2, rs, rm, facts(is), facts(im))
-          else if (bodies(is)%held_share) then
-            call contact_pair_init(pairs(k), prm, bsp, isolid(is), bmp, isolid(im), solids, &
-              deck%run%geometry == 'axisymmetric', e2, rs, rm, facts_s=facts(is))
-          else
-            call contact_pair_init(pairs(k), prm, bsp, isolid(is), bmp, isolid(im), solids, &
-              deck%run%geometry == 'axisymmetric', e2, rs, rm, facts_m=facts(im))
-          end if
+          ! (a side of a body some rank holds whole takes no facts: its pointer is null,
+          ! an absent optional argument)
+          call side_of(is, bsp, rs, fs)
+          if (.not. allocated(e2)) call side_of(im, bmp, rm, fm)
+          if (.not. allocated(e2)) call contact_pair_init(pairs(k), prm, bsp, isolid(is), &
+            bmp, isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, rs, rm, fs, fm)
         else if (cutm) then
           call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
             isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &
@@ -954,12 +947,15 @@ contains
   contains
 
     !> The body and rows side_init takes for body kb: the region the rank made of it, and
-    !! the places in it, with its facts (made here on first use: collective, and every rank
-    !! walks the same pairs), when no rank holds it whole; else the body and its region.
-    subroutine side_of(kb, bp, rows)
+    !! the places in it, with its facts f (made here on first use: collective, and every
+    !! rank walks the same pairs), when no rank holds it whole; else the body and its
+    !! region, f null.
+    subroutine side_of(kb, bp, rows, f)
       integer, intent(in) :: kb
       type(body_t), pointer, intent(out) :: bp
       integer, pointer, intent(out) :: rows(:)
+      type(side_facts_t), pointer, intent(out) :: f
+      f => null()
       if (.not. bodies(kb)%held_share) then
         bp => bodies(kb)
         rows => regions(isolid(kb))%glob
@@ -969,6 +965,7 @@ contains
         'setup_contacts: a body held as a share without its region made'
       bp => regions(isolid(kb))%body
       rows => regions(isolid(kb))%places
+      f => facts(kb)
       if (made(kb)) return
       if (.not. present(part)) error stop 'setup_contacts: a share without the ranks'
       call side_facts(part%comm, bodies(kb), facts(kb), e2)
