@@ -30,6 +30,18 @@ meshes its surfaces with first-order triangles, and this script writes what mfcd
 Only the nodes of the triangles are kept (gmsh's construction points are dropped). Exits 2
 with a message on a bad geometry or an empty mesh.
 
+With --3d the script's volumes are meshed with linear tetrahedra (a 3D deck's body, mesh
+once and run many times: mfcd's shape = 'geo' meshes it again each run):
+
+| dataset | shape (h5py) | meaning |
+|---|---|---|
+| /particles/x | (np, 3) | node coordinates (m) |
+| /particles/volume | (np,) | each node's quarter of every tetrahedron it belongs to (m^3), summed node 1, 2, 3, 4 of each tetrahedron in turn |
+| /mesh/tetrahedra | (ne, 4) | node numbers (1-based rows of /particles/x), positive volume: node 4 on the side of face (1, 2, 3) its right-hand normal points to |
+
+The nodes and tetrahedra are numbered and oriented as mfcd numbers and orients its own mesh
+of the script (shape = 'geo'), so the two bodies are the same bits (regression_geo_equivalence).
+
 mfcd builds the same body in memory from the .geo itself (`&body shape = 'geo'`, when built
 with gmsh: src/body/mesh_cells_m.f90 ports the functions below, bit for bit; the test
 `regression_geo_equivalence` compares the two). This script remains the way to look at a
@@ -43,8 +55,9 @@ import h5py
 import numpy as np
 
 
-def mesh_geo(geo, numbers, quiet=True):
-    """(x (np, 2), triangles (ne, 3) 0-based, counter-clockwise) of the .geo's 2D mesh."""
+def mesh_geo(geo, numbers, quiet=True, dim=2):
+    """(x (np, 2), triangles (ne, 3) 0-based, counter-clockwise) of the .geo's 2D mesh; with
+    dim=3, (x (np, 3), tetrahedra (ne, 4) 0-based, positive volume) of its 3D mesh."""
     import gmsh
     # without the user's gmsh configuration files (~/.gmshrc, gmsh-options), as mfcd's
     # &body shape = 'geo' does (src/setup/gmsh_mesh_m.f90): the same .geo and numbers give the
@@ -56,29 +69,77 @@ def mesh_geo(geo, numbers, quiet=True):
             gmsh.parser.setNumber(name, [value])
         gmsh.merge(geo)   # merge, not open: open resets the parser numbers set above
         gmsh.option.setNumber("Mesh.ElementOrder", 1)
-        gmsh.model.mesh.generate(2)
+        gmsh.model.mesh.generate(dim)
         tags, xyz, _ = gmsh.model.mesh.getNodes()
-        types, _, nodes = gmsh.model.mesh.getElements(2)
+        types, _, nodes = gmsh.model.mesh.getElements(dim)
         version = gmsh.__version__
     finally:
         gmsh.finalize()
-    tri = [np.asarray(n, dtype=np.int64).reshape(-1, 3)
-           for t, n in zip(types, nodes) if t == 2]
-    if not tri:
-        raise ValueError(f"{geo}: the mesh has no triangles (is there a Plane Surface?)")
-    tri = np.concatenate(tri)
-    index = {int(t): k for k, t in enumerate(tags)}
-    tri = np.vectorize(index.__getitem__)(tri)
-    x = np.asarray(xyz, dtype=float).reshape(-1, 3)[:, :2]
-    used = np.unique(tri)
-    renum = -np.ones(x.shape[0], dtype=np.int64)
-    renum[used] = np.arange(used.size)
-    x, tri = x[used], renum[tri]
+    if dim == 3:
+        x, tet = used_nodes(tags, xyz, types, nodes, 4, 4, 3, f"{geo}: the mesh has no "
+                            "tetrahedra (is there a Volume?)")
+        # a positive volume (mfcd's mesh_from_tags: nodes 3 and 4 swapped where negative)
+        v = tet_volumes(x, tet)
+        if np.any(v == 0.0):
+            raise ValueError(f"tetrahedron {int(np.argmax(v == 0.0)) + 1} of the mesh has "
+                             "no volume (a degenerate element)")
+        flip = v < 0
+        tet[flip] = tet[flip][:, [0, 1, 3, 2]]
+        return x, tet, version
+    x, tri = used_nodes(tags, xyz, types, nodes, 2, 3, 2, f"{geo}: the mesh has no "
+                        "triangles (is there a Plane Surface?)")
     # counter-clockwise
     a = signed_areas(x, tri)
     flip = a < 0
     tri[flip] = tri[flip][:, [0, 2, 1]]
     return x, tri, version
+
+
+def used_nodes(tags, xyz, types, nodes, etype, nv, nd, empty):
+    """(x (np, nd), elements (ne, nv) 0-based) of gmsh's elements of type etype (2: 3-node
+    triangles, 4: 4-node tetrahedra) in gmsh's order, over the nodes they use in gmsh's
+    order (np.unique), as mfcd's mesh_from_tags numbers them; ValueError(empty) if none."""
+    elem = [np.asarray(n, dtype=np.int64).reshape(-1, nv)
+            for t, n in zip(types, nodes) if t == etype]
+    if not elem:
+        raise ValueError(empty)
+    elem = np.concatenate(elem)
+    index = {int(t): k for k, t in enumerate(tags)}
+    elem = np.vectorize(index.__getitem__)(elem)
+    x = np.asarray(xyz, dtype=float).reshape(-1, 3)[:, :nd]
+    used = np.unique(elem)
+    renum = -np.ones(x.shape[0], dtype=np.int64)
+    renum[used] = np.arange(used.size)
+    return x[used], renum[elem]
+
+
+def tet_volumes(x, tet):
+    """Signed volumes of the tetrahedra, as mfcd's tet_volume computes them (the same
+    operations in the same order: the same doubles)."""
+    e1 = x[tet[:, 1]] - x[tet[:, 0]]
+    e2 = x[tet[:, 2]] - x[tet[:, 0]]
+    e3 = x[tet[:, 3]] - x[tet[:, 0]]
+    return (e1[:, 0] * (e2[:, 1] * e3[:, 2] - e2[:, 2] * e3[:, 1])
+            - e1[:, 1] * (e2[:, 0] * e3[:, 2] - e2[:, 2] * e3[:, 0])
+            + e1[:, 2] * (e2[:, 0] * e3[:, 1] - e2[:, 1] * e3[:, 0])) / 6.0
+
+
+def write_body_3d(path, x, tet, attrs):
+    """The particle file of a tetrahedral mesh: the nodes, each node's quarter of every
+    tetrahedron it belongs to (summed node 1, 2, 3, 4 of each in turn, as mfcd sums them),
+    the tetrahedra (1-based)."""
+    v = tet_volumes(x, tet)
+    vol = np.zeros(x.shape[0])
+    for k in range(4):
+        np.add.at(vol, tet[:, k], 0.25 * v)
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    with h5py.File(path, "w") as f:
+        f["particles/x"] = x
+        f["particles/volume"] = vol
+        f["mesh/tetrahedra"] = (tet + 1).astype(np.int32)
+        for k, val in attrs.items():
+            f.attrs[k] = val
+    return vol, v
 
 
 def signed_areas(x, tri):
@@ -181,6 +242,9 @@ def main(argv=None):
     ap.add_argument("out")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="a gmsh parser number, e.g. h=0.5e-3 (repeat for more)")
+    ap.add_argument("--3d", dest="three_d", action="store_true",
+                    help="mesh the script's volumes with linear tetrahedra (a 3D body: "
+                         "/particles/x (np, 3), /particles/volume, /mesh/tetrahedra)")
     ap.add_argument("--trusted", action="store_true",
                     help="the script is yours: gmsh's interpreter may run it (it can run "
                          "programs and write files; untrusted scripts: &body shape = 'geo')")
@@ -205,6 +269,18 @@ def main(argv=None):
         print("mesh_body: error: the gmsh Python module is missing: run "
               "`bash tools/setup.sh --gmsh` (PyPI gmsh into .venv)", file=sys.stderr)
         return 2
+    if a.three_d:
+        try:
+            x, tet, version = mesh_geo(a.geo, numbers, dim=3)
+        except (ValueError, Exception) as e:   # gmsh raises plain Exceptions
+            print(f"mesh_body: error: {a.geo}: {e}", file=sys.stderr)
+            return 2
+        attrs = {"source": os.path.basename(a.geo), "gmsh_version": version,
+                 "parameters": "; ".join(f"{k}={v:g}" for k, v in numbers.items())}
+        vol, v = write_body_3d(a.out, x, tet, attrs)
+        print(f"mesh_body: {a.out}: {x.shape[0]} nodes, {tet.shape[0]} tetrahedra; volume "
+              f"{v.sum():.6e} m^3, nodal volumes sum to {vol.sum():.6e}")
+        return 0
     try:
         x, tri, version = mesh_geo(a.geo, numbers)
         loops = boundary_loops(tri)

@@ -282,6 +282,16 @@ contains
       else
         what = "particle file '"//trim(s%file)//"'"
         call read_particles(trim(s%file), nd, xs, vols, loop, order, e2)
+        ! a 3D file's tetrahedra (tools/mesh_body.py --3d): the body of their nodes, as a
+        ! gmsh script's in memory
+        if (.not. allocated(e2) .and. nd == 3) call read_file_tets(trim(s%file), what, xs, &
+          vols, tets, tri, e2)
+        if (.not. allocated(e2) .and. nd == 3 .and. .not. tets .and. &
+          s%role == 'deformable' .and. deck%run%mode == 'dynamic') call set_error(e2, &
+          what//" has no /mesh/tetrahedra: a deformable 3D body from a file is its "// &
+          "tetrahedral mesh ('fem': its elements; 'rkpm': their median-dual cells); "// &
+          "write the file with tools/mesh_body.py --3d, or mesh the script in the deck "// &
+          "(shape = 'geo')")
       end if
       if (tets) then
         ! linear tetrahedra of the script's volumes: the body of their nodes
@@ -295,8 +305,8 @@ contains
       end if
       if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
       if (.not. allocated(e2)) call check_file_layout(what, b, e2)
-      if (.not. allocated(e2) .and. s%shape == 'file') call read_mesh_extras(trim(s%file), &
-        b%np, has_tri, tri, has_cells, ptr, xy, e2)
+      if (.not. allocated(e2) .and. s%shape == 'file' .and. .not. tets) &
+        call read_mesh_extras(trim(s%file), b%np, has_tri, tri, has_cells, ptr, xy, e2)
       if (.not. allocated(e2) .and. .not. tets) call set_mesh_extras(what, s, &
         deck%run%mode == 'dynamic', has_tri, tri, has_cells, ptr, xy, b, local, e2)
       if (.not. allocated(e2) .and. deck%run%mode == 'dynamic' .and. s%role == &
@@ -993,6 +1003,86 @@ contains
     call log_print("  its surface: "//itoa(size(b%facets, 2))//" triangles over "// &
       itoa(count(b%boundary))//" nodes")
   end subroutine tet_mesh_body
+
+  !> The tetrahedra tet (4, ne) of a 3D particle file (/mesh/tetrahedra, (ne, 4) in h5py,
+  !! 1-based rows of /particles/x; tools/mesh_body.py --3d), when it has them (has), over
+  !! its particles x (3, np) with volumes vol: every node number in range, every
+  !! tetrahedron of positive volume (tet_mesh_body orders nothing: a file's are as given),
+  !! and the file's volumes those of the tetrahedra (each node's quarter of its
+  !! tetrahedra, which the body takes) within vol_tol, so that a file whose columns
+  !! disagree is refused rather than half used. what names the file.
+  subroutine read_file_tets(path, what, x, vol, has, tet, err)
+    character(len=*), intent(in) :: path, what
+    real(wp), intent(in) :: x(:, :), vol(:)
+    logical, intent(out) :: has
+    integer, allocatable, intent(out) :: tet(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    !> the file's volumes against the tetrahedra's: a relative difference beyond this is
+    !! not round-off (mesh_body.py writes the same sums in the same order: none at all)
+    real(wp), parameter :: vol_tol = 1.0e-9_wp
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    integer, allocatable :: dims(:)
+    integer(i64), allocatable :: tet8(:, :)
+    real(wp), allocatable :: v4(:)
+    real(wp) :: v
+    integer :: l, e, k, np
+    has = .false.
+    l = len_trim(path)
+    if (.not. (l > 3 .and. (path(max(1, l - 2):l) == '.h5' .or. &
+      path(max(1, l - 4):l) == '.hdf5'))) return
+    np = size(x, 2)
+    call h5_open_read(f, path, err)
+    if (allocated(err)) return
+    has = h5_has(f, '/mesh/tetrahedra')
+    if (has) then
+      call h5_shape(f, '/mesh/tetrahedra', dims, err)
+      if (.not. allocated(err)) then
+        if (size(dims) /= 2 .or. dims(1) /= 4) call set_error(err, what// &
+          ": /mesh/tetrahedra must be (ne, 4) node numbers")
+      end if
+      if (.not. allocated(err)) then
+        allocate(tet8(4, dims(2)))
+        call h5_read(f, '/mesh/tetrahedra', tet8, err)
+      end if
+      if (.not. allocated(err)) then
+        ! range-checked before the conversion to default integers
+        if (size(tet8, 2) == 0) call set_error(err, what//": /mesh/tetrahedra is empty")
+        if (any(tet8 < 1 .or. tet8 > np) .and. .not. allocated(err)) call set_error(err, &
+          what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
+      end if
+      if (.not. allocated(err)) tet = int(tet8)
+    end if
+    call h5_close(f, e2)
+    if (allocated(err) .or. .not. has) return
+    allocate(v4(np))
+    v4 = 0.0_wp
+    do e = 1, size(tet, 2)
+      v = tet_volume(x, tet(:, e))
+      if (.not. (v > 0.0_wp)) then
+        call set_error(err, what//": tetrahedron "//itoa(e)//" of /mesh/tetrahedra (nodes "// &
+          itoa(tet(1, e))//", "//itoa(tet(2, e))//", "//itoa(tet(3, e))//", "// &
+          itoa(tet(4, e))//") has volume "//rtoa(v)//" m^3: each needs a positive volume, "// &
+          "node 4 on the side of face (1, 2, 3) its right-hand normal points to "// &
+          "(tools/mesh_body.py --3d orders them)")
+        return
+      end if
+    end do
+    do k = 1, 4
+      do e = 1, size(tet, 2)
+        v4(tet(k, e)) = v4(tet(k, e)) + 0.25_wp*tet_volume(x, tet(:, e))
+      end do
+    end do
+    do k = 1, np
+      if (.not. (abs(vol(k) - v4(k)) <= vol_tol*v4(k))) then
+        call set_error(err, what//", particle "//itoa(k)//": its volume "//rtoa(vol(k))// &
+          " m^3 is not its quarter of the tetrahedra it belongs to, "//rtoa(v4(k))// &
+          " m^3 (a node in no tetrahedron has none): /particles/volume and "// &
+          "/mesh/tetrahedra disagree; write the file with tools/mesh_body.py --3d")
+        return
+      end if
+    end do
+  end subroutine read_file_tets
 
   !> What an HDF5 particle file may add to its particles (tools/mesh_body.py writes both):
   !! /mesh/triangles (ne, 3 in h5py; 1-based rows of /particles/x), the elements of an FE

@@ -1133,10 +1133,12 @@ contains
     integer :: j, nd
     nd = deck%run%ndim
     if (s%discretization == 'fem' .and. nd == 3 .and. s%shape /= 'box' .and. &
-      s%shape /= 'cylinder' .and. s%shape /= 'polygon' .and. s%shape /= 'geo') then
+      s%shape /= 'cylinder' .and. s%shape /= 'polygon' .and. s%shape /= 'geo' .and. &
+      s%shape /= 'file') then
       call bad(deck, grp, 'discretization', "'fem'", "3D finite elements (linear "// &
         "tetrahedra with averaged nodal pressure) are generated on a 'box', a 'cylinder' "// &
-        "or an extruded 'polygon', or meshed from a gmsh script (shape = 'geo'); use "// &
+        "or an extruded 'polygon', meshed from a gmsh script (shape = 'geo') or read "// &
+        "from an HDF5 particle file with /mesh/tetrahedra (tools/mesh_body.py --3d); use "// &
         "discretization = 'rkpm' for shape '"//trim(s%shape)//"'", err)
       return
     end if
@@ -1164,11 +1166,12 @@ contains
       ! what the RKPM tables would refuse at set-up (rkpm_tl_m), named here
       ! (a 'file' body brings its cells, or the body set-up says it has none)
       if (nd == 3 .and. s%shape /= 'box' .and. s%shape /= 'polygon' .and. &
-        s%shape /= 'cylinder' .and. s%shape /= 'geo') then
+        s%shape /= 'cylinder' .and. s%shape /= 'geo' .and. s%shape /= 'file') then
         call bad(deck, grp, 'shape', "'"//trim(s%shape)//"'", "a deformable 3D RKPM body "// &
           "is integrated over the prism cells of an extruded body or the median-dual "// &
-          "cells of a gmsh script's tetrahedra: use shape = 'box', 'cylinder', 'polygon' "// &
-          "(with extrude) or 'geo'", err)
+          "cells of a tetrahedral mesh: use shape = 'box', 'cylinder', 'polygon' (with "// &
+          "extrude), 'geo' or 'file' (an HDF5 file with /mesh/tetrahedra, "// &
+          "tools/mesh_body.py --3d)", err)
         return
       end if
       if (nd == 2 .and. s%integration /= 'direct' .and. s%shape /= 'rectangle' .and. &

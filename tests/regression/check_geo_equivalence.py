@@ -3,7 +3,8 @@
 item 1): `&body shape = 'geo'`, where mfcd meshes the .geo in memory through gmsh's C API
 (src/setup/gmsh_mesh_m.f90) and builds the nodes, volumes, boundary loops and median-dual cells
 itself (src/body/mesh_cells_m.f90), and `shape = 'file'` on the particle file tools/mesh_body.py
-writes from the same .geo and numbers with gmsh's Python API.
+writes from the same .geo and numbers with gmsh's Python API (with --3d for a 3D deck: the
+script's volumes as tetrahedra, /mesh/tetrahedra, read back as the same tetrahedral body).
 
 For each deck given (a deck with one shape = 'geo' body, e.g. input/hertz_sphere_fem.nml), in
 a temporary directory: the .geo copied where the deck names it; the mesh file made by
@@ -150,9 +151,11 @@ def main():
             mesh = "meshes/body.h5"
             # --trusted: the shipped scripts go through gmsh's own interpreter here, the
             # independent route the reader's model is compared with
+            # (a 3D deck's body: the script's volumes as tetrahedra, mesh_body.py --3d)
+            dim3 = ["--3d"] if re.search(r"(?im)^\s*ndim\s*=\s*3", text) else []
             p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "mesh_body.py"),
-                                "--trusted", geo, mesh] + ["--set=%s=%s" % nv
-                                                           for nv in numbers],
+                                "--trusted", geo, mesh] + dim3 + ["--set=%s=%s" % nv
+                                                                  for nv in numbers],
                                cwd=tmp, capture_output=True, text=True)
             check("%s: tools/mesh_body.py %s %s" % (label, geo, " ".join(
                 "--set %s=%s" % nv for nv in numbers)), p.returncode == 0, p.stderr)
