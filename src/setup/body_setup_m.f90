@@ -1055,6 +1055,9 @@ contains
     end if
     call h5_close(f, e2)
     if (allocated(err) .or. .not. has) return
+    ! (finite numbers first: no volume of a NaN or Infinity is computed)
+    call check_file_values(what, x, vol, err)
+    if (allocated(err)) return
     allocate(v4(np))
     v4 = 0.0_wp
     do e = 1, size(tet, 2)

@@ -94,12 +94,19 @@ contains
     call comm%sum_i8(cnt)
     call comm%max_real(v(3:4))
     ndir = int(min(max(cnt(1), 1_i64), int(max_dirs, i64)))
-    ! a whole ring spans 2 pi less one step; a sector its span with both ends
-    full = v(4) + v(3) > twopi*(1.0_wp - 1.5_wp/real(ndir, wp))
-    if (full) then
-      step = twopi/real(ndir, wp)
-    else
-      step = (v(4) + v(3))/real(max(ndir - 1, 1), wp)
+    ! a whole ring spans 2 pi less one step; a sector its span with both ends; no rim (no
+    ! node both at the largest distance and in the lowest layer: a sphere) one direction,
+    ! the lowest nodes' largest distance (the angles' extremes are then -huge: their sum
+    ! would overflow)
+    full = .false.
+    step = 0.0_wp
+    if (cnt(1) > 0) then
+      full = v(4) + v(3) > twopi*(1.0_wp - 1.5_wp/real(ndir, wp))
+      if (full) then
+        step = twopi/real(ndir, wp)
+      else
+        step = (v(4) + v(3))/real(max(ndir - 1, 1), wp)
+      end if
     end if
     w = -huge(1.0_wp)
     do k = 1, n

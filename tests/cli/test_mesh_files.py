@@ -158,7 +158,7 @@ def main():
              ["particle 14", "/particles/volume and /mesh/tetrahedra disagree"]),
             ("node_in_no_tetrahedron", x, spare_vol, spare,
              ["particle 27", "disagree"]),
-            ("nan_coordinate", nan_x, vol, one, ["has volume", "NaN"]),
+            ("nan_coordinate", nan_x, vol, one, ["particle 5", "not a finite number"]),
         ]
         for name, bx, bvol, btet, expect in bad:
             write(h5py, os.path.join(tmp, name + ".h5"), bx, bvol, btet)
