@@ -22,6 +22,7 @@ program mfcd_mpi
   use deck_m, only: deck_t, read_deck
   use body_m, only: body_t, body_keep_share
   use body_setup_m, only: build_bodies
+  use tet_file_m, only: tet_file_facets
   use run_output_m, only: timestamp
   use output_path_m, only: check_output_path, output_result_text
   use log_m, only: log_print, log_flush
@@ -122,6 +123,8 @@ program mfcd_mpi
   ! summed over the ranks; rank 0 keeps the whole ones when its det(M) fields need them)
   ! (what a checkpoint recognises its bodies by: exact sums over the ranks' shares)
   if (.not. allocated(err)) call body_fingerprints(bodies, ranks%comm)
+  ! (a mesh file's facets, found per share, whole on rank 0 for /bodies)
+  if (.not. allocated(err)) call tet_file_facets(bodies, ranks%comm)
   sp%me = me
   sp%nranks = nranks
   sp%root_whole = root_needs_whole(deck)

@@ -9,11 +9,26 @@ module body_m
   implicit none
   private
   public :: body_t, name_len, max_cell_vertices, body_keep_share, body_cell, extrusion_t
+  public :: mesh_file_t
   public :: body_whole
 
   integer, parameter :: name_len = 64
   !> Vertices of one integration cell at most (a clipped lattice cell, a file's cell)
   integer, parameter :: max_cell_vertices = 64
+
+  !> A 3D body of linear tetrahedra from a mesh file (tools/mesh_body.py --3d) that each rank
+  !! reads only its share and region of (tet_file_m): the file, its tetrahedra's count, the
+  !! longest edge of the whole mesh (the region's reach), the whole body's extent and the
+  !! translation the body was moved by (&body translate), which every row read later gets.
+  type :: mesh_file_t
+    character(len=:), allocatable :: path
+    integer :: ne = 0
+    real(wp) :: lmax = 0.0_wp
+    real(wp) :: lo(3) = 0.0_wp, hi(3) = 0.0_wp
+    real(wp) :: shift(3) = 0.0_wp
+    !> the rank (of nranks) that read it: the body's checks are cut in slabs of space
+    integer :: me = 0, nranks = 1
+  end type mesh_file_t
 
   !> How an extruded 3D body's particles are made (generators_m extrude_body): its section
   !! (x-y positions, areas and boundary flags of the n2 section particles) and its nz
@@ -100,6 +115,12 @@ module body_m
     integer, allocatable :: tets(:, :)
     !> An extruded body's recipe (extrusion_t), when its particles can be made per region
     type(extrusion_t), allocatable :: ext
+    !> A body of tetrahedra read per part from its mesh file (mesh_file_t); facet_key: the
+    !! rank's facets of it (those whose smallest node is in its share), each with its place
+    !! 4 (e - 1) + f in the whole mesh's order (tetrahedron e, face f), until rank 0 holds
+    !! them all in that order (tet_file_m tet_file_facets)
+    type(mesh_file_t), allocatable :: mfile
+    integer, allocatable :: facet_key(:)
     !> Some particles of a larger body (extrude_pick: a rank's region): x, vol, rho and
     !! boundary hold np particles whose numbers in the whole body (of np_whole) are
     !! glob (ascending); unallocated for a whole body (or a share, row0)

@@ -25,6 +25,7 @@ module tet4_m
   use mesh_cells_m, only: check_cells, tet_volume
   implicit none
   private
+  public :: face_nodes
   public :: tet4_mesh_t, tet4_extruded, tet4_prisms, tet4_tables, tet4_boundary_faces, &
     tet4_volume, tet4_face_neighbours, extruded_tets, tet4_region, tet4_section
 

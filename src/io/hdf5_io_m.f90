@@ -24,7 +24,7 @@ module hdf5_io_m
   public :: h5file_t, h5_create, h5_close, h5_group, h5_write, h5_attr, h5_text
   public :: read_particle_file_h5, h5_series_create, h5_series_append, h5_flush
   public :: h5_open_read, h5_has, h5_has_attr, h5_shape, h5_read, h5_read_attr, h5_read_text
-  public :: h5_open_rw, h5_write_rows, h5_read_rows
+  public :: h5_open_rw, h5_write_rows, h5_read_rows, h5_read_block
 
   type :: h5file_t
     integer(hid_t) :: id = -1
@@ -50,6 +50,13 @@ module hdf5_io_m
   interface h5_read
     module procedure read_ds_r1, read_ds_r2, read_ds_i64, read_ds_i64_2
   end interface h5_read
+
+  !> Rows first ... first + size(a, rank) - 1 of a dataset of rank 1 or 2 (a block of its
+  !! last dimension, the rows h5py shows first), the other dimension checked against a's:
+  !! what a rank streams of a mesh file it reads per part (tet_file_m).
+  interface h5_read_block
+    module procedure block_r1, block_r2, block_i64_2
+  end interface h5_read_block
 
   !> Attribute readers: text (any length), integer scalar, real rank 1 of the caller's size.
   interface h5_read_attr
@@ -742,6 +749,121 @@ contains
     call h5dclose_f(d, s2)
     if (st /= 0) call read_fail(f, path, 'rows cannot be read', err)
   end subroutine h5_read_rows
+
+  !> Open dataset path of rank rk whose leading extent (rank 2) is m, with rows first ...
+  !! first + n - 1 in it; the file space selects them, the memory space holds them (d < 0:
+  !! err set).
+  subroutine block_open(f, path, rk, m, first, n, d, space, mspace, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: rk, m, first, n
+    integer(hid_t), intent(out) :: d, space, mspace
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: dims(:)
+    integer(hsize_t) :: start(2), cnt(2)
+    integer :: st
+    d = -1
+    call h5_shape(f, path, dims, err)
+    if (allocated(err)) return
+    if (size(dims) /= rk) then
+      call read_fail(f, path, 'rank '//itoa(size(dims))//' where '//itoa(rk)// &
+        ' is expected', err)
+      return
+    end if
+    if (rk == 2) then
+      if (dims(1) /= m) then
+        call read_fail(f, path, itoa(dims(1))//' values a row where '//itoa(m)// &
+          ' are expected', err)
+        return
+      end if
+    end if
+    if (first < 1 .or. n < 0 .or. first + n - 1 > dims(rk)) then
+      call read_fail(f, path, 'rows '//itoa(first)//' ... '//itoa(first + n - 1)// &
+        ' asked of '//itoa(dims(rk))//' (an internal error)', err)
+      return
+    end if
+    call h5dopen_f(f%id, path, d, st)
+    if (st /= 0) then
+      d = -1
+      call read_fail(f, path, 'cannot be opened', err)
+      return
+    end if
+    start = [0_hsize_t, int(first - 1, hsize_t)]
+    cnt = [int(m, hsize_t), int(n, hsize_t)]
+    if (rk == 1) then
+      start(1) = start(2)
+      cnt(1) = cnt(2)
+    end if
+    call h5dget_space_f(d, space, st)
+    call h5sselect_hyperslab_f(space, H5S_SELECT_SET_F, start(:rk), cnt(:rk), st)
+    call h5screate_simple_f(rk, cnt(:rk), mspace, st)
+  end subroutine block_open
+
+  subroutine block_close(f, path, d, space, mspace, st, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer(hid_t), intent(in) :: d, space, mspace
+    integer, intent(in) :: st
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: s2
+    call h5sclose_f(mspace, s2)
+    call h5sclose_f(space, s2)
+    call h5dclose_f(d, s2)
+    if (st /= 0) call read_fail(f, path, 'rows cannot be read', err)
+  end subroutine block_close
+
+  subroutine block_r1(f, path, a, first, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    real(wp), intent(inout) :: a(:)
+    integer, intent(in) :: first
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: d, space, mspace
+    integer :: st
+    call block_open(f, path, 1, 1, first, size(a), d, space, mspace, err)
+    if (d < 0) return
+    st = 0
+    if (size(a) > 0) call h5dread_f(d, H5T_NATIVE_DOUBLE, a, shape(a, kind=hsize_t), st, &
+      mspace, space)
+    call block_close(f, path, d, space, mspace, st, err)
+  end subroutine block_r1
+
+  subroutine block_r2(f, path, a, first, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    real(wp), intent(inout) :: a(:, :)
+    integer, intent(in) :: first
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: d, space, mspace
+    integer :: st
+    call block_open(f, path, 2, size(a, 1), first, size(a, 2), d, space, mspace, err)
+    if (d < 0) return
+    st = 0
+    if (size(a) > 0) call h5dread_f(d, H5T_NATIVE_DOUBLE, a, shape(a, kind=hsize_t), st, &
+      mspace, space)
+    call block_close(f, path, d, space, mspace, st, err)
+  end subroutine block_r2
+
+  subroutine block_i64_2(f, path, a, first, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer(i64), intent(inout) :: a(:, :)
+    integer, intent(in) :: first
+    type(error_t), allocatable, intent(inout) :: err
+    integer(i64), allocatable, target :: buf(:, :)
+    type(c_ptr) :: ptr
+    integer(hid_t) :: d, space, mspace
+    integer :: st
+    call block_open(f, path, 2, size(a, 1), first, size(a, 2), d, space, mspace, err)
+    if (d < 0) return
+    st = 0
+    allocate(buf(size(a, 1), size(a, 2)))
+    ptr = c_loc(buf)
+    if (size(a) > 0) call h5dread_f(d, h5kind_to_type(i64, H5_INTEGER_KIND), ptr, st, &
+      mspace, space)
+    call block_close(f, path, d, space, mspace, st, err)
+    if (st == 0) a = buf
+  end subroutine block_i64_2
 
   !> Open an existing HDF5 file of this run for writing (a run's file reopened after its
   !! snapshot was written collectively; with fapl, on every rank with MPI-IO).

@@ -9,7 +9,7 @@ module body_setup_m
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
-  use body_m, only: body_t, max_cell_vertices, body_whole
+  use body_m, only: body_t, max_cell_vertices, body_whole, mesh_file_t
   use deck_m, only: deck_t, body_spec_t, body_count_var, body_place_var, body_make_vars
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, make_disk, &
@@ -33,10 +33,11 @@ module body_setup_m
   use gmsh_mesh_m, only: gmsh_mesh_model
   use confine_m, only: confine_limits_t
   use log_m, only: log_print
+  use tet_file_m, only: tet_file_share, tet_file_region, column_sum
   implicit none
   private
   public :: build_bodies, build_body, lattice_admissible, min_support_factor
-  public :: read_particle_columns
+  public :: read_particle_columns, tet_mesh_body
 
   !> Relative pivot below which M counts as singular in the admissibility checks: far above
   !! round-off (1e-16) and far below the weakest genuine pivot of an admissible lattice
@@ -211,7 +212,7 @@ contains
     character(len=:), allocatable :: where, what
     real(wp), allocatable :: local(:), xs(:, :), vols(:), xy(:, :)
     integer, allocatable :: loop(:), order(:), tri(:, :), ptr(:)
-    real(wp) :: dr, dt, fmin
+    real(wp) :: dr, dt, fmin, vsum
     integer :: nd, i
     logical :: has_tri, has_cells, tets
     type(error_t), allocatable :: e2
@@ -269,6 +270,16 @@ contains
         max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2, share)
       if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
     case ('file', 'geo')
+      if (s%shape == 'file' .and. present(share)) then
+        ! a rank's share of a tetrahedral mesh file (body_per_part): the file streamed,
+        ! the whole mesh never held (tet_file_m); the checks the serial ones, at the share
+        what = "particle file '"//trim(s%file)//"'"
+        call tet_file_share(trim(s%file), what, share(1), share(2), b, local, e2)
+        if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
+        ! (the volumes are the tetrahedra's, checked: check_file_layout's sum of them
+        ! cannot exceed the box; the coincident nodes are looked for near the share, with
+        ! det(M): check_particles)
+      else
       ! a gmsh script gives in memory what tools/mesh_body.py writes into a particle file:
       ! from here on the two are one path
       has_tri = .false.
@@ -299,6 +310,13 @@ contains
           'fem' .and. s%role == 'deformable' .and. deck%run%mode == 'dynamic', &
           s%discretization == 'rkpm' .and. s%role == 'deformable' .and. &
           deck%run%mode == 'dynamic', b, local, e2)
+        if (.not. allocated(e2) .and. s%shape == 'file') then
+          ! a file's spacing from its volume column, summed in order (checked equal to the
+          ! tetrahedra's quarters): the one sum a rank reading the file in blocks makes too
+          vsum = 0.0_wp
+          call column_sum(vols, vsum)
+          b%spacing(1:3) = (vsum/real(b%np, wp))**(1.0_wp/3.0_wp)
+        end if
       else
         if (.not. allocated(e2)) call check_file_values(what, xs, vols, e2)
         if (.not. allocated(e2)) call make_from_arrays(b, xs, vols, loop, order, e2)
@@ -318,6 +336,7 @@ contains
           "them (tools/mesh_body.py writes the median-dual cells of a mesh) or "// &
           "integration = 'direct', a negative control, in plane strain")
         return
+      end if
       end if
     end select
     if (allocated(e2)) then
@@ -389,7 +408,10 @@ contains
       call place_body(b, s, deck%run%mode == 'dynamic', where, err)
       if (allocated(err)) return
     end if
-    if (b%held_share) then
+    if (allocated(b%mfile)) then
+      ! (a share of a mesh file: its tetrahedra have positive volumes, checked)
+      flat = .false.
+    else if (b%held_share) then
       ! a rank's share: the whole body is flat where its first and last layers are (an
       ! extruded body: where its section is)
       none = 0
@@ -497,6 +519,8 @@ contains
     do i = 1, size(b%x, 2)
       b%x(:, i) = b%x(:, i) + s%translate(1:nd)
     end do
+    ! (the rows a rank reads of a mesh file later are moved the same way)
+    if (allocated(b%mfile)) b%mfile%shift = s%translate(1:3)
     ! (the particles an extruded body's recipe makes are moved the same way)
     if (allocated(b%ext)) then
       b%ext%shifted = .true.
@@ -581,17 +605,25 @@ contains
   !! the volume does not), and no two particles may coincide (closer than coincide_tol x
   !! the nominal spacing: the same point given twice carries its volume twice); what names
   !! the file.
-  subroutine check_file_layout(what, b, err)
+  subroutine check_file_layout(what, b, err, near, mine)
     character(len=*), intent(in) :: what
-    type(body_t), intent(in) :: b
+    type(body_t), intent(in), target :: b
     type(error_t), allocatable, intent(inout) :: err
+    !> a rank's share b of a mesh file (tet_file_m): the nodes within the tolerance of its
+    !! nodes, which those are compared with (the volumes not: they are the tetrahedra's)
+    type(body_t), intent(in), target, optional :: near
+    !> with near: the nodes of near compared with the others (a rank's slab)
+    logical, intent(in), optional :: mine(:)
+    type(body_t), pointer :: c
     type(bins_t) :: bins
     integer, allocatable :: cand(:)
     real(wp) :: box, tol, r(3)
-    integer :: nd, i, k, nc, j
+    integer :: nd, i, k, nc, j, gi, gj
     nd = b%ndim
+    c => b
+    if (present(near)) c => near
     box = product(maxval(b%x, dim=2) - minval(b%x, dim=2) + 2.0_wp*b%spacing(1:nd))
-    if (sum(b%vol) > volume_excess*box) then
+    if (.not. present(near) .and. sum(b%vol) > volume_excess*box) then
       call set_error(err, what//": the volumes add up to "// &
         rtoa(sum(b%vol))//" m^"//itoa(nd)//", "//rtoa(sum(b%vol)/box)//" times the box "// &
         "around the particles grown by one spacing ("//rtoa(box)//" m^"//itoa(nd)//"); "// &
@@ -600,18 +632,23 @@ contains
       return
     end if
     tol = coincide_tol*minval(b%spacing(1:nd))
-    call bins_build(bins, b%x, b%spacing(1:nd), err)
+    call bins_build(bins, c%x, b%spacing(1:nd), err)
     if (allocated(err)) return
-    allocate(cand(b%np))
+    allocate(cand(c%np))
     r = tol
-    do i = 1, b%np
-      call bins_candidates(bins, b%x(:, i), r(1:nd), cand, nc)
+    do i = 1, c%np
+      gi = body_whole(c, i)
+      if (present(mine)) then
+        if (.not. mine(i)) cycle
+      end if
+      call bins_candidates(bins, c%x(:, i), r(1:nd), cand, nc)
       do k = 1, nc
         j = cand(k)
         if (j == i) cycle
-        if (norm2(b%x(:, j) - b%x(:, i)) <= tol) then
-          call set_error(err, what//": particles "//itoa(min(i, j))// &
-            " and "//itoa(max(i, j))//" coincide (both at ("//trim(coords(b%x(:, i)))// &
+        gj = body_whole(c, j)
+        if (norm2(c%x(:, j) - c%x(:, i)) <= tol) then
+          call set_error(err, what//": particles "//itoa(min(gi, gj))// &
+            " and "//itoa(max(gi, gj))//" coincide (both at ("//trim(coords(c%x(:, i)))// &
             "), closer than "//rtoa(tol)//" m = 1e-3 of the spacing); give each particle "// &
             "once")
           return
@@ -629,6 +666,22 @@ contains
       end do
     end function coords
   end subroutine check_file_layout
+
+  !> Rank mf%me's slab lo ... hi of the body of mesh file mf (placed): its extent cut along
+  !! its longest side (axis) in mf%nranks equal parts.
+  pure subroutine file_slab(mf, lo, hi, axis)
+    type(mesh_file_t), intent(in) :: mf
+    real(wp), intent(out) :: lo(3), hi(3)
+    integer, intent(out) :: axis
+    real(wp) :: a, w
+    lo = mf%lo + mf%shift
+    hi = mf%hi + mf%shift
+    axis = maxloc(hi - lo, 1)
+    a = lo(axis)
+    w = hi(axis) - lo(axis)
+    lo(axis) = a + w*real(mf%me, wp)/real(mf%nranks, wp)
+    if (mf%me < mf%nranks - 1) hi(axis) = a + w*real(mf%me + 1, wp)/real(mf%nranks, wp)
+  end subroutine file_slab
 
   !> The columns of a plain particle file in ndim dimensions.
   pure function columns_text(nd) result(t)
@@ -656,8 +709,12 @@ contains
     real(wp) :: mm(mmax, mmax)
     integer :: i, ncover, bad_i, bad_n, g0, g1
     logical :: ok
-    real(wp) :: f, grow(3)
+    real(wp) :: f, grow(3), lo(3), hi(3)
     type(body_t), pointer :: b
+    type(error_t), allocatable :: e2
+    !> the particles of b at which M is checked (a rank's share, or its slab)
+    logical, allocatable :: mine(:)
+    integer :: axis
     type(body_t), target :: near
     integer :: none(2)
     real(wp) :: nowhere(2)
@@ -668,7 +725,29 @@ contains
     b => b0
     g0 = 1
     g1 = b0%np
-    if (b0%held_share) then
+    if (allocated(b0%mfile)) then
+      ! a rank's share of a mesh file: M at the nodes of its slab of the body (a mesh file
+      ! numbers its nodes in no spatial order, so the share's own nodes are spread over the
+      ! whole body: the slabs, the whole body's extent cut along its longest side in equal
+      ! parts, one a rank, hold each node once), from the nodes the largest trial supports
+      ! reach (every support at most the factor times the longest edge)
+      grow = maxval(trial)*maxval(b0%support_factor)*b0%mfile%lmax + b0%spacing(1:3)
+      call file_slab(b0%mfile, lo, hi, axis)
+      call tet_file_region(b0, lo - grow, hi + grow, near, err)
+      if (allocated(err)) return
+      allocate(mine(near%np))
+      mine = near%x(axis, :) >= lo(axis) .and. (near%x(axis, :) < hi(axis) .or. &
+        (b0%mfile%me == b0%mfile%nranks - 1 .and. near%x(axis, :) <= hi(axis)))
+      ! (first, as serially: no node coincides with another, check_file_layout, against
+      ! those near it; its message as build_body's)
+      call check_file_layout("particle file '"//trim(s%file)//"'", b0, e2, near, mine)
+      if (allocated(e2)) then
+        call set_error(err, where//', variable '//body_make_vars(s%shape)//': '// &
+          e2%message)
+        return
+      end if
+      b => near
+    else if (b0%held_share) then
       ! a rank's share of an extruded body (build_bodies on ranks): M at its particles,
       ! from the particles its largest trial supports reach (made from the recipe)
       g0 = b0%row0
@@ -680,14 +759,18 @@ contains
         maxval(b0%x, dim=2) + grow, 0, none, nowhere, near)
       b => near
     end if
+    if (.not. allocated(mine)) then
+      allocate(mine(b%np))
+      mine = [(body_whole(b, i) >= g0 .and. body_whole(b, i) <= g1, i = 1, b%np)]
+    end if
     call body_cloud(b, c, err)
     if (allocated(err)) return
     bad_i = 0
     bad_n = 0
-    !$omp parallel do default(none) shared(b, c, g0, g1) private(mm, ncover, ok) &
+    !$omp parallel do default(none) shared(b, c, mine) private(mm, ncover, ok) &
     !$omp reduction(max: bad_i) reduction(max: bad_n)
     do i = 1, b%np
-      if (body_whole(b, i) < g0 .or. body_whole(b, i) > g1) cycle
+      if (.not. mine(i)) cycle
       call cloud_moment(c, b%x(:, i), mm, ncover)
       call chol_small(c%m, mm, ok, pivot_tol)
       if (.not. ok .and. body_whole(b, i) > bad_i) then
@@ -744,10 +827,10 @@ contains
         call body_cloud(bb, cc, e2)
         if (allocated(e2)) return
         good = .true.
-        !$omp parallel do default(none) shared(bb, cc, g0, g1) private(m2, nc, okj) &
+        !$omp parallel do default(none) shared(bb, cc, mine) private(m2, nc, okj) &
         !$omp reduction(.and.: good)
         do j = 1, bb%np
-          if (body_whole(bb, j) < g0 .or. body_whole(bb, j) > g1) cycle
+          if (.not. mine(j)) cycle
           call cloud_moment(cc, bb%x(:, j), m2, nc)
           call chol_small(cc%m, m2, okj, pivot_tol)
           good = good .and. okj

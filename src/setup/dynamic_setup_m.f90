@@ -22,6 +22,7 @@ module dynamic_setup_m
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
+  use tet_file_m, only: tet_file_region, tet_file_positions, tet_file_count
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin, &
     solid_np_whole, solid_nq_whole
   use material_m, only: material_constant_names, material_constant
@@ -134,7 +135,10 @@ contains
     nowhere = 0.0_wp
     dt = huge(1.0_wp)
     do k = 1, size(bodies)
-      if (bodies(k)%held_share) then
+      if (allocated(bodies(k)%mfile)) then
+        ! (a rank's share of a mesh file: the whole one's extent, read)
+        ext = maxval(bodies(k)%mfile%hi - bodies(k)%mfile%lo)
+      else if (bodies(k)%held_share) then
         ! (a rank's share of an extruded body: the whole one's extent is its first and
         ! last layers')
         call extrude_pick(bodies(k), 1, bodies(k)%np, [(-huge(1.0_wp), j = 1, 3)], &
@@ -312,6 +316,7 @@ contains
     !> a region's tetrahedra made from the recipe (tet4_region): their whole mesh's numbers
     integer, allocatable :: eglob(:)
     integer :: ne_whole
+    real(wp) :: grow
     bs = deck%bodies(k)
     bp => b
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
@@ -323,7 +328,16 @@ contains
           ! (a body no rank holds whole: the rank's tetrahedra and nodes made from its
           ! recipe, tet4_region; the smallest height and the total mass over the ranks)
           allocate(reg%body)
-          call tet4_region(b, box, reg%body, tmesh, eglob, ne_whole, e2)
+          if (allocated(b%mfile)) then
+            ! (a mesh file's: the rows of its tetrahedra within the same reach of the box,
+            ! read from the file, tet_file_m; the longest edge the whole mesh's)
+            ne_whole = b%mfile%ne
+            grow = 2.0_wp*b%mfile%lmax + maxval(b%spacing)
+            call tet_file_region(b, box(:, 1) - grow, box(:, 2) + grow, reg%body, e2, &
+              tmesh, eglob)
+          else
+            call tet4_region(b, box, reg%body, tmesh, eglob, ne_whole, e2)
+          end if
           bp => reg%body
           if (.not. allocated(e2)) call tet4_tables(bp, tmesh, &
             deck%materials(bs%imat)%params%density, t, e2, box)
@@ -332,8 +346,10 @@ contains
           call part%comm%max_real(made)
           if (.not. allocated(e2)) write(output_unit, '(a)') "dynamic: body '"// &
             trim(b%name)//"': made per rank (its share, then its region's tetrahedra "// &
-            'from the body''s section and layers), at most '//itoa(nint(made(1)))// &
-            ' particles (nodes) on a rank, of '//itoa(b%np)//' (the whole body is '// &
+            trim(merge("read from its mesh file           ", &
+            "from the body's section and layers", allocated(b%mfile)))//'), at most '// &
+            itoa(nint(made(1)))//' particles (nodes) on a rank, of '//itoa(b%np)// &
+            ' (the whole body is '// &
             'made on no rank)'
         else
           tmesh%ne = size(b%cells, 2)
@@ -523,16 +539,28 @@ contains
   !! (shape 'box', 'cylinder' or 'polygon') set up as a region shell (no rank keeps the
   !! whole solids, root_whole; no spin: region_solid_do), in any contact: a deforming
   !! master's and a self-contact's sides take the whole body's detection scalars and
-  !! surface from the ranks (side_facts).
+  !! surface from the ranks (side_facts); or a body of tetrahedra from a mesh file
+  !! (tet_file_m: each rank reads its share and region of the file).
   logical function body_per_part(deck, k, nranks, root_whole) result(yes)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k, nranks
     logical, intent(in) :: root_whole
+    integer :: l
     associate (bs => deck%bodies(k))
       yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
         any(bs%shape == ['box     ', 'cylinder', 'polygon '])
+      ! a tetrahedral mesh file (tools/mesh_body.py --3d) of elements, in any contact (the
+      ! sides' whole-body facts from the file: side_facts)
+      if (.not. yes) then
+        l = len_trim(bs%file)
+        yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &
+          deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
+          bs%discretization == 'fem' .and. bs%angular_velocity == 0.0_wp .and. &
+          bs%shape == 'file' .and. l > 3 .and. (bs%file(max(1, l - 2):l) == '.h5' .or. &
+          bs%file(max(1, l - 4):l) == '.hdf5')
+      end if
     end associate
   end function body_per_part
 
@@ -793,8 +821,13 @@ contains
       ! (none at a rank's region: whether the whole body has one, the same answer on
       ! every rank, without walking it twice when at is all of it)
       if (nsel == 0 .and. allocated(b%glob)) then
-        ! (b some particles of a larger body: any of the whole body's, from its recipe)
-        nsel = extrude_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))
+        ! (b some particles of a larger body: any of the whole body's, from its recipe or
+        ! its mesh file)
+        if (allocated(b%mfile)) then
+          nsel = tet_file_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))
+        else
+          nsel = extrude_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))
+        end if
       else if (nsel == 0 .and. size(at) < b%np) then
         do i = 1, b%np
           if (in_bc(i)) then
@@ -1022,11 +1055,20 @@ contains
     logical :: bnd
     none = 0
     nowhere = 0.0_wp
-    call extrude_pick(b, 1, huge(1), [(-huge(1.0_wp), j = 1, 3)], &
-      [(huge(1.0_wp), j = 1, 3)], 0, none, nowhere, ends, ends=.true.)
-    f%lo = minval(ends%x, dim=2)
-    f%hi = maxval(ends%x, dim=2)
-    f%rmax = b%ext%rho
+    if (allocated(b%mfile)) then
+      ! a mesh file's (tet_file_m): its extent, read whole, placed (a rounding is monotonic:
+      ! the least of the placed positions is the least placed), and the longest support,
+      ! the factors times the longest edge (each node's support is its longest edge's)
+      f%lo = b%mfile%lo + b%mfile%shift
+      f%hi = b%mfile%hi + b%mfile%shift
+      f%rmax = b%support_factor(1:3)*b%mfile%lmax
+    else
+      call extrude_pick(b, 1, huge(1), [(-huge(1.0_wp), j = 1, 3)], &
+        [(huge(1.0_wp), j = 1, 3)], 0, none, nowhere, ends, ends=.true.)
+      f%lo = minval(ends%x, dim=2)
+      f%hi = maxval(ends%x, dim=2)
+      f%rmax = b%ext%rho
+    end if
     ! the surface's vertices (ascending) and their positions from the recipe (none when
     ! the section has no triangulation that closes it: side_init says so, as serially)
     if (.not. allocated(b%facets)) then
@@ -1035,12 +1077,18 @@ contains
     end if
     vid = surface3d_vertices(b%facets)
     nv = size(vid)
-    allocate(xv(3, nv))
-    do j = 1, nv
-      g = vid(j) - 1
-      k = g/b%ext%n2
-      call extruded_particle(b%ext, g - k*b%ext%n2 + 1, k + 1, xv(:, j), vol, bnd)
-    end do
+    if (allocated(b%mfile)) then
+      ! (read from the file)
+      call tet_file_positions(b, vid, xv, err)
+      if (allocated(err)) return
+    else
+      allocate(xv(3, nv))
+      do j = 1, nv
+        g = vid(j) - 1
+        k = g/b%ext%n2
+        call extruded_particle(b%ext, g - k*b%ext%n2 + 1, k + 1, xv(:, j), vol, bnd)
+      end do
+    end if
     call surface3d_build(f%surf3, xv, b%facets, err, at_vertices=.true., lean=.true.)
     if (allocated(err)) then
       err%message = "body '"//trim(b%name)//"': "//err%message
@@ -1061,7 +1109,12 @@ contains
         lo = minval(b%x, dim=2) - reach
         hi = maxval(b%x, dim=2) + reach
       end if
-      call extrude_pick(b, 1, huge(1), lo, hi, 0, none, nowhere, near)
+      if (allocated(b%mfile)) then
+        call tet_file_region(b, lo, hi, near, err)
+        if (allocated(err)) return
+      else
+        call extrude_pick(b, 1, huge(1), lo, hi, 0, none, nowhere, near)
+      end if
       call cloud_init(c, near%x, near%rho, near%vol, b%kid, b%wshape, b%bid, b%h(1:3), err, &
         grid_lo=f%lo, grid_hi=f%hi, rmax=f%rmax)
       if (allocated(err)) return

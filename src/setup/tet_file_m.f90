@@ -1,0 +1,752 @@
+!> A 3D mesh file of linear tetrahedra (tools/mesh_body.py --3d: /particles/x, (np, 3) in
+!! h5py, /particles/volume and /mesh/tetrahedra, (ne, 4) 1-based) read per part, so that
+!! no rank of mfcd_mpi holds the whole mesh (doc/parallel.md). Every rank streams the
+!! file in blocks of block_rows rows and keeps only what its share of the nodes, or a box
+!! of the decomposition, needs: the nodes, and the tetrahedra that touch them with the
+!! positions of all their nodes. What the serial body takes of a node (body_setup_m
+!! tet_mesh_body: its volume, the quarters of its tetrahedra summed node 1, 2, 3, 4 of
+!! each tetrahedron in turn; its longest edge, the det(M) support; its boundary flag, a
+!! node of a face of one tetrahedron only) needs only the tetrahedra that touch it, all of
+!! which the rank has, so each is the serial number to the bit. The checks of the file are
+!! the serial ones (body_setup_m read_file_tets): the node numbers' range and every
+!! tetrahedron's positive volume over the whole file on every rank (the same message),
+!! the volumes' agreement for the rank's share. Memory: the share's or the box's nodes and
+!! tetrahedra and two blocks; the file is read whole by every rank (no index in it says
+!! where a box's rows are), some 56 B a node, at the set-up only.
+module tet_file_m
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use kinds_m, only: wp, i64
+  use errors_m, only: error_t, set_error
+  use strings_m, only: itoa, rtoa
+  use sorting_m, only: sort_index, radix_index
+  use rank_comm_m, only: rank_comm_t, share_first
+  use hdf5_io_m, only: h5file_t, h5_open_read, h5_close, h5_has, h5_shape, h5_read_block, &
+    h5_read_rows
+  use body_m, only: body_t, mesh_file_t
+  use mesh_cells_m, only: tet_volume
+  use tet4_m, only: tet4_mesh_t, face_nodes
+  implicit none
+  private
+  public :: tet_file_share, tet_file_region, tet_file_facets, tet_file_positions, column_sum
+  public :: block_rows, tet_file_count
+
+  !> Rows a block of the file (64 Ki rows: 1.5 MiB of positions, 2 MiB of tetrahedra; a
+  !! test sets a few, so that a small mesh spans many blocks)
+  integer :: block_rows = 65536
+  !> The file's volumes against the tetrahedra's: a relative difference beyond this is not
+  !! round-off (read_file_tets' tolerance, the same reason)
+  real(wp), parameter :: vol_tol = 1.0e-9_wp
+
+  !> The tetrahedra that touch a set of nodes, with the positions of all their nodes
+  type :: touching_t
+    integer :: n = 0
+    integer, allocatable :: e(:)          !< their numbers in the file (ascending)
+    integer, allocatable :: t(:, :)       !< their nodes, the file's numbers
+    real(wp), allocatable :: v(:)         !< their volumes
+    integer, allocatable :: node(:)       !< every node of them (ascending)
+    integer, allocatable :: nl(:, :)      !< t as places in node
+    real(wp), allocatable :: xn(:, :)     !< their positions, as in the file
+  end type touching_t
+
+contains
+
+  !> The naive sum of v in order, added to s: the one sum of a file's volume column that
+  !! the serial body and every rank reading it in blocks make (the same bits).
+  pure subroutine column_sum(v, s)
+    real(wp), intent(in) :: v(:)
+    real(wp), intent(inout) :: s
+    integer :: i
+    do i = 1, size(v)
+      s = s + v(i)
+    end do
+  end subroutine column_sum
+
+  !> Rank me's share (of nranks) of the body of the tetrahedral mesh file path (what names
+  !! it for messages): b holds the nodes row0 ... of np (positions, the serial volumes,
+  !! boundary flags) and the tetrahedra cell0 ... of ncells, held_share, its mfile (the
+  !! path, the whole mesh's longest edge and extent), its spacing the cube root of the mean
+  !! of the file's volume column (serial too: body_setup_m), and its facets whose smallest
+  !! node is in the share with their places in the whole mesh (facet_key; tet_file_facets
+  !! gathers them). local: the longest edge at each node of the share (the supports').
+  subroutine tet_file_share(path, what, me, nranks, b, local, err)
+    character(len=*), intent(in) :: path, what
+    integer, intent(in) :: me, nranks
+    type(body_t), intent(out) :: b
+    real(wp), allocatable, intent(out) :: local(:)
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    type(touching_t) :: tc
+    real(wp), allocatable :: xs(:, :), colv(:), v4(:)
+    real(wp) :: vsum, lo(3), hi(3), lmax
+    integer :: np, ne, r0, r1, n, i, k, c0, c1, nover
+    integer(i64), allocatable :: t8(:, :)
+    call open_mesh(path, what, f, np, ne, err)
+    if (allocated(err)) return
+    r0 = share_first(np, me, nranks)
+    r1 = share_first(np, me + 1, nranks) - 1
+    n = r1 - r0 + 1
+    allocate(xs(3, n), colv(n))
+    ! (the serial checks' order: the node numbers, finite values, positive volumes)
+    call check_range(f, what, np, ne, err)
+    if (.not. allocated(err)) call scan_nodes(f, what, np, r0, r1, xs, colv, vsum, lo, hi, err)
+    if (.not. allocated(err)) call scan_tets(f, what, np, ne, r0, r1, tc, lmax, err, &
+      check=.true.)
+    if (.not. allocated(err)) then
+      c0 = share_first(ne, me, nranks)
+      c1 = share_first(ne, me + 1, nranks) - 1
+      allocate(t8(4, c1 - c0 + 1))
+      call h5_read_block(f, '/mesh/tetrahedra', t8, c0, err)
+    end if
+    call h5_close(f, e2)
+    if (allocated(err)) return
+    ! the serial volumes, longest edges, boundary flags and facets of the share's nodes
+    b%ndim = 3
+    b%np = np
+    b%row0 = r0
+    b%held_share = .true.
+    call node_facts(tc, [(i, i = r0, r1)], v4, local, b%boundary, b%facets, b%facet_key, &
+      nover)
+    do k = 1, n
+      if (.not. (abs(colv(k) - v4(k)) <= vol_tol*v4(k))) then
+        call set_error(err, what//", particle "//itoa(r0 + k - 1)//": its volume "// &
+          rtoa(colv(k))//" m^3 is not its quarter of the tetrahedra it belongs to, "// &
+          rtoa(v4(k))//" m^3 (a node in no tetrahedron has none): /particles/volume "// &
+          "and /mesh/tetrahedra disagree; write the file with tools/mesh_body.py --3d")
+        return
+      end if
+    end do
+    ! (then tet_mesh_body's: a face of the share's nodes in more than two tetrahedra)
+    if (nover > 0) then
+      call set_error(err, what//": "//itoa(nover)//" faces belong to more than two "// &
+        "tetrahedra (the mesh is not conforming); fix the script")
+      return
+    end if
+    ! (make_from_arrays' check: a node in no tetrahedron, given a volume of 0)
+    if (any(v4 <= 0.0_wp)) then
+      call set_error(err, 'particle file: every particle volume must be positive')
+      return
+    end if
+    call move_alloc(xs, b%x)
+    call move_alloc(v4, b%vol)
+    b%cells = int(t8)
+    b%cell0 = c0
+    b%ncells = ne
+    b%nloops = 0
+    allocate(b%loop_ptr(1), b%loop_idx(0), b%loop_closed(0))
+    b%loop_ptr(1) = 1
+    b%spacing = 0.0_wp
+    b%spacing(1:3) = (vsum/real(np, wp))**(1.0_wp/3.0_wp)
+    allocate(b%mfile)
+    b%mfile%path = path
+    b%mfile%ne = ne
+    b%mfile%lmax = lmax
+    b%mfile%lo = lo
+    b%mfile%hi = hi
+    b%mfile%me = me
+    b%mfile%nranks = nranks
+  end subroutine tet_file_share
+
+  !> The nodes of the body b read per part (b%mfile) within the box lo ... hi (in the
+  !! placed body: b%mfile%shift added) as body r: their positions, serial volumes, boundary
+  !! flags and supports (b's factors times the longest edge at each), their whole numbers
+  !! r%glob (ascending, of np_whole); b's name, kernel, basis and spacing. With mesh: only
+  !! the nodes of the tetrahedra all of whose nodes lie in the box, and those tetrahedra
+  !! over r's nodes, with their whole numbers eglob (ascending).
+  subroutine tet_file_region(b, lo, hi, r, err, mesh, eglob)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: lo(3), hi(3)
+    type(body_t), intent(out) :: r
+    type(error_t), allocatable, intent(inout) :: err
+    type(tet4_mesh_t), intent(out), optional :: mesh
+    integer, allocatable, intent(out), optional :: eglob(:)
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    type(touching_t) :: tc
+    integer, allocatable :: sel(:), fct(:, :), key(:), keep(:), loc(:), selp(:)
+    real(wp), allocatable :: xsel(:, :), v4(:), local(:)
+    logical, allocatable :: bnd(:), used(:)
+    real(wp) :: lmax
+    integer :: np, ne, i, m, n, l, nover
+    call open_mesh(b%mfile%path, "mesh file '"//b%mfile%path//"'", f, np, ne, err)
+    if (.not. allocated(err)) call nodes_in_box(f, np, lo - b%mfile%shift, &
+      hi - b%mfile%shift, sel, xsel, err)
+    if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, sel=sel)
+    call h5_close(f, e2)
+    if (allocated(err)) return
+    call node_facts(tc, sel, v4, local, bnd, fct, key, nover)
+    allocate(used(size(sel)))
+    used = .true.
+    if (present(mesh)) then
+      ! the tetrahedra all of whose nodes are in the box, and the nodes they use
+      used = .false.
+      allocate(keep(tc%n))
+      selp = merge_places(tc%node, sel)
+      n = 0
+      do m = 1, tc%n
+        if (all(selp(tc%nl(:, m)) > 0)) then
+          n = n + 1
+          keep(n) = m
+          used(selp(tc%nl(:, m))) = .true.
+        end if
+      end do
+      allocate(loc(size(sel)))
+      loc = 0
+      i = 0
+      do m = 1, size(sel)
+        if (.not. used(m)) cycle
+        i = i + 1
+        loc(m) = i
+      end do
+      mesh%ne = n
+      allocate(mesh%tet(4, n), eglob(n))
+      do m = 1, n
+        do l = 1, 4
+          mesh%tet(l, m) = loc(selp(tc%nl(l, keep(m))))
+        end do
+        eglob(m) = tc%e(keep(m))
+      end do
+    end if
+    r%name = b%name
+    r%shape = b%shape
+    r%ndim = 3
+    r%kid = b%kid
+    r%wshape = b%wshape
+    r%bid = b%bid
+    r%spacing = b%spacing
+    r%support_factor = b%support_factor
+    r%h = b%h
+    r%np = count(used)
+    r%np_whole = b%np
+    r%glob = pack(sel, used)
+    allocate(r%x(3, r%np))
+    n = 0
+    do m = 1, size(sel)
+      if (.not. used(m)) cycle
+      n = n + 1
+      r%x(:, n) = xsel(:, m) + b%mfile%shift
+    end do
+    r%vol = pack(v4, used)
+    r%boundary = pack(bnd, used)
+    allocate(r%rho(3, r%np))
+    r%rho = spread(b%support_factor(1:3), 2, r%np)*spread(pack(local, used), 1, 3)
+    r%nloops = 0
+    allocate(r%loop_ptr(1), r%loop_idx(0), r%loop_closed(0))
+    r%loop_ptr(1) = 1
+    ! (the file, for what the set-up asks of the whole body later: kinematic_masks)
+    r%mfile = b%mfile
+    ! (the whole surface's facets, as a region made from an extruded body's recipe holds
+    ! them: a deforming master's or a self-contact's side over the region reads them)
+    if (allocated(b%facets)) then
+      r%facets = b%facets
+    else
+      allocate(r%facets(3, 0))
+    end if
+  end subroutine tet_file_region
+
+  !> Whether any node of the body b read per part lies within lo ... hi, placed (1, else
+  !! 0; 1 when the file cannot be read again: nothing is refused for it here).
+  integer function tet_file_count(b, lo, hi) result(n)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: lo(3), hi(3)
+    type(h5file_t) :: f
+    type(error_t), allocatable :: err, e2
+    integer, allocatable :: sel(:)
+    real(wp), allocatable :: xsel(:, :)
+    integer :: np, ne
+    n = 1
+    call open_mesh(b%mfile%path, "mesh file '"//b%mfile%path//"'", f, np, ne, err)
+    if (allocated(err)) return
+    call nodes_in_box(f, np, lo - b%mfile%shift, hi - b%mfile%shift, sel, xsel, err)
+    call h5_close(f, e2)
+    if (.not. allocated(err)) n = min(1, size(sel))
+  end function tet_file_count
+
+  !> The positions of the nodes g (ascending) of the body b read per part, placed (b%mfile's
+  !! shift added): a surface's vertices.
+  subroutine tet_file_positions(b, g, x, err)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: g(:)
+    real(wp), allocatable, intent(out) :: x(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    integer :: np, ne, i
+    allocate(x(3, size(g)))
+    call open_mesh(b%mfile%path, "mesh file '"//b%mfile%path//"'", f, np, ne, err)
+    if (allocated(err)) return
+    call h5_read_rows(f, '/particles/x', x, g, np, .false., err)
+    call h5_close(f, e2)
+    do i = 1, size(g)
+      x(:, i) = x(:, i) + b%mfile%shift
+    end do
+  end subroutine tet_file_positions
+
+  !> The facets of the bodies read per part whole on every rank (surface-sized: the
+  !! /bodies output's on rank 0, and a deforming master's or a self-contact's sides' over
+  !! each rank's region, until body_keep_share leaves them to rank 0), in the whole mesh's
+  !! order (tet4_boundary_faces': tetrahedron, then face), from the ranks' (facet_key).
+  !! Collective.
+  subroutine tet_file_facets(bodies, comm)
+    type(body_t), intent(inout) :: bodies(:)
+    class(rank_comm_t), intent(inout) :: comm
+    real(wp), allocatable :: sbuf(:), rbuf(:), key(:)
+    integer, allocatable :: to(:), from(:), sptr(:), rptr(:), idx(:), fc(:, :)
+    integer :: k, n, j, r
+    do k = 1, size(bodies)
+      if (.not. allocated(bodies(k)%facet_key)) cycle
+      associate (b => bodies(k))
+        n = size(b%facet_key)
+        ! (the same message to every other rank: one buffer, sptr repeating its range)
+        to = pack([(r, r = 0, comm%nranks - 1)], [(r /= comm%me, r = 0, comm%nranks - 1)])
+        from = to
+        allocate(sbuf(4*n*size(to)))
+        do r = 1, size(to)
+          do j = 1, n
+            sbuf(4*n*(r - 1) + 4*j - 3) = real(b%facet_key(j), wp)
+            sbuf(4*n*(r - 1) + 4*j - 2:4*n*(r - 1) + 4*j) = real(b%facets(:, j), wp)
+          end do
+        end do
+        sptr = [(4*n*r + 1, r = 0, size(to))]
+        allocate(rptr(size(from) + 1), rbuf(0))
+        call comm%sparse_exchange(to, sptr, sbuf, from, rptr, rbuf)
+        m_loop: block
+          integer :: nr, m
+          nr = (rptr(size(rptr)) - 1)/4
+          allocate(key(n + nr), fc(3, n + nr), idx(n + nr))
+          key(1:n) = real(b%facet_key, wp)
+          fc(:, 1:n) = b%facets
+          do m = 1, nr
+            key(n + m) = rbuf(4*m - 3)
+            fc(:, n + m) = nint(rbuf(4*m - 2:4*m))
+          end do
+          call sort_index(key, idx)
+          b%facets = fc(:, idx)
+        end block m_loop
+        deallocate(b%facet_key)
+        deallocate(to, from, sptr, sbuf, rptr, rbuf)
+        if (allocated(key)) deallocate(key, fc, idx)
+      end associate
+    end do
+  end subroutine tet_file_facets
+
+  ! --- the file, streamed ---------------------------------------------------------------
+
+  !> Open the mesh file and read its sizes: /particles/x (3, np), /particles/volume (np),
+  !! /mesh/tetrahedra (4, ne), the messages as the serial reading's.
+  subroutine open_mesh(path, what, f, np, ne, err)
+    character(len=*), intent(in) :: path, what
+    type(h5file_t), intent(out) :: f
+    integer, intent(out) :: np, ne
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: dims(:)
+    type(error_t), allocatable :: e2
+    np = 0
+    ne = 0
+    call h5_open_read(f, path, e2)
+    if (allocated(e2)) then
+      call set_error(err, "particle file '"//path//"' is not a readable HDF5 file")
+      return
+    end if
+    if (h5_has(f, '/particles/x')) call h5_shape(f, '/particles/x', dims, e2)
+    if (.not. allocated(dims)) allocate(dims(0))
+    if (size(dims) /= 2) then
+      call set_error(err, "particle file '"//path//"': dataset /particles/x (np x ndim) "// &
+        "missing")
+    else if (dims(1) /= 3) then
+      call set_error(err, "particle file '"//path//"': /particles/x has the wrong number "// &
+        "of coordinates for &run ndim")
+    else
+      np = dims(2)
+      if (h5_has(f, '/particles/volume')) call h5_shape(f, '/particles/volume', dims, e2)
+      if (.not. (size(dims) == 1 .and. dims(1) == np)) call set_error(err, "particle "// &
+        "file '"//path//"': cannot read /particles/x and /particles/volume (np values)")
+    end if
+    if (.not. allocated(err)) then
+      if (.not. h5_has(f, '/mesh/tetrahedra')) then
+        call set_error(err, what//" has no /mesh/tetrahedra: a deformable 3D body from a "// &
+          "file is its tetrahedral mesh ('fem': its elements; 'rkpm': their median-dual "// &
+          "cells); write the file with tools/mesh_body.py --3d, or mesh the script in "// &
+          "the deck (shape = 'geo')")
+      else
+        call h5_shape(f, '/mesh/tetrahedra', dims, err)
+        if (.not. allocated(err)) then
+          if (size(dims) /= 2 .or. dims(1) /= 4) then
+            call set_error(err, what//": /mesh/tetrahedra must be (ne, 4) node numbers")
+          else
+            ne = dims(2)
+            if (ne == 0) call set_error(err, what//": /mesh/tetrahedra is empty")
+          end if
+        end if
+      end if
+    end if
+    if (allocated(err)) call h5_close(f, e2)
+  end subroutine open_mesh
+
+  !> Every node's position and volume finite (check_file_values' message), the extent lo ...
+  !! hi, the volume column's sum vsum, and the positions xs and volumes colv of the rows
+  !! r0 ... r1.
+  subroutine scan_nodes(f, what, np, r0, r1, xs, colv, vsum, lo, hi, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: what
+    integer, intent(in) :: np, r0, r1
+    real(wp), intent(out) :: xs(:, :), colv(:), vsum, lo(3), hi(3)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: xb(:, :), vb(:)
+    integer :: i0, n, i, g
+    vsum = 0.0_wp
+    lo = huge(1.0_wp)
+    hi = -huge(1.0_wp)
+    do i0 = 1, np, block_rows
+      n = min(block_rows, np - i0 + 1)
+      if (allocated(xb)) deallocate(xb, vb)
+      allocate(xb(3, n), vb(n))
+      call h5_read_block(f, '/particles/x', xb, i0, err)
+      if (.not. allocated(err)) call h5_read_block(f, '/particles/volume', vb, i0, err)
+      if (allocated(err)) return
+      do i = 1, n
+        g = i0 + i - 1
+        if (.not. (all(ieee_is_finite(xb(:, i))) .and. ieee_is_finite(vb(i)))) then
+          call set_error(err, what//", particle "//itoa(g)//": a coordinate or the "// &
+            "volume is not a finite number (NaN or Infinity); fix the file")
+          return
+        end if
+        lo = min(lo, xb(:, i))
+        hi = max(hi, xb(:, i))
+        if (g >= r0 .and. g <= r1) then
+          xs(:, g - r0 + 1) = xb(:, i)
+          colv(g - r0 + 1) = vb(i)
+        end if
+      end do
+      call column_sum(vb, vsum)
+    end do
+  end subroutine scan_nodes
+
+  !> The nodes sel (ascending) whose positions lie within lo ... hi, and their positions.
+  subroutine nodes_in_box(f, np, lo, hi, sel, xsel, err)
+    type(h5file_t), intent(in) :: f
+    integer, intent(in) :: np
+    real(wp), intent(in) :: lo(3), hi(3)
+    integer, allocatable, intent(out) :: sel(:)
+    real(wp), allocatable, intent(out) :: xsel(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: xb(:, :)
+    integer :: i0, n, i, pass, m
+    do pass = 1, 2
+      m = 0
+      do i0 = 1, np, block_rows
+        n = min(block_rows, np - i0 + 1)
+        if (allocated(xb)) deallocate(xb)
+        allocate(xb(3, n))
+        call h5_read_block(f, '/particles/x', xb, i0, err)
+        if (allocated(err)) return
+        do i = 1, n
+          if (any(xb(:, i) < lo) .or. any(xb(:, i) > hi)) cycle
+          m = m + 1
+          if (pass == 1) cycle
+          sel(m) = i0 + i - 1
+          xsel(:, m) = xb(:, i)
+        end do
+      end do
+      if (pass == 1) allocate(sel(m), xsel(3, m))
+    end do
+  end subroutine nodes_in_box
+
+  !> The tetrahedra that touch the nodes r0 ... r1 (or sel, ascending), with the positions
+  !! of all their nodes (tc), and the whole mesh's longest edge lmax. check: every node
+  !! number in range and every tetrahedron of positive volume (read_file_tets' messages, the
+  !! first in the file's order), over the whole file: the positions of every block's nodes
+  !! are read for it.
+  subroutine scan_tets(f, what, np, ne, r0, r1, tc, lmax, err, check, sel)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: what
+    integer, intent(in) :: np, ne, r0, r1
+    type(touching_t), intent(out) :: tc
+    real(wp), intent(out) :: lmax
+    type(error_t), allocatable, intent(inout) :: err
+    logical, intent(in), optional :: check
+    integer, intent(in), optional :: sel(:)
+    integer(i64), allocatable :: t8(:, :)
+    integer, allocatable :: tb(:, :), nb(:), wb(:, :), member(:), ek(:), tk(:, :)
+    integer :: idx(4)
+    real(wp), allocatable :: xb(:, :)
+    logical :: all_of, mine
+    integer :: i0, n, i, l, j, cnt, m, nn
+    real(wp) :: v
+    all_of = .false.
+    if (present(check)) all_of = check
+    lmax = 0.0_wp
+    allocate(ek(1024), tk(4, 1024))
+    cnt = 0
+    do i0 = 1, ne, block_rows
+      n = min(block_rows, ne - i0 + 1)
+      if (allocated(t8)) deallocate(t8)
+      allocate(t8(4, n))
+      call h5_read_block(f, '/mesh/tetrahedra', t8, i0, err)
+      if (allocated(err)) return
+      if (any(t8 < 1 .or. t8 > np)) then
+        call set_error(err, what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
+        return
+      end if
+      tb = int(t8)
+      if (present(sel)) then
+        ! (the block's nodes in sel: one merge of two ascending lists)
+        call unique_nodes(tb, nb, wb)
+        member = merge_places(nb, sel)
+      end if
+      if (all_of) then
+        ! (the positions of the block's nodes: every tetrahedron's volume and edges)
+        call unique_nodes(tb, nb, wb)
+        if (allocated(xb)) deallocate(xb)
+        allocate(xb(3, size(nb)))
+        call h5_read_rows(f, '/particles/x', xb, nb, np, .false., err)
+        if (allocated(err)) return
+      end if
+      do i = 1, n
+        if (all_of) then
+          idx = wb(:, i)
+          v = tet_volume(xb, idx)
+          if (.not. (v > 0.0_wp)) then
+            call set_error(err, what//": tetrahedron "//itoa(i0 + i - 1)//" of /mesh/"// &
+              "tetrahedra (nodes "//itoa(tb(1, i))//", "//itoa(tb(2, i))//", "// &
+              itoa(tb(3, i))//", "//itoa(tb(4, i))//") has volume "//rtoa(v)//" m^3: "// &
+              "each needs a positive volume, node 4 on the side of face (1, 2, 3) its "// &
+              "right-hand normal points to (tools/mesh_body.py --3d orders them)")
+            return
+          end if
+          do l = 1, 3
+            do j = l + 1, 4
+              lmax = max(lmax, norm2(xb(:, idx(l)) - xb(:, idx(j))))
+            end do
+          end do
+        end if
+        if (present(sel)) then
+          mine = any(member(wb(:, i)) > 0)
+        else
+          mine = any(tb(:, i) >= r0 .and. tb(:, i) <= r1)
+        end if
+        if (.not. mine) cycle
+        cnt = cnt + 1
+        if (cnt > size(ek)) call grow_kept(ek, tk)
+        ek(cnt) = i0 + i - 1
+        tk(:, cnt) = tb(:, i)
+      end do
+    end do
+    ! the kept tetrahedra's nodes and their positions (what a node's facts read)
+    tc%n = cnt
+    tc%e = ek(1:cnt)
+    tc%t = tk(:, 1:cnt)
+    call unique_nodes(tc%t, tc%node, tc%nl)
+    nn = size(tc%node)
+    allocate(tc%xn(3, nn), tc%v(cnt))
+    call h5_read_rows(f, '/particles/x', tc%xn, tc%node, np, .false., err)
+    if (allocated(err)) return
+    do m = 1, cnt
+      tc%v(m) = tet_volume(tc%xn, tc%nl(:, m))
+    end do
+  end subroutine scan_tets
+
+  !> Every node number of /mesh/tetrahedra within 1 ... np (read_file_tets' first check,
+  !! before any position is read).
+  subroutine check_range(f, what, np, ne, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: what
+    integer, intent(in) :: np, ne
+    type(error_t), allocatable, intent(inout) :: err
+    integer(i64), allocatable :: t8(:, :)
+    integer :: i0, n
+    do i0 = 1, ne, block_rows
+      n = min(block_rows, ne - i0 + 1)
+      if (allocated(t8)) deallocate(t8)
+      allocate(t8(4, n))
+      call h5_read_block(f, '/mesh/tetrahedra', t8, i0, err)
+      if (allocated(err)) return
+      if (any(t8 < 1 .or. t8 > np)) then
+        call set_error(err, what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
+        return
+      end if
+    end do
+  end subroutine check_range
+
+  !> ek and tk with room for twice as many tetrahedra (a copy, no temporary of the pair).
+  subroutine grow_kept(ek, tk)
+    integer, allocatable, intent(inout) :: ek(:), tk(:, :)
+    integer, allocatable :: e2(:), t2(:, :)
+    integer :: n
+    n = size(ek)
+    allocate(e2(2*n), t2(4, 2*n))
+    e2(1:n) = ek
+    t2(:, 1:n) = tk
+    call move_alloc(e2, ek)
+    call move_alloc(t2, tk)
+  end subroutine grow_kept
+
+  !> The distinct numbers of t, ascending, and t as places in them (at, t's shape).
+  subroutine unique_nodes(t, nodes, at)
+    integer, intent(in) :: t(:, :)
+    integer, allocatable, intent(out) :: nodes(:), at(:, :)
+    integer, allocatable :: flat(:), idx(:), w(:)
+    integer :: i, n
+    flat = reshape(t, [size(t)])
+    allocate(idx(size(flat)), w(size(flat)), nodes(size(flat)))
+    call radix_index(flat, idx)
+    n = 0
+    do i = 1, size(flat)
+      if (n > 0) then
+        if (nodes(n) == flat(idx(i))) then
+          w(idx(i)) = n
+          cycle
+        end if
+      end if
+      n = n + 1
+      nodes(n) = flat(idx(i))
+      w(idx(i)) = n
+    end do
+    nodes = nodes(1:n)
+    at = reshape(w, shape(t))
+  end subroutine unique_nodes
+
+  !> For a and b ascending without repeats: the place of each a(i) in b, 0 where it is
+  !! not there (one merge: no search a number).
+  pure function merge_places(a, b) result(p)
+    integer, intent(in) :: a(:), b(:)
+    integer :: p(size(a))
+    integer :: i, j
+    p = 0
+    j = 1
+    do i = 1, size(a)
+      do while (j <= size(b))
+        if (b(j) >= a(i)) exit
+        j = j + 1
+      end do
+      if (j > size(b)) exit
+      if (b(j) == a(i)) p(i) = j
+    end do
+  end function merge_places
+
+  !> What the serial body takes of each node of sel (ascending; every tetrahedron touching
+  !! one is in tc): v4 the quarters of its tetrahedra, summed node 1, 2, 3, 4 of each in
+  !! turn in the file's order (tet_mesh_body's sums), local its longest edge, bnd whether
+  !! it is a node of a face of one tetrahedron only; the boundary faces whose smallest node
+  !! is in sel, fct (3, :) as tet4_boundary_faces writes them, with their places key
+  !! (4 (e - 1) + f), ascending. (Some 24 B a tetrahedron of tc beside tc: no array over
+  !! its faces.)
+  subroutine node_facts(tc, sel, v4, local, bnd, fct, key, nover)
+    type(touching_t), intent(in) :: tc
+    integer, intent(in) :: sel(:)
+    real(wp), allocatable, intent(out) :: v4(:), local(:)
+    logical, allocatable, intent(out) :: bnd(:)
+    integer, allocatable, intent(out) :: fct(:, :), key(:)
+    !> the faces of sel's nodes in more than two tetrahedra (the mesh not conforming),
+    !! counted as tet4_boundary_faces counts them: every tetrahedron's such face
+    integer, intent(out) :: nover
+    integer, allocatable :: sl(:, :), selp(:), ptr(:), tl(:)
+    integer :: ns, k, m, i, j, l, p, q, a, nn, pass, nshare, o
+    logical, allocatable :: shared(:, :)
+    integer :: s1(3), s2(3), fa(3)
+    real(wp) :: len_e
+    ns = size(sel)
+    allocate(v4(ns), local(ns), bnd(ns))
+    v4 = 0.0_wp
+    local = 0.0_wp
+    bnd = .false.
+    ! (the kept tetrahedra's nodes as places in sel, 0: not in sel)
+    selp = merge_places(tc%node, sel)
+    allocate(sl(4, tc%n))
+    do m = 1, tc%n
+      sl(:, m) = selp(tc%nl(:, m))
+    end do
+    do k = 1, 4
+      do m = 1, tc%n
+        i = sl(k, m)
+        if (i > 0) v4(i) = v4(i) + 0.25_wp*tc%v(m)
+      end do
+    end do
+    do m = 1, tc%n
+      do k = 1, 3
+        do j = k + 1, 4
+          len_e = norm2(tc%xn(:, tc%nl(k, m)) - tc%xn(:, tc%nl(j, m)))
+          i = sl(k, m)
+          if (i > 0) local(i) = max(local(i), len_e)
+          i = sl(j, m)
+          if (i > 0) local(i) = max(local(i), len_e)
+        end do
+      end do
+    end do
+    ! the faces with a node in sel: every tetrahedron holding such a face holds that node, so
+    ! is in tc, and holds the face's first node, whose tetrahedra (a CSR over tc%node) are
+    ! looked through for the other two
+    nn = size(tc%node)
+    allocate(ptr(nn + 1), tl(4*tc%n))
+    ptr = 0
+    do m = 1, tc%n
+      do l = 1, 4
+        ptr(tc%nl(l, m) + 1) = ptr(tc%nl(l, m) + 1) + 1
+      end do
+    end do
+    ptr(1) = 1
+    do i = 1, nn
+      ptr(i + 1) = ptr(i + 1) + ptr(i)
+    end do
+    do m = 1, tc%n
+      do l = 1, 4
+        tl(ptr(tc%nl(l, m))) = m
+        ptr(tc%nl(l, m)) = ptr(tc%nl(l, m)) + 1
+      end do
+    end do
+    do i = nn, 1, -1
+      ptr(i + 1) = ptr(i)
+    end do
+    ptr(1) = 1
+    ! (two passes: the facets counted, then kept, in the whole mesh's order: tc's, then
+    ! each one's faces in turn)
+    ! (a shared face is matched once, from its first tetrahedron: the others' marked)
+    allocate(shared(4, tc%n))
+    shared = .false.
+    nover = 0
+    do pass = 1, 2
+      a = 0
+      do m = 1, tc%n
+        do p = 1, 4
+          s2 = sl(face_nodes(:, p), m)
+          if (all(s2 == 0)) cycle
+          if (shared(p, m)) cycle
+          fa = tc%nl(face_nodes(:, p), m)
+          ! (the tetrahedra of the face's node in fewest)
+          i = fa(minloc(ptr(fa + 1) - ptr(fa), 1))
+          nshare = 0
+          do q = ptr(i), ptr(i + 1) - 1
+            o = tl(q)
+            if (o == m) cycle
+            if (.not. (any(tc%nl(:, o) == fa(1)) .and. any(tc%nl(:, o) == fa(2)) .and. &
+              any(tc%nl(:, o) == fa(3)))) cycle
+            nshare = nshare + 1
+            ! (its face is the one opposite its fourth node)
+            do l = 1, 4
+              if (all(tc%nl(l, o) /= fa)) shared(l, o) = .true.
+            end do
+          end do
+          if (nshare > 0) shared(p, m) = .true.
+          ! (tet4_boundary_faces counts each tetrahedron's face that more than one other
+          ! holds: all nshare + 1 of them)
+          if (nshare > 1 .and. pass == 1) nover = nover + nshare + 1
+          if (nshare /= 0) cycle
+          ! a boundary face: its nodes are boundary nodes; one of the rank's facets when its
+          ! smallest node is in sel
+          s1 = tc%t(face_nodes(:, p), m)
+          if (pass == 1) then
+            do l = 1, 3
+              if (s2(l) > 0) bnd(s2(l)) = .true.
+            end do
+          end if
+          if (s2(minloc(s1, 1)) == 0) cycle
+          a = a + 1
+          if (pass == 1) cycle
+          fct(:, a) = s1
+          key(a) = 4*(tc%e(m) - 1) + p
+        end do
+      end do
+      if (pass == 1) allocate(fct(3, a), key(a))
+    end do
+  end subroutine node_facts
+end module tet_file_m

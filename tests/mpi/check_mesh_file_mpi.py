@@ -1,0 +1,144 @@
+#!/usr/bin/env python3
+"""A 3D body from a tetrahedral mesh file read per part by mfcd_mpi (src/setup/tet_file_m.f90):
+each rank streams the file and keeps its share of the nodes and tetrahedra and the region
+its part needs, never the whole mesh (doc/parallel.md, "Mesh files read per part").
+
+Meshed once by tools/mesh_body.py --3d (the gmsh Python module of .venv; exit 77, skipped,
+without it), the decks given those files (&body shape = 'file'), then
+tests/mpi/check_mpi_run.py on 2-4 ranks: every dataset the serial mfcd writes, /bodies'
+facets too (gathered from the ranks in the whole mesh's order), bit for bit, and each body
+read per part (--made: no rank read all its nodes):
+- the Taylor quarter of input/taylor_bar_3d_fem_geo.nml (h = 1.5 mm) on its rigid target,
+  2 us; a checkpoint written on 2 ranks continued on 3; the same deck with supports too
+  small for det(M) (support_factor 0.5) refused on 2, 4 and 6 ranks with the serial message;
+- the same bar on a deformable block of tetrahedra (its deforming master: detection both
+  ways, the bar's side taking its det(M) plateau, surface median and whole surface from the
+  file over the ranks), and the block on the bar (the bar the master), 2 us;
+- the tube of input/tube_crush_coarse.nml (h = 0.7 mm) between its rigid floor and ram with
+  its self-contact, 2 us (a rank whose region meets no &bc box asks the file whether the
+  whole body has a node there).
+Then a file with one tetrahedron turned inside out: the serial run and 2 and 3 ranks exit 2
+with the serial message naming it, writing nothing.
+
+Usage: check_mesh_file_mpi.py MFCD MFCD_MPI MPIEXEC
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import h5py
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+MFCD, MFCD_MPI, MPIEXEC = sys.argv[1:4]
+H = "1.5e-3"
+
+
+def main():
+    try:
+        import gmsh  # noqa: F401 (tools/mesh_body.py meshes with it)
+    except ImportError:
+        print("check_mesh_file_mpi: the gmsh Python module is missing (tools/setup.sh "
+              "--gmsh installs it): skipped")
+        sys.exit(77)
+    work = os.path.abspath("mesh_file_mpi")
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    mesh = os.path.join(work, "taylor_quarter.hdf5")
+    text = from_file(work, "taylor_bar_3d_fem_geo", "taylor_bar_quarter.geo", mesh,
+                     [f"h={H}"])
+    tube = os.path.join(work, "tube.hdf5")
+    tube_text = from_file(work, "tube_crush_coarse", "tube_crush.geo", tube,
+                          ["R=10.0e-3", "t=1.0e-3", "L=12.0e-3", "H=4.25e-3", "a=0.1e-3",
+                           "h=0.7e-3"])
+    deck = os.path.join(work, "taylor_bar_3d_fem_file.nml")
+    open(deck, "w").write(text)
+    small = os.path.join(work, "taylor_bar_3d_fem_file_small_support.nml")
+    open(small, "w").write(text.replace("support_factor = 2.0, 2.0, 2.0",
+                                        "support_factor = 0.5, 0.5, 0.5", 1))
+    # the target deformable (tetrahedra): the bar's master, then the bar the block's
+    block = text.replace("  name = 'target'\n  role = 'rigid'",
+                         "  name = 'target'\n  discretization = 'fem'\n  material = 'steel'", 1)
+    assert block != text
+    on_block = os.path.join(work, "taylor_bar_3d_fem_file_on_block.nml")
+    open(on_block, "w").write(block)
+    swapped = block.replace("master = 'target'\n  slave = 'bar'",
+                            "master = 'bar'\n  slave = 'target'", 1)
+    assert swapped != block
+    under_block = os.path.join(work, "taylor_bar_3d_fem_file_master.nml")
+    open(under_block, "w").write(swapped)
+    tube_self = os.path.join(work, "tube_crush_file_self.nml")
+    open(tube_self, "w").write(tube_text.replace(
+        "&solver", "&contact\n  master = 'tube'\n  slave = 'tube'\n/\n&solver", 1))
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    run = [sys.executable, os.path.join(HERE, "check_mpi_run.py"), "--t-end", "2.0e-6"]
+    p = subprocess.run(run + ["--ranks", "2,3,4", "--made", "taylor_bar_3d_fem_file",
+                              "--restart", "2:3:8", "--bad-particle", small, MFCD, MFCD_MPI,
+                              MPIEXEC, deck], cwd=work, env=env)
+    ok = p.returncode == 0
+    p = subprocess.run(run + ["--ranks", "2,3", "--made", "taylor_bar_3d_fem_file_on_block",
+                              "--made", "taylor_bar_3d_fem_file_master", MFCD, MFCD_MPI,
+                              MPIEXEC, on_block, under_block], cwd=work, env=env)
+    ok = p.returncode == 0 and ok
+    p = subprocess.run(run + ["--ranks", "2,3,4", "--made", "tube_crush_file_self", MFCD,
+                              MFCD_MPI, MPIEXEC, tube_self], cwd=work, env=env)
+    ok = p.returncode == 0 and ok
+    ok = turned_tetrahedron(work, mesh, text, env) and ok
+    sys.exit(0 if ok else 1)
+
+
+def from_file(work, name, geo, mesh, numbers):
+    """input/NAME.nml's body meshed from input/GEO into mesh, the deck's text given it."""
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "mesh_body.py"),
+                        "--trusted", "--3d"] + [f"--set={v}" for v in numbers]
+                       + [os.path.join(ROOT, "input", geo), mesh], capture_output=True,
+                       text=True)
+    if p.returncode != 0:
+        print(p.stdout, p.stderr)
+        sys.exit(1)
+    print(p.stdout.strip())
+    text = open(os.path.join(ROOT, "input", name + ".nml")).read()
+    text = text.replace("shape = 'geo'", "shape = 'file'", 1)
+    text = text.replace(f"file = 'input/{geo}'", f"file = '{mesh}'", 1)
+    assert mesh in text, name
+    return re.sub(r"^\s*geo_(names|values)\s*=.*\n", "", text, flags=re.M)
+
+
+def turned_tetrahedron(work, mesh, text, env):
+    """The file with tetrahedron 100 turned inside out: refused by every run, the same words."""
+    bad = os.path.join(work, "taylor_quarter_turned.hdf5")
+    shutil.copy(mesh, bad)
+    with h5py.File(bad, "r+") as f:
+        t = f["/mesh/tetrahedra"][...]
+        t[99, [2, 3]] = t[99, [3, 2]]
+        f["/mesh/tetrahedra"][...] = t
+    deck = os.path.join(work, "turned.nml")
+    open(deck, "w").write(text.replace(mesh, bad).replace(
+        "file = 'output/taylor_bar_3d_fem_geo.h5'", "file = 'turned_out.h5'"))
+    results = []
+    before = set(os.listdir(work))
+    p = subprocess.run([MFCD, deck], cwd=work, env=env, capture_output=True, text=True,
+                       timeout=120)
+    said = [l.split("mfcd: error: ", 1)[1] for l in p.stderr.splitlines()
+            if l.startswith("mfcd: error: ")]
+    good = p.returncode == 2 and len(said) == 1 and "tetrahedron 100 of /mesh/tetrahedra" \
+        in said[0]
+    results.append(good)
+    print(("[  OK  ] " if good else "[ FAIL ] ") + "mesh_file: the serial run refuses the "
+          "turned tetrahedron, naming it" + ("" if good else f": {p.returncode} {p.stderr}"))
+    for n in (2, 3):
+        p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI, deck],
+                           cwd=work, env=env, capture_output=True, text=True, timeout=120)
+        made = set(os.listdir(work)) - before
+        good = bool(said) and p.returncode == 2 and said[0] in p.stderr and not made
+        results.append(good)
+        print(("[  OK  ] " if good else "[ FAIL ] ") + f"mesh_file, {n} ranks: exits 2 with "
+              "the serial run's message, nothing written"
+              + ("" if good else f": {p.returncode} {p.stderr[-800:]} {made}"))
+    return all(results)
+
+
+if __name__ == "__main__":
+    main()
