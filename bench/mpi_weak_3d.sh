@@ -12,7 +12,11 @@
 # self-contact's sides, which hold arrays over all their particles on every rank).
 # FEM=1 makes the bar of linear tetrahedra on the same lattice (discretization = 'fem': the
 # quarter disk's prisms, three tetrahedra each) instead of RKPM particles.
-# Usage: [STEPS=N] [SELF=1] [FEM=1] bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
+# MESH=1 makes it of gmsh's unstructured tetrahedra read from a mesh file (the quarter bar
+# of input/taylor_bar_quarter.geo, radius 5 mm, 30 mm a rank, elements of H m, 1/3 mm by
+# default, meshed once a run by tools/mesh_body.py --3d with .venv's gmsh; the deck
+# input/taylor_bar_3d_fem_geo.nml given the file): a body each rank reads per part.
+# Usage: [STEPS=N] [SELF=1] [FEM=1 | MESH=1 [H=h]] bash bench/mpi_weak_3d.sh [MPI_BIN_DIR] [RANKS ...]
 #   default: build-mpi-rel/bin (bench/mpi_scaling.sh builds it), ranks 2 4 8, 10 steps of 15 ns
 #   (more steps, e.g. STEPS=50, to time the time loop's weak scaling too)
 # More ranks than cores run oversubscribed: the memory holds, the set-up's seconds are then
@@ -28,7 +32,8 @@ steps=${STEPS:-10}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "# mfcd_mpi weak scaling of the set-up, 3D Taylor bar 30 mm a rank, $steps steps$([ "${FEM:-0}" = 1 ] && echo ', tetrahedra')$([ "${SELF:-0}" = 1 ] && echo ', with its self-contact')"
+h=${H:-0.333e-3}
+echo "# mfcd_mpi weak scaling of the set-up, 3D Taylor bar 30 mm a rank, $steps steps$([ "${FEM:-0}" = 1 ] && echo ', tetrahedra')$([ "${MESH:-0}" = 1 ] && echo ", gmsh tetrahedra of $h m from a mesh file")$([ "${SELF:-0}" = 1 ] && echo ', with its self-contact')"
 echo "- date: $(date -Iseconds); repository at $(git -C "$root" rev-parse --short HEAD 2>/dev/null); bin: $bin (its commit: each run's first log line)"
 echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc --all)"
 for n in "${ranks[@]}"; do
@@ -38,6 +43,18 @@ for n in "${ranks[@]}"; do
     "$root/bench/decks/taylor_bar_3d_rkpm_bench.nml" > "$work/t.nml"
   if [ "${FEM:-0}" = 1 ]; then
     sed -i "s/^  material = 'steel'/  material = 'steel'\n  discretization = 'fem'/" "$work/t.nml"
+  fi
+  if [ "${MESH:-0}" = 1 ]; then
+    "$root/.venv/bin/python" "$root/tools/mesh_body.py" --trusted --3d --set "L=$len" \
+      --set "h=$h" "$root/input/taylor_bar_quarter.geo" "$work/bar.hdf5" | sed -e 's/^/  /'
+    sed -e "s#file = 'output/#file = '$work/#" -e "s#shape = 'geo'#shape = 'file'#" \
+      -e "s#file = 'input/taylor_bar_quarter.geo'#file = '$work/bar.hdf5'#" \
+      -e "/geo_names/d" -e "/geo_values/d" \
+      -e "s/t_end = 24.0e-6/t_end = $(python3 -c "print(f'{15e-9*$steps:.4e}')")/" \
+      -e "s/snapshot_times = .*/snapshot_times = 0.0/" \
+      "$root/input/taylor_bar_3d_fem_geo.nml" > "$work/t.nml"
+    # (its output under the bench deck's name, which the loop clears)
+    sed -i "s#$work/taylor_bar_3d_fem_geo.h5#$work/taylor_bar_3d_rkpm_bench.h5#" "$work/t.nml"
   fi
   if [ "${SELF:-0}" = 1 ]; then
     printf "&contact\n  master = 'bar'\n  slave = 'bar'\n/\n" >> "$work/t.nml"

@@ -1107,7 +1107,7 @@ contains
     type(error_t), allocatable :: e2
     integer, allocatable :: dims(:)
     integer(i64), allocatable :: tet8(:, :)
-    real(wp), allocatable :: v4(:)
+    real(wp), allocatable :: v4(:), ve(:)
     real(wp) :: v
     integer :: l, e, k, np
     has = .false.
@@ -1141,10 +1141,11 @@ contains
     ! (finite numbers first: no volume of a NaN or Infinity is computed)
     call check_file_values(what, x, vol, err)
     if (allocated(err)) return
-    allocate(v4(np))
+    allocate(v4(np), ve(size(tet, 2)))
     v4 = 0.0_wp
     do e = 1, size(tet, 2)
       v = tet_volume(x, tet(:, e))
+      ve(e) = v
       if (.not. (v > 0.0_wp)) then
         call set_error(err, what//": tetrahedron "//itoa(e)//" of /mesh/tetrahedra (nodes "// &
           itoa(tet(1, e))//", "//itoa(tet(2, e))//", "//itoa(tet(3, e))//", "// &
@@ -1156,7 +1157,7 @@ contains
     end do
     do k = 1, 4
       do e = 1, size(tet, 2)
-        v4(tet(k, e)) = v4(tet(k, e)) + 0.25_wp*tet_volume(x, tet(:, e))
+        v4(tet(k, e)) = v4(tet(k, e)) + 0.25_wp*ve(e)
       end do
     end do
     do k = 1, np

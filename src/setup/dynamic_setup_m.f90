@@ -312,7 +312,6 @@ contains
     !! (made from b's recipe: tl_region_3d)
     type(body_t), pointer :: bp
     integer, allocatable :: rows(:)
-    real(wp) :: made(1)
     !> a region's tetrahedra made from the recipe (tet4_region): their whole mesh's numbers
     integer, allocatable :: eglob(:)
     integer :: ne_whole
@@ -342,15 +341,13 @@ contains
           if (.not. allocated(e2)) call tet4_tables(bp, tmesh, &
             deck%materials(bs%imat)%params%density, t, e2, box)
           call region_tet_sums(part, tree, bp, t, e2)
-          made = real(max(bp%np, size(b%x, 2)), wp)
-          call part%comm%max_real(made)
-          if (.not. allocated(e2)) write(output_unit, '(a)') "dynamic: body '"// &
-            trim(b%name)//"': made per rank (its share, then its region's tetrahedra "// &
-            trim(merge("read from its mesh file           ", &
-            "from the body's section and layers", allocated(b%mfile)))//'), at most '// &
-            itoa(nint(made(1)))//' particles (nodes) on a rank, of '//itoa(b%np)// &
-            ' (the whole body is '// &
-            'made on no rank)'
+          if (allocated(b%mfile)) then
+            call log_made(part, b, bp%np, "region's tetrahedra read from its mesh file", &
+              ' (nodes)', .not. allocated(e2))
+          else
+            call log_made(part, b, bp%np, "region's tetrahedra from the body's section "// &
+              'and layers', ' (nodes)', .not. allocated(e2))
+          end if
         else
           tmesh%ne = size(b%cells, 2)
           tmesh%tet = b%cells
@@ -382,14 +379,8 @@ contains
             allocate(reg%body)
             call tl_region_3d(b, box, reg%body)
             bp => reg%body
-            ! (the most particles a rank made of the body, for the log: collective, as
-            ! region_made is the same on every rank)
-            made = real(max(reg%body%np, size(b%x, 2)), wp)
-            call part%comm%max_real(made)
-            write(output_unit, '(a)') "dynamic: body '"//trim(b%name)//"': made per rank "// &
-              "(its share, then its region from the body's section and layers), at most "// &
-              itoa(nint(made(1)))//' particles on a rank, of '//itoa(b%np)//' (the whole '// &
-              'body is made on no rank)'
+            call log_made(part, b, bp%np, "region from the body's section and layers", '', &
+              .true.)
           end if
           call tl_build_3d(bp, deck%materials(bs%imat)%params%density, t, e2, box)
         else
@@ -688,6 +679,25 @@ contains
     end do
     t%total_mass = exact_allsum(e, part%comm)
   end subroutine region_masses
+
+  !> The log's line for body b made per rank (its region of nr particles made as what
+  !! says; unit: ' (nodes)' for elements), when say: the most particles a rank made of it
+  !! against the whole body's (check_mpi_run.py --made reads it). Collective (say may
+  !! differ between the ranks: each takes part).
+  subroutine log_made(part, b, nr, what, unit, say)
+    type(setup_part_t), intent(in) :: part
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: nr
+    character(len=*), intent(in) :: what, unit
+    logical, intent(in) :: say
+    real(wp) :: made(1)
+    made = real(max(nr, size(b%x, 2)), wp)
+    call part%comm%max_real(made)
+    if (say) write(output_unit, '(a)') "dynamic: body '"//trim(b%name)//"': made per "// &
+      'rank (its share, then its '//what//'), at most '//itoa(nint(made(1)))// &
+      ' particles'//unit//' on a rank, of '//itoa(b%np)//' (the whole body is made on '// &
+      'no rank)'
+  end subroutine log_made
 
   !> The whole mesh's smallest height (the time step's) and total mass (for the log) for
   !! the tables t of a rank's tetrahedra of body b made from its recipe (tet4_region): the
