@@ -57,7 +57,7 @@ module rkpm_tl3d_m
   use tet4_m, only: tet4_mesh_t, tet4_face_neighbours
   implicit none
   private
-  public :: tl_build_3d, tl_region_3d, symmetry_planes_3d
+  public :: tl_build_3d, tl_region_3d, symmetry_planes_3d, region_reach
 
   integer, parameter :: max_nb = 1024   !< particles covering one evaluation point (3D)
   integer, parameter :: max_cv = max_cell_vertices
@@ -177,7 +177,13 @@ contains
       call walk(b)
       nkeep = ni
     end do
-    if (allocated(b%glob)) then
+    if (allocated(b%mfile)) then
+      ! b holds some nodes of a mesh file's body (a rank's region, read: tet_file_m): the
+      ! whole cloud's extremes are the file's, placed (no images: a mesh has no symmetry
+      ! planes), and its largest supports the factors times the longest edge
+      lo = b%mfile%lo + b%mfile%shift
+      hi = b%mfile%hi + b%mfile%shift
+    else if (allocated(b%glob)) then
       ! b holds some particles of a larger body (a rank's region, made from its recipe:
       ! generators_m extrude_pick): the whole cloud's extremes are those of its first and
       ! last layers' entries (the layers' sections are the same, z rises with the layer),
@@ -191,7 +197,7 @@ contains
     end if
     if (present(near)) then
       call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:3), err, lo, hi, &
-        maxval(b%rho, dim=2))
+        body_rmax(b))
     else
       call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:3), err)
     end if
@@ -314,6 +320,19 @@ contains
     call extrude_pick(b, 1, b%np, box(:, 1) - grow, box(:, 2) + grow, n, normal, pos, r)
   end subroutine tl_region_3d
 
+  !> The largest supports of body b's whole cloud: its particles' (b%rho), or for a rank's
+  !! region of a mesh file's body, the factors times the whole mesh's longest edge (each
+  !! node's support is its longest edge's: tet_file_m).
+  pure function body_rmax(b) result(r)
+    type(body_t), intent(in) :: b
+    real(wp) :: r(3)
+    if (allocated(b%mfile)) then
+      r = b%support_factor(1:3)*b%mfile%lmax
+    else
+      r = maxval(b%rho, dim=2)
+    end if
+  end function body_rmax
+
   !> How far beyond a rank's box the region cloud of scni_tables_3d reaches: a kept
   !! cell's particle lies within rmax + reach of the box, a point of the cell within
   !! reach of its particle, and a particle covering it within rmax of it; one reach more
@@ -350,14 +369,17 @@ contains
     reach = 0.5_wp*b%spacing(1:3)
     if (allocated(b%tets)) then
       ! median-dual cells: the particle's tetrahedra, their connectivity; a cell reaches
-      ! no farther than the longest edge of the mesh from its particle
+      ! no farther than the longest edge of the mesh from its particle (a rank's region of
+      ! a mesh file: the whole mesh's; its smallest height the region's, which the set-up
+      ! takes the least of over the ranks)
       call dual_mesh(b, dm)
       t%hmin = dm%hmin
       reach = dm%lmax
+      if (allocated(b%mfile)) reach = b%mfile%lmax
     end if
     if (present(box)) then
       ! the cloud of the region (region_reach)
-      grow = region_reach(maxval(b%rho, dim=2), reach)
+      grow = region_reach(body_rmax(b), reach)
       call folded_cloud(b, c, f, err, reshape([box(:, 1) - grow, box(:, 2) + grow], [3, 2]))
     else
       call folded_cloud(b, c, f, err)

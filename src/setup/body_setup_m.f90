@@ -275,6 +275,13 @@ contains
         ! the whole mesh never held (tet_file_m); the checks the serial ones, at the share
         what = "particle file '"//trim(s%file)//"'"
         call tet_file_share(trim(s%file), what, share(1), share(2), b, local, e2)
+        ! (an RKPM body integrates over the tetrahedra's median-dual cells: no elements;
+        ! each rank reads its region's tetrahedra for them, dynamic_setup_m)
+        if (.not. allocated(e2) .and. s%discretization /= 'fem') then
+          deallocate(b%cells)
+          b%cell0 = 0
+          b%ncells = 0
+        end if
         if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
         ! (the volumes are the tetrahedra's, checked: check_file_layout's sum of them
         ! cannot exceed the box; the coincident nodes are looked for near the share, with

@@ -19,7 +19,7 @@ module dynamic_setup_m
     region_rows
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
-  use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d
+  use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d, region_reach
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
   use tet_file_m, only: tet_file_region, tet_file_positions, tet_file_count
@@ -315,7 +315,7 @@ contains
     !> a region's tetrahedra made from the recipe (tet4_region): their whole mesh's numbers
     integer, allocatable :: eglob(:)
     integer :: ne_whole
-    real(wp) :: grow
+    real(wp) :: grow(3), made(1)
     bs = deck%bodies(k)
     bp => b
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
@@ -377,12 +377,29 @@ contains
         if (region_box(part, b, tree, box)) then
           if (region_made(deck, k, part, b)) then
             allocate(reg%body)
-            call tl_region_3d(b, box, reg%body)
-            bp => reg%body
-            call log_made(part, b, bp%np, "region from the body's section and layers", '', &
-              .true.)
+            if (allocated(b%mfile)) then
+              ! (a mesh file's: the nodes within what the box's cells and their covering
+              ! particles reach, the whole mesh's supports and longest edge, and the
+              ! tetrahedra all of whose nodes are among them, read: tet_file_m)
+              grow = region_reach(b%support_factor(1:3)*b%mfile%lmax, &
+                [(b%mfile%lmax, j = 1, 3)]) + b%mfile%lmax
+              call tet_file_region(b, box(:, 1) - grow, box(:, 2) + grow, reg%body, e2, &
+                tmesh, eglob)
+              if (.not. allocated(e2)) call move_alloc(tmesh%tet, reg%body%tets)
+              ! (an RKPM solid's points are its particles, not the tetrahedra)
+              if (allocated(eglob)) deallocate(eglob)
+              bp => reg%body
+              call log_made(part, b, bp%np, 'region read from its mesh file', '', &
+                .not. allocated(e2))
+            else
+              call tl_region_3d(b, box, reg%body)
+              bp => reg%body
+              call log_made(part, b, bp%np, "region from the body's section and layers", &
+                '', .true.)
+            end if
           end if
-          call tl_build_3d(bp, deck%materials(bs%imat)%params%density, t, e2, box)
+          if (.not. allocated(e2)) call tl_build_3d(bp, &
+            deck%materials(bs%imat)%params%density, t, e2, box)
         else
           call tl_build_3d(b, deck%materials(bs%imat)%params%density, t, e2)
         end if
@@ -403,6 +420,13 @@ contains
           call region_masses(part, tree, bp, t, box, rows, e2)
         else
           call whole_masses(part, tree, b, t, e2)
+        end if
+        ! (a mesh file's: the smallest height of the region's tetrahedra, the least over
+        ! the ranks, as every tetrahedron is in some rank's region: the serial minimum)
+        if (allocated(b%mfile) .and. b%ndim == 3) then
+          made = -t%hmin
+          call part%comm%max_real(made)
+          t%hmin = -made(1)
         end if
       end if
       alpha = bs%stabilization
@@ -542,13 +566,13 @@ contains
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
         any(bs%shape == ['box     ', 'cylinder', 'polygon '])
-      ! a tetrahedral mesh file (tools/mesh_body.py --3d) of elements, in any contact (the
-      ! sides' whole-body facts from the file: side_facts)
+      ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
+      ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts)
       if (.not. yes) then
         l = len_trim(bs%file)
         yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &
           deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
-          bs%discretization == 'fem' .and. bs%angular_velocity == 0.0_wp .and. &
+          any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
           bs%shape == 'file' .and. l > 3 .and. (bs%file(max(1, l - 2):l) == '.h5' .or. &
           bs%file(max(1, l - 4):l) == '.hdf5')
       end if
@@ -566,7 +590,8 @@ contains
     type(body_t), intent(in) :: b
     yes = .false.
     if (.not. present(part)) return
-    if (part%nranks == 1 .or. b%ndim /= 3 .or. .not. allocated(b%ext)) return
+    if (part%nranks == 1 .or. b%ndim /= 3 .or. .not. (allocated(b%ext) .or. &
+      allocated(b%mfile))) return
     yes = region_solid_do(deck, k, part)
   end function region_made
 

@@ -13,7 +13,8 @@ read per part (--made: no rank read all its nodes):
   small for det(M) (support_factor 0.5) refused on 2, 4 and 6 ranks with the serial message;
 - the same bar on a deformable block of tetrahedra (its deforming master: detection both
   ways, the bar's side taking its det(M) plateau, surface median and whole surface from the
-  file over the ranks), and the block on the bar (the bar the master), 2 us;
+  file over the ranks), and the block on the bar (the bar the master), 2 us; the bar
+  (h = 1 mm) by RKPM over the tetrahedra's median-dual cells on its rigid target, 2 us;
 - the tube of input/tube_crush_coarse.nml (h = 0.7 mm) between its rigid floor and ram with
   its self-contact, 2 us (a rank whose region meets no &bc box asks the file whether the
   whole body has a node there).
@@ -69,18 +70,31 @@ def main():
     assert swapped != block
     under_block = os.path.join(work, "taylor_bar_3d_fem_file_master.nml")
     open(under_block, "w").write(swapped)
+    # the bar by RKPM over the tetrahedra's median-dual cells (each rank reads its region's
+    # tetrahedra for its cells), on a finer mesh (1 mm): an RKPM region reaches some 8
+    # longest edges beyond the rank's box, the whole 1.5 mm bar on 3 ranks
+    fine = os.path.join(work, "taylor_quarter_1mm.hdf5")
+    rkpm = from_file(work, "taylor_bar_3d_fem_geo", "taylor_bar_quarter.geo", fine,
+                     ["h=1.0e-3"])
+    rkpm = rkpm.replace("discretization = 'fem'", "discretization = 'rkpm'", 1)
+    assert "'rkpm'" in rkpm
+    bar_rkpm = os.path.join(work, "taylor_bar_3d_rkpm_file.nml")
+    open(bar_rkpm, "w").write(rkpm)
     tube_self = os.path.join(work, "tube_crush_file_self.nml")
     open(tube_self, "w").write(tube_text.replace(
         "&solver", "&contact\n  master = 'tube'\n  slave = 'tube'\n/\n&solver", 1))
-    env = dict(os.environ, OMP_NUM_THREADS="1")
+    # (as check_mpi_run.py runs mpiexec: a CI container is root)
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     run = [sys.executable, os.path.join(HERE, "check_mpi_run.py"), "--t-end", "2.0e-6"]
     p = subprocess.run(run + ["--ranks", "2,3,4", "--made", "taylor_bar_3d_fem_file",
                               "--restart", "2:3:8", "--bad-particle", small, MFCD, MFCD_MPI,
                               MPIEXEC, deck], cwd=work, env=env)
     ok = p.returncode == 0
     p = subprocess.run(run + ["--ranks", "2,3", "--made", "taylor_bar_3d_fem_file_on_block",
-                              "--made", "taylor_bar_3d_fem_file_master", MFCD, MFCD_MPI,
-                              MPIEXEC, on_block, under_block], cwd=work, env=env)
+                              "--made", "taylor_bar_3d_fem_file_master", "--made",
+                              "taylor_bar_3d_rkpm_file", MFCD, MFCD_MPI, MPIEXEC, on_block,
+                              under_block, bar_rkpm], cwd=work, env=env)
     ok = p.returncode == 0 and ok
     p = subprocess.run(run + ["--ranks", "2,3,4", "--made", "tube_crush_file_self", MFCD,
                               MFCD_MPI, MPIEXEC, tube_self], cwd=work, env=env)
