@@ -466,7 +466,6 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: check
     integer, intent(in), optional :: sel(:)
-    integer(i64), allocatable :: t8(:, :)
     integer, allocatable :: tb(:, :), nb(:), wb(:, :), member(:), ek(:), tk(:, :)
     integer :: idx(4)
     real(wp), allocatable :: xb(:, :)
@@ -480,15 +479,8 @@ contains
     cnt = 0
     do i0 = 1, ne, block_rows
       n = min(block_rows, ne - i0 + 1)
-      if (allocated(t8)) deallocate(t8)
-      allocate(t8(4, n))
-      call h5_read_block(f, '/mesh/tetrahedra', t8, i0, err)
+      call read_tets_block(f, what, np, i0, n, tb, err)
       if (allocated(err)) return
-      if (any(t8 < 1 .or. t8 > np)) then
-        call set_error(err, what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
-        return
-      end if
-      tb = int(t8)
       if (present(sel)) then
         ! (the block's nodes in sel: one merge of two ascending lists)
         call unique_nodes(tb, nb, wb)
@@ -553,20 +545,33 @@ contains
     character(len=*), intent(in) :: what
     integer, intent(in) :: np, ne
     type(error_t), allocatable, intent(inout) :: err
-    integer(i64), allocatable :: t8(:, :)
+    integer, allocatable :: tb(:, :)
     integer :: i0, n
     do i0 = 1, ne, block_rows
       n = min(block_rows, ne - i0 + 1)
-      if (allocated(t8)) deallocate(t8)
-      allocate(t8(4, n))
-      call h5_read_block(f, '/mesh/tetrahedra', t8, i0, err)
+      call read_tets_block(f, what, np, i0, n, tb, err)
       if (allocated(err)) return
-      if (any(t8 < 1 .or. t8 > np)) then
-        call set_error(err, what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
-        return
-      end if
     end do
   end subroutine check_range
+
+  !> Tetrahedra i0 ... i0 + n - 1 of the file, tb (4, n), every node number within 1 ... np
+  !! (read_file_tets' message; checked before the conversion to default integers).
+  subroutine read_tets_block(f, what, np, i0, n, tb, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: what
+    integer, intent(in) :: np, i0, n
+    integer, allocatable, intent(out) :: tb(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer(i64), allocatable :: t8(:, :)
+    allocate(t8(4, n))
+    call h5_read_block(f, '/mesh/tetrahedra', t8, i0, err)
+    if (allocated(err)) return
+    if (any(t8 < 1 .or. t8 > np)) then
+      call set_error(err, what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
+      return
+    end if
+    tb = int(t8)
+  end subroutine read_tets_block
 
   !> ek and tk with room for twice as many tetrahedra (a copy, no temporary of the pair).
   subroutine grow_kept(ek, tk)
