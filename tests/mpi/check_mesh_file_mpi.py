@@ -14,7 +14,8 @@ read per part (--made: no rank read all its nodes):
 - the same bar on a deformable block of tetrahedra (its deforming master: detection both
   ways, the bar's side taking its det(M) plateau, surface median and whole surface from the
   file over the ranks), and the block on the bar (the bar the master), 2 us; the bar
-  (h = 1 mm) by RKPM over the tetrahedra's median-dual cells on its rigid target, 2 us;
+  (h = 1 mm) by RKPM over the tetrahedra's median-dual cells, lifted 0.1 mm off its rigid
+  target by &body translate, 2 us;
 - the tube of input/tube_crush_coarse.nml (h = 0.7 mm) between its rigid floor and ram with
   its self-contact, 2 us (a rank whose region meets no &bc box asks the file whether the
   whole body has a node there).
@@ -77,7 +78,11 @@ def main():
     rkpm = from_file(work, "taylor_bar_3d_fem_geo", "taylor_bar_quarter.geo", fine,
                      ["h=1.0e-3"])
     rkpm = rkpm.replace("discretization = 'fem'", "discretization = 'rkpm'", 1)
-    assert "'rkpm'" in rkpm
+    # (lifted 0.1 mm off its target by &body translate: every row a rank reads of the file
+    # is moved as the serial body is; the contact after 0.5 us)
+    rkpm = rkpm.replace("velocity = 0.0, 0.0, -200.0",
+                        "velocity = 0.0, 0.0, -200.0\n  translate = 0.0, 0.0, 0.1e-3", 1)
+    assert "'rkpm'" in rkpm and "translate" in rkpm
     bar_rkpm = os.path.join(work, "taylor_bar_3d_rkpm_file.nml")
     open(bar_rkpm, "w").write(rkpm)
     tube_self = os.path.join(work, "tube_crush_file_self.nml")
