@@ -3,7 +3,7 @@ module sorting_m
   use kinds_m, only: wp
   implicit none
   private
-  public :: sort_index, sorted_place, radix_index
+  public :: sort_index, sorted_place, radix_index, incidence_csr
 
 contains
 
@@ -74,6 +74,37 @@ contains
       idx = tmp
     end do
   end subroutine radix_index
+
+  !> The elements of each node of a mesh (a counting sort of the element numbers by node):
+  !! node i's are idx(ptr(i) : ptr(i + 1) - 1), ascending; conn (nv, ne) the elements'
+  !! nodes, 1 ... nn.
+  pure subroutine incidence_csr(conn, nn, ptr, idx)
+    integer, intent(in) :: conn(:, :), nn
+    integer, allocatable, intent(out) :: ptr(:), idx(:)
+    integer :: e, k, i
+    allocate(ptr(nn + 1), idx(size(conn)))
+    ptr = 0
+    do e = 1, size(conn, 2)
+      do k = 1, size(conn, 1)
+        ptr(conn(k, e) + 1) = ptr(conn(k, e) + 1) + 1
+      end do
+    end do
+    ptr(1) = 1
+    do i = 1, nn
+      ptr(i + 1) = ptr(i + 1) + ptr(i)
+    end do
+    do e = 1, size(conn, 2)
+      do k = 1, size(conn, 1)
+        i = conn(k, e)
+        idx(ptr(i)) = e
+        ptr(i) = ptr(i) + 1
+      end do
+    end do
+    do i = nn, 1, -1
+      ptr(i + 1) = ptr(i)
+    end do
+    ptr(1) = 1
+  end subroutine incidence_csr
 
   !> The place k of v in the ascending array a (a(k) == v), 0 when v is not in it: a
   !! bisection, so that a map from global numbers to local places needs no array over the

@@ -41,6 +41,7 @@
 !! differ near the sides: the tables are per component (dims_3d_folded: g, gs (9, nnz),
 !! the position table N^c three times).
 module rkpm_tl3d_m
+  use sorting_m, only: incidence_csr
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
@@ -623,30 +624,9 @@ contains
     type(dual_mesh_t), intent(out) :: dm
     type(tet4_mesh_t) :: mesh
     real(wp) :: xt(3, 4), v, amax
-    integer :: ne, e, k, l, i
+    integer :: ne, e, k, l
     ne = size(b%tets, 2)
-    allocate(dm%ptr(b%np + 1), dm%idx(4*ne))
-    dm%ptr = 0
-    do e = 1, ne
-      do k = 1, 4
-        dm%ptr(b%tets(k, e) + 1) = dm%ptr(b%tets(k, e) + 1) + 1
-      end do
-    end do
-    dm%ptr(1) = 1
-    do i = 1, b%np
-      dm%ptr(i + 1) = dm%ptr(i + 1) + dm%ptr(i)
-    end do
-    do e = 1, ne
-      do k = 1, 4
-        i = b%tets(k, e)
-        dm%idx(dm%ptr(i)) = e
-        dm%ptr(i) = dm%ptr(i) + 1
-      end do
-    end do
-    do i = b%np, 1, -1
-      dm%ptr(i + 1) = dm%ptr(i)
-    end do
-    dm%ptr(1) = 1
+    call incidence_csr(b%tets, b%np, dm%ptr, dm%idx)
     mesh%ne = ne
     mesh%tet = b%tets
     call tet4_face_neighbours(mesh, b%np, dm%nbr)

@@ -315,7 +315,7 @@ contains
     !> a region's tetrahedra made from the recipe (tet4_region): their whole mesh's numbers
     integer, allocatable :: eglob(:)
     integer :: ne_whole
-    real(wp) :: grow(3), made(1)
+    real(wp) :: grow(3), hneg(1)
     bs = deck%bodies(k)
     bp => b
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"//trim(b%name)//"')"
@@ -424,9 +424,9 @@ contains
         ! (a mesh file's: the smallest height of the region's tetrahedra, the least over
         ! the ranks, as every tetrahedron is in some rank's region: the serial minimum)
         if (allocated(b%mfile) .and. b%ndim == 3) then
-          made = -t%hmin
-          call part%comm%max_real(made)
-          t%hmin = -made(1)
+          hneg = -t%hmin
+          call part%comm%max_real(hneg)
+          t%hmin = -hneg(1)
         end if
       end if
       alpha = bs%stabilization

@@ -18,7 +18,7 @@ module tet_file_m
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
-  use sorting_m, only: sort_index, radix_index
+  use sorting_m, only: sort_index, radix_index, incidence_csr
   use rank_comm_m, only: rank_comm_t, share_first
   use hdf5_io_m, only: h5file_t, h5_open_read, h5_close, h5_has, h5_shape, h5_read_block, &
     h5_read_rows
@@ -682,27 +682,7 @@ contains
     ! is in tc, and holds the face's first node, whose tetrahedra (a CSR over tc%node) are
     ! looked through for the other two
     nn = size(tc%node)
-    allocate(ptr(nn + 1), tl(4*tc%n))
-    ptr = 0
-    do m = 1, tc%n
-      do l = 1, 4
-        ptr(tc%nl(l, m) + 1) = ptr(tc%nl(l, m) + 1) + 1
-      end do
-    end do
-    ptr(1) = 1
-    do i = 1, nn
-      ptr(i + 1) = ptr(i + 1) + ptr(i)
-    end do
-    do m = 1, tc%n
-      do l = 1, 4
-        tl(ptr(tc%nl(l, m))) = m
-        ptr(tc%nl(l, m)) = ptr(tc%nl(l, m)) + 1
-      end do
-    end do
-    do i = nn, 1, -1
-      ptr(i + 1) = ptr(i)
-    end do
-    ptr(1) = 1
+    call incidence_csr(tc%nl, nn, ptr, tl)
     ! (two passes: the facets counted, then kept, in the whole mesh's order: tc's, then
     ! each one's faces in turn)
     ! (a shared face is matched once, from its first tetrahedron: the others' marked)
