@@ -284,8 +284,8 @@ contains
         end if
         if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
         ! (the volumes are the tetrahedra's, checked: check_file_layout's sum of them
-        ! cannot exceed the box; the coincident nodes are looked for near the share, with
-        ! det(M): check_particles)
+        ! cannot exceed the box; the coincident nodes are looked for in the rank's slab of
+        ! the body, with det(M): check_particles)
       else
       ! a gmsh script gives in memory what tools/mesh_body.py writes into a particle file:
       ! from here on the two are one path
@@ -616,8 +616,8 @@ contains
     character(len=*), intent(in) :: what
     type(body_t), intent(in), target :: b
     type(error_t), allocatable, intent(inout) :: err
-    !> a rank's share b of a mesh file (tet_file_m): the nodes within the tolerance of its
-    !! nodes, which those are compared with (the volumes not: they are the tetrahedra's)
+    !> a rank's share b of a mesh file (tet_file_m): the nodes of its slab of the body and
+    !! those near it, which are compared (the volumes not: they are the tetrahedra's)
     type(body_t), intent(in), target, optional :: near
     !> with near: the nodes of near compared with the others (a rank's slab)
     logical, intent(in), optional :: mine(:)
@@ -629,7 +629,10 @@ contains
     nd = b%ndim
     c => b
     if (present(near)) c => near
-    box = product(maxval(b%x, dim=2) - minval(b%x, dim=2) + 2.0_wp*b%spacing(1:nd))
+    box = 0.0_wp
+    ! (a share's extent is not the body's, and may be empty: no volume check there)
+    if (.not. present(near)) box = product(maxval(b%x, dim=2) - minval(b%x, dim=2) + &
+      2.0_wp*b%spacing(1:nd))
     if (.not. present(near) .and. sum(b%vol) > volume_excess*box) then
       call set_error(err, what//": the volumes add up to "// &
         rtoa(sum(b%vol))//" m^"//itoa(nd)//", "//rtoa(sum(b%vol)/box)//" times the box "// &
