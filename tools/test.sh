@@ -15,7 +15,7 @@ bash tools/build.sh Debug
 (cd build-debug && ctest --output-on-failure -j "$jobs")
 # -DMFCD_MPI=ON (off in the builds above): the halo exchange, and whole runs of mfcd_mpi
 # against the serial mfcd, on 1-4 ranks, oversubscribed
-cmake -S . -B build-mpi -G Ninja -DCMAKE_BUILD_TYPE=Debug -DMFCD_MPI=ON -DMFCD_GMSH=OFF \
+cmake -S . -B build-mpi -G Ninja -DCMAKE_BUILD_TYPE=Debug -DMFCD_MPI=ON -DMFCD_GMSH=AUTO \
   -DMFCD_PYTHON="$PWD/.venv/bin/python" >/dev/null
 ninja -C build-mpi halo_check mfcd mfcd_mpi
 # (two tests at a time: oversubscribed ranks yield when they wait, and one test's serial

@@ -21,10 +21,11 @@ program mfcd_mpi
   use version_m, only: code_name, code_version, git_commit
   use deck_m, only: deck_t, read_deck
   use body_m, only: body_t, body_keep_share
-  use body_setup_m, only: build_bodies
+  use body_setup_m, only: build_bodies, geo_mesh_file
+  use file_system_m, only: process_id, path_exists, remove_file
   use tet_file_m, only: tet_file_facets
   use run_output_m, only: timestamp
-  use output_path_m, only: check_output_path, output_result_text
+  use output_path_m, only: check_output_path, output_result_text, scratch_name
   use log_m, only: log_print, log_flush
   use dynamic_setup_m, only: dynamic_setup_t, setup_dynamic, mpi_scene_check, setup_part_t, &
     root_needs_whole, body_per_part
@@ -41,6 +42,8 @@ program mfcd_mpi
   type(checkpoint_info_t) :: ckpt
   logical :: restart_next
   logical, allocatable :: per_part(:)
+  !> the files rank 0 meshed the per-part gmsh scripts into ('' for other bodies)
+  character(len=4096), allocatable :: mesh_files(:)
   integer :: me, nranks, code, k, ios, ndeck
   real(wp) :: ghost_margin
   logical :: ghost_refresh
@@ -109,12 +112,17 @@ program mfcd_mpi
   ! recipe: no rank makes the whole body; its checks are then the share's, so the ranks
   ! agree on an error before anything collective)
   if (.not. allocated(err)) then
-    allocate(per_part(deck%nbodies))
+    allocate(per_part(deck%nbodies), mesh_files(deck%nbodies))
+    mesh_files = ''
     do k = 1, deck%nbodies
       per_part(k) = body_per_part(deck, k, nranks, root_needs_whole(deck))
     end do
-    call build_bodies(deck, bodies, err, [me, nranks], per_part)
+    call mesh_scripts()
   end if
+  ! (a script rank 0 could not mesh, or a bad output path, ends every rank first)
+  call agree_or_fail(1)
+  if (.not. allocated(err)) call build_bodies(deck, bodies, err, [me, nranks], per_part, &
+    mesh_files)
   call agree_or_fail(exit_bad_input)
   ! the ranks (the set-up's sums go through them too)
   call mpi_domain_init(ranks, MPI_COMM_WORLD, ghost_margin, ghost_refresh, &
@@ -137,6 +145,8 @@ program mfcd_mpi
   end if
   if (.not. allocated(err) .and. me == 0) call check_output_path(deck, err, restart_path)
   call agree_or_fail(exit_bad_input)
+  ! (every rank has read its part of the scripts' meshes: the set-up is done)
+  call drop_meshes()
   ! the deformable bodies are the set-up's: past it a rank reads their names, sizes and
   ! fingerprints, and writes its share of their rows into /bodies (rank 0 the facets and
   ! boundary loops too): every rank keeps that share only, before the split, whose peak
@@ -157,6 +167,42 @@ program mfcd_mpi
   call finish(0)
 
 contains
+
+  !> The deformable 3D gmsh scripts (shape 'geo') made per part: rank 0 meshes each once
+  !! into a scratch file beside the output (body_setup_m geo_mesh_file; the output path
+  !! checked first, so that a bad one is said as before), which every rank then reads its
+  !! part of as a mesh file (tet_file_m) and rank 0 removes after the set-up (or when the
+  !! run ends earlier): gmsh meshes a model whole, so one rank holds the whole mesh while
+  !! gmsh makes it and none after. Collective (rank 0's process id names the files).
+  subroutine mesh_scripts()
+    integer :: pid, j
+    if (.not. any(per_part .and. deck%bodies(1:deck%nbodies)%shape == 'geo')) return
+    pid = process_id()
+    call MPI_Bcast(pid, 1, MPI_INTEGER, 0, MPI_COMM_WORLD)
+    if (me == 0) call check_output_path(deck, err, restart_path)
+    do j = 1, deck%nbodies
+      if (.not. (per_part(j) .and. deck%bodies(j)%shape == 'geo')) cycle
+      mesh_files(j) = scratch_name(deck, itoa(pid)//'-mesh'//itoa(j))
+      if (me /= 0 .or. allocated(err)) cycle
+      call geo_mesh_file(deck, j, trim(mesh_files(j)), err)
+      if (.not. allocated(err)) call log_print("mfcd_mpi: body "//itoa(j)//" ('"// &
+        trim(deck%bodies(j)%name)//"'): gmsh meshed '"//trim(deck%bodies(j)%file)// &
+        "' once, on rank 0, into '"//trim(mesh_files(j))//"'; each rank reads its part "// &
+        "of it (removed after the set-up)")
+    end do
+  end subroutine mesh_scripts
+
+  !> Rank 0 removes the scratch meshes of mesh_scripts (every rank past reading them).
+  subroutine drop_meshes()
+    logical :: gone
+    integer :: j
+    if (me /= 0 .or. .not. allocated(mesh_files)) return
+    do j = 1, size(mesh_files)
+      if (len_trim(mesh_files(j)) == 0) cycle
+      if (path_exists(trim(mesh_files(j)))) gone = remove_file(trim(mesh_files(j)))
+      mesh_files(j) = ''
+    end do
+  end subroutine drop_meshes
 
   !> The ranks' resident memory now and their peaks so far, smallest and largest (MiB),
   !! in the log (what a rank holds of the whole body shows in how these grow with it:
@@ -203,6 +249,8 @@ contains
     integer, intent(in) :: c
     integer :: cc
     call MPI_Allreduce(c, cc, 1, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD)
+    ! (every rank is here: none reads a scratch mesh any more)
+    call drop_meshes()
     call MPI_Finalize()
     if (cc /= 0) stop cc, quiet=.true.
     stop

@@ -24,7 +24,7 @@ module output_path_m
   implicit none
   private
   public :: output_path_t, output_names, check_output_path, output_open, output_commit, &
-    output_files_text, output_result_text, base_name, checkpoint_commit
+    output_files_text, output_result_text, base_name, checkpoint_commit, scratch_name
 
   !> The names of one run's output.
   type :: output_path_t
@@ -381,6 +381,20 @@ contains
     k = index(path, '/', back=.true.)
     s = path(1:k)//'.'//path(k + 1:)//'.tmp-'//tag
   end function temp_name
+
+  !> A scratch file's name for the run of deck, tagged tag (a process id and what it
+  !! holds): hidden beside the output file's name, as its temporary names are, in the
+  !! deepest part of the output's directory that exists (checked writable by
+  !! check_output_path; nothing is made before the output is). The caller creates it
+  !! exclusively and removes it.
+  function scratch_name(deck, tag) result(s)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: tag
+    character(len=:), allocatable :: s
+    type(output_path_t) :: p
+    p = output_names(trim(deck%output%file), .false.)
+    s = temp_name(existing_part(p%dir)//'/'//base_name(p%h5), tag)
+  end function scratch_name
 
   !> The deepest part of directory dir that exists ('.' or '/' at worst).
   function existing_part(dir) result(d)

@@ -20,7 +20,7 @@ module body_setup_m
   use kinds_m, only: i64
   use rank_comm_m, only: share_first
   use hdf5_io_m, only: read_particle_file_h5, h5file_t, h5_open_read, h5_close, h5_has, &
-    h5_shape, h5_read
+    h5_shape, h5_read, h5_create, h5_group, h5_write, h5_attr
   use detection_m, only: body_cloud, body_plateau
   use geometry_m, only: geom_none, geom_segment, geom_polygon, geom_annulus, geom_prism, &
     geom_cylinder, signed_distance
@@ -37,7 +37,7 @@ module body_setup_m
   implicit none
   private
   public :: build_bodies, build_body, lattice_admissible, min_support_factor
-  public :: read_particle_columns, tet_mesh_body
+  public :: read_particle_columns, tet_mesh_body, geo_mesh_file
 
   !> Relative pivot below which M counts as singular in the admissibility checks: far above
   !! round-off (1e-16) and far below the weakest genuine pivot of an admissible lattice
@@ -62,7 +62,7 @@ module body_setup_m
 contains
 
   !> Build and check every body of the deck.
-  subroutine build_bodies(deck, bodies, err, share, per_part)
+  subroutine build_bodies(deck, bodies, err, share, per_part, mesh_files)
     type(deck_t), intent(in) :: deck
     type(body_t), allocatable, intent(out) :: bodies(:)
     type(error_t), allocatable, intent(inout) :: err
@@ -72,13 +72,18 @@ contains
     !! share, so that the ranks may find different errors)
     integer, intent(in), optional :: share(2)
     logical, intent(in), optional :: per_part(:)
+    !> with per_part: the mesh file a 3D gmsh script (shape 'geo') was meshed into once
+    !! (geo_mesh_file, by one rank), read per part as a mesh file is; '' for other bodies
+    character(len=*), intent(in), optional :: mesh_files(:)
     integer :: k
     logical :: part
     allocate(bodies(deck%nbodies))
     do k = 1, deck%nbodies
       part = .false.
       if (present(per_part)) part = per_part(k)
-      if (part) then
+      if (part .and. present(mesh_files)) then
+        call build_body(deck, deck%bodies(k), k, bodies(k), err, share, trim(mesh_files(k)))
+      else if (part) then
         call build_body(deck, deck%bodies(k), k, bodies(k), err, share)
       else
         call build_body(deck, deck%bodies(k), k, bodies(k), err)
@@ -200,7 +205,7 @@ contains
 
 
   !> One body from its spec; err names deck, group and variable on failure.
-  subroutine build_body(deck, s, k, b, err, share)
+  subroutine build_body(deck, s, k, b, err, share, mesh_file)
     type(deck_t), intent(in) :: deck
     type(body_spec_t), intent(in) :: s
     integer, intent(in) :: k
@@ -209,12 +214,15 @@ contains
     !> [me, nranks]: an extruded body made as rank me's share only (generators_m
     !! extrude_body; build_bodies)
     integer, intent(in), optional :: share(2)
+    !> with share, for a 3D gmsh script: the file it was meshed into (geo_mesh_file), read
+    !! as rank me's share; '' or absent: the script meshed here
+    character(len=*), intent(in), optional :: mesh_file
     character(len=:), allocatable :: where, what
     real(wp), allocatable :: local(:), xs(:, :), vols(:), xy(:, :)
     integer, allocatable :: loop(:), order(:), tri(:, :), ptr(:)
     real(wp) :: dr, dt, fmin, vsum
     integer :: nd, i
-    logical :: has_tri, has_cells, tets
+    logical :: has_tri, has_cells, tets, from_file
     type(error_t), allocatable :: e2
     type(cst4_mesh_t) :: mesh
     type(body_t) :: b2, ends
@@ -270,11 +278,20 @@ contains
         max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2, share)
       if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
     case ('file', 'geo')
-      if (s%shape == 'file' .and. present(share)) then
+      from_file = s%shape == 'file' .and. present(share)
+      if (present(mesh_file) .and. present(share)) from_file = len(mesh_file) > 0
+      if (from_file) then
         ! a rank's share of a tetrahedral mesh file (body_per_part): the file streamed,
-        ! the whole mesh never held (tet_file_m); the checks the serial ones, at the share
-        what = "particle file '"//trim(s%file)//"'"
-        call tet_file_share(trim(s%file), what, share(1), share(2), b, local, e2)
+        ! the whole mesh never held (tet_file_m); the checks the serial ones, at the share.
+        ! A 3D gmsh script's: the file one rank meshed it into (geo_mesh_file), the same
+        ! nodes, volumes and tetrahedra as the script meshed here (tet_mesh_body)
+        if (s%shape == 'geo') then
+          what = "the mesh of '"//trim(s%file)//"'"
+          call tet_file_share(mesh_file, what, share(1), share(2), b, local, e2)
+        else
+          what = "particle file '"//trim(s%file)//"'"
+          call tet_file_share(trim(s%file), what, share(1), share(2), b, local, e2)
+        end if
         ! (an RKPM body integrates over the tetrahedra's median-dual cells: no elements;
         ! each rank reads its region's tetrahedra for them, dynamic_setup_m)
         if (.not. allocated(e2) .and. s%discretization /= 'fem') then
@@ -347,12 +364,7 @@ contains
       end if
     end select
     if (allocated(e2)) then
-      if (index(e2%message, where) == 1) then
-        ! a message that names its own variable (geo_max_elements)
-        call set_error(err, e2%message)
-      else
-        call set_error(err, where//', variable '//body_make_vars(s%shape)//': '//e2%message)
-      end if
+      call body_error(where, s, e2, err)
       return
     end if
     if (b%np < basis_size(s%bid)) then
@@ -1047,21 +1059,13 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(tet4_mesh_t) :: mesh
     integer, allocatable :: faces(:, :), owner(:), zero(:)
-    real(wp), allocatable :: vol(:), v(:)
+    real(wp), allocatable :: vol(:)
     real(wp) :: len_e
     integer :: np, ne, e, k, i, j, nover
     np = size(x, 2)
     ne = size(tet, 2)
-    allocate(vol(np), v(ne), local(np))
-    do e = 1, ne
-      v(e) = tet_volume(x, tet(:, e))
-    end do
-    vol = 0.0_wp
-    do k = 1, 4
-      do e = 1, ne
-        vol(tet(k, e)) = vol(tet(k, e)) + 0.25_wp*v(e)
-      end do
-    end do
+    allocate(local(np))
+    call tet_node_volumes(x, tet, vol)
     local = 0.0_wp
     do e = 1, ne
       do k = 1, 3
@@ -1096,6 +1100,84 @@ contains
     call log_print("  its surface: "//itoa(size(b%facets, 2))//" triangles over "// &
       itoa(count(b%boundary))//" nodes")
   end subroutine tet_mesh_body
+
+  !> Each node's volume vol(np) of the tetrahedra tet (4, ne) over the nodes x (3, np): its
+  !! quarter of every tetrahedron it belongs to (the row sums of the consistent mass, eq.
+  !! 70), summed node 1, 2, 3, 4 of each tetrahedron in turn (tools/mesh_body.py --3d and
+  !! tet_file_m sum them in the same order: the same doubles).
+  subroutine tet_node_volumes(x, tet, vol)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tet(:, :)
+    real(wp), allocatable, intent(out) :: vol(:)
+    real(wp), allocatable :: v(:)
+    integer :: e, k
+    allocate(vol(size(x, 2)), v(size(tet, 2)))
+    do e = 1, size(tet, 2)
+      v(e) = tet_volume(x, tet(:, e))
+    end do
+    vol = 0.0_wp
+    do k = 1, 4
+      do e = 1, size(tet, 2)
+        vol(tet(k, e)) = vol(tet(k, e)) + 0.25_wp*v(e)
+      end do
+    end do
+  end subroutine tet_node_volumes
+
+  !> Body k's 3D gmsh script (shape 'geo') meshed here once into the new file path, as
+  !! tools/mesh_body.py --3d writes a script's mesh (/particles/x, /particles/volume with
+  !! tet_node_volumes' sums, /mesh/tetrahedra, 1-based), for every rank of mfcd_mpi to read
+  !! its part of (tet_file_m): the body the script meshed on a rank gives (tet_mesh_body),
+  !! bit for bit, and no rank holds the whole mesh but this one, while it meshes and writes.
+  !! gmsh meshes a model whole (its partitioner cuts a mesh already made), so this is the
+  !! one rank's work. err names the deck's body and variable as build_body does; a file
+  !! that cannot be written is a failed run (exit 1), the path named.
+  subroutine geo_mesh_file(deck, k, path, err)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: x(:, :), vol(:), xy(:, :)
+    integer, allocatable :: loop(:), order(:), tet(:, :), ptr(:)
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    character(len=:), allocatable :: where
+    where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"// &
+      trim(deck%bodies(k)%name)//"')"
+    call mesh_geo(deck%bodies(k), where, 3, x, vol, loop, order, tet, ptr, xy, e2)
+    if (allocated(e2)) then
+      call body_error(where, deck%bodies(k), e2, err)
+      return
+    end if
+    call tet_node_volumes(x, tet, vol)
+    call h5_create(f, path, e2)
+    if (.not. allocated(e2)) call h5_group(f, '/particles', e2)
+    if (.not. allocated(e2)) call h5_write(f, '/particles/x', x, 'm', e2)
+    if (.not. allocated(e2)) call h5_write(f, '/particles/volume', vol, 'm^3', e2)
+    if (.not. allocated(e2)) call h5_group(f, '/mesh', e2)
+    if (.not. allocated(e2)) call h5_write(f, '/mesh/tetrahedra', tet, '1', e2)
+    if (.not. allocated(e2)) call h5_attr(f, '/', 'source', "mfcd_mpi: the mesh of '"// &
+      trim(deck%bodies(k)%file)//"' (body "//itoa(k)//" of deck '"//deck%path// &
+      "'), each rank's part read from here", e2)
+    call h5_close(f, e2)
+    if (allocated(e2)) call set_error(err, where//": the mesh of '"// &
+      trim(deck%bodies(k)%file)//"' cannot be written to '"//path//"' for the ranks to "// &
+      "read ("//e2%message//"); check the space in the directory of &output file", 1)
+  end subroutine geo_mesh_file
+
+  !> A body's error e2 as build_body reports it: a message that names its own place (it
+  !! begins with where: geo_max_elements) as it is, else prefixed by where and the
+  !! variables that make the shape.
+  subroutine body_error(where, s, e2, err)
+    character(len=*), intent(in) :: where
+    type(body_spec_t), intent(in) :: s
+    type(error_t), intent(in) :: e2
+    type(error_t), allocatable, intent(inout) :: err
+    if (index(e2%message, where) == 1) then
+      call set_error(err, e2%message)
+    else
+      call set_error(err, where//', variable '//body_make_vars(s%shape)//': '//e2%message)
+    end if
+  end subroutine body_error
 
   !> The tetrahedra tet (4, ne) of a 3D particle file (/mesh/tetrahedra, (ne, 4) in h5py,
   !! 1-based rows of /particles/x; tools/mesh_body.py --3d), when it has them (has), over

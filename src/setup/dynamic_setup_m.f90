@@ -555,7 +555,8 @@ contains
   !! whole solids, root_whole; no spin: region_solid_do), in any contact: a deforming
   !! master's and a self-contact's sides take the whole body's detection scalars and
   !! surface from the ranks (side_facts); or a body of tetrahedra from a mesh file
-  !! (tet_file_m: each rank reads its share and region of the file).
+  !! (tet_file_m: each rank reads its share and region of the file), or from a 3D gmsh
+  !! script (shape 'geo'), which one rank meshes into such a file first (mfcd_mpi).
   logical function body_per_part(deck, k, nranks, root_whole) result(yes)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k, nranks
@@ -567,14 +568,15 @@ contains
         any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
         any(bs%shape == ['box     ', 'cylinder', 'polygon '])
       ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
-      ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts)
+      ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
+      ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
       if (.not. yes) then
         l = len_trim(bs%file)
         yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &
           deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
           any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
-          bs%shape == 'file' .and. l > 3 .and. (bs%file(max(1, l - 2):l) == '.h5' .or. &
-          bs%file(max(1, l - 4):l) == '.hdf5')
+          (bs%shape == 'geo' .or. (bs%shape == 'file' .and. l > 3 .and. &
+          (bs%file(max(1, l - 2):l) == '.h5' .or. bs%file(max(1, l - 4):l) == '.hdf5')))
       end if
     end associate
   end function body_per_part

@@ -79,10 +79,21 @@ only its share of such a body (never the whole body): on 2, 4 and 6 ranks every 
 exit 2 within a minute, nothing written, and its standard error must hold the serial run's
 message (said by the rank whose share holds the serial run's particle).
 
+With --bad-mesh DECK (repeatable): a 3D deck whose gmsh script (&body shape = 'geo') cannot
+be made into its body (more tetrahedra than geo_max_elements, say). On ranks rank 0 meshes
+the script once into a scratch file the ranks read their parts of: on 2 and 4 ranks every
+run must exit 2 within a minute with the serial run's message, nothing written (no scratch
+file left either).
+
+After every run on ranks no temporary or scratch file may be left beside the output (names
+with '.tmp-': the output's while it is written, a gmsh script's mesh while the ranks read
+it); a deck with a gmsh body among --made's must say that rank 0 meshed it once. Decks with
+a gmsh body skip the test (77) when mfcd was built without gmsh.
+
 Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N] [--fails]
                         [--sides-held-below N] [--made NAME]...
                         [--restart N1:N2:EVERY] [--refused DECK]... [--bad-cell DECK]...
-                        [--bad-particle DECK]...
+                        [--bad-particle DECK]... [--bad-mesh DECK]...
                         [--checkpoints EVERY]
                         MFCD MFCD_MPI MPIEXEC DECK...
 (--ranks: the rank counts each deck runs on, 1,2,3,4 by default; --t-end: every deck run to
@@ -151,6 +162,11 @@ BAD_PARTICLE = []
 while "--bad-particle" in ARGS:
     i = ARGS.index("--bad-particle")
     BAD_PARTICLE.append(os.path.abspath(ARGS[i + 1]))
+    del ARGS[i:i + 2]
+BAD_MESH = []
+while "--bad-mesh" in ARGS:
+    i = ARGS.index("--bad-mesh")
+    BAD_MESH.append(os.path.abspath(ARGS[i + 1]))
     del ARGS[i:i + 2]
 while "--bad-cell" in ARGS:
     i = ARGS.index("--bad-cell")
@@ -384,10 +400,26 @@ def draws_det(path):
     return bool(found)
 
 
+def has_geo(deck):
+    """Whether a deck has a body meshed from a gmsh script (&body shape = 'geo')."""
+    return re.search(r"shape\s*=\s*'geo'", open(deck).read()) is not None
+
+
+def left_over(where):
+    """Temporary or scratch files left in a directory (mfcd's hidden '.tmp-' names)."""
+    return sorted(f for f in os.listdir(where) if ".tmp-" in f)
+
+
 def main():
     work = tempfile.mkdtemp(prefix="mfcd_mpi_")
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    if any(has_geo(d) for d in DECKS + BAD_MESH):
+        v = subprocess.run([MFCD, "--version"], capture_output=True, text=True)
+        if "gmsh: not built in" in v.stdout:
+            print("mpi_run: mfcd is built without gmsh; the decks with a gmsh body are "
+                  "skipped")
+            sys.exit(77)
     for src in DECKS:
         name = os.path.basename(src).replace(".nml", "")
         ref = deck_copy(src, work, f"{name}_serial.h5")
@@ -409,6 +441,12 @@ def main():
                                capture_output=True, text=True)
             check(f"{name}, {n} rank(s): exits {rc}", p.returncode == rc,
                   p.stdout[-1500:] + p.stderr[-1500:])
+            check(f"{name}, {n} rank(s): no temporary or scratch file left",
+                  not left_over(sub), left_over(sub))
+            if n >= 2 and name in MADE and has_geo(src):
+                check(f"{name}, {n} ranks: each gmsh script meshed once, on rank 0, each rank "
+                      "reading its part", re.search(r"gmsh meshed '[^']*' once, on rank 0",
+                                                    p.stdout), p.stdout[-800:])
             if p.returncode == 0 and n > 1 and not draws_det(
                     os.path.join(work, f"{name}_serial{done}")):
                 g = re.findall(r"state gathered to rank 0 (\d+) time", p.stdout)
@@ -535,6 +573,28 @@ def main():
             check(f"{name}, {n} ranks: exits 2 with the serial run's message, nothing "
                   "written", p.returncode == 2 and said[0] in p.stderr and not made,
                   (p.returncode, p.stderr[-1200:], made))
+    for src in BAD_MESH:
+        name = os.path.basename(src).replace(".nml", "")
+        sub = os.path.join(work, f"{name}_bad")
+        os.makedirs(sub)
+        deck = deck_copy(src, sub, f"{name}_bad.h5")
+        before = set(os.listdir(sub))
+        p = subprocess.run([MFCD, deck], cwd=sub, env=env, capture_output=True, text=True,
+                           timeout=60)
+        said = [l.split("mfcd: error: ", 1)[1] for l in p.stderr.splitlines()
+                if l.startswith("mfcd: error: ")]
+        check(f"{name}: the serial run exits 2 naming the gmsh script", p.returncode == 2
+              and len(said) == 1 and ".geo" in said[0], (p.returncode, p.stderr[-600:]))
+        if not said:
+            continue
+        for n in (2, 4):
+            p = refused_on(n, deck, name, sub, env)
+            if p is None:
+                continue
+            made = set(os.listdir(sub)) - before
+            check(f"{name}, {n} ranks: exits 2 with the serial run's message, nothing "
+                  "written, no scratch mesh left", p.returncode == 2 and said[0] in p.stderr
+                  and not made, (p.returncode, p.stderr[-1200:], made))
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if results and all(results) else 1)
 
