@@ -279,7 +279,8 @@ contains
       if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
     case ('file', 'geo')
       from_file = s%shape == 'file' .and. present(share)
-      if (present(mesh_file) .and. present(share)) from_file = len(mesh_file) > 0
+      if (s%shape == 'geo' .and. present(mesh_file) .and. present(share)) &
+        from_file = len(mesh_file) > 0
       if (from_file) then
         ! a rank's share of a tetrahedral mesh file (body_per_part): the file streamed,
         ! the whole mesh never held (tet_file_m); the checks the serial ones, at the share.
