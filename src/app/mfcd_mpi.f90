@@ -15,7 +15,7 @@ program mfcd_mpi
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use kinds_m, only: wp, i64
   use mpi_f08
-  use memory_policy_m, only: memory_policy_apply, resident_kib
+  use memory_policy_m, only: memory_policy_apply, resident_kib, memory_trim
   use errors_m, only: error_t, exit_bad_input
   use strings_m, only: itoa
   use version_m, only: code_name, code_version, git_commit
@@ -185,6 +185,8 @@ contains
       mesh_files(j) = scratch_name(deck, itoa(pid)//'-mesh'//itoa(j))
       if (me /= 0 .or. allocated(err)) cycle
       call geo_mesh_file(deck, j, trim(mesh_files(j)), err)
+      ! (gmsh's freed model back to the system: its thread's arena keeps the pages)
+      call memory_trim()
       if (.not. allocated(err)) call log_print("mfcd_mpi: body "//itoa(j)//" ('"// &
         trim(deck%bodies(j)%name)//"'): gmsh meshed '"//trim(deck%bodies(j)%file)// &
         "' once, on rank 0, into '"//trim(mesh_files(j))//"'; each rank reads its part "// &

@@ -26,6 +26,19 @@ int mfcd_memory_policy(void)
 #endif
 }
 
+/* Free pages of every heap and arena returned to the system (glibc's malloc_trim, which
+ * also releases whole free pages inside a heap): after gmsh has meshed in its own thread,
+ * whose arena keeps the pages of its many small blocks freed. Returns 1 when some memory
+ * was released, 0 otherwise or without glibc. */
+int mfcd_memory_trim(void)
+{
+#ifdef __GLIBC__
+    return malloc_trim(0);
+#else
+    return 0;
+#endif
+}
+
 /* The bytes glibc holds in blocks mapped apart (mallinfo2's hblkhd), for the test that the
  * policy holds; -1 without glibc 2.33 or later. */
 long long mfcd_mapped_bytes(void)

@@ -7,13 +7,17 @@ module memory_policy_m
   use kinds_m, only: i64
   implicit none
   private
-  public :: memory_policy_apply, mapped_bytes, resident_kib
+  public :: memory_policy_apply, mapped_bytes, resident_kib, memory_trim
 
   interface
     function c_memory_policy() bind(c, name='mfcd_memory_policy') result(rc)
       import :: c_int
       integer(c_int) :: rc
     end function c_memory_policy
+    function c_memory_trim() bind(c, name='mfcd_memory_trim') result(rc)
+      import :: c_int
+      integer(c_int) :: rc
+    end function c_memory_trim
     function c_mapped_bytes() bind(c, name='mfcd_mapped_bytes') result(n)
       import :: c_long_long
       integer(c_long_long) :: n
@@ -30,6 +34,14 @@ contains
     done = c_memory_policy() == 1_c_int
     if (present(set)) set = done
   end subroutine memory_policy_apply
+
+  !> The free pages the C library still holds returned to the system (glibc's
+  !! malloc_trim): after gmsh has meshed a whole model in its thread (mfcd_mpi's rank 0),
+  !! whose arena keeps the pages of its freed small blocks otherwise.
+  subroutine memory_trim()
+    integer(c_int) :: rc
+    rc = c_memory_trim()
+  end subroutine memory_trim
 
   !> The bytes the C library holds in blocks mapped apart (glibc's mallinfo2 hblkhd), -1
   !! where it does not tell (the test of the policy).
