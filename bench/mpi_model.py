@@ -94,6 +94,13 @@ NODE_SHARE_3D = 0.75          # a full node's step against one rank alone (measu
 RANKS_PER_NODE = 16           # the lent machine's cores (nodes full from this count on)
 SETUP_WHOLE_S_3D = 25.0e-6    # s of set-up per particle of the whole body (measured, 20-35)
 FS_BANDWIDTH = 100.0e9        # B/s of a parallel file system, aggregate (assumed)
+# a body of tetrahedra from a mesh file (tools/mesh_body.py --3d, or a gmsh script meshed
+# once by rank 0): every rank streams the whole file some six times for its share and
+# region (tet_file_m; no index by space in the file); measured 2026-11-30, the Taylor
+# quarter at 0.3 mm (38,358 nodes, 193,438 tetrahedra) on 2 and 4 ranks: 24.7 MB read by
+# each rank other than 0 (/proc/PID/io rchar, less a generated body's 0.15 MB)
+MESH_READ_BYTES_3D = 640.0    # B read by every rank per node of the whole mesh (measured)
+RANK_READ_BANDWIDTH = 1.0e9   # B/s one rank reads from the file system (assumed)
 MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
 STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)
 
@@ -134,6 +141,13 @@ def output_times_3d(p, n):
     return total / BANDWIDTH, total / min(p * BANDWIDTH, FS_BANDWIDTH)
 
 
+def mesh_read_time_3d(p, n):
+    """A mesh file's reading at the set-up (s) on p ranks of n nodes each: every rank
+    streams the whole file (MESH_READ_BYTES_3D a node), at its own bandwidth until the
+    file system's aggregate is shared."""
+    return p * n * MESH_READ_BYTES_3D / min(RANK_READ_BANDWIDTH, FS_BANDWIDTH / p)
+
+
 def full(p, eff):
     """The efficiency against one rank alone on its node when the nodes are full of ranks
     (from RANKS_PER_NODE ranks on): the communication model's times the measured share."""
@@ -152,8 +166,8 @@ def main_3d(out):
         print("| ranks | step (ms) | halos + reductions (ms) | efficiency | with full "
               "nodes | snapshot, gather (s) | snapshot, MPI-IO (s) | output share, gather | "
               "peak memory per rank, part + whole body (GiB) | rank 0's gathered snapshot "
-              "(GiB) | set-up, whole-body share (s) |")
-        print("|---|---|---|---|---|---|---|---|---|---|---|")
+              "(GiB) | set-up, whole-body share (s) | a mesh file read by every rank (s) |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
         eff, share_g, share_io, mem = [], [], [], []
         for p in ranks:
             w, c = step_times_3d(p, n)
@@ -166,7 +180,8 @@ def main_3d(out):
             print(f"| {p} | {1e3 * w:.0f} | {1e3 * c:.3f} | {eff[-1]:.2f}% | "
                   f"{full(p, eff[-1])} | {g:.2f} | "
                   f"{io:.3f} | {share_g[-1]:.1f}% | {mem[-1]:.1f} | "
-                  f"{p * n * SNAP_BYTES_3D / 2 ** 30:.2f} | {p * n * SETUP_WHOLE_S_3D:.0f} |")
+                  f"{p * n * SNAP_BYTES_3D / 2 ** 30:.2f} | {p * n * SETUP_WHOLE_S_3D:.0f} | "
+                  f"{mesh_read_time_3d(p, n):.0f} |")
         lab = f"{n:.0e} particles per rank"
         axs[0].semilogx(ranks, eff, mk + "-", base=2, label=f"steps, {lab}")
         axs[0].semilogx(ranks, [100 - x for x in share_g], mk + "--", base=2,
