@@ -239,6 +239,31 @@ def deck_copy(src, work, out, checkpoint_every=0):
     return path
 
 
+def refused_as_serial(src, work, env, what, said_ok, ranks, nothing):
+    """A deck the serial mfcd refuses, exit 2 with one message (said_ok of it true): on
+    each rank count of ranks mfcd_mpi must exit 2 within a minute with the serial run's
+    message, nothing new in work (nothing: what the check's name says of that)."""
+    name = os.path.basename(src).replace(".nml", "")
+    deck = deck_copy(src, work, f"{name}_bad.h5")
+    before = set(os.listdir(work))
+    p = subprocess.run([MFCD, deck], cwd=work, env=env, capture_output=True, text=True,
+                       timeout=60)
+    said = [l.split("mfcd: error: ", 1)[1] for l in p.stderr.splitlines()
+            if l.startswith("mfcd: error: ")]
+    check(f"{name}: the serial run exits 2 {what}", p.returncode == 2 and len(said) == 1
+          and said_ok(said[0]), (p.returncode, p.stderr[-600:]))
+    if not said:
+        return
+    for n in ranks:
+        p = refused_on(n, deck, name, work, env)
+        if p is None:
+            continue
+        made = set(os.listdir(work)) - before
+        check(f"{name}, {n} ranks: exits 2 with the serial run's message, {nothing}",
+              p.returncode == 2 and said[0] in p.stderr and not made,
+              (p.returncode, p.stderr[-1200:], made))
+
+
 def compare(tag, ref, new, record=True, continued=None):
     """The checks of a run against the serial one; record False: only whether all hold;
     continued: the step of the checkpoint a continuation started from."""
@@ -553,48 +578,15 @@ def main():
                 check(f"{name}, 6 ranks: a rank without such a cell learns of the error",
                       "the set-up failed on another rank" in p.stderr, p.stderr[-800:])
     for src in BAD_PARTICLE:
-        name = os.path.basename(src).replace(".nml", "")
-        deck = deck_copy(src, work, f"{name}_bad.h5")
-        before = set(os.listdir(work))
-        p = subprocess.run([MFCD, deck], cwd=work, env=env, capture_output=True, text=True,
-                           timeout=60)
-        said = [l.split("mfcd: error: ", 1)[1] for l in p.stderr.splitlines()
-                if l.startswith("mfcd: error: ")]
-        check(f"{name}: the serial run exits 2 naming a particle where M is singular",
-              p.returncode == 2 and len(said) == 1 and "moment matrix singular at particle"
-              in said[0], (p.returncode, p.stderr[-600:]))
-        if not said:
-            continue
-        for n in (2, 4, 6):
-            p = refused_on(n, deck, name, work, env)
-            if p is None:
-                continue
-            made = set(os.listdir(work)) - before
-            check(f"{name}, {n} ranks: exits 2 with the serial run's message, nothing "
-                  "written", p.returncode == 2 and said[0] in p.stderr and not made,
-                  (p.returncode, p.stderr[-1200:], made))
+        refused_as_serial(src, work, env, "naming a particle where M is singular",
+                          lambda m: "moment matrix singular at particle" in m, (2, 4, 6),
+                          "nothing written")
     for src in BAD_MESH:
-        name = os.path.basename(src).replace(".nml", "")
-        sub = os.path.join(work, f"{name}_bad")
+        # (its own directory: a scratch mesh left beside the output would show there)
+        sub = os.path.join(work, os.path.basename(src).replace(".nml", "") + "_bad")
         os.makedirs(sub)
-        deck = deck_copy(src, sub, f"{name}_bad.h5")
-        before = set(os.listdir(sub))
-        p = subprocess.run([MFCD, deck], cwd=sub, env=env, capture_output=True, text=True,
-                           timeout=60)
-        said = [l.split("mfcd: error: ", 1)[1] for l in p.stderr.splitlines()
-                if l.startswith("mfcd: error: ")]
-        check(f"{name}: the serial run exits 2 naming the gmsh script", p.returncode == 2
-              and len(said) == 1 and ".geo" in said[0], (p.returncode, p.stderr[-600:]))
-        if not said:
-            continue
-        for n in (2, 4):
-            p = refused_on(n, deck, name, sub, env)
-            if p is None:
-                continue
-            made = set(os.listdir(sub)) - before
-            check(f"{name}, {n} ranks: exits 2 with the serial run's message, nothing "
-                  "written, no scratch mesh left", p.returncode == 2 and said[0] in p.stderr
-                  and not made, (p.returncode, p.stderr[-1200:], made))
+        refused_as_serial(src, sub, env, "naming the gmsh script", lambda m: ".geo" in m,
+                          (2, 4), "nothing written, no scratch mesh left")
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if results and all(results) else 1)
 
