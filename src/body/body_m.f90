@@ -28,6 +28,10 @@ module body_m
     real(wp) :: shift(3) = 0.0_wp
     !> the rank (of nranks) that read it: the body's checks are cut in slabs of space
     integer :: me = 0, nranks = 1
+    !> a rank's RKPM region read by the supports near its box (tet_file_region): the
+    !! largest support of the box's nodes, per axis, by which the region's cells are
+    !! chosen (rkpm_tl3d_m); negative: the region reaches by the whole mesh's
+    real(wp) :: rbox(3) = -1.0_wp
   end type mesh_file_t
 
   !> How an extruded 3D body's particles are made (generators_m extrude_body): its section

@@ -402,6 +402,19 @@ contains
         keep(i) = all(b%x(:, i) >= box(:, 1) - (c%rmax(1:3) + reach)) .and. &
           all(b%x(:, i) <= box(:, 2) + (c%rmax(1:3) + reach))
       end do
+      if (allocated(b%mfile)) then
+        if (b%mfile%rbox(1) >= 0.0_wp) then
+          ! a region read by the supports near the box (tet_file_m tet_file_region): the
+          ! cells whose particle lies within R + l_i of the box, R the largest support of
+          ! the box's particles, l_i the longest edge at particle i (its cell's reach):
+          ! every cell a particle of the box covers a point of; the region holds every
+          ! particle such a cell's rows read
+          do i = 1, np
+            keep(i) = all(max(box(:, 1) - b%x(:, i), 0.0_wp, b%x(:, i) - box(:, 2)) <= &
+              b%mfile%rbox + maxval(b%rho(:, i)/b%support_factor(1:3)))
+          end do
+        end if
+      end if
     end if
     ! the most particles one cell's points can touch: those within rmax + the cell's reach
     ! (the cloud holds the mirror images too)

@@ -378,13 +378,11 @@ contains
           if (region_made(deck, k, part, b)) then
             allocate(reg%body)
             if (allocated(b%mfile)) then
-              ! (a mesh file's: the nodes within what the box's cells and their covering
-              ! particles reach, the whole mesh's supports and longest edge, and the
-              ! tetrahedra all of whose nodes are among them, read: tet_file_m)
-              grow = region_reach(b%support_factor(1:3)*b%mfile%lmax, &
-                [(b%mfile%lmax, j = 1, 3)]) + b%mfile%lmax
-              call tet_file_region(b, box(:, 1) - grow, box(:, 2) + grow, reg%body, e2, &
-                tmesh, eglob)
+              ! (a mesh file's: the nodes the box's cells and their covering particles
+              ! reach, by the supports near the box, and the tetrahedra all of whose nodes
+              ! are among them, read: tet_file_m)
+              call tet_file_region(b, box(:, 1), box(:, 2), reg%body, e2, tmesh, eglob, &
+                supports=.true.)
               if (.not. allocated(e2)) call move_alloc(tmesh%tet, reg%body%tets)
               ! (an RKPM solid's points are its particles, not the tetrahedra)
               if (allocated(eglob)) deallocate(eglob)

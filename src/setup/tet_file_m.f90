@@ -153,25 +153,45 @@ contains
   !! r%glob (ascending, of np_whole); b's name, kernel, basis and spacing. With mesh: only
   !! the nodes of the tetrahedra all of whose nodes lie in the box, and those tetrahedra
   !! over r's nodes, with their whole numbers eglob (ascending).
-  subroutine tet_file_region(b, lo, hi, r, err, mesh, eglob)
+  !!
+  !! With supports (an RKPM body over the tetrahedra's median-dual cells, rkpm_tl3d_m
+  !! scni_tables_3d): lo ... hi is a rank's box, and the nodes are those the box's tables
+  !! can read, by the supports near the box rather than the whole mesh's largest (a graded
+  !! mesh's coarsest element would otherwise reach over most of it): with R the largest
+  !! support of the box's nodes (per axis) and l_i the longest edge at node i, the kept
+  !! cells are those whose node lies within R + l_i of the box (a cell reaches no farther
+  !! than l_i from its node; a node of the box covers no farther than R from it), L their
+  !! longest l_i, and the region the nodes j within rho_j + R + 2 L of it (a particle
+  !! covering a point of a kept cell). r%mfile%rbox = R for the cells' choice there.
+  subroutine tet_file_region(b, lo, hi, r, err, mesh, eglob, supports)
     type(body_t), intent(in) :: b
     real(wp), intent(in) :: lo(3), hi(3)
     type(body_t), intent(out) :: r
     type(error_t), allocatable, intent(inout) :: err
     type(tet4_mesh_t), intent(out), optional :: mesh
     integer, allocatable, intent(out), optional :: eglob(:)
+    logical, intent(in), optional :: supports
     type(h5file_t) :: f
     type(error_t), allocatable :: e2
     type(touching_t) :: tc
     integer, allocatable :: sel(:), fct(:, :), key(:), keep(:), loc(:), selp(:)
     real(wp), allocatable :: xsel(:, :), v4(:), local(:)
     logical, allocatable :: bnd(:), used(:)
-    real(wp) :: lmax
+    real(wp) :: lmax, rbox(3)
     integer :: np, ne, i, m, n, l, nover
+    logical :: sup
+    sup = .false.
+    if (present(supports)) sup = supports
+    rbox = -1.0_wp
     call open_mesh(b%mfile%path, "mesh file '"//b%mfile%path//"'", f, np, ne, err)
-    if (.not. allocated(err)) call nodes_in_box(f, np, lo - b%mfile%shift, &
-      hi - b%mfile%shift, sel, xsel, err)
-    if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, sel=sel)
+    if (sup) then
+      if (.not. allocated(err)) call support_region(f, b, np, ne, lo, hi, sel, xsel, tc, &
+        rbox, err)
+    else
+      if (.not. allocated(err)) call nodes_in_box(f, np, lo - b%mfile%shift, &
+        hi - b%mfile%shift, sel, xsel, err)
+      if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, sel=sel)
+    end if
     call h5_close(f, e2)
     if (allocated(err)) return
     call node_facts(tc, sel, v4, local, bnd, fct, key, nover)
@@ -235,6 +255,7 @@ contains
     r%loop_ptr(1) = 1
     ! (the file, for what the set-up asks of the whole body later: kinematic_masks)
     r%mfile = b%mfile
+    r%mfile%rbox = rbox
     ! (the whole surface's facets, as a region made from an extruded body's recipe holds
     ! them: a deforming master's or a self-contact's side over the region reads them)
     if (allocated(b%facets)) then
@@ -243,6 +264,65 @@ contains
       allocate(r%facets(3, 0))
     end if
   end subroutine tet_file_region
+
+  !> The nodes sel (ascending, positions xsel unplaced) of tet_file_region's region by the
+  !! supports for the box lo ... hi (placed) of the body b read per part, with the
+  !! tetrahedra touching them (tc) and R (rbox). One pass over the file's nodes and one over
+  !! its tetrahedra, as for a box: the nodes within the largest reach the region can have
+  !! (R + 2 L + rho_j with the whole mesh's longest edge for every length: 2 (f + 1) l for
+  !! support factors f, against the 2 (f + 2) l of the region by the whole mesh's), and the
+  !! longest edge at each of them (every tetrahedron touching them is read); then R from
+  !! those in the box, the kept cells' L and the region. Each test has a margin (1e-9
+  !! relative, and 1e-9 of the mesh's extent) over the cells' choice in scni_tables_3d,
+  !! which compares placed positions with the box: the region holds every node a cell
+  !! kept there reads.
+  subroutine support_region(f, b, np, ne, lo, hi, sel, xsel, tc, rbox, err)
+    type(h5file_t), intent(in) :: f
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: np, ne
+    real(wp), intent(in) :: lo(3), hi(3)
+    integer, allocatable, intent(out) :: sel(:)
+    real(wp), allocatable, intent(out) :: xsel(:, :)
+    type(touching_t), intent(out) :: tc
+    real(wp), intent(out) :: rbox(3)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), parameter :: rel = 1.0e-9_wp
+    integer, allocatable :: sc(:), fct(:, :), key(:)
+    real(wp), allocatable :: xc(:, :), v4(:), local(:)
+    logical, allocatable :: bnd(:), in(:)
+    real(wp) :: lmax, tol, lk, sf(3), d(3), ulo(3), uhi(3), g(3)
+    integer :: m, nover
+    sf = b%support_factor(1:3)
+    ulo = lo - b%mfile%shift
+    uhi = hi - b%mfile%shift
+    tol = rel*maxval(b%mfile%hi - b%mfile%lo)
+    g = (2.0_wp*sf + 2.0_wp)*b%mfile%lmax*(1.0_wp + rel) + 3.0_wp*tol
+    call nodes_in_box(f, np, ulo - g, uhi + g, sc, xc, err)
+    if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, sel=sc)
+    if (allocated(err)) return
+    call node_facts(tc, sc, v4, local, bnd, fct, key, nover)
+    ! R: the box's largest support (its nodes are among sc, their edges whole)
+    rbox = 0.0_wp
+    do m = 1, size(sc)
+      if (any(xc(:, m) < ulo) .or. any(xc(:, m) > uhi)) cycle
+      rbox = max(rbox, sf*local(m))
+    end do
+    ! the kept cells' longest edge L
+    lk = 0.0_wp
+    do m = 1, size(sc)
+      d = max(ulo - xc(:, m), 0.0_wp, xc(:, m) - uhi)
+      if (all(d <= rbox*(1.0_wp + rel) + local(m)*(1.0_wp + rel) + tol)) lk = max(lk, local(m))
+    end do
+    ! the particles covering a point of a kept cell
+    allocate(in(size(sc)))
+    do m = 1, size(sc)
+      d = max(ulo - xc(:, m), 0.0_wp, xc(:, m) - uhi)
+      in(m) = all(d <= (sf*local(m) + rbox + 2.0_wp*lk)*(1.0_wp + rel) + 2.0_wp*tol)
+    end do
+    sel = pack(sc, in)
+    allocate(xsel(3, size(sel)))
+    xsel = reshape(pack(xc, spread(in, 1, 3)), [3, size(sel)])
+  end subroutine support_region
 
   !> Whether any node of the body b read per part lies within lo ... hi, placed (1, else
   !! 0; 1 when the file cannot be read again: nothing is refused for it here).
