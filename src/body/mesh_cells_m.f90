@@ -8,6 +8,7 @@ module mesh_cells_m
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
+  use sorting_m, only: incidence_csr
   implicit none
   private
   public :: mesh_from_tags, mesh_body_arrays, triangle_area, check_cells, tet_volume
@@ -308,7 +309,7 @@ contains
     integer, allocatable, intent(out) :: ptr(:)
     real(wp), allocatable, intent(out) :: xy(:, :)
     type(error_t), allocatable, intent(inout) :: err
-    integer, allocatable :: fptr(:), fa(:), fb(:), fe(:), fill(:)
+    integer, allocatable :: fptr(:), fa(:), fb(:), fe(:)
     real(wp), allocatable :: cen(:, :)
     integer :: np, ne, e, k, i, f, f0, nf, nv, a, seen, g
     logical :: boundary, found
@@ -319,27 +320,16 @@ contains
     do e = 1, ne
       cen(:, e) = ((x(:, tri(1, e)) + x(:, tri(2, e))) + x(:, tri(3, e)))/3.0_wp
     end do
-    ! each node's fan: its triangles in triangle order, as (a, b, triangle)
-    allocate(fptr(np + 1), fill(np))
-    fptr = 0
-    do e = 1, ne
-      do k = 1, 3
-        fptr(tri(k, e) + 1) = fptr(tri(k, e) + 1) + 1
-      end do
-    end do
-    fptr(1) = 1
+    ! each node's fan: its triangles in triangle order (fe), as (a, b, triangle): a and b
+    ! the triangle's next two nodes counter-clockwise from the fan's node
+    call incidence_csr(tri, np, fptr, fe)
+    allocate(fa(3*ne), fb(3*ne))
     do i = 1, np
-      fptr(i + 1) = fptr(i + 1) + fptr(i)
-    end do
-    allocate(fa(3*ne), fb(3*ne), fe(3*ne))
-    fill = fptr(1:np)
-    do e = 1, ne
-      do k = 1, 3
-        i = tri(k, e)
-        fa(fill(i)) = tri(modulo(k, 3) + 1, e)
-        fb(fill(i)) = tri(modulo(k + 1, 3) + 1, e)
-        fe(fill(i)) = e
-        fill(i) = fill(i) + 1
+      do f = fptr(i), fptr(i + 1) - 1
+        e = fe(f)
+        k = findloc(tri(:, e), i, dim=1)
+        fa(f) = tri(modulo(k, 3) + 1, e)
+        fb(f) = tri(modulo(k + 1, 3) + 1, e)
       end do
     end do
     ! the cells: a boundary node's has 2 nf + 2 vertices, an interior node's 2 nf

@@ -58,7 +58,7 @@ module rkpm_tl3d_m
   use tet4_m, only: tet4_mesh_t, tet4_face_neighbours
   implicit none
   private
-  public :: tl_build_3d, tl_region_3d, symmetry_planes_3d, region_reach
+  public :: tl_build_3d, tl_region_3d, symmetry_planes_3d
 
   integer, parameter :: max_nb = 1024   !< particles covering one evaluation point (3D)
   integer, parameter :: max_cv = max_cell_vertices
@@ -334,6 +334,14 @@ contains
     end if
   end function body_rmax
 
+  !> Whether b is a rank's region of a mesh file read by the supports near its box
+  !! (mesh_file_t rbox set), whose cells scni_tables_3d chooses by them.
+  pure logical function by_supports(b)
+    type(body_t), intent(in) :: b
+    by_supports = .false.
+    if (allocated(b%mfile)) by_supports = b%mfile%rbox(1) >= 0.0_wp
+  end function by_supports
+
   !> How far beyond a rank's box the region cloud of scni_tables_3d reaches: a kept
   !! cell's particle lies within rmax + reach of the box, a point of the cell within
   !! reach of its particle, and a particle covering it within rmax of it; one reach more
@@ -398,22 +406,21 @@ contains
     allocate(keep(np))
     keep = .true.
     if (present(box)) then
-      do i = 1, np
-        keep(i) = all(b%x(:, i) >= box(:, 1) - (c%rmax(1:3) + reach)) .and. &
-          all(b%x(:, i) <= box(:, 2) + (c%rmax(1:3) + reach))
-      end do
-      if (allocated(b%mfile)) then
-        if (b%mfile%rbox(1) >= 0.0_wp) then
-          ! a region read by the supports near the box (tet_file_m tet_file_region): the
-          ! cells whose particle lies within R + l_i of the box, R the largest support of
-          ! the box's particles, l_i the longest edge at particle i (its cell's reach):
-          ! every cell a particle of the box covers a point of; the region holds every
-          ! particle such a cell's rows read
-          do i = 1, np
-            keep(i) = all(max(box(:, 1) - b%x(:, i), 0.0_wp, b%x(:, i) - box(:, 2)) <= &
-              b%mfile%rbox + maxval(b%rho(:, i)/b%support_factor(1:3)))
-          end do
-        end if
+      if (by_supports(b)) then
+        ! a region read by the supports near the box (tet_file_m tet_file_region): the
+        ! cells whose particle lies within R + l_i of the box, R the largest support of
+        ! the box's particles, l_i the longest edge at particle i (its cell's reach):
+        ! every cell a particle of the box covers a point of; the region holds every
+        ! particle such a cell's rows read
+        do i = 1, np
+          keep(i) = all(max(box(:, 1) - b%x(:, i), 0.0_wp, b%x(:, i) - box(:, 2)) <= &
+            b%mfile%rbox + maxval(b%rho(:, i)/b%support_factor(1:3)))
+        end do
+      else
+        do i = 1, np
+          keep(i) = all(b%x(:, i) >= box(:, 1) - (c%rmax(1:3) + reach)) .and. &
+            all(b%x(:, i) <= box(:, 2) + (c%rmax(1:3) + reach))
+        end do
       end if
     end if
     ! the most particles one cell's points can touch: those within rmax + the cell's reach

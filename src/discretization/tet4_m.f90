@@ -19,7 +19,7 @@ module tet4_m
   use strings_m, only: itoa, rtoa
   use body_m, only: body_t, extrusion_t
   use generators_m, only: section_triangles, extruded_particle, extrude_pick
-  use sorting_m, only: sorted_place
+  use sorting_m, only: sorted_place, incidence_csr
   use dims_m, only: dims_3d
   use solid_tables_m, only: solid_tables_t, tables_finish_elements, element_rows
   use mesh_cells_m, only: check_cells, tet_volume
@@ -522,32 +522,17 @@ contains
     type(tet4_mesh_t), intent(in) :: mesh
     integer, intent(in) :: np
     integer, allocatable, intent(out) :: nbr(:, :), cnt(:, :)
-    integer, allocatable :: ptr(:), fid(:)
-    integer :: e, f, n, k, a, l, key(3), other(3), ek, fk, el, fl
-    n = 4*mesh%ne
-    allocate(ptr(np + 1), fid(n), cnt(4, mesh%ne), nbr(4, mesh%ne))
-    ptr = 0
+    integer, allocatable :: ptr(:), fid(:), amin(:, :)
+    integer :: e, f, k, a, l, key(3), other(3), ek, fk, el, fl
+    ! each face 4 (e - 1) + f by its smallest node, in that order within a node
+    allocate(amin(1, 4*mesh%ne), cnt(4, mesh%ne), nbr(4, mesh%ne))
     do e = 1, mesh%ne
       do f = 1, 4
-        a = minval(mesh%tet(face_nodes(:, f), e))
-        ptr(a + 1) = ptr(a + 1) + 1
+        amin(1, 4*(e - 1) + f) = minval(mesh%tet(face_nodes(:, f), e))
       end do
     end do
-    ptr(1) = 1
-    do a = 1, np
-      ptr(a + 1) = ptr(a + 1) + ptr(a)
-    end do
-    do e = 1, mesh%ne
-      do f = 1, 4
-        a = minval(mesh%tet(face_nodes(:, f), e))
-        fid(ptr(a)) = 4*(e - 1) + f
-        ptr(a) = ptr(a) + 1
-      end do
-    end do
-    do a = np, 1, -1
-      ptr(a + 1) = ptr(a)
-    end do
-    ptr(1) = 1
+    call incidence_csr(amin, np, ptr, fid)
+    deallocate(amin)
     cnt = 0
     nbr = 0
     do a = 1, np

@@ -19,7 +19,7 @@ module dynamic_setup_m
     region_rows
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id
-  use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d, region_reach
+  use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
   use tet_file_m, only: tet_file_region, tet_file_positions, tet_file_count
