@@ -38,9 +38,14 @@ once and run many times: mfcd's shape = 'geo' meshes it again each run):
 | /particles/x | (np, 3) | node coordinates (m) |
 | /particles/volume | (np,) | each node's quarter of every tetrahedron it belongs to (m^3), summed node 1, 2, 3, 4 of each tetrahedron in turn |
 | /mesh/tetrahedra | (ne, 4) | node numbers (1-based rows of /particles/x), positive volume: node 4 on the side of face (1, 2, 3) its right-hand normal points to |
+| /mesh/node_box | (nb, 6) | the index: the box (x, y, z low, then high) of each block of 4096 rows of /particles/x (the last block the rest) |
+| /mesh/tet_box | (nt, 6) | the box of the nodes of each block of 4096 rows of /mesh/tetrahedra |
 
 The nodes and tetrahedra are numbered and oriented as mfcd numbers and orients its own mesh
-of the script (shape = 'geo'), so the two bodies are the same bits (regression_geo_equivalence).
+of the script (shape = 'geo'), so the two bodies are the same bits (regression_geo_equivalence):
+numbered in space (space_order: nodes by the Morton key of their cell in a grid of 1024
+cubes a side, tetrahedra by their smallest node), so that each block of rows lies in a
+small box and a rank of mfcd_mpi reads only the blocks its part meets (the index).
 
 mfcd builds the same body in memory from the .geo itself (`&body shape = 'geo'`, when built
 with gmsh: src/body/mesh_cells_m.f90 ports the functions below, bit for bit; the test
@@ -85,6 +90,7 @@ def mesh_geo(geo, numbers, quiet=True, dim=2):
                              "no volume (a degenerate element)")
         flip = v < 0
         tet[flip] = tet[flip][:, [0, 1, 3, 2]]
+        x, tet = space_order(x, tet)
         return x, tet, version
     x, tri = used_nodes(tags, xyz, types, nodes, 2, 3, 2, f"{geo}: the mesh has no "
                         "triangles (is there a Plane Surface?)")
@@ -113,6 +119,46 @@ def used_nodes(tags, xyz, types, nodes, etype, nv, nd, empty):
     return x[used], renum[elem]
 
 
+INDEX_ROWS = 4096   # rows a block of the index (mfcd's mesh_cells_m index_rows)
+
+
+def space_order(x, tet):
+    """(x, tet) numbered in space, as mfcd's space_order (src/body/mesh_cells_m.f90) does,
+    the same doubles and order: the nodes sorted (stably) by the Morton key of their cell
+    in a grid of 1024 cubes a side over the mesh's extent (c = floor((x - lo)/e*1024), at
+    most 1023, e the largest extent; bits of c_x, c_y, c_z interleaved, x's lowest), then
+    the tetrahedra (stably) by their smallest node, each keeping its nodes' order."""
+    lo = x.min(axis=0)
+    ext = float((x.max(axis=0) - lo).max())
+    key = np.zeros(x.shape[0], dtype=np.int64)
+    if ext > 0.0:
+        c = np.minimum(1023, np.floor(((x - lo) / ext) * 1024.0).astype(np.int64))
+        for bit in range(10):
+            for a in range(3):
+                key |= ((c[:, a] >> bit) & 1) << (3 * bit + a)
+    order = np.argsort(key, kind="stable")
+    renum = np.empty_like(order)
+    renum[order] = np.arange(order.size)
+    tet = renum[tet]
+    torder = np.argsort(tet.min(axis=1), kind="stable")
+    return x[order], tet[torder]
+
+
+def mesh_index(x, tet):
+    """(node_box (nb, 6), tet_box (nt, 6)): the box (low, high) of each block of
+    INDEX_ROWS nodes, and of the nodes of each block of INDEX_ROWS tetrahedra."""
+    def boxes(pts_of_block, n):
+        out = np.empty(((n + INDEX_ROWS - 1) // INDEX_ROWS, 6))
+        for k in range(out.shape[0]):
+            p = pts_of_block(slice(k * INDEX_ROWS, min(n, (k + 1) * INDEX_ROWS)))
+            out[k, :3] = p.min(axis=0)
+            out[k, 3:] = p.max(axis=0)
+        return out
+    nbox = boxes(lambda s: x[s], x.shape[0])
+    tbox = boxes(lambda s: x[tet[s].ravel()], tet.shape[0])
+    return nbox, tbox
+
+
 def tet_volumes(x, tet):
     """Signed volumes of the tetrahedra, as mfcd's tet_volume computes them (the same
     operations in the same order: the same doubles)."""
@@ -137,6 +183,7 @@ def write_body_3d(path, x, tet, attrs):
         f["particles/x"] = x
         f["particles/volume"] = vol
         f["mesh/tetrahedra"] = (tet + 1).astype(np.int32)
+        f["mesh/node_box"], f["mesh/tet_box"] = mesh_index(x, tet)
         for k, val in attrs.items():
             f.attrs[k] = val
     return vol, v

@@ -8,10 +8,17 @@ module mesh_cells_m
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
-  use sorting_m, only: incidence_csr
+  use sorting_m, only: incidence_csr, radix_index
   implicit none
   private
   public :: mesh_from_tags, mesh_body_arrays, triangle_area, check_cells, tet_volume
+  public :: space_order, mesh_index, index_rows
+
+  !> Rows a block of a tetrahedral mesh file's index (/mesh/node_box, /mesh/tet_box:
+  !! mesh_index): a rank reading its part reads the blocks whose box meets its own
+  !! (tet_file_m), 96 KiB of positions a block (a test sets a few, so that a small mesh has
+  !! many blocks; a file's index has the blocks of the writer's: tools/mesh_body.py's 4096)
+  integer :: index_rows = 4096
 
 contains
 
@@ -112,7 +119,82 @@ contains
         if (v < 0.0_wp) tri(3:4, e) = tri([4, 3], e)
       end if
     end do
+    ! a 3D mesh numbered in space (a file's blocks of rows then lie in small boxes)
+    if (m == 4) call space_order(x, tri)
   end subroutine mesh_from_tags
+
+  !> The nodes x (3, np) and tetrahedra tet (4, ne) of a mesh numbered in space, as
+  !! tools/mesh_body.py's space_order numbers them (the same doubles, the same order):
+  !! the nodes sorted (stably) by the Morton key of their cell in a grid of 1024 cubes a
+  !! side over the mesh's extent (cell c_a = floor((x_a - lo_a)/e*1024), at most 1023, e
+  !! the largest extent; the key c_x, c_y, c_z's bits interleaved, x's lowest), then the
+  !! tetrahedra (stably) by their smallest node, each keeping its nodes' order (its volume
+  !! its sign). So consecutive rows of a file lie close together, and a rank reading its
+  !! part of one reads a few blocks of it (mesh_index, tet_file_m); and a share of the
+  !! numbering is a compact piece of the body.
+  subroutine space_order(x, tet)
+    real(wp), intent(inout) :: x(:, :)
+    integer, intent(inout) :: tet(:, :)
+    integer, allocatable :: key(:), idx(:), renum(:)
+    real(wp) :: lo(3), ext
+    integer :: i, a, bit, c, np, ne
+    np = size(x, 2)
+    ne = size(tet, 2)
+    lo = minval(x, 2)
+    ext = maxval(maxval(x, 2) - lo)
+    allocate(key(np), idx(np))
+    key = 0
+    if (ext > 0.0_wp) then
+      do i = 1, np
+        do a = 1, 3
+          c = min(1023, int(((x(a, i) - lo(a))/ext)*1024.0_wp))
+          do bit = 0, 9
+            if (btest(c, bit)) key(i) = ibset(key(i), 3*bit + a - 1)
+          end do
+        end do
+      end do
+    end if
+    call radix_index(key, idx)
+    x = x(:, idx)
+    allocate(renum(np))
+    renum(idx) = [(i, i = 1, np)]
+    do i = 1, ne
+      tet(:, i) = renum(tet(:, i))
+    end do
+    deallocate(key, idx)
+    allocate(key(ne), idx(ne))
+    key = minval(tet, 1)
+    call radix_index(key, idx)
+    tet = tet(:, idx)
+  end subroutine space_order
+
+  !> The index of a tetrahedral mesh file (tools/mesh_body.py --3d writes the same): nbox
+  !! (6, nb) the box (lo, hi) of each block of index_rows nodes (the last block the rest),
+  !! tbox (6, nt) the box of the nodes of each block of index_rows tetrahedra.
+  subroutine mesh_index(x, tet, nbox, tbox)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tet(:, :)
+    real(wp), allocatable, intent(out) :: nbox(:, :), tbox(:, :)
+    integer :: i, k, l
+    allocate(nbox(6, (size(x, 2) + index_rows - 1)/index_rows))
+    allocate(tbox(6, (size(tet, 2) + index_rows - 1)/index_rows))
+    nbox(1:3, :) = huge(1.0_wp)
+    nbox(4:6, :) = -huge(1.0_wp)
+    do i = 1, size(x, 2)
+      k = (i - 1)/index_rows + 1
+      nbox(1:3, k) = min(nbox(1:3, k), x(:, i))
+      nbox(4:6, k) = max(nbox(4:6, k), x(:, i))
+    end do
+    tbox(1:3, :) = huge(1.0_wp)
+    tbox(4:6, :) = -huge(1.0_wp)
+    do i = 1, size(tet, 2)
+      k = (i - 1)/index_rows + 1
+      do l = 1, 4
+        tbox(1:3, k) = min(tbox(1:3, k), x(:, tet(l, i)))
+        tbox(4:6, k) = max(tbox(4:6, k), x(:, tet(l, i)))
+      end do
+    end do
+  end subroutine mesh_index
 
   !> Signed volume of tetrahedron t of x (3, :): positive when node 4 lies on the side of
   !! the face (1, 2, 3) that its right-hand normal points to.

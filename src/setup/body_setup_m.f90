@@ -27,13 +27,14 @@ module body_setup_m
   use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
   use rk_cloud_m, only: cloud_det
   use cst4_m, only: cst4_mesh_t, cst4_rectangle, cst4_annulus
-  use mesh_cells_m, only: mesh_from_tags, mesh_body_arrays, tet_volume
+  use mesh_cells_m, only: mesh_from_tags, mesh_body_arrays, tet_volume, mesh_index
   use tet4_m, only: tet4_mesh_t, tet4_extruded, tet4_boundary_faces, extruded_tets, &
     tet4_section
   use gmsh_mesh_m, only: gmsh_mesh_model
   use confine_m, only: confine_limits_t
   use log_m, only: log_print
-  use tet_file_m, only: tet_file_share, tet_file_region, column_sum
+  use tet_file_m, only: tet_file_share, tet_file_region, column_sum, mesh_index_t, &
+    read_index, node_outside, tet_outside, index_error
   implicit none
   private
   public :: build_bodies, build_body, lattice_admissible, min_support_factor
@@ -1137,7 +1138,7 @@ contains
     integer, intent(in) :: k
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(inout) :: err
-    real(wp), allocatable :: x(:, :), vol(:), xy(:, :)
+    real(wp), allocatable :: x(:, :), vol(:), xy(:, :), nbox(:, :), tbox(:, :)
     integer, allocatable :: loop(:), order(:), tet(:, :), ptr(:)
     type(h5file_t) :: f
     type(error_t), allocatable :: e2
@@ -1156,6 +1157,10 @@ contains
     if (.not. allocated(e2)) call h5_write(f, '/particles/volume', vol, 'm^3', e2)
     if (.not. allocated(e2)) call h5_group(f, '/mesh', e2)
     if (.not. allocated(e2)) call h5_write(f, '/mesh/tetrahedra', tet, '1', e2)
+    ! (the index: each block of rows' box, for the ranks' reading of their parts)
+    call mesh_index(x, tet, nbox, tbox)
+    if (.not. allocated(e2)) call h5_write(f, '/mesh/node_box', nbox, 'm', e2)
+    if (.not. allocated(e2)) call h5_write(f, '/mesh/tet_box', tbox, 'm', e2)
     if (.not. allocated(e2)) call h5_attr(f, '/', 'source', "mfcd_mpi: the mesh of '"// &
       trim(deck%bodies(k)%file)//"' (body "//itoa(k)//" of deck '"//deck%path// &
       "'), each rank's part read from here", e2)
@@ -1201,6 +1206,7 @@ contains
     integer, allocatable :: dims(:)
     integer(i64), allocatable :: tet8(:, :)
     real(wp), allocatable :: v4(:), ve(:)
+    type(mesh_index_t) :: ix
     real(wp) :: v
     integer :: l, e, k, np
     has = .false.
@@ -1228,12 +1234,23 @@ contains
           what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
       end if
       if (.not. allocated(err)) tet = int(tet8)
+      ! (its index, if it has one: checked as the ranks reading it per part check it)
+      if (.not. allocated(err)) call read_index(f, what, np, size(tet, 2), ix, err)
     end if
     call h5_close(f, e2)
     if (allocated(err) .or. .not. has) return
     ! (finite numbers first: no volume of a NaN or Infinity is computed)
     call check_file_values(what, x, vol, err)
     if (allocated(err)) return
+    if (ix%has) then
+      do k = 1, np
+        if (node_outside(ix, k, x(:, k))) then
+          call index_error(err, what, "particle "//itoa(k)//" lies outside its block's "// &
+            "box in the index /mesh/node_box")
+          return
+        end if
+      end do
+    end if
     allocate(v4(np), ve(size(tet, 2)))
     v4 = 0.0_wp
     do e = 1, size(tet, 2)
@@ -1248,6 +1265,15 @@ contains
         return
       end if
     end do
+    if (ix%has) then
+      do e = 1, size(tet, 2)
+        if (tet_outside(ix, e, x(:, tet(:, e)))) then
+          call index_error(err, what, "tetrahedron "//itoa(e)//" has a node outside its "// &
+            "block's box in the index /mesh/tet_box")
+          return
+        end if
+      end do
+    end if
     do k = 1, 4
       do e = 1, size(tet, 2)
         v4(tet(k, e)) = v4(tet(k, e)) + 0.25_wp*ve(e)

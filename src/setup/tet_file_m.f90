@@ -11,8 +11,12 @@
 !! the serial ones (body_setup_m read_file_tets): the node numbers' range and every
 !! tetrahedron's positive volume over the whole file on every rank (the same message),
 !! the volumes' agreement for the rank's share. Memory: the share's or the box's nodes and
-!! tetrahedra and two blocks; the file is read whole by every rank (no index in it says
-!! where a box's rows are), some 56 B a node, at the set-up only.
+!! tetrahedra and two blocks. A file with an index (/mesh/node_box, /mesh/tet_box: the box
+!! of each block of index_rows rows, mesh_cells_m mesh_index; tools/mesh_body.py --3d and
+!! mfcd_mpi's own meshes write one, numbered in space) is read for a box only in the
+!! blocks whose box meets it; the whole-file checks still read it whole, and check the
+!! index too (each row within its block's box: a wrong index is refused, as the serial
+!! reading refuses it, read_file_tets), some 56 B a node, at the set-up only.
 module tet_file_m
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use kinds_m, only: wp, i64
@@ -21,14 +25,15 @@ module tet_file_m
   use sorting_m, only: sort_index, radix_index, incidence_csr
   use rank_comm_m, only: rank_comm_t, share_first
   use hdf5_io_m, only: h5file_t, h5_open_read, h5_close, h5_has, h5_shape, h5_read_block, &
-    h5_read_rows
+    h5_read_rows, h5_read
   use body_m, only: body_t, mesh_file_t
-  use mesh_cells_m, only: tet_volume
+  use mesh_cells_m, only: tet_volume, index_rows
   use tet4_m, only: tet4_mesh_t, face_nodes
   implicit none
   private
   public :: tet_file_share, tet_file_region, tet_file_facets, tet_file_positions, column_sum
-  public :: block_rows, tet_file_count
+  public :: block_rows, tet_file_count, mesh_index_t, read_index, node_outside, tet_outside
+  public :: index_error, rows_read
 
   !> Rows a block of the file (64 Ki rows: 1.5 MiB of positions, 2 MiB of tetrahedra; a
   !! test sets a few, so that a small mesh spans many blocks)
@@ -36,6 +41,16 @@ module tet_file_m
   !> The file's volumes against the tetrahedra's: a relative difference beyond this is not
   !! round-off (read_file_tets' tolerance, the same reason)
   real(wp), parameter :: vol_tol = 1.0e-9_wp
+  !> Rows of positions and tetrahedra read for boxes so far (nodes_in_box, scan_tets with a
+  !! set of nodes): what the index saves, seen by the tests
+  integer(i64) :: rows_read = 0
+
+  !> A mesh file's index (mesh_cells_m mesh_index): the box (lo, hi) of each block of
+  !! index_rows nodes and of the nodes of each block of index_rows tetrahedra
+  type :: mesh_index_t
+    logical :: has = .false.
+    real(wp), allocatable :: nbox(:, :), tbox(:, :)
+  end type mesh_index_t
 
   !> The tetrahedra that touch a set of nodes, with the positions of all their nodes
   type :: touching_t
@@ -75,6 +90,7 @@ contains
     real(wp), allocatable, intent(out) :: local(:)
     type(error_t), allocatable, intent(inout) :: err
     type(h5file_t) :: f
+    type(mesh_index_t) :: ix
     type(error_t), allocatable :: e2
     type(touching_t) :: tc
     real(wp), allocatable :: xs(:, :), colv(:), v4(:)
@@ -89,8 +105,11 @@ contains
     allocate(xs(3, n), colv(n))
     ! (the serial checks' order: the node numbers, finite values, positive volumes)
     call check_range(f, what, np, ne, err)
-    if (.not. allocated(err)) call scan_nodes(f, what, np, r0, r1, xs, colv, vsum, lo, hi, err)
-    if (.not. allocated(err)) call scan_tets(f, what, np, ne, r0, r1, tc, lmax, err, &
+    ! (the index after the node numbers, as the serial reading takes it: read_file_tets)
+    if (.not. allocated(err)) call read_index(f, what, np, ne, ix, err)
+    if (.not. allocated(err)) call scan_nodes(f, what, np, r0, r1, xs, colv, vsum, lo, hi, &
+      err, ix)
+    if (.not. allocated(err)) call scan_tets(f, what, np, ne, r0, r1, tc, lmax, err, ix, &
       check=.true.)
     if (.not. allocated(err)) then
       c0 = share_first(ne, me, nranks)
@@ -172,6 +191,7 @@ contains
     integer, allocatable, intent(out), optional :: eglob(:)
     logical, intent(in), optional :: supports
     type(h5file_t) :: f
+    type(mesh_index_t) :: ix
     type(error_t), allocatable :: e2
     type(touching_t) :: tc
     integer, allocatable :: sel(:), fct(:, :), key(:), keep(:), loc(:), selp(:)
@@ -183,14 +203,15 @@ contains
     sup = .false.
     if (present(supports)) sup = supports
     rbox = -1.0_wp
-    call open_mesh(b%mfile%path, "mesh file '"//b%mfile%path//"'", f, np, ne, err)
+    call open_mesh(b%mfile%path, "mesh file '"//b%mfile%path//"'", f, np, ne, err, ix)
     if (sup) then
-      if (.not. allocated(err)) call support_region(f, b, np, ne, lo, hi, sel, xsel, tc, &
-        rbox, err)
+      if (.not. allocated(err)) call support_region(f, ix, b, np, ne, lo, hi, sel, xsel, &
+        tc, rbox, err)
     else
       if (.not. allocated(err)) call nodes_in_box(f, np, lo - b%mfile%shift, &
-        hi - b%mfile%shift, sel, xsel, err)
-      if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, sel=sel)
+        hi - b%mfile%shift, sel, xsel, err, ix)
+      if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, ix, &
+        sel=sel, lo=lo - b%mfile%shift, hi=hi - b%mfile%shift)
     end if
     call h5_close(f, e2)
     if (allocated(err)) return
@@ -276,8 +297,9 @@ contains
   !! relative, and 1e-9 of the mesh's extent) over the cells' choice in scni_tables_3d,
   !! which compares placed positions with the box: the region holds every node a cell
   !! kept there reads.
-  subroutine support_region(f, b, np, ne, lo, hi, sel, xsel, tc, rbox, err)
+  subroutine support_region(f, ix, b, np, ne, lo, hi, sel, xsel, tc, rbox, err)
     type(h5file_t), intent(in) :: f
+    type(mesh_index_t), intent(in) :: ix
     type(body_t), intent(in) :: b
     integer, intent(in) :: np, ne
     real(wp), intent(in) :: lo(3), hi(3)
@@ -297,8 +319,9 @@ contains
     uhi = hi - b%mfile%shift
     tol = rel*maxval(b%mfile%hi - b%mfile%lo)
     g = (2.0_wp*sf + 2.0_wp)*b%mfile%lmax*(1.0_wp + rel) + 3.0_wp*tol
-    call nodes_in_box(f, np, ulo - g, uhi + g, sc, xc, err)
-    if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, sel=sc)
+    call nodes_in_box(f, np, ulo - g, uhi + g, sc, xc, err, ix)
+    if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, ix, &
+      sel=sc, lo=ulo - g, hi=uhi + g)
     if (allocated(err)) return
     call node_facts(tc, sc, v4, local, bnd, fct, key, nover)
     ! R: the box's largest support (its nodes are among sc, their edges whole)
@@ -330,14 +353,15 @@ contains
     type(body_t), intent(in) :: b
     real(wp), intent(in) :: lo(3), hi(3)
     type(h5file_t) :: f
+    type(mesh_index_t) :: ix
     type(error_t), allocatable :: err, e2
     integer, allocatable :: sel(:)
     real(wp), allocatable :: xsel(:, :)
     integer :: np, ne
     n = 1
-    call open_mesh(b%mfile%path, "mesh file '"//b%mfile%path//"'", f, np, ne, err)
+    call open_mesh(b%mfile%path, "mesh file '"//b%mfile%path//"'", f, np, ne, err, ix)
     if (allocated(err)) return
-    call nodes_in_box(f, np, lo - b%mfile%shift, hi - b%mfile%shift, sel, xsel, err)
+    call nodes_in_box(f, np, lo - b%mfile%shift, hi - b%mfile%shift, sel, xsel, err, ix)
     call h5_close(f, e2)
     if (.not. allocated(err)) n = min(1, size(sel))
   end function tet_file_count
@@ -414,11 +438,13 @@ contains
 
   !> Open the mesh file and read its sizes: /particles/x (3, np), /particles/volume (np),
   !! /mesh/tetrahedra (4, ne), the messages as the serial reading's.
-  subroutine open_mesh(path, what, f, np, ne, err)
+  subroutine open_mesh(path, what, f, np, ne, err, ix)
     character(len=*), intent(in) :: path, what
     type(h5file_t), intent(out) :: f
     integer, intent(out) :: np, ne
     type(error_t), allocatable, intent(inout) :: err
+    !> the file's index (read_index), if it has one
+    type(mesh_index_t), intent(out), optional :: ix
     integer, allocatable :: dims(:)
     type(error_t), allocatable :: e2
     np = 0
@@ -460,23 +486,27 @@ contains
         end if
       end if
     end if
+    if (.not. allocated(err) .and. present(ix)) call read_index(f, what, np, ne, ix, err)
     if (allocated(err)) call h5_close(f, e2)
   end subroutine open_mesh
 
   !> Every node's position and volume finite (check_file_values' message), the extent lo ...
   !! hi, the volume column's sum vsum, and the positions xs and volumes colv of the rows
-  !! r0 ... r1.
-  subroutine scan_nodes(f, what, np, r0, r1, xs, colv, vsum, lo, hi, err)
+  !! r0 ... r1; and every node within its block's box of the index ix, if the file has one
+  !! (after the finite numbers: the first node outside named).
+  subroutine scan_nodes(f, what, np, r0, r1, xs, colv, vsum, lo, hi, err, ix)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: what
     integer, intent(in) :: np, r0, r1
     real(wp), intent(out) :: xs(:, :), colv(:), vsum, lo(3), hi(3)
     type(error_t), allocatable, intent(inout) :: err
+    type(mesh_index_t), intent(in) :: ix
     real(wp), allocatable :: xb(:, :), vb(:)
-    integer :: i0, n, i, g
+    integer :: i0, n, i, g, bad
     vsum = 0.0_wp
     lo = huge(1.0_wp)
     hi = -huge(1.0_wp)
+    bad = 0
     do i0 = 1, np, block_rows
       n = min(block_rows, np - i0 + 1)
       if (allocated(xb)) deallocate(xb, vb)
@@ -497,29 +527,45 @@ contains
           xs(:, g - r0 + 1) = xb(:, i)
           colv(g - r0 + 1) = vb(i)
         end if
+        if (ix%has .and. bad == 0) then
+          if (node_outside(ix, g, xb(:, i))) bad = g
+        end if
       end do
       call column_sum(vb, vsum)
     end do
+    if (bad > 0) call index_error(err, what, "particle "//itoa(bad)//" lies outside its "// &
+      "block's box in the index /mesh/node_box")
   end subroutine scan_nodes
 
-  !> The nodes sel (ascending) whose positions lie within lo ... hi, and their positions.
-  subroutine nodes_in_box(f, np, lo, hi, sel, xsel, err)
+  !> The nodes sel (ascending) whose positions lie within lo ... hi, and their positions:
+  !! with the file's index ix (checked by tet_file_share's whole reading), from the blocks
+  !! whose box meets lo ... hi only.
+  subroutine nodes_in_box(f, np, lo, hi, sel, xsel, err, ix)
     type(h5file_t), intent(in) :: f
     integer, intent(in) :: np
     real(wp), intent(in) :: lo(3), hi(3)
     integer, allocatable, intent(out) :: sel(:)
     real(wp), allocatable, intent(out) :: xsel(:, :)
     type(error_t), allocatable, intent(inout) :: err
+    type(mesh_index_t), intent(in) :: ix
     real(wp), allocatable :: xb(:, :)
-    integer :: i0, n, i, pass, m
+    integer, allocatable :: first(:), count(:)
+    integer :: i0, n, i, pass, m, j
+    if (ix%has) then
+      call row_runs(np, first, count, ix%nbox, lo, hi)
+    else
+      call row_runs(np, first, count)
+    end if
     do pass = 1, 2
       m = 0
-      do i0 = 1, np, block_rows
-        n = min(block_rows, np - i0 + 1)
+      do j = 1, size(first)
+        i0 = first(j)
+        n = count(j)
         if (allocated(xb)) deallocate(xb)
         allocate(xb(3, n))
         call h5_read_block(f, '/particles/x', xb, i0, err)
         if (allocated(err)) return
+        rows_read = rows_read + n
         do i = 1, n
           if (any(xb(:, i) < lo) .or. any(xb(:, i) > hi)) cycle
           m = m + 1
@@ -535,33 +581,47 @@ contains
   !> The tetrahedra that touch the nodes r0 ... r1 (or sel, ascending), with the positions
   !! of all their nodes (tc), and the whole mesh's longest edge lmax. check: every node
   !! number in range and every tetrahedron of positive volume (read_file_tets' messages, the
-  !! first in the file's order), over the whole file: the positions of every block's nodes
-  !! are read for it.
-  subroutine scan_tets(f, what, np, ne, r0, r1, tc, lmax, err, check, sel)
+  !! first in the file's order), then every tetrahedron within its block's box of the index
+  !! ix, over the whole file: the positions of every block's nodes are read for it. With
+  !! sel, the index and the box lo ... hi that holds sel's nodes: only the blocks of
+  !! tetrahedra whose box meets it are read (a tetrahedron touching a node of the box has
+  !! its box meet it).
+  subroutine scan_tets(f, what, np, ne, r0, r1, tc, lmax, err, ix, check, sel, lo, hi)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: what
     integer, intent(in) :: np, ne, r0, r1
     type(touching_t), intent(out) :: tc
     real(wp), intent(out) :: lmax
     type(error_t), allocatable, intent(inout) :: err
+    type(mesh_index_t), intent(in) :: ix
     logical, intent(in), optional :: check
     integer, intent(in), optional :: sel(:)
+    real(wp), intent(in), optional :: lo(3), hi(3)
     integer, allocatable :: tb(:, :), nb(:), wb(:, :), member(:), ek(:), tk(:, :)
+    integer, allocatable :: first(:), count(:)
     integer :: idx(4)
     real(wp), allocatable :: xb(:, :)
     logical :: all_of, mine
-    integer :: i0, n, i, l, j, cnt, m, nn
+    integer :: i0, n, i, l, j, cnt, m, nn, run, bad
     real(wp) :: v
     all_of = .false.
     if (present(check)) all_of = check
+    if (ix%has .and. .not. all_of .and. present(sel)) then
+      call row_runs(ne, first, count, ix%tbox, lo, hi)
+    else
+      call row_runs(ne, first, count)
+    end if
     lmax = 0.0_wp
+    bad = 0
     allocate(ek(1024), tk(4, 1024))
     cnt = 0
-    do i0 = 1, ne, block_rows
-      n = min(block_rows, ne - i0 + 1)
+    do run = 1, size(first)
+      i0 = first(run)
+      n = count(run)
       call read_tets_block(f, what, np, i0, n, tb, err)
       if (allocated(err)) return
       if (present(sel)) then
+        rows_read = rows_read + n
         ! (the block's nodes in sel: one merge of two ascending lists)
         call unique_nodes(tb, nb, wb)
         member = merge_places(nb, sel)
@@ -591,6 +651,9 @@ contains
               lmax = max(lmax, norm2(xb(:, idx(l)) - xb(:, idx(j))))
             end do
           end do
+          if (ix%has .and. bad == 0) then
+            if (tet_outside(ix, i0 + i - 1, xb(:, idx))) bad = i0 + i - 1
+          end if
         end if
         if (present(sel)) then
           mine = any(member(wb(:, i)) > 0)
@@ -604,6 +667,11 @@ contains
         tk(:, cnt) = tb(:, i)
       end do
     end do
+    if (bad > 0) then
+      call index_error(err, what, "tetrahedron "//itoa(bad)//" has a node outside its "// &
+        "block's box in the index /mesh/tet_box")
+      return
+    end if
     ! the kept tetrahedra's nodes and their positions (what a node's facts read)
     tc%n = cnt
     tc%e = ek(1:cnt)
@@ -814,4 +882,120 @@ contains
       if (pass == 1) allocate(fct(3, a), key(a))
     end do
   end subroutine node_facts
+
+  ! --- the index ------------------------------------------------------------------------
+
+  !> The index of the open mesh file f of np nodes and ne tetrahedra (ix%has: the file has
+  !! one): both datasets or neither, each (6, blocks of index_rows rows).
+  subroutine read_index(f, what, np, ne, ix, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: what
+    integer, intent(in) :: np, ne
+    type(mesh_index_t), intent(out) :: ix
+    type(error_t), allocatable, intent(inout) :: err
+    integer, allocatable :: dn(:), dt(:)
+    integer :: nb, nt
+    logical :: hn, ht
+    hn = h5_has(f, '/mesh/node_box')
+    ht = h5_has(f, '/mesh/tet_box')
+    if (.not. (hn .or. ht)) return
+    nb = (np + index_rows - 1)/index_rows
+    nt = (ne + index_rows - 1)/index_rows
+    allocate(dn(0), dt(0))
+    if (hn) call h5_shape(f, '/mesh/node_box', dn, err)
+    if (ht .and. .not. allocated(err)) call h5_shape(f, '/mesh/tet_box', dt, err)
+    if (allocated(err)) return
+    if (.not. (size(dn) == 2 .and. size(dt) == 2)) then
+      call index_error(err, what, "its index needs both /mesh/node_box and /mesh/tet_box")
+      return
+    end if
+    if (.not. (dn(1) == 6 .and. dn(2) == nb .and. dt(1) == 6 .and. dt(2) == nt)) then
+      call index_error(err, what, "its index /mesh/node_box and /mesh/tet_box must be ("// &
+        itoa(nb)//", 6) and ("//itoa(nt)//", 6): the box (low x, y, z, high x, y, z) of "// &
+        "each block of "//itoa(index_rows)//" rows")
+      return
+    end if
+    allocate(ix%nbox(6, nb), ix%tbox(6, nt))
+    call h5_read(f, '/mesh/node_box', ix%nbox, err)
+    if (.not. allocated(err)) call h5_read(f, '/mesh/tet_box', ix%tbox, err)
+    if (allocated(err)) return
+    ! (finite boxes: no comparison with a NaN, which the positions' checks would trap)
+    if (.not. (all(ieee_is_finite(ix%nbox)) .and. all(ieee_is_finite(ix%tbox)))) then
+      call index_error(err, what, "its index /mesh/node_box or /mesh/tet_box has a box "// &
+        "that is not finite numbers (NaN or Infinity)")
+      return
+    end if
+    ix%has = .true.
+  end subroutine read_index
+
+  !> A wrong index's message (what the file is, why): the fix named.
+  subroutine index_error(err, what, why)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in) :: what, why
+    call set_error(err, what//": "//why//"; write the file with tools/mesh_body.py --3d, "// &
+      "or delete /mesh/node_box and /mesh/tet_box (the ranks then read the whole file)")
+  end subroutine index_error
+
+  !> Whether node g at p lies outside its block's box (a NaN box holds nothing).
+  pure logical function node_outside(ix, g, p) result(out)
+    type(mesh_index_t), intent(in) :: ix
+    integer, intent(in) :: g
+    real(wp), intent(in) :: p(3)
+    integer :: k
+    k = (g - 1)/index_rows + 1
+    out = .not. (all(p >= ix%nbox(1:3, k)) .and. all(p <= ix%nbox(4:6, k)))
+  end function node_outside
+
+  !> Whether a node of tetrahedron e (its positions p (3, 4)) lies outside its block's box.
+  pure logical function tet_outside(ix, e, p) result(out)
+    type(mesh_index_t), intent(in) :: ix
+    integer, intent(in) :: e
+    real(wp), intent(in) :: p(3, 4)
+    integer :: k, l
+    k = (e - 1)/index_rows + 1
+    out = .false.
+    do l = 1, 4
+      out = out .or. .not. (all(p(:, l) >= ix%tbox(1:3, k)) .and. &
+        all(p(:, l) <= ix%tbox(4:6, k)))
+    end do
+  end function tet_outside
+
+  !> The runs of rows to read (first(i), count(i), at most block_rows each) of a dataset of
+  !! n rows whose index boxes are box (6, :): every row without a box (or without lo, hi),
+  !! else the blocks whose box meets lo ... hi, consecutive ones joined.
+  subroutine row_runs(n, first, count, box, lo, hi)
+    integer, intent(in) :: n
+    integer, allocatable, intent(out) :: first(:), count(:)
+    real(wp), intent(in), optional :: box(:, :), lo(3), hi(3)
+    integer :: k, m, r0, r1
+    logical :: meets
+    allocate(first((n + index_rows - 1)/index_rows + n/block_rows + 1))
+    allocate(count(size(first)))
+    m = 0
+    if (.not. (present(box) .and. present(lo) .and. present(hi))) then
+      do r0 = 1, n, block_rows
+        m = m + 1
+        first(m) = r0
+        count(m) = min(block_rows, n - r0 + 1)
+      end do
+    else
+      do k = 1, size(box, 2)
+        meets = all(box(1:3, k) <= hi) .and. all(box(4:6, k) >= lo)
+        if (.not. meets) cycle
+        r0 = (k - 1)*index_rows + 1
+        r1 = min(n, k*index_rows)
+        if (m > 0) then
+          if (first(m) + count(m) == r0 .and. count(m) + r1 - r0 + 1 <= block_rows) then
+            count(m) = count(m) + r1 - r0 + 1
+            cycle
+          end if
+        end if
+        m = m + 1
+        first(m) = r0
+        count(m) = r1 - r0 + 1
+      end do
+    end if
+    first = first(1:m)
+    count = count(1:m)
+  end subroutine row_runs
 end module tet_file_m

@@ -10,7 +10,11 @@ each node's volume its quarter of the tetrahedra it belongs to. The bad files ch
 thing each: a tetrahedron turned inside out (nodes 3 and 4 swapped), a node number past
 the last node, a zero node number, /mesh/tetrahedra of 3 columns, no tetrahedra at all, a
 node's volume off by 1% (the columns disagree), a node in no tetrahedron (its volume then
-has no tetrahedra behind it), a NaN coordinate.
+has no tetrahedra behind it), a NaN coordinate; and the index (/mesh/node_box,
+/mesh/tet_box: the box of each block of 4096 rows, which mfcd_mpi's ranks read their parts
+by) wrong: a box that misses a node, one that misses a tetrahedron's node, a NaN box, one
+dataset without the other, the wrong number of blocks. A good index runs, and gives the
+run without it to the bit.
 
 Exit 77 (skipped) without h5py. Usage: test_mesh_files.py /path/to/mfcd
 """
@@ -99,12 +103,20 @@ def node_volumes(np, x, tet):
     return vol
 
 
-def write(h5py, path, x, vol, tet):
+def write(h5py, path, x, vol, tet, index=None):
     with h5py.File(path, "w") as f:
         f["particles/x"] = x
         f["particles/volume"] = vol
         if tet is not None:
             f["mesh/tetrahedra"] = tet
+        for name, box in (index or {}).items():
+            f["mesh/" + name] = box
+
+
+def box_of(np, p):
+    """The index's one box (low x, y, z, high x, y, z) of the points p (the cube's 27 nodes
+    and 48 tetrahedra are one block of 4096 rows each)."""
+    return np.concatenate([p.min(axis=0), p.max(axis=0)])[None, :]
 
 
 def run(tmp, stem, file, disc):
@@ -131,6 +143,19 @@ def main():
             rc, out = run(tmp, "good_" + disc, "good.h5", disc)
             check(f"a good mesh file runs ({disc})", rc == 0 and os.path.exists(
                 os.path.join(tmp, "out", f"good_{disc}.h5")), out[-800:])
+        good_index = {"node_box": box_of(np, x), "tet_box": box_of(np, x)}
+        write(h5py, os.path.join(tmp, "indexed.h5"), x, vol, one, good_index)
+        rc, out = run(tmp, "indexed_fem", "indexed.h5", "fem")
+        same = []
+        if rc == 0:
+            with h5py.File(os.path.join(tmp, "out", "good_fem.h5"), "r") as a, \
+                    h5py.File(os.path.join(tmp, "out", "indexed_fem.h5"), "r") as b:
+                for group in ("bodies", "history"):
+                    a[group].visititems(lambda n, d, g=group: same.append(np.array_equal(
+                        d[()], b[g + "/" + n][()])) if isinstance(d, h5py.Dataset) else None)
+        check("a good index runs, every body and history dataset the bits of the run "
+              "without it",
+              rc == 0 and len(same) > 3 and all(same), out[-800:])
         inside_out = one.copy()
         inside_out[7, [2, 3]] = inside_out[7, [3, 2]]
         past = one.copy()
@@ -160,8 +185,32 @@ def main():
              ["particle 27", "disagree"]),
             ("nan_coordinate", nan_x, vol, one, ["particle 5", "not a finite number"]),
         ]
-        for name, bx, bvol, btet, expect in bad:
-            write(h5py, os.path.join(tmp, name + ".h5"), bx, bvol, btet)
+        # the index wrong: the cube's nodes 10 mm in x from 0; a box to 5 mm misses node 3
+        # (x = 10 mm: the nodes run x fastest); a tetrahedron box to 5 mm misses a node of
+        # the first tetrahedron with one at x = 10 mm
+        short = box_of(np, x)
+        short[0, 3] = 5.0e-3
+        first = int(np.argmax((x[tet] > 5.0e-3 + 1e-12)[:, :, 0].any(axis=1))) + 1
+        nan_box = box_of(np, x)
+        nan_box[0, 1] = float("nan")
+        fix = ["mesh_body.py --3d", "delete /mesh/node_box and /mesh/tet_box"]
+        bad += [
+            ("index_node_outside", x, vol, one,
+             ["particle 3 lies outside its block's box", "/mesh/node_box"] + fix,
+             {"node_box": short, "tet_box": box_of(np, x)}),
+            ("index_tet_outside", x, vol, one,
+             [f"tetrahedron {first} has a node outside", "/mesh/tet_box"] + fix,
+             {"node_box": box_of(np, x), "tet_box": short}),
+            ("index_nan", x, vol, one, ["/mesh/tet_box has a box that is not finite"] + fix,
+             {"node_box": nan_box, "tet_box": box_of(np, x)}),
+            ("index_half", x, vol, one, ["needs both /mesh/node_box and /mesh/tet_box"],
+             {"node_box": box_of(np, x)}),
+            ("index_blocks", x, vol, one, ["must be (1, 6) and (1, 6)"],
+             {"node_box": np.repeat(box_of(np, x), 2, axis=0), "tet_box": box_of(np, x)}),
+        ]
+        for name, bx, bvol, btet, expect, *index in bad:
+            write(h5py, os.path.join(tmp, name + ".h5"), bx, bvol, btet,
+                  index[0] if index else None)
             rc, out = run(tmp, name, name + ".h5", "fem")
             said = [e for e in expect if e not in out]
             check(f"{name}: exit 2, naming the file and what is wrong",

@@ -19,8 +19,10 @@ read per part (--made: no rank read all its nodes):
 - the tube of input/tube_crush_coarse.nml (h = 0.7 mm) between its rigid floor and ram with
   its self-contact, 2 us (a rank whose region meets no &bc box asks the file whether the
   whole body has a node there).
-Then a file with one tetrahedron turned inside out: the serial run and 2 and 3 ranks exit 2
-with the serial message naming it, writing nothing.
+Then a file with one tetrahedron turned inside out, and one whose index (/mesh/node_box:
+the box of each block of 4096 nodes, by which a rank reads only the blocks its part meets)
+misses a node: the serial run and 2 and 3 ranks exit 2 with the serial message naming it,
+writing nothing.
 
 Usage: check_mesh_file_mpi.py MFCD MFCD_MPI MPIEXEC
 """
@@ -104,7 +106,11 @@ def main():
     p = subprocess.run(run + ["--ranks", "2,3,4", "--made", "tube_crush_file_self", MFCD,
                               MFCD_MPI, MPIEXEC, tube_self], cwd=work, env=env)
     ok = p.returncode == 0 and ok
-    ok = turned_tetrahedron(work, mesh, text, env) and ok
+    ok = refused(work, mesh, text, env, "turned", turned_tetrahedron,
+                 "tetrahedron 100 of /mesh/tetrahedra") and ok
+    # (the index the ranks read their parts by: checked by the serial run and every rank)
+    ok = refused(work, mesh, text, env, "squeezed", squeezed_index,
+                 "lies outside its block's box in the index /mesh/node_box") and ok
     sys.exit(0 if ok else 1)
 
 
@@ -125,36 +131,48 @@ def from_file(work, name, geo, mesh, numbers):
     return re.sub(r"^\s*geo_(names|values)\s*=.*\n", "", text, flags=re.M)
 
 
-def turned_tetrahedron(work, mesh, text, env):
-    """The file with tetrahedron 100 turned inside out: refused by every run, the same words."""
-    bad = os.path.join(work, "taylor_quarter_turned.hdf5")
+def turned_tetrahedron(f):
+    """Tetrahedron 100 turned inside out."""
+    t = f["/mesh/tetrahedra"][...]
+    t[99, [2, 3]] = t[99, [3, 2]]
+    f["/mesh/tetrahedra"][...] = t
+
+
+def squeezed_index(f):
+    """The index's first block of nodes squeezed to its lowest x: the first of its nodes
+    above that x lies outside it."""
+    box = f["/mesh/node_box"][...]
+    box[0, 3] = box[0, 0]
+    f["/mesh/node_box"][...] = box
+
+
+def refused(work, mesh, text, env, stem, edit, words):
+    """The file changed by edit: refused by every run, the same words."""
+    bad = os.path.join(work, f"taylor_quarter_{stem}.hdf5")
     shutil.copy(mesh, bad)
     with h5py.File(bad, "r+") as f:
-        t = f["/mesh/tetrahedra"][...]
-        t[99, [2, 3]] = t[99, [3, 2]]
-        f["/mesh/tetrahedra"][...] = t
-    deck = os.path.join(work, "turned.nml")
+        edit(f)
+    deck = os.path.join(work, f"{stem}.nml")
     open(deck, "w").write(text.replace(mesh, bad).replace(
-        "file = 'output/taylor_bar_3d_fem_geo.h5'", "file = 'turned_out.h5'"))
+        "file = 'output/taylor_bar_3d_fem_geo.h5'", f"file = '{stem}_out.h5'"))
     results = []
     before = set(os.listdir(work))
     p = subprocess.run([MFCD, deck], cwd=work, env=env, capture_output=True, text=True,
                        timeout=120)
     said = [l.split("mfcd: error: ", 1)[1] for l in p.stderr.splitlines()
             if l.startswith("mfcd: error: ")]
-    good = p.returncode == 2 and len(said) == 1 and "tetrahedron 100 of /mesh/tetrahedra" \
-        in said[0]
+    good = p.returncode == 2 and len(said) == 1 and words in said[0]
     results.append(good)
-    print(("[  OK  ] " if good else "[ FAIL ] ") + "mesh_file: the serial run refuses the "
-          "turned tetrahedron, naming it" + ("" if good else f": {p.returncode} {p.stderr}"))
+    print(("[  OK  ] " if good else "[ FAIL ] ") + f"mesh_file ({stem}): the serial run "
+          f"refuses it, saying '{words}'" + ("" if good else f": {p.returncode} {p.stderr}"))
     for n in (2, 3):
         p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", str(n), MFCD_MPI, deck],
                            cwd=work, env=env, capture_output=True, text=True, timeout=120)
         made = set(os.listdir(work)) - before
         good = bool(said) and p.returncode == 2 and said[0] in p.stderr and not made
         results.append(good)
-        print(("[  OK  ] " if good else "[ FAIL ] ") + f"mesh_file, {n} ranks: exits 2 with "
-              "the serial run's message, nothing written"
+        print(("[  OK  ] " if good else "[ FAIL ] ") + f"mesh_file ({stem}), {n} ranks: "
+              "exits 2 with the serial run's message, nothing written"
               + ("" if good else f": {p.returncode} {p.stderr[-800:]} {made}"))
     return all(results)
 
