@@ -100,6 +100,13 @@ FS_BANDWIDTH = 100.0e9        # B/s of a parallel file system, aggregate (assume
 # quarter at 0.3 mm (38,358 nodes, 193,438 tetrahedra) on 2 and 4 ranks: 24.7 MB read by
 # each rank other than 0 (/proc/PID/io rchar, less a generated body's 0.15 MB)
 MESH_READ_BYTES_3D = 640.0    # B read by every rank per node of the whole mesh (measured)
+# since 2026-12-01 a file numbered in space with its index (/mesh/node_box, /mesh/tet_box:
+# what tools/mesh_body.py --3d and mfcd_mpi's own meshes write) is read per part: each rank
+# its shares of the rows for the whole file's checks and the blocks near its part; measured
+# the same day on the weak bench's bar (bench/mpi_weak_3d.sh MESH=1: 14,742 nodes a rank)
+# on 2, 4 and 8 ranks: 10.5-12.2 MB a rank whatever the whole mesh (16.7, 30.7, 57.9 MB
+# before), at most 12.2 MB less 0.15 MB = 820 B a node of the part
+MESH_READ_PART_BYTES_3D = 820.0  # B read by a rank per node of its part (measured)
 RANK_READ_BANDWIDTH = 1.0e9   # B/s one rank reads from the file system (assumed)
 MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
 STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)
@@ -141,11 +148,13 @@ def output_times_3d(p, n):
     return total / BANDWIDTH, total / min(p * BANDWIDTH, FS_BANDWIDTH)
 
 
-def mesh_read_time_3d(p, n):
-    """A mesh file's reading at the set-up (s) on p ranks of n nodes each: every rank
-    streams the whole file (MESH_READ_BYTES_3D a node), at its own bandwidth until the
-    file system's aggregate is shared."""
-    return p * n * MESH_READ_BYTES_3D / min(RANK_READ_BANDWIDTH, FS_BANDWIDTH / p)
+def mesh_read_time_3d(p, n, indexed=True):
+    """A mesh file's reading at the set-up (s) on p ranks of n nodes each, at a rank's own
+    bandwidth until the file system's aggregate is shared: with the index, each rank its
+    part (MESH_READ_PART_BYTES_3D a node of it); without, every rank streams the whole file
+    (MESH_READ_BYTES_3D a node of the whole mesh)."""
+    read = n * MESH_READ_PART_BYTES_3D if indexed else p * n * MESH_READ_BYTES_3D
+    return read / min(RANK_READ_BANDWIDTH, FS_BANDWIDTH / p)
 
 
 def full(p, eff):
@@ -166,8 +175,9 @@ def main_3d(out):
         print("| ranks | step (ms) | halos + reductions (ms) | efficiency | with full "
               "nodes | snapshot, gather (s) | snapshot, MPI-IO (s) | output share, gather | "
               "peak memory per rank, part + whole body (GiB) | rank 0's gathered snapshot "
-              "(GiB) | set-up, whole-body share (s) | a mesh file read by every rank (s) |")
-        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+              "(GiB) | set-up, whole-body share (s) | a mesh file without its index, read "
+              "whole by every rank (s) | with its index, each rank its part (s) |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         eff, share_g, share_io, mem = [], [], [], []
         for p in ranks:
             w, c = step_times_3d(p, n)
@@ -181,7 +191,8 @@ def main_3d(out):
                   f"{full(p, eff[-1])} | {g:.2f} | "
                   f"{io:.3f} | {share_g[-1]:.1f}% | {mem[-1]:.1f} | "
                   f"{p * n * SNAP_BYTES_3D / 2 ** 30:.2f} | {p * n * SETUP_WHOLE_S_3D:.0f} | "
-                  f"{mesh_read_time_3d(p, n):.0f} |")
+                  f"{mesh_read_time_3d(p, n, indexed=False):.0f} | "
+                  f"{mesh_read_time_3d(p, n):.2f} |")
         lab = f"{n:.0e} particles per rank"
         axs[0].semilogx(ranks, eff, mk + "-", base=2, label=f"steps, {lab}")
         axs[0].semilogx(ranks, [100 - x for x in share_g], mk + "--", base=2,

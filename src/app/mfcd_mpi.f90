@@ -15,7 +15,7 @@ program mfcd_mpi
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use kinds_m, only: wp, i64
   use mpi_f08
-  use memory_policy_m, only: memory_policy_apply, resident_kib, memory_trim
+  use memory_policy_m, only: memory_policy_apply, resident_kib, memory_trim, read_bytes
   use errors_m, only: error_t, exit_bad_input
   use strings_m, only: itoa
   use version_m, only: code_name, code_version, git_commit
@@ -31,6 +31,7 @@ program mfcd_mpi
     root_needs_whole, body_per_part
   use explicit_driver_m, only: run_dynamic
   use mpi_domain_m, only: mpi_domain_t, mpi_domain_init, ghost_margin_default
+  use mpi_comm_m, only: mpi_ranks_t, mpi_ranks_init
   use run_checkpoint_m, only: checkpoint_check, checkpoint_info_t, body_fingerprints
   implicit none
   type(deck_t) :: deck
@@ -49,6 +50,9 @@ program mfcd_mpi
   logical :: ghost_refresh
   !> the ranks of MPI_COMM_WORLD: each solid's part on this one
   type(mpi_domain_t), target :: ranks
+  !> the same ranks before the domain is made: the bodies' set-up shares a mesh file's
+  !! whole checks over them (tet_file_m)
+  type(mpi_ranks_t) :: world
   type(setup_part_t) :: sp
   ! freed large blocks go back to the system, so that a rank's peak holds what is alive at
   ! it (memory_policy_m); before MPI allocates anything
@@ -56,6 +60,7 @@ program mfcd_mpi
   call MPI_Init()
   call MPI_Comm_rank(MPI_COMM_WORLD, me)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+  call mpi_ranks_init(world, MPI_COMM_WORLD)
   ! only rank 0 logs: the others' standard output goes nowhere
   if (me /= 0) open(unit=output_unit, file='/dev/null', action='write')
   ! options: --ghost-margin=F (contact with deforming masters: the ghost width's margin, a
@@ -122,7 +127,7 @@ program mfcd_mpi
   ! (a script rank 0 could not mesh, or a bad output path, ends every rank first)
   call agree_or_fail(1)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err, [me, nranks], per_part, &
-    mesh_files)
+    mesh_files, world)
   call agree_or_fail(exit_bad_input)
   ! the ranks (the set-up's sums go through them too)
   call mpi_domain_init(ranks, MPI_COMM_WORLD, ghost_margin, ghost_refresh, &
@@ -211,14 +216,19 @@ contains
   !! doc/parallel.md). Collective.
   subroutine log_memory(when)
     character(len=*), intent(in) :: when
-    integer(i64) :: m(2), lo(2), hi(2)
+    integer(i64) :: m(3), lo(3), hi(3)
     call resident_kib(m(1), m(2))
-    call MPI_Allreduce(m, lo, 2, MPI_INTEGER8, MPI_MIN, MPI_COMM_WORLD)
-    call MPI_Allreduce(m, hi, 2, MPI_INTEGER8, MPI_MAX, MPI_COMM_WORLD)
+    ! (and the bytes read so far, in KiB: a mesh file's reading per rank)
+    m(3) = read_bytes()
+    if (m(3) >= 0) m(3) = m(3)/1024
+    call MPI_Allreduce(m, lo, 3, MPI_INTEGER8, MPI_MIN, MPI_COMM_WORLD)
+    call MPI_Allreduce(m, hi, 3, MPI_INTEGER8, MPI_MAX, MPI_COMM_WORLD)
     ! (not on Linux: nothing to say)
-    if (any(lo < 0)) return
+    if (any(lo(1:2) < 0)) return
     call log_print('mfcd_mpi: resident memory '//when//': '//mib(lo(1), hi(1))// &
       ' MiB a rank (peak so far '//mib(lo(2), hi(2))//' MiB)')
+    if (lo(3) >= 0) call log_print('mfcd_mpi: read '//when//': '//mib(lo(3), hi(3))// &
+      ' MiB a rank (files and pipes)')
   end subroutine log_memory
 
   function mib(lo, hi) result(txt)

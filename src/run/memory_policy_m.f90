@@ -7,7 +7,7 @@ module memory_policy_m
   use kinds_m, only: i64
   implicit none
   private
-  public :: memory_policy_apply, mapped_bytes, resident_kib, memory_trim
+  public :: memory_policy_apply, mapped_bytes, resident_kib, memory_trim, read_bytes
 
   interface
     function c_memory_policy() bind(c, name='mfcd_memory_policy') result(rc)
@@ -68,4 +68,24 @@ contains
     end do
     close(u)
   end subroutine resident_kib
+
+  !> The bytes this process has read so far through read calls (rchar of /proc/self/io:
+  !! files, the page cache's too, pipes), -1 where the system does not tell (not Linux):
+  !! what a rank of mfcd_mpi reads of a mesh file (doc/parallel.md).
+  integer(i64) function read_bytes() result(n)
+    character(len=256) :: line
+    integer :: u, ios
+    n = -1_i64
+    open(newunit=u, file='/proc/self/io', action='read', status='old', iostat=ios)
+    if (ios /= 0) return
+    do
+      read(u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (index(line, 'rchar:') == 1) then
+        read(line(7:), *, iostat=ios) n
+        exit
+      end if
+    end do
+    close(u)
+  end function read_bytes
 end module memory_policy_m

@@ -18,7 +18,7 @@ module body_setup_m
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
   use kinds_m, only: i64
-  use rank_comm_m, only: share_first
+  use rank_comm_m, only: share_first, rank_comm_t
   use hdf5_io_m, only: read_particle_file_h5, h5file_t, h5_open_read, h5_close, h5_has, &
     h5_shape, h5_read, h5_create, h5_group, h5_write, h5_attr
   use detection_m, only: body_cloud, body_plateau
@@ -33,8 +33,8 @@ module body_setup_m
   use gmsh_mesh_m, only: gmsh_mesh_model
   use confine_m, only: confine_limits_t
   use log_m, only: log_print
-  use tet_file_m, only: tet_file_share, tet_file_region, column_sum, mesh_index_t, &
-    read_index, node_outside, tet_outside, index_error
+  use tet_file_m, only: tet_file_share, tet_file_region, volume_spacing, mesh_index_t, &
+    read_index, node_outside, tet_outside, file_error
   implicit none
   private
   public :: build_bodies, build_body, lattice_admissible, min_support_factor
@@ -63,7 +63,7 @@ module body_setup_m
 contains
 
   !> Build and check every body of the deck.
-  subroutine build_bodies(deck, bodies, err, share, per_part, mesh_files)
+  subroutine build_bodies(deck, bodies, err, share, per_part, mesh_files, comm)
     type(deck_t), intent(in) :: deck
     type(body_t), allocatable, intent(out) :: bodies(:)
     type(error_t), allocatable, intent(inout) :: err
@@ -76,18 +76,29 @@ contains
     !> with per_part: the mesh file a 3D gmsh script (shape 'geo') was meshed into once
     !! (geo_mesh_file, by one rank), read per part as a mesh file is; '' for other bodies
     character(len=*), intent(in), optional :: mesh_files(:)
+    !> the ranks (with share): a mesh file's whole checks shared over them (tet_file_m),
+    !! and an error of any rank's body ends every rank's building before the next body's
+    !! collective checks (the ranks then agree on the error: mfcd_mpi)
+    class(rank_comm_t), intent(inout), optional :: comm
     integer :: k
+    real(wp) :: failed(1)
     logical :: part
     allocate(bodies(deck%nbodies))
     do k = 1, deck%nbodies
       part = .false.
       if (present(per_part)) part = per_part(k)
       if (part .and. present(mesh_files)) then
-        call build_body(deck, deck%bodies(k), k, bodies(k), err, share, trim(mesh_files(k)))
+        call build_body(deck, deck%bodies(k), k, bodies(k), err, share, trim(mesh_files(k)), &
+          comm)
       else if (part) then
-        call build_body(deck, deck%bodies(k), k, bodies(k), err, share)
+        call build_body(deck, deck%bodies(k), k, bodies(k), err, share, comm=comm)
       else
         call build_body(deck, deck%bodies(k), k, bodies(k), err)
+      end if
+      if (present(comm)) then
+        failed = merge(1.0_wp, 0.0_wp, allocated(err))
+        call comm%max_real(failed)
+        if (failed(1) > 0.0_wp) return
       end if
       if (allocated(err)) return
     end do
@@ -206,7 +217,7 @@ contains
 
 
   !> One body from its spec; err names deck, group and variable on failure.
-  subroutine build_body(deck, s, k, b, err, share, mesh_file)
+  subroutine build_body(deck, s, k, b, err, share, mesh_file, comm)
     type(deck_t), intent(in) :: deck
     type(body_spec_t), intent(in) :: s
     integer, intent(in) :: k
@@ -218,10 +229,13 @@ contains
     !> with share, for a 3D gmsh script: the file it was meshed into (geo_mesh_file), read
     !! as rank me's share; '' or absent: the script meshed here
     character(len=*), intent(in), optional :: mesh_file
+    !> with share: the ranks, over which a mesh file's whole checks are shared (tet_file_m;
+    !! collective then), else each rank reads the whole file for them
+    class(rank_comm_t), intent(inout), optional :: comm
     character(len=:), allocatable :: where, what
     real(wp), allocatable :: local(:), xs(:, :), vols(:), xy(:, :)
     integer, allocatable :: loop(:), order(:), tri(:, :), ptr(:)
-    real(wp) :: dr, dt, fmin, vsum
+    real(wp) :: dr, dt, fmin
     integer :: nd, i
     logical :: has_tri, has_cells, tets, from_file
     type(error_t), allocatable :: e2
@@ -289,10 +303,10 @@ contains
         ! nodes, volumes and tetrahedra as the script meshed here (tet_mesh_body)
         if (s%shape == 'geo') then
           what = "the mesh of '"//trim(s%file)//"'"
-          call tet_file_share(mesh_file, what, share(1), share(2), b, local, e2)
+          call tet_file_share(mesh_file, what, share(1), share(2), b, local, e2, comm)
         else
           what = "particle file '"//trim(s%file)//"'"
-          call tet_file_share(trim(s%file), what, share(1), share(2), b, local, e2)
+          call tet_file_share(trim(s%file), what, share(1), share(2), b, local, e2, comm)
         end if
         ! (an RKPM body integrates over the tetrahedra's median-dual cells: no elements;
         ! each rank reads its region's tetrahedra for them, dynamic_setup_m)
@@ -337,11 +351,9 @@ contains
           s%discretization == 'rkpm' .and. s%role == 'deformable' .and. &
           deck%run%mode == 'dynamic', b, local, e2)
         if (.not. allocated(e2) .and. s%shape == 'file') then
-          ! a file's spacing from its volume column, summed in order (checked equal to the
-          ! tetrahedra's quarters): the one sum a rank reading the file in blocks makes too
-          vsum = 0.0_wp
-          call column_sum(vols, vsum)
-          b%spacing(1:3) = (vsum/real(b%np, wp))**(1.0_wp/3.0_wp)
+          ! a file's spacing from its volume column (checked equal to the tetrahedra's
+          ! quarters), summed exactly: the one sum the ranks reading their shares make too
+          b%spacing(1:3) = volume_spacing(vols, b%np)
         end if
       else
         if (.not. allocated(e2)) call check_file_values(what, xs, vols, e2)
@@ -1093,6 +1105,9 @@ contains
     zero = 0
     call make_from_arrays(b, x, vol, zero, zero, err)
     if (allocated(err)) return
+    ! (the spacing of its volumes summed exactly: a mesh file's, which the ranks reading its
+    ! shares sum the same way, tet_file_m)
+    b%spacing(1:3) = volume_spacing(vol, np)
     do e = 1, size(faces, 2)
       b%boundary(faces(:, e)) = .true.
     end do
@@ -1230,8 +1245,8 @@ contains
       if (.not. allocated(err)) then
         ! range-checked before the conversion to default integers
         if (size(tet8, 2) == 0) call set_error(err, what//": /mesh/tetrahedra is empty")
-        if (any(tet8 < 1 .or. tet8 > np) .and. .not. allocated(err)) call set_error(err, &
-          what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
+        if (any(tet8 < 1 .or. tet8 > np) .and. .not. allocated(err)) call file_error(err, &
+          what, np, 1, 0, [0, 0, 0, 0], 0.0_wp)
       end if
       if (.not. allocated(err)) tet = int(tet8)
       ! (its index, if it has one: checked as the ranks reading it per part check it)
@@ -1245,8 +1260,7 @@ contains
     if (ix%has) then
       do k = 1, np
         if (node_outside(ix, k, x(:, k))) then
-          call index_error(err, what, "particle "//itoa(k)//" lies outside its block's "// &
-            "box in the index /mesh/node_box")
+          call file_error(err, what, np, 3, k, tet(:, 1), 0.0_wp)
           return
         end if
       end do
@@ -1257,19 +1271,14 @@ contains
       v = tet_volume(x, tet(:, e))
       ve(e) = v
       if (.not. (v > 0.0_wp)) then
-        call set_error(err, what//": tetrahedron "//itoa(e)//" of /mesh/tetrahedra (nodes "// &
-          itoa(tet(1, e))//", "//itoa(tet(2, e))//", "//itoa(tet(3, e))//", "// &
-          itoa(tet(4, e))//") has volume "//rtoa(v)//" m^3: each needs a positive volume, "// &
-          "node 4 on the side of face (1, 2, 3) its right-hand normal points to "// &
-          "(tools/mesh_body.py --3d orders them)")
+        call file_error(err, what, np, 4, e, tet(:, e), v)
         return
       end if
     end do
     if (ix%has) then
       do e = 1, size(tet, 2)
         if (tet_outside(ix, e, x(:, tet(:, e)))) then
-          call index_error(err, what, "tetrahedron "//itoa(e)//" has a node outside its "// &
-            "block's box in the index /mesh/tet_box")
+          call file_error(err, what, np, 5, e, tet(:, e), 0.0_wp)
           return
         end if
       end do

@@ -24,6 +24,7 @@ module tet_file_m
   use strings_m, only: itoa, rtoa
   use sorting_m, only: sort_index, radix_index, incidence_csr
   use rank_comm_m, only: rank_comm_t, share_first
+  use exact_sum_m, only: exact_sum_t, exact_add, exact_merge, exact_value, exact_allmerge
   use hdf5_io_m, only: h5file_t, h5_open_read, h5_close, h5_has, h5_shape, h5_read_block, &
     h5_read_rows, h5_read
   use body_m, only: body_t, mesh_file_t
@@ -31,9 +32,9 @@ module tet_file_m
   use tet4_m, only: tet4_mesh_t, face_nodes
   implicit none
   private
-  public :: tet_file_share, tet_file_region, tet_file_facets, tet_file_positions, column_sum
+  public :: tet_file_share, tet_file_region, tet_file_facets, tet_file_positions, volume_spacing
   public :: block_rows, tet_file_count, mesh_index_t, read_index, node_outside, tet_outside
-  public :: index_error, rows_read
+  public :: rows_read, file_error
 
   !> Rows a block of the file (64 Ki rows: 1.5 MiB of positions, 2 MiB of tetrahedra; a
   !! test sets a few, so that a small mesh spans many blocks)
@@ -52,6 +53,19 @@ module tet_file_m
     real(wp), allocatable :: nbox(:, :), tbox(:, :)
   end type mesh_index_t
 
+  !> What tet_file_share's checks find over shares of the file's rows (scan_stage): the
+  !! first wrong row of each kind (huge: none), in the serial checks' order: 1 a tetrahedron
+  !! naming a node outside 1 ... np, 2 a node not finite, 3 a node outside its index box,
+  !! 4 a tetrahedron without a positive volume, 5 a tetrahedron outside its index box; the
+  !! extent lo ... hi, the longest edge, the volume column's exact sum
+  type :: scan_t
+    integer :: bad(5) = huge(1)
+    real(wp) :: lo(3) = huge(1.0_wp), hi(3) = -huge(1.0_wp), lmax = 0.0_wp
+    type(exact_sum_t) :: vsum
+    !> (scan_reduce: some rank could not read its rows)
+    logical :: unread = .false.
+  end type scan_t
+
   !> The tetrahedra that touch a set of nodes, with the positions of all their nodes
   type :: touching_t
     integer :: n = 0
@@ -65,60 +79,115 @@ module tet_file_m
 
 contains
 
-  !> The naive sum of v in order, added to s: the one sum of a file's volume column that
-  !! the serial body and every rank reading it in blocks make (the same bits).
-  pure subroutine column_sum(v, s)
+  !> The nominal spacing of a tetrahedral body whose volume column is v (np of them): the
+  !! cube root of their mean, their sum exact (exact_sum_m), so that a rank summing its share
+  !! of the file and the serial body summing it whole have the same bits.
+  function volume_spacing(v, np) result(h)
     real(wp), intent(in) :: v(:)
-    real(wp), intent(inout) :: s
+    integer, intent(in) :: np
+    real(wp) :: h
+    type(exact_sum_t) :: a
     integer :: i
     do i = 1, size(v)
-      s = s + v(i)
+      call exact_add(a, v(i))
     end do
-  end subroutine column_sum
+    h = (exact_value(a)/real(np, wp))**(1.0_wp/3.0_wp)
+  end function volume_spacing
 
   !> Rank me's share (of nranks) of the body of the tetrahedral mesh file path (what names
   !! it for messages): b holds the nodes row0 ... of np (positions, the serial volumes,
   !! boundary flags) and the tetrahedra cell0 ... of ncells, held_share, its mfile (the
-  !! path, the whole mesh's longest edge and extent), its spacing the cube root of the mean
-  !! of the file's volume column (serial too: body_setup_m), and its facets whose smallest
-  !! node is in the share with their places in the whole mesh (facet_key; tet_file_facets
+  !! path, the whole mesh's longest edge and extent), its spacing volume_spacing's of the
+  !! file's volume column (serial too: body_setup_m), and its facets whose smallest node
+  !! is in the share with their places in the whole mesh (facet_key; tet_file_facets
   !! gathers them). local: the longest edge at each node of the share (the supports').
-  subroutine tet_file_share(path, what, me, nranks, b, local, err)
+  !!
+  !! The whole file's checks (the serial reading's, in its order: the node numbers, the
+  !! index's shape, finite values, each node in its index box, positive volumes, each
+  !! tetrahedron in its index box) and facts (the extent, the longest edge, the volume
+  !! column's sum) are made by the ranks of comm each over its share of the rows, then
+  !! reduced (the first wrong row of each kind the smallest over the ranks: the serial
+  !! message on every rank); without comm by one rank over every share in turn (the whole
+  !! file, the same checks and numbers). Then the tetrahedra touching the share's nodes:
+  !! with the file's index from the blocks whose box meets the share's box only. So a rank
+  !! of comm reads its shares of the rows and the blocks near its share, not the file.
+  !! Collective over comm.
+  subroutine tet_file_share(path, what, me, nranks, b, local, err, comm)
     character(len=*), intent(in) :: path, what
     integer, intent(in) :: me, nranks
     type(body_t), intent(out) :: b
     real(wp), allocatable, intent(out) :: local(:)
     type(error_t), allocatable, intent(inout) :: err
+    class(rank_comm_t), intent(inout), optional :: comm
     type(h5file_t) :: f
     type(mesh_index_t) :: ix
     type(error_t), allocatable :: e2
     type(touching_t) :: tc
+    type(scan_t) :: total, one
     real(wp), allocatable :: xs(:, :), colv(:), v4(:)
-    real(wp) :: vsum, lo(3), hi(3), lmax
-    integer :: np, ne, r0, r1, n, i, k, c0, c1, nover
+    real(wp) :: lo(3), hi(3), lmax, slo(3), shi(3)
+    integer :: np, ne, r0, r1, n, i, k, c0, c1, nover, stage, q
     integer(i64), allocatable :: t8(:, :)
     call open_mesh(path, what, f, np, ne, err)
     if (allocated(err)) return
     r0 = share_first(np, me, nranks)
     r1 = share_first(np, me + 1, nranks) - 1
     n = r1 - r0 + 1
-    allocate(xs(3, n), colv(n))
-    ! (the serial checks' order: the node numbers, finite values, positive volumes)
-    call check_range(f, what, np, ne, err)
-    ! (the index after the node numbers, as the serial reading takes it: read_file_tets)
-    if (.not. allocated(err)) call read_index(f, what, np, ne, ix, err)
-    if (.not. allocated(err)) call scan_nodes(f, what, np, r0, r1, xs, colv, vsum, lo, hi, &
-      err, ix)
-    if (.not. allocated(err)) call scan_tets(f, what, np, ne, r0, r1, tc, lmax, err, ix, &
-      check=.true.)
+    c0 = share_first(ne, me, nranks)
+    c1 = share_first(ne, me + 1, nranks) - 1
+    allocate(xs(3, n), colv(n), t8(4, c1 - c0 + 1))
+    ! (the serial checks' order: the node numbers, the index, the nodes, the tetrahedra)
+    do stage = 1, 3
+      ! (the index after the node numbers, as the serial reading takes it: read_file_tets;
+      ! the same file on every rank, so the same result)
+      if (stage == 2) call read_index(f, what, np, ne, ix, err)
+      if (allocated(err)) exit
+      if (present(comm)) then
+        one = scan_t()
+        call scan_stage(f, ix, stage, np, ne, me, nranks, one, xs, colv, t8, err)
+        ! (a rank that cannot read its rows still takes part: no rank waits for it)
+        call scan_reduce(one, comm, allocated(err))
+        if (one%unread .and. .not. allocated(err)) call set_error(err, what//": another "// &
+          "rank could not read its rows of the file")
+        if (allocated(err)) exit
+        call scan_merge(total, one)
+      else
+        do q = 0, nranks - 1
+          one = scan_t()
+          if (q == me) then
+            call scan_stage(f, ix, stage, np, ne, q, nranks, one, xs, colv, t8, err)
+          else
+            call scan_stage(f, ix, stage, np, ne, q, nranks, one, err=err)
+          end if
+          if (allocated(err)) exit
+          call scan_merge(total, one)
+        end do
+      end if
+      if (allocated(err)) exit
+      call scan_error(f, what, np, total, err)
+      if (allocated(err)) exit
+    end do
+    ! the tetrahedra touching the share's nodes: by the index, those of the blocks whose
+    ! box meets the share's box; else every block
     if (.not. allocated(err)) then
-      c0 = share_first(ne, me, nranks)
-      c1 = share_first(ne, me + 1, nranks) - 1
-      allocate(t8(4, c1 - c0 + 1))
-      call h5_read_block(f, '/mesh/tetrahedra', t8, c0, err)
+      if (ix%has) then
+        slo = huge(1.0_wp)
+        shi = -huge(1.0_wp)
+        do k = 1, n
+          slo = min(slo, xs(:, k))
+          shi = max(shi, xs(:, k))
+        end do
+        call scan_tets(f, '', np, ne, 0, -1, tc, err, ix, sel=[(i, i = r0, r1)], &
+          lo=slo, hi=shi)
+      else
+        call scan_tets(f, what, np, ne, r0, r1, tc, err, ix)
+      end if
     end if
     call h5_close(f, e2)
     if (allocated(err)) return
+    lo = total%lo
+    hi = total%hi
+    lmax = total%lmax
     ! the serial volumes, longest edges, boundary flags and facets of the share's nodes
     b%ndim = 3
     b%np = np
@@ -155,7 +224,7 @@ contains
     allocate(b%loop_ptr(1), b%loop_idx(0), b%loop_closed(0))
     b%loop_ptr(1) = 1
     b%spacing = 0.0_wp
-    b%spacing(1:3) = (vsum/real(np, wp))**(1.0_wp/3.0_wp)
+    b%spacing(1:3) = (exact_value(total%vsum)/real(np, wp))**(1.0_wp/3.0_wp)
     allocate(b%mfile)
     b%mfile%path = path
     b%mfile%ne = ne
@@ -197,7 +266,7 @@ contains
     integer, allocatable :: sel(:), fct(:, :), key(:), keep(:), loc(:), selp(:)
     real(wp), allocatable :: xsel(:, :), v4(:), local(:)
     logical, allocatable :: bnd(:), used(:)
-    real(wp) :: lmax, rbox(3)
+    real(wp) :: rbox(3)
     integer :: np, ne, i, m, n, l, nover
     logical :: sup
     sup = .false.
@@ -210,7 +279,7 @@ contains
     else
       if (.not. allocated(err)) call nodes_in_box(f, np, lo - b%mfile%shift, &
         hi - b%mfile%shift, sel, xsel, err, ix)
-      if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, ix, &
+      if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, err, ix, &
         sel=sel, lo=lo - b%mfile%shift, hi=hi - b%mfile%shift)
     end if
     call h5_close(f, e2)
@@ -312,7 +381,7 @@ contains
     integer, allocatable :: sc(:), fct(:, :), key(:)
     real(wp), allocatable :: xc(:, :), v4(:), local(:)
     logical, allocatable :: bnd(:), in(:)
-    real(wp) :: lmax, tol, lk, sf(3), d(3), ulo(3), uhi(3), g(3)
+    real(wp) :: tol, lk, sf(3), d(3), ulo(3), uhi(3), g(3)
     integer :: m, nover
     sf = b%support_factor(1:3)
     ulo = lo - b%mfile%shift
@@ -320,7 +389,7 @@ contains
     tol = rel*maxval(b%mfile%hi - b%mfile%lo)
     g = (2.0_wp*sf + 2.0_wp)*b%mfile%lmax*(1.0_wp + rel) + 3.0_wp*tol
     call nodes_in_box(f, np, ulo - g, uhi + g, sc, xc, err, ix)
-    if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, lmax, err, ix, &
+    if (.not. allocated(err)) call scan_tets(f, '', np, ne, 0, -1, tc, err, ix, &
       sel=sc, lo=ulo - g, hi=uhi + g)
     if (allocated(err)) return
     call node_facts(tc, sc, v4, local, bnd, fct, key, nover)
@@ -490,53 +559,6 @@ contains
     if (allocated(err)) call h5_close(f, e2)
   end subroutine open_mesh
 
-  !> Every node's position and volume finite (check_file_values' message), the extent lo ...
-  !! hi, the volume column's sum vsum, and the positions xs and volumes colv of the rows
-  !! r0 ... r1; and every node within its block's box of the index ix, if the file has one
-  !! (after the finite numbers: the first node outside named).
-  subroutine scan_nodes(f, what, np, r0, r1, xs, colv, vsum, lo, hi, err, ix)
-    type(h5file_t), intent(in) :: f
-    character(len=*), intent(in) :: what
-    integer, intent(in) :: np, r0, r1
-    real(wp), intent(out) :: xs(:, :), colv(:), vsum, lo(3), hi(3)
-    type(error_t), allocatable, intent(inout) :: err
-    type(mesh_index_t), intent(in) :: ix
-    real(wp), allocatable :: xb(:, :), vb(:)
-    integer :: i0, n, i, g, bad
-    vsum = 0.0_wp
-    lo = huge(1.0_wp)
-    hi = -huge(1.0_wp)
-    bad = 0
-    do i0 = 1, np, block_rows
-      n = min(block_rows, np - i0 + 1)
-      if (allocated(xb)) deallocate(xb, vb)
-      allocate(xb(3, n), vb(n))
-      call h5_read_block(f, '/particles/x', xb, i0, err)
-      if (.not. allocated(err)) call h5_read_block(f, '/particles/volume', vb, i0, err)
-      if (allocated(err)) return
-      do i = 1, n
-        g = i0 + i - 1
-        if (.not. (all(ieee_is_finite(xb(:, i))) .and. ieee_is_finite(vb(i)))) then
-          call set_error(err, what//", particle "//itoa(g)//": a coordinate or the "// &
-            "volume is not a finite number (NaN or Infinity); fix the file")
-          return
-        end if
-        lo = min(lo, xb(:, i))
-        hi = max(hi, xb(:, i))
-        if (g >= r0 .and. g <= r1) then
-          xs(:, g - r0 + 1) = xb(:, i)
-          colv(g - r0 + 1) = vb(i)
-        end if
-        if (ix%has .and. bad == 0) then
-          if (node_outside(ix, g, xb(:, i))) bad = g
-        end if
-      end do
-      call column_sum(vb, vsum)
-    end do
-    if (bad > 0) call index_error(err, what, "particle "//itoa(bad)//" lies outside its "// &
-      "block's box in the index /mesh/node_box")
-  end subroutine scan_nodes
-
   !> The nodes sel (ascending) whose positions lie within lo ... hi, and their positions:
   !! with the file's index ix (checked by tet_file_share's whole reading), from the blocks
   !! whose box meets lo ... hi only.
@@ -579,40 +601,27 @@ contains
   end subroutine nodes_in_box
 
   !> The tetrahedra that touch the nodes r0 ... r1 (or sel, ascending), with the positions
-  !! of all their nodes (tc), and the whole mesh's longest edge lmax. check: every node
-  !! number in range and every tetrahedron of positive volume (read_file_tets' messages, the
-  !! first in the file's order), then every tetrahedron within its block's box of the index
-  !! ix, over the whole file: the positions of every block's nodes are read for it. With
-  !! sel, the index and the box lo ... hi that holds sel's nodes: only the blocks of
-  !! tetrahedra whose box meets it are read (a tetrahedron touching a node of the box has
-  !! its box meet it).
-  subroutine scan_tets(f, what, np, ne, r0, r1, tc, lmax, err, ix, check, sel, lo, hi)
+  !! of all their nodes (tc). With sel, the file's index ix and the box lo ... hi that holds
+  !! sel's nodes: only the blocks of tetrahedra whose box meets it are read (a tetrahedron
+  !! touching a node of the box has its box meet it).
+  subroutine scan_tets(f, what, np, ne, r0, r1, tc, err, ix, sel, lo, hi)
     type(h5file_t), intent(in) :: f
     character(len=*), intent(in) :: what
     integer, intent(in) :: np, ne, r0, r1
     type(touching_t), intent(out) :: tc
-    real(wp), intent(out) :: lmax
     type(error_t), allocatable, intent(inout) :: err
     type(mesh_index_t), intent(in) :: ix
-    logical, intent(in), optional :: check
     integer, intent(in), optional :: sel(:)
     real(wp), intent(in), optional :: lo(3), hi(3)
     integer, allocatable :: tb(:, :), nb(:), wb(:, :), member(:), ek(:), tk(:, :)
     integer, allocatable :: first(:), count(:)
-    integer :: idx(4)
-    real(wp), allocatable :: xb(:, :)
-    logical :: all_of, mine
-    integer :: i0, n, i, l, j, cnt, m, nn, run, bad
-    real(wp) :: v
-    all_of = .false.
-    if (present(check)) all_of = check
-    if (ix%has .and. .not. all_of .and. present(sel)) then
+    logical :: mine
+    integer :: i0, n, i, cnt, m, run, nn
+    if (ix%has .and. present(sel)) then
       call row_runs(ne, first, count, ix%tbox, lo, hi)
     else
       call row_runs(ne, first, count)
     end if
-    lmax = 0.0_wp
-    bad = 0
     allocate(ek(1024), tk(4, 1024))
     cnt = 0
     do run = 1, size(first)
@@ -626,35 +635,7 @@ contains
         call unique_nodes(tb, nb, wb)
         member = merge_places(nb, sel)
       end if
-      if (all_of) then
-        ! (the positions of the block's nodes: every tetrahedron's volume and edges)
-        call unique_nodes(tb, nb, wb)
-        if (allocated(xb)) deallocate(xb)
-        allocate(xb(3, size(nb)))
-        call h5_read_rows(f, '/particles/x', xb, nb, np, .false., err)
-        if (allocated(err)) return
-      end if
       do i = 1, n
-        if (all_of) then
-          idx = wb(:, i)
-          v = tet_volume(xb, idx)
-          if (.not. (v > 0.0_wp)) then
-            call set_error(err, what//": tetrahedron "//itoa(i0 + i - 1)//" of /mesh/"// &
-              "tetrahedra (nodes "//itoa(tb(1, i))//", "//itoa(tb(2, i))//", "// &
-              itoa(tb(3, i))//", "//itoa(tb(4, i))//") has volume "//rtoa(v)//" m^3: "// &
-              "each needs a positive volume, node 4 on the side of face (1, 2, 3) its "// &
-              "right-hand normal points to (tools/mesh_body.py --3d orders them)")
-            return
-          end if
-          do l = 1, 3
-            do j = l + 1, 4
-              lmax = max(lmax, norm2(xb(:, idx(l)) - xb(:, idx(j))))
-            end do
-          end do
-          if (ix%has .and. bad == 0) then
-            if (tet_outside(ix, i0 + i - 1, xb(:, idx))) bad = i0 + i - 1
-          end if
-        end if
         if (present(sel)) then
           mine = any(member(wb(:, i)) > 0)
         else
@@ -667,11 +648,6 @@ contains
         tk(:, cnt) = tb(:, i)
       end do
     end do
-    if (bad > 0) then
-      call index_error(err, what, "tetrahedron "//itoa(bad)//" has a node outside its "// &
-        "block's box in the index /mesh/tet_box")
-      return
-    end if
     ! the kept tetrahedra's nodes and their positions (what a node's facts read)
     tc%n = cnt
     tc%e = ek(1:cnt)
@@ -686,22 +662,6 @@ contains
     end do
   end subroutine scan_tets
 
-  !> Every node number of /mesh/tetrahedra within 1 ... np (read_file_tets' first check,
-  !! before any position is read).
-  subroutine check_range(f, what, np, ne, err)
-    type(h5file_t), intent(in) :: f
-    character(len=*), intent(in) :: what
-    integer, intent(in) :: np, ne
-    type(error_t), allocatable, intent(inout) :: err
-    integer, allocatable :: tb(:, :)
-    integer :: i0, n
-    do i0 = 1, ne, block_rows
-      n = min(block_rows, ne - i0 + 1)
-      call read_tets_block(f, what, np, i0, n, tb, err)
-      if (allocated(err)) return
-    end do
-  end subroutine check_range
-
   !> Tetrahedra i0 ... i0 + n - 1 of the file, tb (4, n), every node number within 1 ... np
   !! (read_file_tets' message; checked before the conversion to default integers).
   subroutine read_tets_block(f, what, np, i0, n, tb, err)
@@ -715,7 +675,7 @@ contains
     call h5_read_block(f, '/mesh/tetrahedra', t8, i0, err)
     if (allocated(err)) return
     if (any(t8 < 1 .or. t8 > np)) then
-      call set_error(err, what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
+      call file_error(err, what, np, 1, 0, [0, 0, 0, 0], 0.0_wp)
       return
     end if
     tb = int(t8)
@@ -882,6 +842,184 @@ contains
       if (pass == 1) allocate(fct(3, a), key(a))
     end do
   end subroutine node_facts
+
+  ! --- the whole file's checks, over shares -----------------------------------------------
+
+  !> Stage stage of tet_file_share's checks over share q (of nranks) of the rows, into s
+  !! (the first wrong row of each kind, the extent, the longest edge, the volume sum): 1 the
+  !! share of tetrahedra's node numbers (t8: those rows); 2 the share of nodes (xs, colv:
+  !! their positions and volumes): finite, within their index boxes, their extent and
+  !! volumes' sum; 3 the share of tetrahedra again: positive volumes (their nodes' positions
+  !! read), longest edges, within their index boxes. Each stage runs only if the ones
+  !! before found nothing wrong anywhere (scan_error).
+  subroutine scan_stage(f, ix, stage, np, ne, q, nranks, s, xs, colv, t8, err)
+    type(h5file_t), intent(in) :: f
+    type(mesh_index_t), intent(in) :: ix
+    integer, intent(in) :: stage, np, ne, q, nranks
+    type(scan_t), intent(inout) :: s
+    real(wp), intent(out), optional :: xs(:, :), colv(:)
+    integer(i64), intent(out), optional :: t8(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: xb(:, :), vb(:), xn(:, :)
+    integer(i64), allocatable :: tb(:, :)
+    integer, allocatable :: nodes(:), at(:, :)
+    integer :: r0, r1, c0, c1, k, g, l, j
+    real(wp) :: v
+    r0 = share_first(np, q, nranks)
+    r1 = share_first(np, q + 1, nranks) - 1
+    c0 = share_first(ne, q, nranks)
+    c1 = share_first(ne, q + 1, nranks) - 1
+    select case (stage)
+    case (1, 3)
+      allocate(tb(4, c1 - c0 + 1))
+      if (c1 >= c0) call h5_read_block(f, '/mesh/tetrahedra', tb, c0, err)
+      if (allocated(err)) return
+      if (stage == 1) then
+        do k = 1, size(tb, 2)
+          if (any(tb(:, k) < 1 .or. tb(:, k) > np)) then
+            s%bad(1) = c0 + k - 1
+            exit
+          end if
+        end do
+        if (present(t8)) t8 = tb
+        return
+      end if
+      ! (their nodes' positions: every number in range, stage 1)
+      call unique_nodes(int(tb), nodes, at)
+      allocate(xn(3, size(nodes)))
+      call h5_read_rows(f, '/particles/x', xn, nodes, np, .false., err)
+      if (allocated(err)) return
+      do k = 1, size(tb, 2)
+        v = tet_volume(xn, at(:, k))
+        if (.not. (v > 0.0_wp)) then
+          s%bad(4) = c0 + k - 1
+          exit
+        end if
+        do l = 1, 3
+          do j = l + 1, 4
+            s%lmax = max(s%lmax, norm2(xn(:, at(l, k)) - xn(:, at(j, k))))
+          end do
+        end do
+        if (ix%has .and. s%bad(5) == huge(1)) then
+          if (tet_outside(ix, c0 + k - 1, xn(:, at(:, k)))) s%bad(5) = c0 + k - 1
+        end if
+      end do
+    case (2)
+      allocate(xb(3, r1 - r0 + 1), vb(r1 - r0 + 1))
+      if (r1 >= r0) call h5_read_block(f, '/particles/x', xb, r0, err)
+      if (r1 >= r0 .and. .not. allocated(err)) call h5_read_block(f, '/particles/volume', &
+        vb, r0, err)
+      if (allocated(err)) return
+      do k = 1, size(vb)
+        g = r0 + k - 1
+        if (.not. (all(ieee_is_finite(xb(:, k))) .and. ieee_is_finite(vb(k)))) then
+          s%bad(2) = g
+          exit
+        end if
+        s%lo = min(s%lo, xb(:, k))
+        s%hi = max(s%hi, xb(:, k))
+        call exact_add(s%vsum, vb(k))
+        if (ix%has .and. s%bad(3) == huge(1)) then
+          if (node_outside(ix, g, xb(:, k))) s%bad(3) = g
+        end if
+      end do
+      if (present(xs)) xs = xb
+      if (present(colv)) colv = vb
+    end select
+  end subroutine scan_stage
+
+  !> a and b of two sets of shares made one: the first wrong rows, the extent, the longest
+  !! edge and the exact volume sum of both
+  subroutine scan_merge(a, b)
+    type(scan_t), intent(inout) :: a
+    type(scan_t), intent(in) :: b
+    a%bad = min(a%bad, b%bad)
+    a%lo = min(a%lo, b%lo)
+    a%hi = max(a%hi, b%hi)
+    a%lmax = max(a%lmax, b%lmax)
+    call exact_merge(a%vsum, b%vsum)
+  end subroutine scan_merge
+
+  !> s over every rank of comm (collective): the smallest wrong rows, the extent, the
+  !! longest edge, the exact sum (the same bits on every rank for any split)
+  subroutine scan_reduce(s, comm, unread)
+    type(scan_t), intent(inout) :: s
+    class(rank_comm_t), intent(inout) :: comm
+    !> this rank could not read its rows (s%unread: some rank)
+    logical, intent(in) :: unread
+    integer :: v(6)
+    real(wp) :: r(7)
+    s%unread = unread
+    if (comm%nranks == 1) return
+    v = [s%bad, merge(0, 1, unread)]
+    call comm%min_int(v)
+    s%bad = v(1:5)
+    s%unread = v(6) == 0
+    r = [-s%lo, s%hi, s%lmax]
+    call comm%max_real(r)
+    s%lo = -r(1:3)
+    s%hi = r(4:6)
+    s%lmax = r(7)
+    s%vsum = exact_allmerge(s%vsum, comm)
+  end subroutine scan_reduce
+
+  !> The serial reading's message for the first kind s found wrong (a tetrahedron's volume
+  !! from its row and nodes read again).
+  subroutine scan_error(f, what, np, s, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: what
+    integer, intent(in) :: np
+    type(scan_t), intent(in) :: s
+    type(error_t), allocatable, intent(inout) :: err
+    integer(i64) :: t8(4, 1)
+    integer, allocatable :: nodes(:), at(:, :)
+    real(wp), allocatable :: xn(:, :)
+    integer :: k, t(4)
+    real(wp) :: v
+    k = findloc(s%bad < huge(1), .true., 1)
+    if (k == 0) return
+    t = 0
+    v = 0.0_wp
+    if (k == 4) then
+      call h5_read_block(f, '/mesh/tetrahedra', t8, s%bad(4), err)
+      if (allocated(err)) return
+      t = int(t8(:, 1))
+      call unique_nodes(reshape(t, [4, 1]), nodes, at)
+      allocate(xn(3, size(nodes)))
+      call h5_read_rows(f, '/particles/x', xn, nodes, np, .false., err)
+      if (allocated(err)) return
+      v = tet_volume(xn, at(:, 1))
+    end if
+    call file_error(err, what, np, k, s%bad(k), t, v)
+  end subroutine scan_error
+
+  !> A mesh file's message for a wrong row of kind k (scan_t's kinds), the serial reading's
+  !! (body_setup_m read_file_tets) and the ranks' alike: row the node's or tetrahedron's
+  !! number; for kind 4 (a tetrahedron without a positive volume) its nodes t and volume v.
+  subroutine file_error(err, what, np, k, row, t, v)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in) :: what
+    integer, intent(in) :: np, k, row, t(4)
+    real(wp), intent(in) :: v
+    select case (k)
+    case (1)
+      call set_error(err, what//": /mesh/tetrahedra names a node outside 1.."//itoa(np))
+    case (2)
+      call set_error(err, what//", particle "//itoa(row)//": a coordinate or the volume "// &
+        "is not a finite number (NaN or Infinity); fix the file")
+    case (3)
+      call index_error(err, what, "particle "//itoa(row)//" lies outside its block's box "// &
+        "in the index /mesh/node_box")
+    case (4)
+      call set_error(err, what//": tetrahedron "//itoa(row)//" of /mesh/tetrahedra (nodes "// &
+        itoa(t(1))//", "//itoa(t(2))//", "//itoa(t(3))//", "//itoa(t(4))//") has volume "// &
+        rtoa(v)//" m^3: each needs a positive volume, node 4 on the side of face (1, 2, "// &
+        "3) its right-hand normal points to (tools/mesh_body.py --3d orders them)")
+    case (5)
+      call index_error(err, what, "tetrahedron "//itoa(row)//" has a node outside its "// &
+        "block's box in the index /mesh/tet_box")
+    end select
+  end subroutine file_error
 
   ! --- the index ------------------------------------------------------------------------
 

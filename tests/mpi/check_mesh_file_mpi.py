@@ -108,6 +108,10 @@ def main():
     ok = p.returncode == 0 and ok
     ok = refused(work, mesh, text, env, "turned", turned_tetrahedron,
                  "tetrahedron 100 of /mesh/tetrahedra") and ok
+    with h5py.File(mesh, "r") as f:
+        late = 3 * f["/mesh/tetrahedra"].shape[0] // 4 + 1
+    ok = refused(work, mesh, text, env, "turned_late", turned_late,
+                 f"tetrahedron {late} of /mesh/tetrahedra") and ok
     # (the index the ranks read their parts by: checked by the serial run and every rank)
     ok = refused(work, mesh, text, env, "squeezed", squeezed_index,
                  "lies outside its block's box in the index /mesh/node_box") and ok
@@ -132,17 +136,27 @@ def from_file(work, name, geo, mesh, numbers):
 
 
 def turned_tetrahedron(f):
-    """Tetrahedron 100 turned inside out."""
+    """Tetrahedron 100 turned inside out (in the first rank's share)."""
     t = f["/mesh/tetrahedra"][...]
     t[99, [2, 3]] = t[99, [3, 2]]
     f["/mesh/tetrahedra"][...] = t
 
 
+def turned_late(f):
+    """The tetrahedron three quarters down the file turned inside out (in the last rank's
+    share on 2 and 3 ranks: the ranks' first wrong rows reduced to the serial one)."""
+    t = f["/mesh/tetrahedra"][...]
+    k = 3 * t.shape[0] // 4
+    t[k, [2, 3]] = t[k, [3, 2]]
+    f["/mesh/tetrahedra"][...] = t
+
+
 def squeezed_index(f):
-    """The index's first block of nodes squeezed to its lowest x: the first of its nodes
-    above that x lies outside it."""
+    """The index's first block of nodes squeezed below the bar's top tenth (z): the nodes
+    above lie outside it, numbered last (z's is the Morton key's highest bit), so found by
+    the last ranks."""
     box = f["/mesh/node_box"][...]
-    box[0, 3] = box[0, 0]
+    box[0, 5] = box[0, 2] + 0.9 * (box[0, 5] - box[0, 2])
     f["/mesh/node_box"][...] = box
 
 
