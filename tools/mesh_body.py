@@ -41,6 +41,13 @@ once and run many times: mfcd's shape = 'geo' meshes it again each run):
 | /mesh/node_box | (nb, 6) | the index: the box (x, y, z low, then high) of each block of 4096 rows of /particles/x (the last block the rest) |
 | /mesh/tet_box | (nt, 6) | the box of the nodes of each block of 4096 rows of /mesh/tetrahedra |
 
+    .venv/bin/python tools/mesh_body.py --reindex OLD.h5 NEW.h5
+
+numbers a 3D mesh file written before the index existed (or by other tools: /particles/x,
+/mesh/tetrahedra) in space and writes it with its index and each node's quarters of the
+tetrahedra as its volume (no gmsh, no script run), so that mfcd_mpi's ranks read it in the
+time of their parts.
+
 The nodes and tetrahedra are numbered and oriented as mfcd numbers and orients its own mesh
 of the script (shape = 'geo'), so the two bodies are the same bits (regression_geo_equivalence):
 numbered in space (space_order: nodes by the Morton key of their cell in a grid of 1024
@@ -283,6 +290,31 @@ def write_body(path, x, tri, loops, ptr, xy, attrs):
     return vol, area
 
 
+def reindex(src, out):
+    """The 3D mesh file src written to out numbered in space with its index; exit 2 on a
+    file that is not one (mfcd checks the rest when it reads out)."""
+    try:
+        with h5py.File(src, "r") as f:
+            x = np.asarray(f["particles/x"][()], dtype=float)
+            tet = np.asarray(f["mesh/tetrahedra"][()], dtype=np.int64)
+            attrs = dict(f.attrs)
+    except (OSError, KeyError) as e:
+        print(f"mesh_body: error: {src}: not a 3D mesh file with /particles/x and "
+              f"/mesh/tetrahedra ({e})", file=sys.stderr)
+        return 2
+    if x.ndim != 2 or x.shape[1] != 3 or tet.ndim != 2 or tet.shape[1] != 4 or \
+            tet.size == 0 or tet.min() < 1 or tet.max() > x.shape[0]:
+        print(f"mesh_body: error: {src}: /particles/x must be (np, 3) and /mesh/tetrahedra "
+              f"(ne, 4) node numbers in 1..np", file=sys.stderr)
+        return 2
+    x, tet = space_order(x, tet - 1)
+    attrs["reindexed_from"] = os.path.basename(src)
+    vol, v = write_body_3d(out, x, tet, attrs)
+    print(f"mesh_body: {out}: {x.shape[0]} nodes, {tet.shape[0]} tetrahedra numbered in "
+          f"space, with the index; volume {v.sum():.6e} m^3")
+    return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("geo")
@@ -295,7 +327,12 @@ def main(argv=None):
     ap.add_argument("--trusted", action="store_true",
                     help="the script is yours: gmsh's interpreter may run it (it can run "
                          "programs and write files; untrusted scripts: &body shape = 'geo')")
+    ap.add_argument("--reindex", action="store_true",
+                    help="GEO is a 3D mesh file (/particles/x, /mesh/tetrahedra): write it "
+                         "to OUT numbered in space with its index (no gmsh)")
     a = ap.parse_args(argv)
+    if a.reindex:
+        return reindex(a.geo, a.out)
     if not a.trusted:
         print(f"mesh_body: error: {a.geo}: not run without --trusted: gmsh's interpreter "
               "would run the whole .geo language, which can run programs and write, read "

@@ -1070,8 +1070,9 @@ contains
   subroutine index_error(err, what, why)
     type(error_t), allocatable, intent(inout) :: err
     character(len=*), intent(in) :: what, why
-    call set_error(err, what//": "//why//"; write the file with tools/mesh_body.py --3d, "// &
-      "or delete /mesh/node_box and /mesh/tet_box (the ranks then read the whole file)")
+    call set_error(err, what//": "//why//"; write the file with tools/mesh_body.py --3d "// &
+      "(or --reindex it), or delete /mesh/node_box and /mesh/tet_box (the ranks then read "// &
+      "the whole file)")
   end subroutine index_error
 
   !> Whether node g at p lies outside its block's box (a NaN box holds nothing).

@@ -156,6 +156,37 @@ def main():
         check("a good index runs, every body and history dataset the bits of the run "
               "without it",
               rc == 0 and len(same) > 3 and all(same), out[-800:])
+        # tools/mesh_body.py --reindex: the good file numbered in space with its index
+        # (no gmsh): the same nodes, the same volume, the index holding every block, and it
+        # runs
+        tool = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools",
+                            "mesh_body.py")
+        p = subprocess.run([sys.executable, tool, "--reindex", os.path.join(tmp, "good.h5"),
+                            os.path.join(tmp, "reindexed.h5")], capture_output=True, text=True)
+        ok = p.returncode == 0
+        if ok:
+            with h5py.File(os.path.join(tmp, "reindexed.h5"), "r") as f:
+                rx, rt = f["particles/x"][()], f["mesh/tetrahedra"][()] - 1
+                nb, tb = f["mesh/node_box"][()], f["mesh/tet_box"][()]
+                rvol = f["particles/volume"][()]
+            ok = (np.array_equal(np.unique(rx, axis=0), np.unique(x, axis=0))
+                  and abs(rvol.sum() - vol.sum()) <= 1e-12 * vol.sum()
+                  and np.all(rx.min(axis=0) >= nb[0, :3]) and np.all(rx.max(axis=0) <= nb[0, 3:])
+                  and np.all(rx[rt].reshape(-1, 3).min(axis=0) >= tb[0, :3])
+                  and sorted(map(tuple, np.sort(rx[rt], axis=1).reshape(len(rt), -1)))
+                  == sorted(map(tuple, np.sort(x[tet], axis=1).reshape(len(tet), -1))))
+            # in Morton order of the cells of 1024 a side over the extent (keys by hand)
+            lo, e = rx.min(axis=0), float((rx.max(axis=0) - rx.min(axis=0)).max())
+            keys = []
+            for p_ in rx:
+                c = [min(1023, int(((p_[a] - lo[a]) / e) * 1024.0)) for a in range(3)]
+                keys.append(sum(((c[a] >> b) & 1) << (3 * b + a) for b in range(10)
+                                for a in range(3)))
+            ok = ok and keys == sorted(keys) and keys != list(range(len(keys)))
+            rc, out = run(tmp, "reindexed_fem", "reindexed.h5", "fem")
+            ok = ok and rc == 0
+        check("mesh_body.py --reindex: the same mesh numbered in space, with its index, runs",
+              ok, p.stdout + p.stderr)
         inside_out = one.copy()
         inside_out[7, [2, 3]] = inside_out[7, [3, 2]]
         past = one.copy()
