@@ -847,7 +847,8 @@ contains
 
   !> Stage stage of tet_file_share's checks over share q (of nranks) of the rows, into s
   !! (the first wrong row of each kind, the extent, the longest edge, the volume sum): 1 the
-  !! share of tetrahedra's node numbers (t8: those rows); 2 the share of nodes (xs, colv:
+  !! share of tetrahedra's node numbers (t8: those rows, which stage 3 takes again rather
+  !! than read them twice); 2 the share of nodes (xs, colv:
   !! their positions and volumes): finite, within their index boxes, their extent and
   !! volumes' sum; 3 the share of tetrahedra again: positive volumes (their nodes' positions
   !! read), longest edges, within their index boxes. Each stage runs only if the ones
@@ -858,7 +859,7 @@ contains
     integer, intent(in) :: stage, np, ne, q, nranks
     type(scan_t), intent(inout) :: s
     real(wp), intent(out), optional :: xs(:, :), colv(:)
-    integer(i64), intent(out), optional :: t8(:, :)
+    integer(i64), intent(inout), optional :: t8(:, :)
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: xb(:, :), vb(:), xn(:, :)
     integer(i64), allocatable :: tb(:, :)
@@ -871,9 +872,14 @@ contains
     c1 = share_first(ne, q + 1, nranks) - 1
     select case (stage)
     case (1, 3)
-      allocate(tb(4, c1 - c0 + 1))
-      if (c1 >= c0) call h5_read_block(f, '/mesh/tetrahedra', tb, c0, err)
-      if (allocated(err)) return
+      ! (stage 3 of this rank's share: its rows as stage 1 read them)
+      if (stage == 3 .and. present(t8)) then
+        tb = t8
+      else
+        allocate(tb(4, c1 - c0 + 1))
+        if (c1 >= c0) call h5_read_block(f, '/mesh/tetrahedra', tb, c0, err)
+        if (allocated(err)) return
+      end if
       if (stage == 1) then
         do k = 1, size(tb, 2)
           if (any(tb(:, k) < 1 .or. tb(:, k) > np)) then
