@@ -29,6 +29,7 @@ module tet_file_m
     h5_read_rows, h5_read
   use body_m, only: body_t, mesh_file_t
   use mesh_cells_m, only: tet_volume, index_rows
+  use log_m, only: log_print
   use tet4_m, only: tet4_mesh_t, face_nodes
   implicit none
   private
@@ -140,7 +141,14 @@ contains
     do stage = 1, 3
       ! (the index after the node numbers, as the serial reading takes it: read_file_tets;
       ! the same file on every rank, so the same result)
-      if (stage == 2) call read_index(f, what, np, ne, ix, err)
+      if (stage == 2) then
+        call read_index(f, what, np, ne, ix, err)
+        ! (said once, by the first rank: the others' logs go nowhere)
+        if (.not. allocated(err) .and. .not. ix%has .and. me == 0 .and. nranks > 1) &
+          call log_print(what//" has no index (/mesh/node_box, /mesh/tet_box): every "// &
+          "rank reads the whole file for its part; tools/mesh_body.py --reindex numbers "// &
+          "it in space and writes one")
+      end if
       if (allocated(err)) exit
       if (present(comm)) then
         one = scan_t()

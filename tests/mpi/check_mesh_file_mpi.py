@@ -19,7 +19,8 @@ read per part (--made: no rank read all its nodes):
 - the tube of input/tube_crush_coarse.nml (h = 0.7 mm) between its rigid floor and ram with
   its self-contact, 2 us (a rank whose region meets no &bc box asks the file whether the
   whole body has a node there).
-Then a file with one tetrahedron turned inside out, and one whose index (/mesh/node_box:
+The bar's file without its index (every rank reads it whole; the log says so) on 2 and 3
+ranks, the same checks. Then a file with one tetrahedron turned inside out, and one whose index (/mesh/node_box:
 the box of each block of 4096 nodes, by which a rank reads only the blocks its part meets)
 misses a node: the serial run and 2 and 3 ranks exit 2 with the serial message naming it,
 writing nothing.
@@ -106,6 +107,23 @@ def main():
     p = subprocess.run(run + ["--ranks", "2,3,4", "--made", "tube_crush_file_self", MFCD,
                               MFCD_MPI, MPIEXEC, tube_self], cwd=work, env=env)
     ok = p.returncode == 0 and ok
+    # the bar's file without its index (one written before it, or by other tools): every
+    # rank reads the whole file for its part, the same bits, and the log says so
+    plain = os.path.join(work, "taylor_quarter_plain.hdf5")
+    shutil.copy(mesh, plain)
+    with h5py.File(plain, "r+") as f:
+        del f["/mesh/node_box"], f["/mesh/tet_box"]
+    plain_deck = os.path.join(work, "taylor_bar_3d_fem_file_plain.nml")
+    open(plain_deck, "w").write(text.replace(mesh, plain))
+    p = subprocess.run(run + ["--ranks", "2,3", "--made", "taylor_bar_3d_fem_file_plain",
+                              MFCD, MFCD_MPI, MPIEXEC, plain_deck], cwd=work, env=env)
+    ok = p.returncode == 0 and ok
+    p = subprocess.run([MPIEXEC, "--oversubscribe", "-n", "2", MFCD_MPI, plain_deck],
+                       cwd=work, env=env, capture_output=True, text=True, timeout=300)
+    said = "has no index (/mesh/node_box, /mesh/tet_box)" in p.stdout
+    print(("[  OK  ] " if said else "[ FAIL ] ") + "mesh_file: a file without its index "
+          "is said so on ranks" + ("" if said else f": {p.stdout[-600:]}"))
+    ok = said and ok
     ok = refused(work, mesh, text, env, "turned", turned_tetrahedron,
                  "tetrahedron 100 of /mesh/tetrahedra") and ok
     with h5py.File(mesh, "r") as f:
