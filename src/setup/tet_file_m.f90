@@ -569,7 +569,7 @@ contains
 
   !> The nodes sel (ascending) whose positions lie within lo ... hi, and their positions:
   !! with the file's index ix (checked by tet_file_share's whole reading), from the blocks
-  !! whose box meets lo ... hi only.
+  !! whose box meets lo ... hi only; each block read once.
   subroutine nodes_in_box(f, np, lo, hi, sel, xsel, err, ix)
     type(h5file_t), intent(in) :: f
     integer, intent(in) :: np
@@ -578,34 +578,41 @@ contains
     real(wp), allocatable, intent(out) :: xsel(:, :)
     type(error_t), allocatable, intent(inout) :: err
     type(mesh_index_t), intent(in) :: ix
-    real(wp), allocatable :: xb(:, :)
-    integer, allocatable :: first(:), count(:)
-    integer :: i0, n, i, pass, m, j
+    real(wp), allocatable :: xb(:, :), x2(:, :)
+    integer, allocatable :: first(:), count(:), s2(:)
+    integer :: i0, n, i, m, j
     if (ix%has) then
       call row_runs(np, first, count, ix%nbox, lo, hi)
     else
       call row_runs(np, first, count)
     end if
-    do pass = 1, 2
-      m = 0
-      do j = 1, size(first)
-        i0 = first(j)
-        n = count(j)
-        if (allocated(xb)) deallocate(xb)
-        allocate(xb(3, n))
-        call h5_read_block(f, '/particles/x', xb, i0, err)
-        if (allocated(err)) return
-        rows_read = rows_read + n
-        do i = 1, n
-          if (any(xb(:, i) < lo) .or. any(xb(:, i) > hi)) cycle
-          m = m + 1
-          if (pass == 1) cycle
-          sel(m) = i0 + i - 1
-          xsel(:, m) = xb(:, i)
-        end do
+    ! (one pass over the blocks: the kept rows grow by doubling, the box's size)
+    allocate(sel(1024), xsel(3, 1024))
+    m = 0
+    do j = 1, size(first)
+      i0 = first(j)
+      n = count(j)
+      if (allocated(xb)) deallocate(xb)
+      allocate(xb(3, n))
+      call h5_read_block(f, '/particles/x', xb, i0, err)
+      if (allocated(err)) return
+      rows_read = rows_read + n
+      do i = 1, n
+        if (any(xb(:, i) < lo) .or. any(xb(:, i) > hi)) cycle
+        m = m + 1
+        if (m > size(sel)) then
+          allocate(s2(2*size(sel)), x2(3, 2*size(sel)))
+          s2(1:m - 1) = sel(1:m - 1)
+          x2(:, 1:m - 1) = xsel(:, 1:m - 1)
+          call move_alloc(s2, sel)
+          call move_alloc(x2, xsel)
+        end if
+        sel(m) = i0 + i - 1
+        xsel(:, m) = xb(:, i)
       end do
-      if (pass == 1) allocate(sel(m), xsel(3, m))
     end do
+    sel = sel(1:m)
+    xsel = xsel(:, 1:m)
   end subroutine nodes_in_box
 
   !> The tetrahedra that touch the nodes r0 ... r1 (or sel, ascending), with the positions
