@@ -1,22 +1,21 @@
 !> A 3D mesh file of linear tetrahedra (tools/mesh_body.py --3d: /particles/x, (np, 3) in
 !! h5py, /particles/volume and /mesh/tetrahedra, (ne, 4) 1-based) read per part, so that
-!! no rank of mfcd_mpi holds the whole mesh (doc/parallel.md). Every rank streams the
-!! file in blocks of block_rows rows and keeps only what its share of the nodes, or a box
-!! of the decomposition, needs: the nodes, and the tetrahedra that touch them with the
-!! positions of all their nodes. What the serial body takes of a node (body_setup_m
-!! tet_mesh_body: its volume, the quarters of its tetrahedra summed node 1, 2, 3, 4 of
-!! each tetrahedron in turn; its longest edge, the det(M) support; its boundary flag, a
-!! node of a face of one tetrahedron only) needs only the tetrahedra that touch it, all of
-!! which the rank has, so each is the serial number to the bit. The checks of the file are
-!! the serial ones (body_setup_m read_file_tets): the node numbers' range and every
-!! tetrahedron's positive volume over the whole file on every rank (the same message),
-!! the volumes' agreement for the rank's share. Memory: the share's or the box's nodes and
-!! tetrahedra and two blocks. A file with an index (/mesh/node_box, /mesh/tet_box: the box
-!! of each block of index_rows rows, mesh_cells_m mesh_index; tools/mesh_body.py --3d and
-!! mfcd_mpi's own meshes write one, numbered in space) is read for a box only in the
-!! blocks whose box meets it; the whole-file checks still read it whole, and check the
-!! index too (each row within its block's box: a wrong index is refused, as the serial
-!! reading refuses it, read_file_tets), some 56 B a node, at the set-up only.
+!! no rank of mfcd_mpi holds the whole mesh (doc/parallel.md). Every rank keeps only what
+!! its share of the nodes, or a box of the decomposition, needs: the nodes, and the
+!! tetrahedra that touch them with the positions of all their nodes. What the serial body
+!! takes of a node (body_setup_m tet_mesh_body: its volume, the quarters of its tetrahedra
+!! summed node 1, 2, 3, 4 of each tetrahedron in turn; its longest edge, the det(M)
+!! support; its boundary flag, a node of a face of one tetrahedron only) needs only the
+!! tetrahedra that touch it, all of which the rank has, so each is the serial number to
+!! the bit. The checks of the whole file are the serial ones (body_setup_m
+!! read_file_tets), made by each rank over its share of the rows and reduced over the
+!! ranks (tet_file_share: the serial message on every rank), the volumes' agreement for
+!! the rank's share. A file with an index (/mesh/node_box, /mesh/tet_box: the box of each
+!! block of index_rows rows, mesh_cells_m mesh_index; tools/mesh_body.py --3d and
+!! mfcd_mpi's own meshes write one, numbered in space; checked like the rest) is read for
+!! a box only in the blocks whose box meets it, so a rank reads its part's rows, not the
+!! file; without one, every rank streams the whole file in blocks of block_rows rows for
+!! its share's tetrahedra and its region (some 56 B a node, at the set-up only).
 module tet_file_m
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use kinds_m, only: wp, i64
