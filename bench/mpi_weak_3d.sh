@@ -7,8 +7,9 @@
 # holds or does for the whole body shows as the growth of its peak memory and set-up time.
 # Prints, per run, the particles, the summary's set-up and time-loop seconds, every rank's
 # resident memory after the set-up and at the end (the smallest and largest, mfcd_mpi's log),
-# what the ranks have read by then (a mesh file's reading, MESH=1), and every rank's peak
-# resident memory (GNU time's %M).
+# what the ranks have read by then (a mesh file's reading, MESH=1), the most facets of the
+# bar's surface a rank holds (its rows of them), and every rank's peak resident memory (GNU
+# time's %M).
 # SELF=1 adds the bar's self-contact (a &contact group of the bar with itself: 3D
 # self-contact's sides, which hold arrays over all their particles on every rank).
 # FEM=1 makes the bar of linear tetrahedra on the same lattice (discretization = 'fem': the
@@ -66,7 +67,7 @@ for n in "${ranks[@]}"; do
     'exec /usr/bin/time -o "mem.$OMPI_COMM_WORLD_RANK" -f "%M" "$1" t.nml' sh \
     "$bin/mfcd_mpi" > log.txt 2> err.txt) || { tail -5 "$work/err.txt"; exit 1; }
   grep -m1 -E "^mfcd .*\(git " "$work/log.txt" | sed -e 's/^/  /'
-  grep -E "body 'bar':.*nodes|summary: [0-9]+ steps|summary: time loop|resident memory|mfcd_mpi: read" "$work/log.txt" \
+  grep -E "body 'bar':.*nodes|summary: [0-9]+ steps|summary: time loop|resident memory|mfcd_mpi: read|facets in rows" "$work/log.txt" \
     | sed -e 's/^/  /' -e 's/, material.*kg;/;/'
   for r in $(seq 0 $((n - 1))); do
     printf '  mem rank %d %s kB\n' "$r" "$(cat "$work/mem.$r")"

@@ -136,8 +136,10 @@ program mfcd_mpi
   ! summed over the ranks; rank 0 keeps the whole ones when its det(M) fields need them)
   ! (what a checkpoint recognises its bodies by: exact sums over the ranks' shares)
   if (.not. allocated(err)) call body_fingerprints(bodies, ranks%comm)
-  ! (a mesh file's facets, found per share, whole on rank 0 for /bodies)
+  ! (a mesh file's facets, found per share, put in rows over the ranks in the whole
+  ! mesh's order, which they write into /bodies together)
   if (.not. allocated(err)) call tet_file_facets(bodies, ranks%comm)
+  if (.not. allocated(err)) call log_facet_rows()
   sp%me = me
   sp%nranks = nranks
   sp%root_whole = root_needs_whole(deck)
@@ -153,7 +155,7 @@ program mfcd_mpi
   ! (every rank has read its part of the scripts' meshes: the set-up is done)
   call drop_meshes()
   ! the deformable bodies are the set-up's: past it a rank reads their names, sizes and
-  ! fingerprints, and writes its share of their rows into /bodies (rank 0 the facets and
+  ! fingerprints, and writes its share of their rows and facets into /bodies (rank 0 the
   ! boundary loops too): every rank keeps that share only, before the split, whose peak
   ! the whole bodies would add to
   do k = 1, deck%nbodies
@@ -230,6 +232,21 @@ contains
     if (lo(3) >= 0) call log_print('mfcd_mpi: read '//when//': '//mib(lo(3), hi(3))// &
       ' MiB a rank (files and pipes)')
   end subroutine log_memory
+
+  !> The bodies whose surface the ranks hold in rows (an extruded body made per rank, a
+  !! mesh file read per part: body_t facet0 > 0): how many facets the most loaded rank
+  !! holds of the whole surface's. Collective.
+  subroutine log_facet_rows()
+    integer :: j, mine, most
+    do j = 1, size(bodies)
+      if (.not. allocated(bodies(j)%facets) .or. bodies(j)%facet0 == 0) cycle
+      mine = size(bodies(j)%facets, 2)
+      call MPI_Allreduce(mine, most, 1, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD)
+      call log_print("mfcd_mpi: body "//itoa(j)//" ('"//trim(bodies(j)%name)//"'): its "// &
+        "surface's "//itoa(bodies(j)%nfacets)//" facets in rows over the ranks, at most "// &
+        itoa(most)//" on a rank")
+    end do
+  end subroutine log_facet_rows
 
   function mib(lo, hi) result(txt)
     integer(i64), intent(in) :: lo, hi

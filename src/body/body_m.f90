@@ -51,6 +51,11 @@ module body_m
     !> the section's triangles (3, nt) of a body of tetrahedra (tet4_m tet4_prisms: its
     !! elements numbered by layer, triangle, then the prism's three), else unallocated
     integer, allocatable :: tri2(:, :)
+    !> the closed surface's recipe (generators_m extruded_facet): the end caps' section
+    !! triangles ctri (3, nt; generators_m section_triangles) and the section's boundary
+    !! segments seg (2, nside: each from its first particle to the next along its loop);
+    !! unallocated when the section has no triangulation that closes it
+    integer, allocatable :: ctri(:, :), seg(:, :)
   end type extrusion_t
 
   type :: body_t
@@ -111,8 +116,14 @@ module body_m
     integer, allocatable :: cells(:, :)
     !> 3D bodies: the boundary surface as triangles over the particles (3, nfacet),
     !! counter-clockwise seen from outside (the outward normal is (x2 - x1) x (x3 - x1)),
-    !! closed; unallocated when the generator cannot close it (contact in 3D needs it)
+    !! closed; unallocated when the generator cannot close it (contact in 3D needs it).
+    !! On ranks (mfcd_mpi) a rank may hold some rows of it only: the facets numbered
+    !! facet0, facet0 + 1, ... of the whole surface's nfacets (facet0 > 0: an extruded
+    !! body made per rank, a mesh file read per part, a deformable body's share after the
+    !! set-up: body_keep_share), which the ranks write into /bodies together; facet0 = 0:
+    !! facets is the whole surface
     integer, allocatable :: facets(:, :)
+    integer :: facet0 = 0, nfacets = 0
     !> A 3D RKPM body from a tetrahedral mesh (a gmsh script's volumes): the tetrahedra
     !! (4, ne) over its particles, positive volume, whose median-dual cells are the
     !! particles' integration cells (rkpm_tl3d_m); unallocated for every other body
@@ -157,9 +168,11 @@ contains
   !! contiguous run np*me/nranks + 1 ... np*(me + 1)/nranks) of the positions, volumes,
   !! supports and boundary flags, and the same share of its elements (cell0, ncells: the
   !! whole count), which the ranks write into /bodies together (run_output_m
-  !! write_body_rows); the facets and boundary loops on rank 0 only (surface), which it
-  !! writes; the rest freed (integration cells, the mesh of a body's dual cells, an
-  !! extruded body's recipe). Its name, sizes, spacing, supports' factors, kernel, geometry
+  !! write_body_rows); the same share of its facets (facet0, nfacets: the whole count;
+  !! rows another split made before, a body made per rank's, kept as they are), written
+  !! the same way; the boundary loops on rank 0 only (2D), which it writes; the rest
+  !! freed (integration cells, the mesh of a body's dual cells, an extruded body's
+  !! recipe). Its name, sizes, spacing, supports' factors, kernel, geometry
   !! and fingerprint stay. A body made as the share (held_share) keeps its rows.
   subroutine body_keep_share(b, me, nranks)
     type(body_t), intent(inout) :: b
@@ -191,10 +204,15 @@ contains
     if (allocated(b%cell_xy)) deallocate(b%cell_xy)
     b%cell_period = 0
     if (allocated(b%tets)) deallocate(b%tets)
+    if (allocated(b%facets) .and. b%facet0 == 0) then
+      b%nfacets = size(b%facets, 2)
+      b%facet0 = share_first(b%nfacets, me, nranks)
+      c1 = share_first(b%nfacets, me + 1, nranks) - 1
+      b%facets = b%facets(:, b%facet0:c1)
+    end if
     if (me == 0) return
     if (allocated(b%loop_ptr)) deallocate(b%loop_ptr)
     if (allocated(b%loop_idx)) deallocate(b%loop_idx)
     if (allocated(b%loop_closed)) deallocate(b%loop_closed)
-    if (allocated(b%facets)) deallocate(b%facets)
   end subroutine body_keep_share
 end module body_m

@@ -19,7 +19,7 @@ module generators_m
   public :: make_segment, make_rectangle, make_polygon, make_annulus, make_from_arrays
   public :: make_disk, disk_ring_count, lattice_cells_explicit, extrude_body
   public :: set_supports, perturb_interior, max_perturbation, section_triangles
-  public :: extrude_pick, extrude_count, extruded_particle
+  public :: extrude_pick, extrude_count, extruded_particle, extruded_facet, extruded_nfacets
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp
@@ -820,7 +820,7 @@ contains
     b%ext%z0 = z0
     b%ext%z1 = z1
     b%ext%dz = dz
-    call extruded_facets(b2, nz, b)
+    call extruded_facets(b2, nz, b, share)
     if (allocated(b2%cell_ptr)) then
       ! the x-y cells, the same polygon for each layer of a particle: held once, particle
       ! i + (k - 1) n2 takes cell i (body_cell; a copy a layer was some 90 B a particle)
@@ -861,8 +861,9 @@ contains
   !! both), lies within [lo, hi]; ends: of the first and last layers only. As body r, in
   !! ascending numbers (r%glob, of r%np_whole = b%np): positions, volumes, boundary flags
   !! and supports (b%ext%rho) the whole body's bits; b's description copied (name, kernel,
-  !! spacing, supports' factors, geometry, the section's cells, the recipe, the whole
-  !! surface's facets: over the whole body's numbers, surface-sized); no boundary loops.
+  !! spacing, supports' factors, geometry, the section's cells, the recipe, b's facets:
+  !! the whole surface's over the whole body's numbers, or a rank's rows of it); no
+  !! boundary loops.
   !! b may itself be such a body.
   subroutine extrude_pick(b, g0, g1, lo, hi, nplanes, normal, pos, r, ends)
     type(body_t), intent(in) :: b
@@ -892,6 +893,8 @@ contains
     end if
     r%ext = b%ext
     if (allocated(b%facets)) r%facets = b%facets
+    r%facet0 = b%facet0
+    r%nfacets = b%nfacets
     r%np_whole = b%ext%n2*b%ext%nz
     r%nloops = 0
     allocate(r%loop_ptr(1), r%loop_idx(0), r%loop_closed(0))
@@ -974,42 +977,89 @@ contains
   !! (section_triangles) as the two end caps (turned over at the bottom) and each segment of
   !! the section's boundary loops times each layer as two side triangles (a CCW loop walks
   !! with the body on its left, so (a, b, c) of the quad a = (i0, k), b = (i1, k), c = (i1,
-  !! k + 1), d = (i0, k + 1) faces out). Left unallocated when the section has no
-  !! triangulation that closes it.
-  subroutine extruded_facets(b2, nz, b)
+  !! k + 1), d = (i0, k + 1) faces out). Its recipe goes into b%ext (ctri, seg:
+  !! extruded_facet makes any facet from it); with share ([me, nranks]) b holds rank me's
+  !! share of the facets only (facet0 ... of nfacets, rank_comm_m share_first). Left
+  !! unallocated when the section has no triangulation that closes it.
+  subroutine extruded_facets(b2, nz, b, share)
     type(body_t), intent(in) :: b2
     integer, intent(in) :: nz
     type(body_t), intent(inout) :: b
+    integer, intent(in), optional :: share(2)
     integer, allocatable :: tri(:, :)
-    integer :: n2, nt, nside, l, k, m, i0, i1, q, nf
+    integer :: nside, l, q, j, f0, f1
     logical :: ok
     call section_triangles(b2, tri, ok)
     if (.not. ok) return
-    n2 = b2%np
-    nt = size(tri, 2)
     nside = 0
     do l = 1, b2%nloops
       nside = nside + (b2%loop_ptr(l + 1) - b2%loop_ptr(l))
     end do
-    allocate(b%facets(3, 2*nt + 2*nside*(nz - 1)))
-    nf = 0
-    do m = 1, nt
-      b%facets(:, nf + 1) = tri([1, 3, 2], m)              ! bottom, seen from below
-      b%facets(:, nf + 2) = tri(:, m) + (nz - 1)*n2       ! top
-      nf = nf + 2
-    end do
+    allocate(b%ext%seg(2, nside))
+    nside = 0
     do l = 1, b2%nloops
       do q = b2%loop_ptr(l), b2%loop_ptr(l + 1) - 1
-        i0 = b2%loop_idx(q)
-        i1 = b2%loop_idx(merge(b2%loop_ptr(l), q + 1, q == b2%loop_ptr(l + 1) - 1))
-        do k = 1, nz - 1
-          b%facets(:, nf + 1) = [i0, i1, i1 + n2] + (k - 1)*n2
-          b%facets(:, nf + 2) = [i0, i1 + n2, i0 + n2] + (k - 1)*n2
-          nf = nf + 2
-        end do
+        nside = nside + 1
+        b%ext%seg(1, nside) = b2%loop_idx(q)
+        b%ext%seg(2, nside) = b2%loop_idx(merge(b2%loop_ptr(l), q + 1, &
+          q == b2%loop_ptr(l + 1) - 1))
       end do
     end do
+    call move_alloc(tri, b%ext%ctri)
+    b%nfacets = extruded_nfacets(b%ext)
+    f0 = 1
+    f1 = b%nfacets
+    b%facet0 = 0
+    if (present(share)) then
+      f0 = share_first(b%nfacets, share(1), share(2))
+      f1 = share_first(b%nfacets, share(1) + 1, share(2)) - 1
+      b%facet0 = f0
+    end if
+    allocate(b%facets(3, f1 - f0 + 1))
+    do j = f0, f1
+      b%facets(:, j - f0 + 1) = extruded_facet(b%ext, j)
+    end do
   end subroutine extruded_facets
+
+  !> The number of facets of the closed surface of extruded body recipe e (extruded_facets:
+  !! two a cap triangle, two a boundary segment and layer gap); 0 without one.
+  pure integer function extruded_nfacets(e) result(nf)
+    type(extrusion_t), intent(in) :: e
+    nf = 0
+    if (.not. allocated(e%ctri)) return
+    nf = 2*size(e%ctri, 2) + 2*size(e%seg, 2)*(e%nz - 1)
+  end function extruded_nfacets
+
+  !> Facet j of the closed surface of extruded body recipe e, as extruded_facets numbers
+  !! them: the caps' triangles in pairs (bottom turned over, then top), then each boundary
+  !! segment's side triangles, two a layer gap, layer by layer. What a rank makes of the
+  !! surface without the whole of it.
+  pure function extruded_facet(e, j) result(t)
+    type(extrusion_t), intent(in) :: e
+    integer, intent(in) :: j
+    integer :: t(3), nt, m, r, l, k, i0, i1
+    nt = size(e%ctri, 2)
+    if (j <= 2*nt) then
+      m = (j + 1)/2
+      if (mod(j, 2) == 1) then
+        t = e%ctri([1, 3, 2], m)                  ! bottom, seen from below
+      else
+        t = e%ctri(:, m) + (e%nz - 1)*e%n2        ! top
+      end if
+      return
+    end if
+    r = j - 2*nt - 1
+    l = r/(2*(e%nz - 1)) + 1
+    r = r - 2*(e%nz - 1)*(l - 1)
+    k = r/2 + 1
+    i0 = e%seg(1, l)
+    i1 = e%seg(2, l)
+    if (mod(r, 2) == 0) then
+      t = [i0, i1, i1 + e%n2] + (k - 1)*e%n2
+    else
+      t = [i0, i1 + e%n2, i0 + e%n2] + (k - 1)*e%n2
+    end if
+  end function extruded_facet
 
   !> A triangulation tri(3, nt) of a 2D body's section whose vertices are its particles,
   !! counter-clockwise, and whose outline is the body's boundary loops (ok), when the

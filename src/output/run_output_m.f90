@@ -13,6 +13,10 @@ module run_output_m
   private
   public :: write_header, write_bodies, write_body_rows, timestamp
 
+  !> /bodies/<name>/facets' description
+  character(len=*), parameter :: facets_text = 'the closed boundary surface: particle '// &
+    '(node) indices (0-based) of each triangle, counter-clockwise seen from outside (3, nf)'
+
 contains
 
   !> ISO 8601 local time stamp.
@@ -95,10 +99,10 @@ contains
           'CSR pointer of boundary polylines (1-based, nloops + 1)')
         if (.not. allocated(err)) call h5_write(f, g//'/loop_idx', b%loop_idx, '1', err, &
           'particle indices (1-based) along each counter-clockwise boundary polyline')
-        if (allocated(b%facets) .and. b%ndim == 3 .and. .not. allocated(err)) &
-          call h5_write(f, g//'/facets', b%facets - 1, '1', err, 'the closed boundary '// &
-          'surface: particle (node) indices (0-based) of each triangle, counter-clockwise '// &
-          'seen from outside (3, nf)')
+        ! (a rank's rows of the facets: written with the body's rows, write_body_rows)
+        if (allocated(b%facets) .and. b%ndim == 3 .and. b%facet0 == 0 .and. &
+          .not. allocated(err)) call h5_write(f, g//'/facets', b%facets - 1, '1', err, &
+          facets_text)
         if (.not. allocated(err)) call h5_attr(f, g, 'discretization', &
           trim(merge('fem ', 'rkpm', allocated(b%cells))), err)
         if (.not. allocated(err)) call h5_attr(f, g, 'shape', trim(b%shape), err)
@@ -157,6 +161,13 @@ contains
       err, 'support radius rho per direction (ndim, np)')
     if (.not. allocated(err)) call h5_write_rows(f, g//'/boundary', flags, gid, b%np, '1', &
       err, '1 for boundary particles')
+    ! (a share's facets, facet0 ... of nfacets; a whole body's are write_bodies')
+    if (allocated(b%facets) .and. b%ndim == 3 .and. b%facet0 > 0 .and. &
+      .not. allocated(err)) then
+      gid = [(b%facet0 + i - 1, i = 1, size(b%facets, 2))]
+      cells0 = b%facets - 1
+      call h5_write_rows(f, g//'/facets', cells0, gid, b%nfacets, '1', err, facets_text)
+    end if
     if (.not. allocated(b%cells) .or. allocated(err)) return
     ! (a share's elements are cell0 ... of ncells; a whole body's all of its cells)
     c0 = max(b%cell0, 1)

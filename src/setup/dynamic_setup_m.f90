@@ -14,7 +14,7 @@ module dynamic_setup_m
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
   use sorting_m, only: sorted_place
-  use generators_m, only: extrude_pick, extrude_count, extruded_particle
+  use generators_m, only: extrude_pick, extrude_count, extruded_particle, extruded_facet
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part, region_of, &
     region_rows
   use solid_tables_m, only: solid_tables_t
@@ -22,7 +22,7 @@ module dynamic_setup_m
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
-  use tet_file_m, only: tet_file_region, tet_file_positions, tet_file_count
+  use tet_file_m, only: tet_file_region, tet_file_positions, tet_file_count, tet_file_facets_whole
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin, &
     solid_np_whole, solid_nq_whole
   use material_m, only: material_constant_names, material_constant
@@ -1054,8 +1054,15 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: det(:)
     logical, allocatable :: deep(:)
+    integer, allocatable :: whole(:, :)
     real(wp) :: flag(1)
-    call side_facts_local(b, f, det, deep, err)
+    ! (a mesh file's facets: the ranks' rows, gathered; an extruded body's from its recipe)
+    if (allocated(b%mfile) .and. allocated(b%facets)) then
+      call tet_file_facets_whole(b, comm, whole)
+      call side_facts_local(b, f, det, deep, err, whole)
+    else
+      call side_facts_local(b, f, det, deep, err)
+    end if
     flag = 0.0_wp
     if (allocated(err)) flag = 1.0_wp
     call comm%max_real(flag)
@@ -1070,17 +1077,20 @@ contains
   !> side_facts' part that needs no other rank, of body b held as a rank's share: the
   !! extremes of the reference positions from the first and last layers (the section is
   !! every layer's) and the largest support (the recipe's); the whole closed surface from
-  !! the facets and their vertices' positions made from the recipe (surface-sized; lean,
-  !! as side_init builds it over a rank's region); det(M)
+  !! the facets (whole: given, a mesh file's gathered; else made from the recipe) and
+  !! their vertices' positions made from the recipe or read from the mesh file
+  !! (surface-sized; lean, as side_init builds it over a rank's region); det(M)
   !! at the share's particles and whether each is deep (detection_m deep_particles), in a
   !! cloud of the particles within a support of them (and a spacing) on the whole cloud's
   !! bins' grid, so that every sum runs in the whole cloud's order.
-  subroutine side_facts_local(b, f, det, deep, err)
+  subroutine side_facts_local(b, f, det, deep, err, whole)
     type(body_t), intent(in) :: b
     type(side_facts_t), intent(out) :: f
     real(wp), allocatable, intent(out) :: det(:)
     logical, allocatable, intent(out) :: deep(:)
     type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: whole(:, :)
+    integer, allocatable :: fac(:, :)
     type(body_t) :: ends, near
     type(rk_cloud_t) :: c
     integer :: n, j, none(2), nv, g, k
@@ -1110,7 +1120,17 @@ contains
       call share_dets()
       return
     end if
-    vid = surface3d_vertices(b%facets)
+    if (present(whole)) then
+      fac = whole
+    else if (b%facet0 > 0 .and. allocated(b%ext)) then
+      allocate(fac(3, b%nfacets))
+      do j = 1, b%nfacets
+        fac(:, j) = extruded_facet(b%ext, j)
+      end do
+    else
+      fac = b%facets
+    end if
+    vid = surface3d_vertices(fac)
     nv = size(vid)
     if (allocated(b%mfile)) then
       ! (read from the file)
@@ -1124,7 +1144,7 @@ contains
         call extruded_particle(b%ext, g - k*b%ext%n2 + 1, k + 1, xv(:, j), vol, bnd)
       end do
     end if
-    call surface3d_build(f%surf3, xv, b%facets, err, at_vertices=.true., lean=.true.)
+    call surface3d_build(f%surf3, xv, fac, err, at_vertices=.true., lean=.true.)
     if (allocated(err)) then
       err%message = "body '"//trim(b%name)//"': "//err%message
       return

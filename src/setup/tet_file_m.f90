@@ -33,6 +33,7 @@ module tet_file_m
   implicit none
   private
   public :: tet_file_share, tet_file_region, tet_file_facets, tet_file_positions, volume_spacing
+  public :: tet_file_facets_whole
   public :: block_rows, tet_file_count, mesh_index_t, read_index, node_outside, tet_outside
   public :: rows_read, file_error
 
@@ -353,13 +354,15 @@ contains
     ! (the file, for what the set-up asks of the whole body later: kinematic_masks)
     r%mfile = b%mfile
     r%mfile%rbox = rbox
-    ! (the whole surface's facets, as a region made from an extruded body's recipe holds
-    ! them: a deforming master's or a self-contact's side over the region reads them)
+    ! (b's facets, the rank's rows of the surface, as a region made from an extruded
+    ! body's recipe holds them: a side over the region takes its surface from side_facts)
     if (allocated(b%facets)) then
       r%facets = b%facets
     else
       allocate(r%facets(3, 0))
     end if
+    r%facet0 = b%facet0
+    r%nfacets = b%nfacets
   end subroutine tet_file_region
 
   !> The nodes sel (ascending, positions xsel unplaced) of tet_file_region's region by the
@@ -462,53 +465,143 @@ contains
     end do
   end subroutine tet_file_positions
 
-  !> The facets of the bodies read per part whole on every rank (surface-sized: the
-  !! /bodies output's on rank 0, and a deforming master's or a self-contact's sides' over
-  !! each rank's region, until body_keep_share leaves them to rank 0), in the whole mesh's
-  !! order (tet4_boundary_faces': tetrahedron, then face), from the ranks' (facet_key).
-  !! Collective.
+  !> The facets of the bodies read per part put in rows over the ranks, in the whole
+  !! mesh's order (tet4_boundary_faces': tetrahedron, then face): a rank's facets (those
+  !! whose smallest node is in its share, with their places: facet_key) go to the rank
+  !! holding their place's range of the 4 ne (rank_comm_m share_first), which orders its
+  !! own; each rank then holds the rows facet0 ... of the surface's nfacets, which the
+  !! ranks write into /bodies together (run_output_m body_rows): no rank holds the whole
+  !! surface (a side that needs it gathers it: tet_file_facets_whole). Collective.
   subroutine tet_file_facets(bodies, comm)
     type(body_t), intent(inout) :: bodies(:)
     class(rank_comm_t), intent(inout) :: comm
-    real(wp), allocatable :: sbuf(:), rbuf(:), key(:)
-    integer, allocatable :: to(:), from(:), sptr(:), rptr(:), idx(:), fc(:, :)
-    integer :: k, n, j, r
+    real(wp), allocatable :: sbuf(:), rbuf(:), key(:), all(:, :)
+    integer, allocatable :: to(:), from(:), sptr(:), rptr(:), idx(:), fc(:, :), dest(:)
+    integer, allocatable :: cnt(:), got(:), at(:)
+    integer :: k, n, j, r, nk, nr, m, np, nmine
+    np = comm%nranks
     do k = 1, size(bodies)
       if (.not. allocated(bodies(k)%facet_key)) cycle
       associate (b => bodies(k))
         n = size(b%facet_key)
-        ! (the same message to every other rank: one buffer, sptr repeating its range)
-        to = pack([(r, r = 0, comm%nranks - 1)], [(r /= comm%me, r = 0, comm%nranks - 1)])
-        from = to
-        allocate(sbuf(4*n*size(to)))
-        do r = 1, size(to)
-          do j = 1, n
-            sbuf(4*n*(r - 1) + 4*j - 3) = real(b%facet_key(j), wp)
-            sbuf(4*n*(r - 1) + 4*j - 2:4*n*(r - 1) + 4*j) = real(b%facets(:, j), wp)
-          end do
+        nk = 4*b%mfile%ne
+        ! (each facet to the rank of its place's range; how many to each, and from each)
+        allocate(dest(n), cnt(np), got(np))
+        cnt = 0
+        do j = 1, n
+          dest(j) = place_rank(b%facet_key(j), nk, np)
+          cnt(dest(j) + 1) = cnt(dest(j) + 1) + 1
         end do
-        sptr = [(4*n*r + 1, r = 0, size(to))]
+        call comm%alltoall_int(cnt, got)
+        to = pack([(r, r = 0, np - 1)], cnt > 0 .and. [(r /= comm%me, r = 0, np - 1)])
+        from = pack([(r, r = 0, np - 1)], got > 0 .and. [(r /= comm%me, r = 0, np - 1)])
+        allocate(sptr(size(to) + 1), at(0:np - 1))
+        sptr(1) = 1
+        do r = 1, size(to)
+          at(to(r)) = sptr(r)
+          sptr(r + 1) = sptr(r) + 4*cnt(to(r) + 1)
+        end do
+        allocate(sbuf(sptr(size(to) + 1) - 1))
+        nmine = cnt(comm%me + 1)
+        nr = sum(got) - got(comm%me + 1)
+        allocate(key(nmine + nr), fc(3, nmine + nr))
+        m = 0
+        do j = 1, n
+          r = dest(j)
+          if (r == comm%me) then
+            m = m + 1
+            key(m) = real(b%facet_key(j), wp)
+            fc(:, m) = b%facets(:, j)
+          else
+            sbuf(at(r)) = real(b%facet_key(j), wp)
+            sbuf(at(r) + 1:at(r) + 3) = real(b%facets(:, j), wp)
+            at(r) = at(r) + 4
+          end if
+        end do
         allocate(rptr(size(from) + 1), rbuf(0))
         call comm%sparse_exchange(to, sptr, sbuf, from, rptr, rbuf)
-        m_loop: block
-          integer :: nr, m
-          nr = (rptr(size(rptr)) - 1)/4
-          allocate(key(n + nr), fc(3, n + nr), idx(n + nr))
-          key(1:n) = real(b%facet_key, wp)
-          fc(:, 1:n) = b%facets
-          do m = 1, nr
-            key(n + m) = rbuf(4*m - 3)
-            fc(:, n + m) = nint(rbuf(4*m - 2:4*m))
-          end do
-          call sort_index(key, idx)
-          b%facets = fc(:, idx)
-        end block m_loop
+        nr = (rptr(size(rptr)) - 1)/4
+        do j = 1, nr
+          key(nmine + j) = rbuf(4*j - 3)
+          fc(:, nmine + j) = nint(rbuf(4*j - 2:4*j))
+        end do
+        allocate(idx(size(key)))
+        call sort_index(key, idx)
+        b%facets = fc(:, idx)
+        ! (the rows before this rank's: the counts of the ranks before it)
+        allocate(all(1, np))
+        call comm%allgather_real([real(size(key), wp)], all)
+        b%facet0 = nint(sum(all(1, 1:comm%me))) + 1
+        b%nfacets = nint(sum(all(1, :)))
         deallocate(b%facet_key)
-        deallocate(to, from, sptr, sbuf, rptr, rbuf)
-        if (allocated(key)) deallocate(key, fc, idx)
+        deallocate(dest, cnt, got, to, from, sptr, at, sbuf, key, fc, rptr, rbuf, idx, all)
       end associate
     end do
   end subroutine tet_file_facets
+
+  !> The rank (from 0, of np) holding place key (1 ... nk) in tet_file_facets: the one
+  !! whose range share_first(nk, r, np) ... holds it.
+  pure integer function place_rank(key, nk, np) result(r)
+    integer, intent(in) :: key, nk, np
+    integer :: lo, hi, mid
+    lo = 0
+    hi = np - 1
+    do while (lo < hi)
+      mid = (lo + hi + 1)/2
+      if (share_first(nk, mid, np) <= key) then
+        lo = mid
+      else
+        hi = mid - 1
+      end if
+    end do
+    r = lo
+  end function place_rank
+
+  !> The whole surface of a body read per part (its rows over the ranks: tet_file_facets)
+  !! on every rank, in its order (the ranks' rows follow each other by rank): what a
+  !! deforming master's or a self-contact's sides take their whole-body facts from
+  !! (dynamic_setup_m side_facts; surface-sized, freed after them). Collective.
+  subroutine tet_file_facets_whole(b, comm, whole)
+    type(body_t), intent(in) :: b
+    class(rank_comm_t), intent(inout) :: comm
+    integer, allocatable, intent(out) :: whole(:, :)
+    real(wp), allocatable :: sbuf(:), rbuf(:)
+    integer, allocatable :: to(:), sptr(:), rptr(:)
+    integer :: n, j, r, m
+    n = size(b%facets, 2)
+    ! (the same message to every other rank)
+    to = pack([(r, r = 0, comm%nranks - 1)], [(r /= comm%me, r = 0, comm%nranks - 1)])
+    allocate(sbuf(3*n*size(to)))
+    do r = 1, size(to)
+      do j = 1, n
+        sbuf(3*n*(r - 1) + 3*j - 2:3*n*(r - 1) + 3*j) = real(b%facets(:, j), wp)
+      end do
+    end do
+    sptr = [(3*n*r + 1, r = 0, size(to))]
+    allocate(rptr(size(to) + 1), rbuf(0))
+    call comm%sparse_exchange(to, sptr, sbuf, to, rptr, rbuf)
+    allocate(whole(3, b%nfacets))
+    ! (the ranks before this one, its own rows, the ranks after)
+    m = 0
+    do r = 1, size(to)
+      if (to(r) > comm%me) exit
+      call take(r)
+    end do
+    whole(:, m + 1:m + n) = b%facets
+    m = m + n
+    do r = 1, size(to)
+      if (to(r) > comm%me) call take(r)
+    end do
+  contains
+    subroutine take(r)
+      integer, intent(in) :: r
+      integer :: i
+      do i = rptr(r), rptr(r + 1) - 1, 3
+        m = m + 1
+        whole(:, m) = nint(rbuf(i:i + 2))
+      end do
+    end subroutine take
+  end subroutine tet_file_facets_whole
 
   ! --- the file, streamed ---------------------------------------------------------------
 

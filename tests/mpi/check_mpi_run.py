@@ -50,7 +50,8 @@ With --made NAME (repeatable; a deck of the list, by its name without .nml, with
 extruded 3D body, of RKPM particles or of tetrahedra): on 2 ranks and
 more, mfcd_mpi's log must say that each such body was made per rank (each rank its share
 and its region from the body's recipe, never the whole body), and the most particles a rank
-made must be fewer than the body has.
+made must be fewer than the body has; and that the surface's facets are in rows over the
+ranks, the most a rank holds fewer than the surface has.
 
 With --restart N1:N2:EVERY: also run on N1 ranks with &output checkpoint_every = EVERY,
 then continue from its last checkpoint on N2 ranks (`mfcd_mpi --restart`): the snapshots the
@@ -491,6 +492,12 @@ def main():
                 check(f"{name}, {n} ranks: each extruded body made per rank, no rank making "
                       "all its particles", len(made) > 0 and all(
                           int(a) < int(b) for a, b in made), made or p.stdout[-800:])
+                # (and its surface: each rank its rows of the facets, none the whole)
+                rows = re.findall(r"surface's (\d+) facets in rows over the ranks, at most "
+                                  r"(\d+) on a rank", p.stdout)
+                check(f"{name}, {n} ranks: each such body's facets in rows over the ranks, no "
+                      "rank holding them all", len(rows) > 0 and all(
+                          int(b) < int(a) for a, b in rows), rows or p.stdout[-800:])
             if p.returncode == rc:
                 compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial{done}"),
                         os.path.join(sub, f"{name}{done}"))
