@@ -177,7 +177,7 @@ contains
   subroutine body_keep_share(b, me, nranks)
     type(body_t), intent(inout) :: b
     integer, intent(in) :: me, nranks
-    integer :: i0, i1, c1
+    integer :: i0, i1
     i0 = share_first(b%np, me, nranks)
     i1 = share_first(b%np, me + 1, nranks) - 1
     ! (a body made as the share holds it already)
@@ -191,12 +191,7 @@ contains
     b%held_share = .true.
     if (allocated(b%ext)) deallocate(b%ext)
     ! (a share made as such holds its elements' share already: ncells > 0)
-    if (allocated(b%cells) .and. b%ncells == 0) then
-      b%ncells = size(b%cells, 2)
-      b%cell0 = share_first(b%ncells, me, nranks)
-      c1 = share_first(b%ncells, me + 1, nranks) - 1
-      b%cells = b%cells(:, b%cell0:c1)
-    end if
+    if (allocated(b%cells) .and. b%ncells == 0) call keep_columns(b%cells, b%ncells, b%cell0)
     if (allocated(b%cell_centre)) deallocate(b%cell_centre)
     if (allocated(b%merged_ptr)) deallocate(b%merged_ptr)
     if (allocated(b%merged_centre)) deallocate(b%merged_centre)
@@ -204,15 +199,23 @@ contains
     if (allocated(b%cell_xy)) deallocate(b%cell_xy)
     b%cell_period = 0
     if (allocated(b%tets)) deallocate(b%tets)
-    if (allocated(b%facets) .and. b%facet0 == 0) then
-      b%nfacets = size(b%facets, 2)
-      b%facet0 = share_first(b%nfacets, me, nranks)
-      c1 = share_first(b%nfacets, me + 1, nranks) - 1
-      b%facets = b%facets(:, b%facet0:c1)
-    end if
+    if (allocated(b%facets) .and. b%facet0 == 0) call keep_columns(b%facets, b%nfacets, &
+      b%facet0)
     if (me == 0) return
     if (allocated(b%loop_ptr)) deallocate(b%loop_ptr)
     if (allocated(b%loop_idx)) deallocate(b%loop_idx)
     if (allocated(b%loop_closed)) deallocate(b%loop_closed)
+
+  contains
+
+    !> a's columns (elements, facets) cut to rank me's share: n the whole count, first
+    !! the share's first column
+    subroutine keep_columns(a, n, first)
+      integer, allocatable, intent(inout) :: a(:, :)
+      integer, intent(out) :: n, first
+      n = size(a, 2)
+      first = share_first(n, me, nranks)
+      a = a(:, first:share_first(n, me + 1, nranks) - 1)
+    end subroutine keep_columns
   end subroutine body_keep_share
 end module body_m

@@ -65,9 +65,10 @@ contains
 
   contains
 
-    !> Side s's static partners and whole surface's facets kept, its arrays over the whole
-    !! body (or the rank's region) cut to the rank's own particles (its first nown), their
-    !! numbers in the whole body kept (glob).
+    !> Side s's static partners and surface's facets kept (plane: the whole surface's; 3D:
+    !! those with a vertex among the rank's own particles, own_facets), its arrays over the
+    !! whole body (or the rank's region) cut to the rank's own particles (its first nown),
+    !! their numbers in the whole body kept (glob).
     subroutine own_side(s, ds)
       type(side_t), intent(inout) :: s
       type(dist_side_t), intent(inout) :: ds
@@ -80,14 +81,9 @@ contains
       ds%nown = size(own)
       ! a tracked slave particle: its place among the rank's own (0 on the other ranks)
       if (sd == 1 .and. p%edge > 0) p%edge = sorted_place(ownw, p%edge)
-      ! the whole surface's facets (segments) only: a rank's subset is taken from them
+      ! the facets (segments) a rank's subset is taken from at a refresh
       if (s%ndim == 3) then
-        ds%full3%nf = s%surf3%nf
-        ds%full3%tri = s%surf3%tri
-        ds%full3%vid = s%surf3%vid
-        ds%full3%tv = s%surf3%tv
-        ds%full3%partner = s%surf3%partner
-        ds%full3%cell = s%surf3%cell
+        call own_facets(s%surf3, ownw, ds)
         allocate(ds%glo(3), ds%ghi(3))
       else
         ds%full%nseg = s%surface%nseg
@@ -151,12 +147,63 @@ contains
       s%nlist = ds%nown
     end subroutine own_side
 
-    !> The rank owning end (vertex) e, from 1, of segment (facet) kk of the whole surface.
+    !> The facets of the whole surface sf (its facets, vertices and partners) with a
+    !! vertex among the own particles (their numbers ownw, ascending), in its order, with
+    !! their vertices' ranks (vowner), and each own particle's facets among them
+    !! (dist_side_t fid ...; surface-sized for the part, not for the body).
+    subroutine own_facets(sf, ownw, ds)
+      type(surface3d_t), intent(in) :: sf
+      integer, intent(in) :: ownw(:)
+      type(dist_side_t), intent(inout) :: ds
+      integer :: m, e, n, k
+      integer, allocatable :: c(:)
+      logical, allocatable :: mine(:)
+      allocate(mine(sf%nf), c(size(ownw) + 1))
+      c = 0
+      do m = 1, sf%nf
+        mine(m) = .false.
+        do e = 1, 3
+          k = sorted_place(ownw, sf%tri(e, m))
+          if (k == 0) cycle
+          mine(m) = .true.
+          c(k + 1) = c(k + 1) + 1
+        end do
+      end do
+      ds%fid = pack([(m, m = 1, sf%nf)], mine)
+      n = size(ds%fid)
+      allocate(ds%ftri(3, n), ds%fpart(3, n), ds%fown(3, n))
+      do m = 1, n
+        ds%ftri(:, m) = sf%tri(:, ds%fid(m))
+        ds%fpart(:, m) = sf%partner(:, ds%fid(m))
+        ds%fown(:, m) = vowner(sf%tv(:, ds%fid(m)))
+      end do
+      ! (each own particle's facets: a CSR over the own particles, in the facets' order)
+      allocate(ds%vfptr(size(ownw) + 1))
+      ds%vfptr(1) = 1
+      do k = 1, size(ownw)
+        ds%vfptr(k + 1) = ds%vfptr(k) + c(k + 1)
+      end do
+      allocate(ds%vfac(ds%vfptr(size(ownw) + 1) - 1))
+      c = 0
+      do m = 1, n
+        do e = 1, 3
+          k = sorted_place(ownw, ds%ftri(e, m))
+          if (k == 0) cycle
+          ds%vfac(ds%vfptr(k) + c(k + 1)) = m
+          c(k + 1) = c(k + 1) + 1
+        end do
+      end do
+      ds%cell3 = sf%cell
+      ds%nf_whole = sf%nf
+    end subroutine own_facets
+
+    !> The rank owning end (vertex) e, from 1, of segment (facet) kk of the surface the
+    !! rank keeps (nfacet).
     integer function vown(ds, kk, e)
       type(dist_side_t), intent(in) :: ds
       integer, intent(in) :: kk, e
-      if (ds%full3%nf > 0) then
-        vown = vowner(ds%full3%tv(e, kk))
+      if (allocated(ds%fid)) then
+        vown = ds%fown(e, kk)
       else
         vown = vowner(kk + (e - 1)*ds%full%nseg)
       end if
@@ -222,6 +269,9 @@ contains
         ghosts(sd) = real(ds%nghost_sum, wp)/real(max(ds%npass, 1_i64), wp)
         held(sd) = ds%held
         whole(sd) = p%side(sd)%np_whole
+        facets(sd) = 0
+        if (allocated(ds%fid)) facets(sd) = size(ds%fid)
+        nfw(sd) = ds%nf_whole
       end associate
     end do
   end procedure contact_dist_report
@@ -847,11 +897,12 @@ contains
     end if
   end function end_weight
 
-  !> The number of segments (facets) of the whole surface ds%full (ds%full3).
+  !> The number of segments of the whole surface ds%full (plane), of the facets with a
+  !! vertex among the rank's own particles (3D: dist_side_t fid).
   pure integer function nfacet(ds)
     type(dist_side_t), intent(in) :: ds
-    if (ds%full3%nf > 0) then
-      nfacet = ds%full3%nf
+    if (allocated(ds%fid)) then
+      nfacet = size(ds%fid)
     else
       nfacet = ds%full%nseg
     end if
@@ -860,15 +911,15 @@ contains
   !> Ends of a segment (2), vertices of a facet (3).
   pure integer function nvert(ds)
     type(dist_side_t), intent(in) :: ds
-    nvert = merge(3, 2, ds%full3%nf > 0)
+    nvert = merge(3, 2, allocated(ds%fid))
   end function nvert
 
-  !> End (vertex) e, from 1, of segment (facet) kk of the whole surface.
+  !> End (vertex) e, from 1, of segment (facet) kk of nfacet's.
   pure integer function vert(ds, kk, e) result(i)
     type(dist_side_t), intent(in) :: ds
     integer, intent(in) :: kk, e
-    if (ds%full3%nf > 0) then
-      i = ds%full3%tri(e, kk)
+    if (allocated(ds%fid)) then
+      i = ds%ftri(e, kk)
     else if (e == 1) then
       i = ds%full%i0(kk)
     else
@@ -888,10 +939,10 @@ contains
     real(wp), intent(in) :: w
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: mine(:), boxes(:, :), grown(:), key(:)
-    integer :: q, k, i, n, nto, nfrom, me, nr, nd, m, nw, ng, nown, r, v
+    integer :: q, k, i, n, nto, nfrom, me, nr, nd, m, nw, ng, nown, r
     logical :: dyn, take, rx
-    integer, allocatable :: to(:), sptr(:), sids(:), from(:), ord(:), src(:), vl(:), &
-      num(:, :), num0(:), num1(:), gid(:)
+    integer, allocatable :: to(:), sptr(:), sids(:), from(:), ord(:), src(:), num0(:), &
+      num1(:), gid(:)
     associate (a => p%side(ia), b => p%side(ib), da => p%dist%side(ia), &
       db => p%dist%side(ib), comm => p%dist%comm)
       me = comm%me
@@ -1008,14 +1059,7 @@ contains
       if (p%self) call cloud_set_reference(b%cloud, b%x_ref(:, db%loc), p%self_radius)
       if (nd == 3) then
         ! the facets whose three vertices the rank holds
-        allocate(vl(size(db%full3%vid)), num(3, db%full3%nf))
-        do v = 1, size(vl)
-          vl(v) = place(db%full3%vid(v))
-        end do
-        do m = 1, db%full3%nf
-          num(:, m) = vl(db%full3%tv(:, m))
-        end do
-        call surface3d_subset(db%full3, num, b%x_pred, b%surf3)
+        call held_facets()
       else
         allocate(num0(db%full%nseg), num1(db%full%nseg))
         do m = 1, db%full%nseg
@@ -1034,6 +1078,83 @@ contains
     end associate
 
   contains
+
+    !> Side ib's surface on this rank: the facets whose three vertices it holds (own or
+    !! ghost), in the whole surface's order, with their edge partners among them. They are
+    !! its own particles' facets (dist_side_t fid ...) and those the ghosts' owners send
+    !! along the ghost plan: each owner the facets of the particles it sends (a facet with
+    !! three ghost vertices comes from their owners), once a rank. Collective (the plan's
+    !! ranks).
+    subroutine held_facets()
+      real(wp), allocatable :: fbuf(:), gbuf(:), fkey(:)
+      integer, allocatable :: fptr(:), gptr(:), stamp(:), cf(:, :), ord(:), tri(:, :), &
+        part(:, :), kept(:), kf(:)
+      integer :: pass, k, j, l, f, n, nf, ng, nk, last, v3(3)
+      associate (b => p%side(ib), db => p%dist%side(ib), comm => p%dist%comm)
+        nf = size(db%fid)
+        allocate(stamp(nf), fptr(size(db%to) + 1), fbuf(0))
+        ! (the facets of the particles sent to each rank, once a rank: counted, then packed
+        ! as their number, vertices and partners)
+        do pass = 1, 2
+          stamp = 0
+          n = 0
+          fptr(1) = 1
+          do k = 1, size(db%to)
+            do j = db%sptr(k), db%sptr(k + 1) - 1
+              do l = db%vfptr(db%sids(j)), db%vfptr(db%sids(j) + 1) - 1
+                f = db%vfac(l)
+                if (stamp(f) == k) cycle
+                stamp(f) = k
+                n = n + 1
+                if (pass == 2) fbuf(7*n - 6:7*n) = real([db%fid(f), db%ftri(:, f), &
+                  db%fpart(:, f)], wp)
+              end do
+            end do
+            fptr(k + 1) = 7*n + 1
+          end do
+          if (pass == 1) then
+            deallocate(fbuf)
+            allocate(fbuf(7*n))
+          end if
+        end do
+        allocate(gptr(size(db%from) + 1), gbuf(0))
+        call comm%sparse_exchange(db%to, fptr, fbuf, db%from, gptr, gbuf)
+        ng = (gptr(size(gptr)) - 1)/7
+        ! (the rank's own facets and those received, by their numbers in the whole
+        ! surface: each kept once, when the rank holds its three vertices)
+        allocate(cf(7, nf + ng), fkey(nf + ng), ord(nf + ng))
+        do j = 1, nf
+          cf(:, j) = [db%fid(j), db%ftri(:, j), db%fpart(:, j)]
+        end do
+        do j = 1, ng
+          cf(:, nf + j) = nint(gbuf(7*j - 6:7*j))
+        end do
+        fkey = real(cf(1, :), wp)
+        call sort_index(fkey, ord)
+        allocate(tri(3, nf + ng), kept(nf + ng))
+        nk = 0
+        last = -1
+        do j = 1, nf + ng
+          f = ord(j)
+          if (cf(1, f) == last) cycle
+          last = cf(1, f)
+          v3 = [place(cf(2, f)), place(cf(3, f)), place(cf(4, f))]
+          if (any(v3 == 0)) cycle
+          nk = nk + 1
+          tri(:, nk) = v3
+          kept(nk) = f
+        end do
+        ! (an edge's other facet: its place among the kept, 0 when left out)
+        allocate(part(3, nk))
+        kf = cf(1, kept(1:nk))
+        do j = 1, nk
+          do l = 1, 3
+            part(l, j) = sorted_place(kf, cf(4 + l, kept(j)))
+          end do
+        end do
+        call surface3d_of(tri(:, 1:nk), part, db%cell3, b%x_pred, b%surf3)
+      end associate
+    end subroutine held_facets
 
     !> The rank's number of the particle numbered i in the whole body, 0 if not held.
     integer function place(i)

@@ -42,7 +42,7 @@ module contact_pair_m
   use contact_m, only: master_surface_t, surface_build, surface_update, surface_gap, &
     contact_point_force, contact_counters_t, surface_subset, contact_point_force_3d
   use surface3d_m, only: surface3d_t, surface3d_build, surface3d_update, surface3d_gap, &
-    surface3d_subset
+    surface3d_of
   use contact_nts_m, only: nts_buckets_t, nts_build, nts_update, nts_gap
   use omp_lib, only: omp_get_wtime
   use solid_m, only: solid_t, solid_positions, solid_point_position, solid_add_point_forces, &
@@ -259,11 +259,21 @@ module contact_pair_m
     !> the ranks owning an end (vertex) of a segment (facet) whose first this rank owns:
     !! it sends them that end's position along at every refresh (the static partners)
     integer, allocatable :: pq(:)
-    !> the whole surface's segments' ends (facets' vertices and edge partners), by the
-    !! particles' numbers in the whole body; its geometry freed (surface-sized, not
-    !! body-sized: the subset the rank holds is taken from it at a refresh)
+    !> plane: the whole surface's segments' ends, by the particles' numbers in the whole
+    !! body; its geometry freed (surface-sized, not body-sized: the subset the rank holds
+    !! is taken from it at a refresh)
     type(master_surface_t) :: full
-    type(surface3d_t) :: full3
+    !> 3D: the whole surface's facets with a vertex among the rank's own particles (the
+    !! part's surface, fixed from the split on; no rank holds the whole surface): their
+    !! numbers in the whole surface (fid, ascending), vertices (ftri (3, :): the particles'
+    !! numbers in the whole body), edge partners (fpart (3, :): numbers in the whole
+    !! surface) and the ranks owning the vertices (fown (3, :)); each own particle's
+    !! facets among them (vfac(vfptr(k) : vfptr(k+1) - 1)); the whole surface's bins' cell
+    !! (m). A refresh takes the facets whose three vertices the rank holds from these and
+    !! from the ghosts' owners (make_plan)
+    integer, allocatable :: fid(:), ftri(:, :), fpart(:, :), fown(:, :), vfptr(:), vfac(:)
+    real(wp) :: cell3 = 0.0_wp
+    integer :: nf_whole = 0              !< 3D: the whole surface's facets (the log's)
     !> 3D: the largest facet edge over the whole master (m), the motion since the refresh
     !! D_s + D_m (m), and the largest radius the gap search has needed, |g| + 2 dmax (m):
     !! the ghost width covers it, or the rank refreshes and searches again (dist_covered)
@@ -381,13 +391,16 @@ module contact_pair_m
 
     !> This rank's refreshes, mean ghost count and bytes of distributed pair p (for the
     !! log), per side as a master.
-    module subroutine contact_dist_report(p, nrefresh, ghosts, held, whole)
+    module subroutine contact_dist_report(p, nrefresh, ghosts, held, whole, facets, nfw)
       type(contact_pair_t), intent(in) :: p
       integer, intent(out) :: nrefresh(2)
       real(wp), intent(out) :: ghosts(2)
       !> the most particles each side's arrays held on this rank (own and ghosts), and
       !! each side's body's count
       integer, intent(out) :: held(2), whole(2)
+      !> 3D: the facets each side keeps on this rank (those of its own particles), and
+      !! the count of its whole surface's (0: a plane side)
+      integer, intent(out) :: facets(2), nfw(2)
     end subroutine contact_dist_report
   end interface
 

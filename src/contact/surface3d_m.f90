@@ -30,7 +30,7 @@ module surface3d_m
   use geometry_m, only: cross => cross3
   implicit none
   private
-  public :: surface3d_t, surface3d_build, surface3d_update, surface3d_gap, surface3d_subset
+  public :: surface3d_t, surface3d_build, surface3d_update, surface3d_gap, surface3d_of
   public :: surface3d_vertices
 
   type :: surface3d_t
@@ -144,47 +144,33 @@ contains
     if (geometry) call surface3d_refresh(s)
   end subroutine surface3d_build
 
-  !> The facets of full whose three vertices are held, in their order, as a surface of
-  !! their own over the vertices' positions x (3, :) (m): a rank's share of a deforming
-  !! master on ranks (contact_dist_sm). num (3, nf): each facet's vertices' numbers in the
-  !! subset's numbering (the rank's particles), 0 for a vertex not held (the facet is left
-  !! out). An edge partner left out is 0, and a vertex or an edge whose facets are not all
-  !! kept gets a partial pseudo-normal, so only a point whose closest point and the facets
-  !! around that point's features are all kept gets full's gap, normal, facet (numbered in
-  !! the subset, in full's order, so that ties fall the same way) and barycentric
-  !! coordinates, to the bit. Of full only its facets, their edge partners and its cell
-  !! are read (its geometry may have been freed).
-  subroutine surface3d_subset(full, num, x, s)
-    type(surface3d_t), intent(in) :: full
-    integer, intent(in) :: num(:, :)
-    real(wp), intent(in) :: x(:, :)
+  !> Some facets of a larger surface as a surface of their own over the vertices'
+  !! positions x (3, :) (m): a rank's share of a deforming master on ranks
+  !! (contact_dist_sm: the facets whose three vertices the rank holds, in the whole
+  !! surface's order). tri (3, nf): each facet's vertices' places in x; partner (3, nf):
+  !! each edge's other facet's place among these, 0 when left out; cell: the whole
+  !! surface's bins' cell size (m). A vertex or an edge whose facets are not all kept gets
+  !! a partial pseudo-normal, so only a point whose closest point and the facets around
+  !! that point's features are all kept gets the whole surface's gap, normal, facet
+  !! (numbered among these, in the whole surface's order, so that ties fall the same way)
+  !! and barycentric coordinates, to the bit.
+  subroutine surface3d_of(tri, partner, cell, x, s)
+    integer, intent(in) :: tri(:, :), partner(:, :)
+    real(wp), intent(in) :: cell, x(:, :)
     type(surface3d_t), intent(inout) :: s
-    integer :: m, k, n
-    integer, allocatable :: new(:)
-    allocate(new(full%nf))
-    new = 0
-    n = 0
-    do m = 1, full%nf
-      if (any(num(:, m) == 0)) cycle
-      n = n + 1
-      new(m) = n
-    end do
+    integer :: n
+    n = size(tri, 2)
     s%nf = n
     if (allocated(s%tri)) deallocate(s%tri, s%partner, s%fn, s%en)
-    allocate(s%tri(3, n), s%partner(3, n), s%fn(3, n), s%en(3, 3, n))
-    do m = 1, full%nf
-      if (new(m) == 0) cycle
-      s%tri(:, new(m)) = num(:, m)
-      do k = 1, 3
-        s%partner(k, new(m)) = new(full%partner(k, m))
-      end do
-    end do
+    allocate(s%fn(3, n), s%en(3, 3, n))
+    s%tri = tri
+    s%partner = partner
     call vertices_of(s)
     if (allocated(s%vn)) deallocate(s%vn)
     allocate(s%vn(3, size(s%vid)))
-    s%cell = full%cell
+    s%cell = cell
     call surface3d_update(s, x)
-  end subroutine surface3d_subset
+  end subroutine surface3d_of
 
   !> The distinct vertex numbers of the facets tri (3, nf), ascending, by sorting the
   !! facets' corners (no array over the body's particles, whose numbers they are).

@@ -777,7 +777,7 @@ contains
     type(contact_pair_t), intent(inout) :: pairs(:)
     type(run_record_t), intent(in) :: r
     integer(i64) :: loc(2), tot(2), b(1), bt(1)
-    integer :: k, ng(2), ngt(2), nref(2), held(2), whole(2)
+    integer :: k, ng(2), ngt(2), nref(2), held(2), whole(2), nfac(2), nfw(2)
     real(wp) :: gh(2), ght(2)
     character(len=240) :: line
     loc = 0
@@ -802,9 +802,10 @@ contains
     call MPI_Allreduce(b, bt, 1, MPI_INTEGER8, MPI_SUM, dom%mcomm)
     do k = 1, size(pairs)
       if (.not. allocated(pairs(k)%dist)) cycle
-      call contact_dist_report(pairs(k), nref, gh, held, whole)
+      call contact_dist_report(pairs(k), nref, gh, held, whole, nfac, nfw)
       call MPI_Allreduce(gh, ght, 2, MPI_DOUBLE_PRECISION, MPI_SUM, dom%mcomm)
       call MPI_Allreduce(MPI_IN_PLACE, held, 2, MPI_INTEGER, MPI_MAX, dom%mcomm)
+      call MPI_Allreduce(MPI_IN_PLACE, nfac, 2, MPI_INTEGER, MPI_MAX, dom%mcomm)
       if (.not. dom%root) cycle
       write(line, '(a,i0,a,i0,a,i0,a,f0.1,a,f0.1,a,es10.3,a)') 'summary: MPI: contact ', &
         k, ': ghost sets refreshed ', nref(1), ' and ', nref(2), &
@@ -816,6 +817,12 @@ contains
       write(line, '(a,i0,a,i0,a,i0,a,i0,a,i0,a)') 'summary: MPI: contact ', k, &
         ': a rank''s sides held at most ', held(1), ' and ', held(2), ' particles (of ', &
         whole(1), ' and ', whole(2), ')'
+      write(*, '(a)') trim(line)
+      ! (3D: of the sides' surfaces, the facets of a rank's own particles, not the whole)
+      if (any(nfw == 0)) cycle
+      write(line, '(a,i0,a,i0,a,i0,a,i0,a,i0,a)') 'summary: MPI: contact ', k, &
+        ': a rank kept at most ', nfac(1), ' and ', nfac(2), ' facets of the sides'' '// &
+        'surfaces (of ', nfw(1), ' and ', nfw(2), ')'
       write(*, '(a)') trim(line)
     end do
   end subroutine mpi_finish

@@ -44,7 +44,9 @@ that proves the refreshes, and this test, see a missed contact).
 With --sides-held-below N (decks whose master deforms, or a self-contact): on N ranks every
 side of every such pair must have held fewer particles on each rank than its body has
 (mfcd_mpi's summary: a rank's sides hold its own particles and its ghosts only, not arrays
-over the whole body; the decks are large enough against the ghost width for that to show).
+over the whole body; the decks are large enough against the ghost width for that to show);
+in 3D each rank must also have kept fewer facets of the sides' surfaces than they have (the
+facets of its own particles, not the whole surface).
 
 With --made NAME (repeatable; a deck of the list, by its name without .nml, with an
 extruded 3D body, of RKPM particles or of tetrahedra): on 2 ranks and
@@ -485,6 +487,15 @@ def main():
                       "than their bodies (own and ghosts only)", len(held) > 0 and all(
                           int(a) < int(c) and int(b) < int(d) for a, b, c, d in held),
                       held or p.stdout[-800:])
+                # (3D: and kept fewer facets than their surfaces have: their own particles')
+                kept = re.findall(r"a rank kept at most (\d+) and (\d+) facets of the sides' "
+                                  r"surfaces \(of (\d+) and (\d+)\)", p.stdout)
+                if re.search(r"ndim\s*=\s*3", open(src).read()):
+                    check(f"{name}, {n} ranks: each rank kept fewer facets of the sides' "
+                          "surfaces than they have (its own particles' only)",
+                          len(kept) > 0 and all(int(a) < int(c) and int(b) < int(d)
+                                                for a, b, c, d in kept),
+                          kept or p.stdout[-800:])
             if p.returncode == 0 and name in MADE and n >= 2:
                 made = re.findall(r"made per rank .*?, at most (\d+) particles(?: \(nodes\))? "
                                   r"on a rank, of "
