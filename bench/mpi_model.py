@@ -109,6 +109,15 @@ MESH_READ_BYTES_3D = 640.0    # B read by every rank per node of the whole mesh 
 MESH_READ_PART_BYTES_3D = 820.0  # B read by a rank per node of its part (measured)
 RANK_READ_BANDWIDTH = 1.0e9   # B/s one rank reads from the file system (assumed)
 MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
+# a deforming master's or a self-contact's side takes the whole closed surface once at the
+# set-up (dynamic_setup_m side_facts: the facets, and the lean surface's facets, vertices'
+# places, edge partners, vertices' numbers and positions, about two facets a vertex), until
+# the split keeps each rank's own facets (since 2026-12-01; before, every rank kept the
+# whole surface's facets through the run): from the arrays' sizes, not measured
+SIDE_SURFACE_BYTES_3D = 12.0 + 36.0 + 0.5 * (4.0 + 24.0)  # B per facet of the whole surface
+# facets per particle of the whole body: a cube of N lattice particles has 6 N^(2/3) on its
+# faces, two facets each; the weak bench's thin quarter bar 0.54 (measured, mfcd_mpi's log)
+THIN_BAR_FACETS = 0.54
 STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)
 
 
@@ -217,6 +226,20 @@ def main_3d(out):
     for p in ranks:
         a, b = largest_part_3d(p), largest_part_3d(p, 0.0)
         print(f"| {p} | {a:.3g} | {p * a:.3g} | {b:.3g} | {p * b:.3g} |")
+    print("\n3D, a deforming master's or a self-contact's side: the whole surface each rank "
+          f"takes once at the set-up ({SIDE_SURFACE_BYTES_3D:.0f} B a facet, GiB), for a "
+          "cube (12 N^(2/3) facets of N particles) and for a body as thin as the weak "
+          f"bench's bar ({THIN_BAR_FACETS} a particle); the time loop keeps the part's only")
+    print("| ranks | cube, 1e5 a rank | cube, 1e6 a rank | thin bar, 1e5 a rank | thin bar, "
+          "1e6 a rank |")
+    print("|---|---|---|---|---|")
+    for p in ranks:
+        cells = []
+        for facets in (lambda n: 12.0 * (p * n) ** (2.0 / 3.0),
+                       lambda n: THIN_BAR_FACETS * p * n):
+            for n in (1.0e5, 1.0e6):
+                cells.append(f"{facets(n) * SIDE_SURFACE_BYTES_3D / 2 ** 30:.3g}")
+        print(f"| {p} | " + " | ".join(cells) + " |")
     axs[0].plot([2], [100 * MEASURED_3D], "^", ms=9,
                 label="measured, 2 ranks (3D Taylor quarter, 37,467 particles per rank)")
     axs[0].plot(list(MEASURED_WEAK_16), [100 * e for e in MEASURED_WEAK_16.values()], "kv",
