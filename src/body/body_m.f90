@@ -132,8 +132,8 @@ module body_m
     type(extrusion_t), allocatable :: ext
     !> A body of tetrahedra read per part from its mesh file (mesh_file_t); facet_key: the
     !! rank's facets of it (those whose smallest node is in its share), each with its place
-    !! 4 (e - 1) + f in the whole mesh's order (tetrahedron e, face f), until rank 0 holds
-    !! them all in that order (tet_file_m tet_file_facets)
+    !! 4 (e - 1) + f in the whole mesh's order (tetrahedron e, face f), until the ranks
+    !! hold them in rows in that order (tet_file_m tet_file_facets: facet0, nfacets)
     type(mesh_file_t), allocatable :: mfile
     integer, allocatable :: facet_key(:)
     !> Some particles of a larger body (extrude_pick: a rank's region): x, vol, rho and

@@ -101,7 +101,7 @@ contains
   !! path, the whole mesh's longest edge and extent), its spacing volume_spacing's of the
   !! file's volume column (serial too: body_setup_m), and its facets whose smallest node
   !! is in the share with their places in the whole mesh (facet_key; tet_file_facets
-  !! gathers them). local: the longest edge at each node of the share (the supports').
+  !! puts them in rows over the ranks). local: the longest edge at each node of the share (the supports').
   !!
   !! The whole file's checks (the serial reading's, in its order: the node numbers, the
   !! index's shape, finite values, each node in its index box, positive volumes, each
