@@ -109,15 +109,22 @@ MESH_READ_BYTES_3D = 640.0    # B read by every rank per node of the whole mesh 
 MESH_READ_PART_BYTES_3D = 820.0  # B read by a rank per node of its part (measured)
 RANK_READ_BANDWIDTH = 1.0e9   # B/s one rank reads from the file system (assumed)
 MEM_PER_RANK = 4.0 * 2 ** 30  # B of memory per rank (a core's share of a node, assumed)
-# a deforming master's or a self-contact's side takes the whole closed surface once at the
-# set-up (dynamic_setup_m side_facts: the facets, and the lean surface's facets, vertices'
-# places, edge partners, vertices' numbers and positions, about two facets a vertex), until
-# the split keeps each rank's own facets (since 2026-12-01; before, every rank kept the
-# whole surface's facets through the run): from the arrays' sizes, not measured
+# a deforming master's or a self-contact's side took the whole closed surface once at the
+# set-up until 2026-12-01 (dynamic_setup_m side_facts: the facets, and the lean surface's
+# facets, vertices' places, edge partners, vertices' numbers and positions, about two
+# facets a vertex), until the split kept each rank's own facets; since then the facets with
+# a vertex in the rank's region only (side_surface_m), the same bytes a facet kept: from
+# the arrays' sizes, not measured
 SIDE_SURFACE_BYTES_3D = 12.0 + 36.0 + 0.5 * (4.0 + 24.0)  # B per facet of the whole surface
 # facets per particle of the whole body: a cube of N lattice particles has 6 N^(2/3) on its
 # faces, two facets each; the weak bench's thin quarter bar 0.54 (measured, mfcd_mpi's log)
 THIN_BAR_FACETS = 0.54
+# the most facets near a rank's region against the whole surface's share a rank (W / p):
+# the weak bench's bar with its self-contact (SELF=1 bash bench/mpi_weak_3d.sh, 18,700
+# particles a rank, 2026-12-01: doc/parallel.md) 11,340 of 78,476 on 8 ranks (9,810 a
+# share), the same 11,340 on 4: an interior rank's region; a larger part has a thinner
+# halo against it, so this overstates 10^5-10^6 a rank
+NEAR_REGION_FACTOR = 1.16
 STEPS_PER_SNAPSHOT = 1000     # steps between snapshots (assumed)
 
 
@@ -226,19 +233,29 @@ def main_3d(out):
     for p in ranks:
         a, b = largest_part_3d(p), largest_part_3d(p, 0.0)
         print(f"| {p} | {a:.3g} | {p * a:.3g} | {b:.3g} | {p * b:.3g} |")
-    print("\n3D, a deforming master's or a self-contact's side: the whole surface each rank "
-          f"takes once at the set-up ({SIDE_SURFACE_BYTES_3D:.0f} B a facet, GiB), for a "
-          "cube (12 N^(2/3) facets of N particles) and for a body as thin as the weak "
-          f"bench's bar ({THIN_BAR_FACETS} a particle); the time loop keeps the part's only")
-    print("| ranks | cube, 1e5 a rank | cube, 1e6 a rank | thin bar, 1e5 a rank | thin bar, "
-          "1e6 a rank |")
+    print("\n3D, a deforming master's or a self-contact's side at the set-up "
+          f"({SIDE_SURFACE_BYTES_3D:.0f} B a facet, GiB): the whole surface every rank took "
+          "until 2026-12-01, and the facets near its region now "
+          f"({NEAR_REGION_FACTOR} x the most a part has, measured), for a cube "
+          "(12 N^(2/3) facets of N particles) and for a body as thin as the weak bench's bar "
+          f"({THIN_BAR_FACETS} a particle); the time loop keeps the part's only")
+    print("| ranks | cube, 1e5 a rank, whole / near | cube, 1e6 a rank, whole / near | "
+          "thin bar, 1e5 a rank, whole / near | thin bar, 1e6 a rank, whole / near |")
     print("|---|---|---|---|---|")
     for p in ranks:
         cells = []
-        for facets in (lambda n: 12.0 * (p * n) ** (2.0 / 3.0),
-                       lambda n: THIN_BAR_FACETS * p * n):
+        # (the whole surface's facets, and the most a part has: a cube's corner part three
+        # faces of n^(2/3) particles, two facets each; the thin bar's surface is spread
+        # along it, a part's share)
+        for facets, part in ((lambda n: 12.0 * (p * n) ** (2.0 / 3.0),
+                              lambda n: 6.0 * n ** (2.0 / 3.0)),
+                             (lambda n: THIN_BAR_FACETS * p * n,
+                              lambda n: THIN_BAR_FACETS * n)):
             for n in (1.0e5, 1.0e6):
-                cells.append(f"{facets(n) * SIDE_SURFACE_BYTES_3D / 2 ** 30:.3g}")
+                whole = facets(n) * SIDE_SURFACE_BYTES_3D / 2 ** 30
+                near = min(whole, NEAR_REGION_FACTOR * max(part(n) * SIDE_SURFACE_BYTES_3D
+                                                           / 2 ** 30, whole / p))
+                cells.append(f"{whole:.3g} / {near:.3g}")
         print(f"| {p} | " + " | ".join(cells) + " |")
     axs[0].plot([2], [100 * MEASURED_3D], "^", ms=9,
                 label="measured, 2 ranks (3D Taylor quarter, 37,467 particles per rank)")

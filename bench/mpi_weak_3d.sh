@@ -67,7 +67,7 @@ for n in "${ranks[@]}"; do
     'exec /usr/bin/time -o "mem.$OMPI_COMM_WORLD_RANK" -f "%M" "$1" t.nml' sh \
     "$bin/mfcd_mpi" > log.txt 2> err.txt) || { tail -5 "$work/err.txt"; exit 1; }
   grep -m1 -E "^mfcd .*\(git " "$work/log.txt" | sed -e 's/^/  /'
-  grep -E "body 'bar':.*nodes|summary: [0-9]+ steps|summary: time loop|resident memory|mfcd_mpi: read|facets in rows|facets of the sides" "$work/log.txt" \
+  grep -E "body 'bar':.*nodes|summary: [0-9]+ steps|summary: time loop|resident memory|mfcd_mpi: read|facets in rows|facets of the sides|facets near each rank" "$work/log.txt" \
     | sed -e 's/^/  /' -e 's/, material.*kg;/;/'
   for r in $(seq 0 $((n - 1))); do
     printf '  mem rank %d %s kB\n' "$r" "$(cat "$work/mem.$r")"

@@ -7,7 +7,7 @@ module rank_comm_m
   use kinds_m, only: wp, i64
   implicit none
   private
-  public :: rank_comm_t, single_rank_t, share_first, kth_smallest
+  public :: rank_comm_t, single_rank_t, share_first, share_rank, kth_smallest, route_columns
 
   !> The ranks: this one (me, from 0) of nranks. Every procedure is collective.
   type, abstract :: rank_comm_t
@@ -105,6 +105,24 @@ contains
     i = int((int(n, i64)*r)/nranks) + 1
   end function share_first
 
+  !> The rank (from 0, of nranks) whose share (share_first) of n items holds item i
+  !! (1 ... n): the home of a number when the ranks split a range of numbers by it.
+  pure integer function share_rank(i, n, nranks) result(r)
+    integer, intent(in) :: i, n, nranks
+    integer :: lo, hi, mid
+    lo = 0
+    hi = nranks - 1
+    do while (lo < hi)
+      mid = (lo + hi + 1)/2
+      if (share_first(n, mid, nranks) <= i) then
+        lo = mid
+      else
+        hi = mid - 1
+      end if
+    end do
+    r = lo
+  end function share_rank
+
   !> The k-th smallest (from 1) of the values v(:) >= 0 of every rank together, the same
   !! on every rank, without gathering them: a bisection over the doubles' bit patterns
   !! (for values >= 0, -0 taken as 0, they order as the values), one sum of a count over
@@ -195,4 +213,68 @@ contains
     if (.not. allocated(rbuf)) allocate(rbuf(0))
     if (size(to) + size(from) + size(sptr) + size(sbuf) < 0 .or. c%nranks /= 1) continue
   end subroutine single_sparse
+
+  !> The columns buf (w, n) of integers, each to rank dest(j) (from 0), delivered: got (w,
+  !! m) the columns sent to this rank, by the sending rank and in its order (this rank's
+  !! own among them in turn), src (m) the rank each came from. An all-to-all of the
+  !! counts (P numbers a rank), then point to point to the ranks that have some only.
+  !! Collective.
+  subroutine route_columns(comm, dest, buf, got, src)
+    class(rank_comm_t), intent(inout) :: comm
+    integer, intent(in) :: dest(:), buf(:, :)
+    integer, allocatable, intent(out) :: got(:, :)
+    integer, allocatable, intent(out), optional :: src(:)
+    integer, allocatable :: cnt(:), num(:), to(:), from(:), sptr(:), rptr(:), at(:)
+    real(wp), allocatable :: sbuf(:), rbuf(:)
+    integer :: w, np, me, r, j, m, i, k
+    w = size(buf, 1)
+    np = comm%nranks
+    me = comm%me
+    allocate(cnt(np), num(np))
+    cnt = 0
+    do j = 1, size(dest)
+      cnt(dest(j) + 1) = cnt(dest(j) + 1) + 1
+    end do
+    call comm%alltoall_int(cnt, num)
+    to = pack([(r, r = 0, np - 1)], cnt > 0 .and. [(r /= me, r = 0, np - 1)])
+    from = pack([(r, r = 0, np - 1)], num > 0 .and. [(r /= me, r = 0, np - 1)])
+    allocate(sptr(size(to) + 1), at(0:np - 1))
+    sptr(1) = 1
+    do r = 1, size(to)
+      at(to(r)) = sptr(r)
+      sptr(r + 1) = sptr(r) + w*cnt(to(r) + 1)
+    end do
+    allocate(sbuf(sptr(size(to) + 1) - 1))
+    do j = 1, size(dest)
+      r = dest(j)
+      if (r == me) cycle
+      sbuf(at(r):at(r) + w - 1) = real(buf(:, j), wp)
+      at(r) = at(r) + w
+    end do
+    allocate(rptr(size(from) + 1), rbuf(0))
+    call comm%sparse_exchange(to, sptr, sbuf, from, rptr, rbuf)
+    deallocate(sbuf)
+    allocate(got(w, sum(num)))
+    if (present(src)) allocate(src(sum(num)))
+    m = 0
+    k = 1
+    do r = 0, np - 1
+      if (r == me) then
+        do j = 1, size(dest)
+          if (dest(j) /= me) cycle
+          m = m + 1
+          got(:, m) = buf(:, j)
+          if (present(src)) src(m) = me
+        end do
+      else if (k <= size(from)) then
+        if (from(k) /= r) cycle
+        do i = rptr(k), rptr(k + 1) - 1, w
+          m = m + 1
+          got(:, m) = nint(rbuf(i:i + w - 1))
+          if (present(src)) src(m) = r
+        end do
+        k = k + 1
+      end if
+    end do
+  end subroutine route_columns
 end module rank_comm_m

@@ -83,7 +83,8 @@ contains
       if (sd == 1 .and. p%edge > 0) p%edge = sorted_place(ownw, p%edge)
       ! the facets (segments) a rank's subset is taken from at a refresh
       if (s%ndim == 3) then
-        call own_facets(s%surf3, ownw, ds)
+        call own_facets(s%surf3, ownw, ds, err)
+        if (allocated(err)) return
         allocate(ds%glo(3), ds%ghi(3))
       else
         ds%full%nseg = s%surface%nseg
@@ -147,16 +148,20 @@ contains
       s%nlist = ds%nown
     end subroutine own_side
 
-    !> The facets of the whole surface sf (its facets, vertices and partners) with a
-    !! vertex among the own particles (their numbers ownw, ascending), in its order, with
-    !! their vertices' ranks (vowner), and each own particle's facets among them
-    !! (dist_side_t fid ...; surface-sized for the part, not for the body).
-    subroutine own_facets(sf, ownw, ds)
+    !> The facets of the surface sf (its facets, vertices and partners: the whole surface,
+    !! or the part near the rank's region, whose facets' and partners' numbers are the
+    !! whole surface's: sf%fid) with a vertex among the own particles (their numbers ownw,
+    !! ascending), in its order, with their vertices' ranks (vowner), and each own
+    !! particle's facets among them (dist_side_t fid ...; surface-sized for the part, not
+    !! for the body). A part without a partner of such a facet (the region did not reach
+    !! a facet's vertices) is refused (err).
+    subroutine own_facets(sf, ownw, ds, err)
       type(surface3d_t), intent(in) :: sf
       integer, intent(in) :: ownw(:)
       type(dist_side_t), intent(inout) :: ds
+      type(error_t), allocatable, intent(inout) :: err
       integer :: m, e, n, k
-      integer, allocatable :: c(:)
+      integer, allocatable :: c(:), fm(:)
       logical, allocatable :: mine(:)
       allocate(mine(sf%nf), c(size(ownw) + 1))
       c = 0
@@ -169,14 +174,22 @@ contains
           c(k + 1) = c(k + 1) + 1
         end do
       end do
-      ds%fid = pack([(m, m = 1, sf%nf)], mine)
-      n = size(ds%fid)
+      fm = pack([(m, m = 1, sf%nf)], mine)
+      n = size(fm)
+      ds%fid = fm
+      if (allocated(sf%fid)) ds%fid = sf%fid(fm)
       allocate(ds%ftri(3, n), ds%fpart(3, n), ds%fown(3, n))
       do m = 1, n
-        ds%ftri(:, m) = sf%tri(:, ds%fid(m))
-        ds%fpart(:, m) = sf%partner(:, ds%fid(m))
-        ds%fown(:, m) = vowner(sf%tv(:, ds%fid(m)))
+        ds%ftri(:, m) = sf%tri(:, fm(m))
+        ds%fpart(:, m) = sf%partner(:, fm(m))
+        ds%fown(:, m) = vowner(sf%tv(:, fm(m)))
       end do
+      if (any(ds%fpart == 0)) then
+        call set_error(err, "the surface of '"//trim(p%side(sd)%name)//"': a facet at a rank's "// &
+          "own particle without the facet across an edge (the rank's region of the body "// &
+          "does not reach one facet beyond its particles): an error of the set-up")
+        return
+      end if
       ! (each own particle's facets: a CSR over the own particles, in the facets' order)
       allocate(ds%vfptr(size(ownw) + 1))
       ds%vfptr(1) = 1
@@ -194,7 +207,7 @@ contains
         end do
       end do
       ds%cell3 = sf%cell
-      ds%nf_whole = sf%nf
+      ds%nf_whole = sf%nf_whole
     end subroutine own_facets
 
     !> The rank owning end (vertex) e, from 1, of segment (facet) kk of the surface the

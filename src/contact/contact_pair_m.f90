@@ -151,10 +151,14 @@ module contact_pair_m
   !! master's or a self-contact's, made per rank) takes of the whole body, found over the
   !! ranks by the set-up (dynamic_setup_m side_facts): det(M)'s interior plateau and its
   !! median at the surface particles (detection_m share_det_medians), the largest support,
-  !! the reference positions' extremes, and the whole closed surface (made from the
-  !! facets' vertices only). Each is the serial side_init's value, to the bit.
+  !! the reference positions' extremes, and the part of the closed surface near the
+  !! rank's region (every facet with a vertex there, surface3d_m surface3d_part: the
+  !! facets, their numbers and partners in the whole surface, their vertices' positions,
+  !! the whole surface's cell size and counts). Each is the serial side_init's value, to
+  !! the bit (the surface's restricted to those facets).
   type :: side_facts_t
     real(wp) :: plateau = 0.0_wp, surface_det = 0.0_wp
+    integer :: nf_most = 0               !< the most facets of the surface a rank took (log)
     real(wp) :: rmax(3) = 0.0_wp, lo(3) = 0.0_wp, hi(3) = 0.0_wp
     type(surface3d_t) :: surf3
   end type side_facts_t
@@ -499,9 +503,11 @@ contains
     end if
     if (bs%ndim == 3) then
       ! (side_init has refused a 3D body without facets)
-      if (p%side(2)%surf3%nf == 0 .or. (isolid_m > 0 .and. p%side(1)%surf3%nf == 0)) then
+      ! (the whole surface's: a side over a rank's region may hold a part without facets)
+      if (p%side(2)%surf3%nf_whole == 0 .or. &
+        (isolid_m > 0 .and. p%side(1)%surf3%nf_whole == 0)) then
         call set_error(err, "body '"//trim(merge(bm%name, bs%name, &
-          p%side(2)%surf3%nf == 0))//"' has no surface facets")
+          p%side(2)%surf3%nf_whole == 0))//"' has no surface facets")
         return
       end if
     else if (p%side(2)%surface%nseg == 0 .or. &
@@ -630,9 +636,9 @@ contains
           "box, an extruded polygon or a cylinder")
         return
       end if
-      ! (over a rank's region the whole surface is read for its facets, vertices,
-      ! partners, cell and reference positions only, until the split takes the rank's
-      ! subset and frees it: without normals or bins)
+      ! (over a rank's region the surface is read for its facets, vertices, partners,
+      ! cell and reference positions only, until the split takes the rank's subset and
+      ! frees it: without normals or bins; the part near the region from facts)
       if (own .and. present(facts)) then
         s%surf3 = facts%surf3
       else if (own) then
@@ -779,7 +785,8 @@ contains
         call mark(s%surf3%tri(2, k))
         call mark(s%surf3%tri(3, k))
       end do
-      s%ncand = size(s%surf3%vid)
+      ! (the whole surface's count, also where the side holds a part of it)
+      s%ncand = s%surf3%nv_whole
     else
       do k = 1, s%surface%nseg
         call mark(s%surface%i0(k))

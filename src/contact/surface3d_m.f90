@@ -27,11 +27,12 @@ module surface3d_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
   use sorting_m, only: sort_index, sorted_place
+  use exact_sum_m, only: exact_sum_t, exact_add, exact_value
   use geometry_m, only: cross => cross3
   implicit none
   private
   public :: surface3d_t, surface3d_build, surface3d_update, surface3d_gap, surface3d_of
-  public :: surface3d_vertices
+  public :: surface3d_vertices, surface3d_part, surface3d_longest
 
   type :: surface3d_t
     integer :: nf = 0
@@ -45,7 +46,13 @@ module surface3d_m
                                              !! (from its vertex k to k + 1)
     real(wp), allocatable :: vn(:, :)        !< (3, nv) vertex pseudo-normals
     integer, allocatable :: partner(:, :)    !< (3, nf) the other facet of edge k of facet
-                                             !! (0 in a subset without it: surface3d_subset)
+                                             !! (0 in a subset without it: surface3d_of)
+    !> a part of a larger surface (surface3d_part: a rank's at the set-up): its facets'
+    !! numbers in the whole, ascending (partner then holds numbers in the whole, 0 for an
+    !! edge whose other facet is not in the part); the whole's facets and vertices (a
+    !! whole surface's own: nf and size(vid))
+    integer, allocatable :: fid(:)
+    integer :: nf_whole = 0, nv_whole = 0
     !> the bins: the grid's corner lo (m), its cell size (m) and cells per axis, and the
     !! facets whose boxes touch cell c, cfac(cptr(c) : cptr(c + 1) - 1) (c numbered x
     !! fastest from 1)
@@ -78,10 +85,6 @@ contains
     integer, intent(in) :: tri(:, :)
     type(error_t), allocatable, intent(inout) :: err
     logical, intent(in), optional :: at_vertices, lean
-    integer :: m, k, a, b, ne, i
-    integer, allocatable :: order(:), ea(:), eb(:), ef(:), ek(:)
-    real(wp), allocatable :: key(:)
-    real(wp) :: top
     logical :: at_v, geometry
     at_v = .false.
     if (present(at_vertices)) at_v = at_vertices
@@ -96,16 +99,89 @@ contains
     else
       s%x = x(:, s%vid)
     end if
-    allocate(s%partner(3, s%nf))
     if (geometry) allocate(s%fn(3, s%nf), s%en(3, 3, s%nf), s%vn(3, size(s%vid)))
     ! edges: each undirected edge (smaller, larger vertex) must appear in two facets
-    ne = 3*s%nf
+    call match_edges(tri, s%partner, err)
+    if (allocated(err)) return
+    ! the bins' cell size: the mean of the facets' longest edges in this configuration,
+    ! their sum exact (so a part's, surface3d_part, is the same from the ranks' rows)
+    s%cell = exact_value(surface3d_longest(s%x, s%tv))/real(max(s%nf, 1), wp)
+    s%nf_whole = s%nf
+    s%nv_whole = size(s%vid)
+    if (geometry) call surface3d_refresh(s)
+  end subroutine surface3d_build
+
+  !> The facets tri (3, nf) (vertex numbers) of a larger closed surface, its facets fid
+  !! (ascending) there, as a lean surface of their own (surface3d_build's lean: facets,
+  !! vertices, positions, partners, cell; no normals or bins) over their vertices'
+  !! positions x (3, nv) (surface3d_vertices(tri)'s, in that order): the part of a body's
+  !! surface a rank's contact sides take at the set-up, every facet with a vertex in the
+  !! rank's region. The partners are numbers in the whole surface: an edge both of whose
+  !! vertices are among inner (ascending: the region's particles, all of whose facets are
+  !! in tri) must be in two facets here, as surface3d_build checks of every edge; another
+  !! gets 0 when its other facet is not here. cell, nf_whole and nv_whole: the whole
+  !! surface's (found over the ranks).
+  subroutine surface3d_part(s, x, tri, fid, inner, cell, nf_whole, nv_whole, err)
+    type(surface3d_t), intent(out) :: s
+    real(wp), intent(in) :: x(:, :), cell
+    integer, intent(in) :: tri(:, :), fid(:), inner(:), nf_whole, nv_whole
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: m, k
+    s%nf = size(tri, 2)
+    s%tri = tri
+    s%fid = fid
+    call vertices_of(s)
+    if (size(x, 2) /= size(s%vid)) error stop 'surface3d_part: x is not at the vertices'
+    s%x = x
+    call match_edges(tri, s%partner, err, inner)
+    if (allocated(err)) return
+    do m = 1, s%nf
+      do k = 1, 3
+        if (s%partner(k, m) > 0) s%partner(k, m) = fid(s%partner(k, m))
+      end do
+    end do
+    s%cell = cell
+    s%nf_whole = nf_whole
+    s%nv_whole = nv_whole
+  end subroutine surface3d_part
+
+  !> The exact sum of the longest edges of the facets tv (3, nf: places in x (3, :), m):
+  !! the bins' cell size times the facets' count (surface3d_build), summed the same from
+  !! the ranks' rows of the facets (surface3d_part's cell).
+  function surface3d_longest(x, tv) result(a)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tv(:, :)
+    type(exact_sum_t) :: a
+    integer :: m
+    do m = 1, size(tv, 2)
+      call exact_add(a, max(norm2(x(:, tv(2, m)) - x(:, tv(1, m))), &
+        norm2(x(:, tv(3, m)) - x(:, tv(2, m))), norm2(x(:, tv(1, m)) - x(:, tv(3, m)))))
+    end do
+  end function surface3d_longest
+
+  !> Each edge's other facet among the facets tri (3, nf) (partner (3, nf): places in
+  !! tri), by sorting the undirected edges (smaller, larger vertex): an edge must be in two
+  !! facets (err: the surface is not closed), with inner (ascending vertex numbers) an
+  !! edge both of whose vertices are among inner only (another, in one facet here, gets 0).
+  subroutine match_edges(tri, partner, err, inner)
+    integer, intent(in) :: tri(:, :)
+    integer, allocatable, intent(out) :: partner(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    integer, intent(in), optional :: inner(:)
+    integer :: m, k, a, b, ne, i, n
+    integer, allocatable :: order(:), ea(:), eb(:), ef(:), ek(:)
+    real(wp), allocatable :: key(:)
+    real(wp) :: top
+    logical :: whole
+    allocate(partner(3, size(tri, 2)))
+    partner = 0
+    ne = 3*size(tri, 2)
     allocate(ea(ne), eb(ne), ef(ne), ek(ne), key(ne), order(ne))
     ! (any factor above the largest number orders the edges alike)
     top = 1.0_wp
     if (size(tri) > 0) top = real(maxval(tri) + 1, wp)
     i = 0
-    do m = 1, s%nf
+    do m = 1, size(tri, 2)
       do k = 1, 3
         i = i + 1
         a = tri(k, m)
@@ -120,29 +196,30 @@ contains
     call sort_index(key, order)
     i = 1
     do while (i <= ne)
-      if (i == ne) then
+      ! (the run of facets of this edge)
+      n = 1
+      do while (i + n <= ne)
+        if (key(order(i + n)) /= key(order(i))) exit
+        n = n + 1
+      end do
+      whole = .true.
+      if (present(inner)) whole = sorted_place(inner, ea(order(i))) > 0 .and. &
+        sorted_place(inner, eb(order(i))) > 0
+      if (n == 1 .and. whole .and. i == ne) then
         call set_error(err, 'the surface is not closed: an edge belongs to one facet')
         return
       end if
-      if (key(order(i + 1)) /= key(order(i)) .or. &
-        (i + 2 <= ne .and. key(order(min(i + 2, ne))) == key(order(i)))) then
+      if (n > 2 .or. (n == 1 .and. whole)) then
         call set_error(err, 'the surface is not closed: edge '//'of one or of three facets')
         return
       end if
-      s%partner(ek(order(i)), ef(order(i))) = ef(order(i + 1))
-      s%partner(ek(order(i + 1)), ef(order(i + 1))) = ef(order(i))
-      i = i + 2
+      if (n == 2) then
+        partner(ek(order(i)), ef(order(i))) = ef(order(i + 1))
+        partner(ek(order(i + 1)), ef(order(i + 1))) = ef(order(i))
+      end if
+      i = i + n
     end do
-    ! the bins' cell size: the mean of the facets' longest edges in this configuration
-    s%cell = 0.0_wp
-    do m = 1, s%nf
-      s%cell = s%cell + max(norm2(s%x(:, s%tv(2, m)) - s%x(:, s%tv(1, m))), &
-        norm2(s%x(:, s%tv(3, m)) - s%x(:, s%tv(2, m))), &
-        norm2(s%x(:, s%tv(1, m)) - s%x(:, s%tv(3, m))))
-    end do
-    s%cell = s%cell/real(max(s%nf, 1), wp)
-    if (geometry) call surface3d_refresh(s)
-  end subroutine surface3d_build
+  end subroutine match_edges
 
   !> Some facets of a larger surface as a surface of their own over the vertices'
   !! positions x (3, :) (m): a rank's share of a deforming master on ranks

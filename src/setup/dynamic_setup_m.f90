@@ -14,7 +14,7 @@ module dynamic_setup_m
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
   use sorting_m, only: sorted_place
-  use generators_m, only: extrude_pick, extrude_count, extruded_particle, extruded_facet
+  use generators_m, only: extrude_pick, extrude_count
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part, region_of, &
     region_rows
   use solid_tables_m, only: solid_tables_t
@@ -22,7 +22,8 @@ module dynamic_setup_m
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
-  use tet_file_m, only: tet_file_region, tet_file_positions, tet_file_count, tet_file_facets_whole
+  use tet_file_m, only: tet_file_region, tet_file_count
+  use side_surface_m, only: side_surface
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin, &
     solid_np_whole, solid_nq_whole
   use material_m, only: material_constant_names, material_constant
@@ -31,7 +32,6 @@ module dynamic_setup_m
     detector_det_m, detector_nts, detector_name, side_facts_t
   use rk_cloud_m, only: rk_cloud_t, cloud_init
   use detection_m, only: share_det_medians, deep_particles, det_at_points
-  use surface3d_m, only: surface3d_build, surface3d_vertices
   implicit none
   private
   public :: setup_solids, setup_contacts, setup_time_step, dynamic_setup_t, setup_dynamic
@@ -911,10 +911,13 @@ contains
     type(side_facts_t), allocatable, target :: facts(:)
     type(side_facts_t), pointer :: fs, fm
     logical, allocatable :: made(:)
+    logical :: loud
     type(body_t), pointer :: bsp, bmp
     integer, pointer :: rs(:), rm(:)
     allocate(facts(deck%nbodies), made(deck%nbodies))
     made = .false.
+    loud = .true.
+    if (present(quiet)) loud = .not. quiet
     allocate(pairs(deck%ncontacts))
     do k = 1, deck%ncontacts
       associate (cs => deck%contacts(k))
@@ -1036,33 +1039,41 @@ contains
       f => facts(kb)
       if (made(kb)) return
       if (.not. present(part)) error stop 'setup_contacts: a share without the ranks'
-      call side_facts(part%comm, bodies(kb), facts(kb), e2)
+      call side_facts(part%comm, bodies(kb), bp%glob, facts(kb), e2)
       made(kb) = .true.
+      if (allocated(e2) .or. .not. loud) return
+      write(output_unit, '(a,i0,a,i0,a)') 'contact: the sides of '''//trim(bodies(kb)%name)// &
+        ''' took at the set-up the facets near each rank''s region, at most ', &
+        facts(kb)%nf_most, ' of its ', facts(kb)%surf3%nf_whole, ' on a rank'
     end subroutine side_of
   end subroutine setup_contacts
 
   !> What the sides over a rank's region of body b take of the whole body (contact_pair_m
   !! side_facts_t), when the rank holds only its share of b (b%held_share: made from its
-  !! recipe b%ext, generators_m): side_facts_local's, then det(M)'s plateau and surface
-  !! median over the ranks (detection_m share_det_medians). Each is what side_init makes
-  !! of the whole body, to the bit (test_side_facts; mpi_run_3d_made). Collective; an
-  !! error on a rank reaches every rank.
-  subroutine side_facts(comm, b, f, err)
+  !! recipe b%ext or read from its mesh file): the part of its closed surface with every
+  !! facet that has a vertex among the region's particles inner (ascending numbers in the
+  !! whole body; side_surface_m side_surface: from the ranks' rows of the surface, with
+  !! the whole surface's cell size and counts), side_facts_local's, then det(M)'s plateau
+  !! and surface median over the ranks (detection_m share_det_medians). Each is what
+  !! side_init makes of the whole body, to the bit (test_side_facts; mpi_run_3d_made),
+  !! the surface restricted to those facets. Collective; an error on a rank reaches every
+  !! rank.
+  subroutine side_facts(comm, b, inner, f, err)
     class(rank_comm_t), intent(inout) :: comm
     type(body_t), intent(in) :: b
+    integer, intent(in) :: inner(:)
     type(side_facts_t), intent(out) :: f
     type(error_t), allocatable, intent(inout) :: err
     real(wp), allocatable :: det(:)
     logical, allocatable :: deep(:)
-    integer, allocatable :: whole(:, :)
-    real(wp) :: flag(1)
-    ! (a mesh file's facets: the ranks' rows, gathered; an extruded body's from its recipe)
-    if (allocated(b%mfile) .and. allocated(b%facets)) then
-      call tet_file_facets_whole(b, comm, whole)
-      call side_facts_local(b, f, det, deep, err, whole)
-    else
-      call side_facts_local(b, f, det, deep, err)
-    end if
+    real(wp) :: flag(1), most(1)
+    ! (a body whose generator could not close its surface has none: side_init says so)
+    if (allocated(b%facets)) call side_surface(comm, b, inner, f%surf3, err)
+    most = real(f%surf3%nf, wp)
+    call comm%max_real(most)
+    f%nf_most = nint(most(1))
+    if (.not. allocated(err)) call side_facts_local(b, f, det, deep, err)
+    if (.not. allocated(det)) allocate(det(0), deep(0))
     flag = 0.0_wp
     if (allocated(err)) flag = 1.0_wp
     call comm%max_real(flag)
@@ -1075,29 +1086,22 @@ contains
   end subroutine side_facts
 
   !> side_facts' part that needs no other rank, of body b held as a rank's share: the
-  !! extremes of the reference positions from the first and last layers (the section is
-  !! every layer's) and the largest support (the recipe's); the whole closed surface from
-  !! the facets (whole: given, a mesh file's gathered; else made from the recipe) and
-  !! their vertices' positions made from the recipe or read from the mesh file
-  !! (surface-sized; lean, as side_init builds it over a rank's region); det(M)
-  !! at the share's particles and whether each is deep (detection_m deep_particles), in a
-  !! cloud of the particles within a support of them (and a spacing) on the whole cloud's
-  !! bins' grid, so that every sum runs in the whole cloud's order.
-  subroutine side_facts_local(b, f, det, deep, err, whole)
+  !! extremes of the reference positions (a mesh file's from its extent; an extruded
+  !! body's from its first and last layers: the section is every layer's) and the largest
+  !! support (the file's longest edge times the factors, or the recipe's); det(M) at the
+  !! share's particles and whether each is deep (detection_m deep_particles), in a cloud
+  !! of the particles within a support of them (and a spacing) on the whole cloud's bins'
+  !! grid, so that every sum runs in the whole cloud's order.
+  subroutine side_facts_local(b, f, det, deep, err)
     type(body_t), intent(in) :: b
-    type(side_facts_t), intent(out) :: f
+    type(side_facts_t), intent(inout) :: f
     real(wp), allocatable, intent(out) :: det(:)
     logical, allocatable, intent(out) :: deep(:)
     type(error_t), allocatable, intent(inout) :: err
-    integer, intent(in), optional :: whole(:, :)
-    integer, allocatable :: fac(:, :)
     type(body_t) :: ends, near
     type(rk_cloud_t) :: c
-    integer :: n, j, none(2), nv, g, k
-    real(wp) :: nowhere(2), lo(3), hi(3), reach(3), vol
-    real(wp), allocatable :: xv(:, :)
-    integer, allocatable :: vid(:)
-    logical :: bnd
+    integer :: n, j, none(2)
+    real(wp) :: nowhere(2), lo(3), hi(3), reach(3)
     none = 0
     nowhere = 0.0_wp
     if (allocated(b%mfile)) then
@@ -1114,69 +1118,27 @@ contains
       f%hi = maxval(ends%x, dim=2)
       f%rmax = b%ext%rho
     end if
-    ! the surface's vertices (ascending) and their positions from the recipe (none when
-    ! the section has no triangulation that closes it: side_init says so, as serially)
-    if (.not. allocated(b%facets)) then
-      call share_dets()
-      return
+    ! the share's particles and those within a support of them (and a spacing)
+    n = size(b%x, 2)
+    reach = f%rmax + maxval(b%spacing)
+    lo = huge(1.0_wp)
+    hi = -huge(1.0_wp)
+    if (n > 0) then
+      lo = minval(b%x, dim=2) - reach
+      hi = maxval(b%x, dim=2) + reach
     end if
-    if (present(whole)) then
-      fac = whole
-    else if (b%facet0 > 0 .and. allocated(b%ext)) then
-      allocate(fac(3, b%nfacets))
-      do j = 1, b%nfacets
-        fac(:, j) = extruded_facet(b%ext, j)
-      end do
-    else
-      fac = b%facets
-    end if
-    vid = surface3d_vertices(fac)
-    nv = size(vid)
     if (allocated(b%mfile)) then
-      ! (read from the file)
-      call tet_file_positions(b, vid, xv, err)
+      call tet_file_region(b, lo, hi, near, err)
       if (allocated(err)) return
     else
-      allocate(xv(3, nv))
-      do j = 1, nv
-        g = vid(j) - 1
-        k = g/b%ext%n2
-        call extruded_particle(b%ext, g - k*b%ext%n2 + 1, k + 1, xv(:, j), vol, bnd)
-      end do
+      call extrude_pick(b, 1, huge(1), lo, hi, 0, none, nowhere, near)
     end if
-    call surface3d_build(f%surf3, xv, fac, err, at_vertices=.true., lean=.true.)
-    if (allocated(err)) then
-      err%message = "body '"//trim(b%name)//"': "//err%message
-      return
-    end if
-    call share_dets()
-
-  contains
-
-    !> det(M) and the deep flags at the share's particles
-    subroutine share_dets()
-      ! the share's particles and those within a support of them (and a spacing)
-      n = size(b%x, 2)
-      reach = f%rmax + maxval(b%spacing)
-      lo = huge(1.0_wp)
-      hi = -huge(1.0_wp)
-      if (n > 0) then
-        lo = minval(b%x, dim=2) - reach
-        hi = maxval(b%x, dim=2) + reach
-      end if
-      if (allocated(b%mfile)) then
-        call tet_file_region(b, lo, hi, near, err)
-        if (allocated(err)) return
-      else
-        call extrude_pick(b, 1, huge(1), lo, hi, 0, none, nowhere, near)
-      end if
-      call cloud_init(c, near%x, near%rho, near%vol, b%kid, b%wshape, b%bid, b%h(1:3), err, &
-        grid_lo=f%lo, grid_hi=f%hi, rmax=f%rmax)
-      if (allocated(err)) return
-      allocate(det(n))
-      call det_at_points(c, b%x, det)
-      deep = deep_particles(c, near%boundary, b%x, b%rho)
-    end subroutine share_dets
+    call cloud_init(c, near%x, near%rho, near%vol, b%kid, b%wshape, b%bid, b%h(1:3), err, &
+      grid_lo=f%lo, grid_hi=f%hi, rmax=f%rmax)
+    if (allocated(err)) return
+    allocate(det(n))
+    call det_at_points(c, b%x, det)
+    deep = deep_particles(c, near%boundary, b%x, b%rho)
   end subroutine side_facts_local
   !> The time-step policy: the deck's fixed dt, or (dt = 0) cfl x the critical step that
   !! follows the deformation; calibrated once against the power iteration, on the ranks'

@@ -22,7 +22,7 @@ module tet_file_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
   use sorting_m, only: sort_index, radix_index, incidence_csr
-  use rank_comm_m, only: rank_comm_t, share_first
+  use rank_comm_m, only: rank_comm_t, share_first, share_rank, route_columns
   use exact_sum_m, only: exact_sum_t, exact_add, exact_merge, exact_value, exact_allmerge
   use hdf5_io_m, only: h5file_t, h5_open_read, h5_close, h5_has, h5_shape, h5_read_block, &
     h5_read_rows, h5_read
@@ -33,7 +33,6 @@ module tet_file_m
   implicit none
   private
   public :: tet_file_share, tet_file_region, tet_file_facets, tet_file_positions, volume_spacing
-  public :: tet_file_facets_whole
   public :: block_rows, tet_file_count, mesh_index_t, read_index, node_outside, tet_outside
   public :: rows_read, file_error
 
@@ -471,137 +470,39 @@ contains
   !! holding their place's range of the 4 ne (rank_comm_m share_first), which orders its
   !! own; each rank then holds the rows facet0 ... of the surface's nfacets, which the
   !! ranks write into /bodies together (run_output_m body_rows): no rank holds the whole
-  !! surface (a side that needs it gathers it: tet_file_facets_whole). Collective.
+  !! surface (a side takes the part near its region: side_surface_m). Collective.
   subroutine tet_file_facets(bodies, comm)
     type(body_t), intent(inout) :: bodies(:)
     class(rank_comm_t), intent(inout) :: comm
-    real(wp), allocatable :: sbuf(:), rbuf(:), key(:), all(:, :)
-    integer, allocatable :: to(:), from(:), sptr(:), rptr(:), idx(:), fc(:, :), dest(:)
-    integer, allocatable :: cnt(:), got(:), at(:)
-    integer :: k, n, j, r, nk, nr, m, np, nmine
+    real(wp), allocatable :: key(:), all(:, :)
+    integer, allocatable :: idx(:), dest(:), got(:, :)
+    integer :: k, n, j, np
     np = comm%nranks
     do k = 1, size(bodies)
       if (.not. allocated(bodies(k)%facet_key)) cycle
       associate (b => bodies(k))
         n = size(b%facet_key)
-        nk = 4*b%mfile%ne
-        ! (each facet to the rank of its place's range; how many to each, and from each)
-        allocate(dest(n), cnt(np), got(np))
-        cnt = 0
+        ! (each facet, with its place, to the rank of its place's range of the 4 ne)
+        allocate(dest(n))
         do j = 1, n
-          dest(j) = place_rank(b%facet_key(j), nk, np)
-          cnt(dest(j) + 1) = cnt(dest(j) + 1) + 1
+          dest(j) = share_rank(b%facet_key(j), 4*b%mfile%ne, np)
         end do
-        call comm%alltoall_int(cnt, got)
-        to = pack([(r, r = 0, np - 1)], cnt > 0 .and. [(r /= comm%me, r = 0, np - 1)])
-        from = pack([(r, r = 0, np - 1)], got > 0 .and. [(r /= comm%me, r = 0, np - 1)])
-        allocate(sptr(size(to) + 1), at(0:np - 1))
-        sptr(1) = 1
-        do r = 1, size(to)
-          at(to(r)) = sptr(r)
-          sptr(r + 1) = sptr(r) + 4*cnt(to(r) + 1)
-        end do
-        allocate(sbuf(sptr(size(to) + 1) - 1))
-        nmine = cnt(comm%me + 1)
-        nr = sum(got) - got(comm%me + 1)
-        allocate(key(nmine + nr), fc(3, nmine + nr))
-        m = 0
-        do j = 1, n
-          r = dest(j)
-          if (r == comm%me) then
-            m = m + 1
-            key(m) = real(b%facet_key(j), wp)
-            fc(:, m) = b%facets(:, j)
-          else
-            sbuf(at(r)) = real(b%facet_key(j), wp)
-            sbuf(at(r) + 1:at(r) + 3) = real(b%facets(:, j), wp)
-            at(r) = at(r) + 4
-          end if
-        end do
-        allocate(rptr(size(from) + 1), rbuf(0))
-        call comm%sparse_exchange(to, sptr, sbuf, from, rptr, rbuf)
-        nr = (rptr(size(rptr)) - 1)/4
-        do j = 1, nr
-          key(nmine + j) = rbuf(4*j - 3)
-          fc(:, nmine + j) = nint(rbuf(4*j - 2:4*j))
-        end do
+        call route_columns(comm, dest, reshape([(b%facet_key(j), b%facets(:, j), &
+          j = 1, n)], [4, n]), got)
+        key = real(got(1, :), wp)
         allocate(idx(size(key)))
         call sort_index(key, idx)
-        b%facets = fc(:, idx)
+        b%facets = got(2:4, idx)
         ! (the rows before this rank's: the counts of the ranks before it)
         allocate(all(1, np))
         call comm%allgather_real([real(size(key), wp)], all)
         b%facet0 = nint(sum(all(1, 1:comm%me))) + 1
         b%nfacets = nint(sum(all(1, :)))
         deallocate(b%facet_key)
-        deallocate(dest, cnt, got, to, from, sptr, at, sbuf, key, fc, rptr, rbuf, idx, all)
+        deallocate(dest, got, key, idx, all)
       end associate
     end do
   end subroutine tet_file_facets
-
-  !> The rank (from 0, of np) holding place key (1 ... nk) in tet_file_facets: the one
-  !! whose range share_first(nk, r, np) ... holds it.
-  pure integer function place_rank(key, nk, np) result(r)
-    integer, intent(in) :: key, nk, np
-    integer :: lo, hi, mid
-    lo = 0
-    hi = np - 1
-    do while (lo < hi)
-      mid = (lo + hi + 1)/2
-      if (share_first(nk, mid, np) <= key) then
-        lo = mid
-      else
-        hi = mid - 1
-      end if
-    end do
-    r = lo
-  end function place_rank
-
-  !> The whole surface of a body read per part (its rows over the ranks: tet_file_facets)
-  !! on every rank, in its order (the ranks' rows follow each other by rank): what a
-  !! deforming master's or a self-contact's sides take their whole-body facts from
-  !! (dynamic_setup_m side_facts; surface-sized, freed after them). Collective.
-  subroutine tet_file_facets_whole(b, comm, whole)
-    type(body_t), intent(in) :: b
-    class(rank_comm_t), intent(inout) :: comm
-    integer, allocatable, intent(out) :: whole(:, :)
-    real(wp), allocatable :: sbuf(:), rbuf(:)
-    integer, allocatable :: to(:), sptr(:), rptr(:)
-    integer :: n, j, r, m
-    n = size(b%facets, 2)
-    ! (the same message to every other rank)
-    to = pack([(r, r = 0, comm%nranks - 1)], [(r /= comm%me, r = 0, comm%nranks - 1)])
-    allocate(sbuf(3*n*size(to)))
-    do r = 1, size(to)
-      do j = 1, n
-        sbuf(3*n*(r - 1) + 3*j - 2:3*n*(r - 1) + 3*j) = real(b%facets(:, j), wp)
-      end do
-    end do
-    sptr = [(3*n*r + 1, r = 0, size(to))]
-    allocate(rptr(size(to) + 1), rbuf(0))
-    call comm%sparse_exchange(to, sptr, sbuf, to, rptr, rbuf)
-    allocate(whole(3, b%nfacets))
-    ! (the ranks before this one, its own rows, the ranks after)
-    m = 0
-    do r = 1, size(to)
-      if (to(r) > comm%me) exit
-      call take(r)
-    end do
-    whole(:, m + 1:m + n) = b%facets
-    m = m + n
-    do r = 1, size(to)
-      if (to(r) > comm%me) call take(r)
-    end do
-  contains
-    subroutine take(r)
-      integer, intent(in) :: r
-      integer :: i
-      do i = rptr(r), rptr(r + 1) - 1, 3
-        m = m + 1
-        whole(:, m) = nint(rbuf(i:i + 2))
-      end do
-    end subroutine take
-  end subroutine tet_file_facets_whole
 
   ! --- the file, streamed ---------------------------------------------------------------
 

@@ -53,7 +53,10 @@ extruded 3D body, of RKPM particles or of tetrahedra): on 2 ranks and
 more, mfcd_mpi's log must say that each such body was made per rank (each rank its share
 and its region from the body's recipe, never the whole body), and the most particles a rank
 made must be fewer than the body has; and that the surface's facets are in rows over the
-ranks, the most a rank holds fewer than the surface has.
+ranks, the most a rank holds fewer than the surface has; and, where the deck has a
+deforming master or a self-contact, that its sides took at the set-up only the facets near
+each rank's region (dynamic_setup_m side_facts), the most on a rank fewer than the surface
+has.
 
 With --restart N1:N2:EVERY: also run on N1 ranks with &output checkpoint_every = EVERY,
 then continue from its last checkpoint on N2 ranks (`mfcd_mpi --restart`): the snapshots the
@@ -509,6 +512,16 @@ def main():
                 check(f"{name}, {n} ranks: each such body's facets in rows over the ranks, no "
                       "rank holding them all", len(rows) > 0 and all(
                           int(b) < int(a) for a, b in rows), rows or p.stdout[-800:])
+                # (a deforming master's or a self-contact's sides: the facets near a rank's
+                # region at the set-up, none the whole surface)
+                if re.search(r"detection both ways|self-contact of", p.stdout):
+                    near = re.findall(r"took at the set-up the facets near each rank's "
+                                      r"region, at most (\d+) of its (\d+) on a rank",
+                                      p.stdout)
+                    check(f"{name}, {n} ranks: each deforming or self-contact side took the "
+                          "facets near the rank's region at the set-up, not the whole surface",
+                          len(near) > 0 and all(int(a) < int(b) for a, b in near),
+                          near or p.stdout[-800:])
             if p.returncode == rc:
                 compare(f"{name}, {n} rank(s)", os.path.join(work, f"{name}_serial{done}"),
                         os.path.join(sub, f"{name}{done}"))
