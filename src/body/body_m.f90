@@ -9,7 +9,7 @@ module body_m
   implicit none
   private
   public :: body_t, name_len, max_cell_vertices, body_keep_share, body_cell, extrusion_t
-  public :: mesh_file_t
+  public :: mesh_file_t, lattice_t
   public :: body_whole
 
   integer, parameter :: name_len = 64
@@ -57,6 +57,22 @@ module body_m
     !! unallocated when the section has no triangulation that closes it
     integer, allocatable :: ctri(:, :), seg(:, :)
   end type extrusion_t
+
+  !> How a rectangle's particles are made (generators_m make_rectangle): the lattice points
+  !! origin + (i dx, j dy), i = 0 .. n(1) - 1, j = 0 .. n(2) - 1, particle (i + 1) + j n(1),
+  !! each with its lattice cell clipped by the rectangle g (make_polygon's operations, which
+  !! keep exactly these points and merge no cell into them: generators_m lattice_particle);
+  !! then moved by shift when shifted (&body translate) and given the supports rho. Held
+  !! (some 200 B) so that a rank can make just the particles its share and region need
+  !! (generators_m lattice_pick), the same bits as the whole body's.
+  type :: lattice_t
+    integer :: n(2) = 0
+    real(wp) :: origin(2) = 0.0_wp, dx(2) = 0.0_wp
+    type(geometry_t) :: g
+    logical :: shifted = .false.
+    real(wp) :: shift(2) = 0.0_wp
+    real(wp) :: rho(2) = 0.0_wp
+  end type lattice_t
 
   type :: body_t
     character(len=name_len) :: name = ''
@@ -130,6 +146,8 @@ module body_m
     integer, allocatable :: tets(:, :)
     !> An extruded body's recipe (extrusion_t), when its particles can be made per region
     type(extrusion_t), allocatable :: ext
+    !> A rectangle's recipe (lattice_t), when its particles can be made per region
+    type(lattice_t), allocatable :: lat
     !> A body of tetrahedra read per part from its mesh file (mesh_file_t); facet_key: the
     !! rank's facets of it (those whose smallest node is in its share), each with its place
     !! 4 (e - 1) + f in the whole mesh's order (tetrahedron e, face f), until the ranks
@@ -190,6 +208,7 @@ contains
     end if
     b%held_share = .true.
     if (allocated(b%ext)) deallocate(b%ext)
+    if (allocated(b%lat)) deallocate(b%lat)
     ! (a share made as such holds its elements' share already: ncells > 0)
     if (allocated(b%cells) .and. b%ncells == 0) call keep_columns(b%cells, b%ncells, b%cell0)
     if (allocated(b%cell_centre)) deallocate(b%cell_centre)

@@ -7,7 +7,7 @@
 module generators_m
   use kinds_m, only: wp, pi, i64
   use errors_m, only: error_t, set_error
-  use body_m, only: body_t, max_cell_vertices, extrusion_t
+  use body_m, only: body_t, max_cell_vertices, extrusion_t, lattice_t
   use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, geom_prism, &
     geom_cylinder, &
     signed_distance, polygon_area, clip_polygon_box, segment_distance, full_turn_tol
@@ -20,6 +20,7 @@ module generators_m
   public :: make_disk, disk_ring_count, lattice_cells_explicit, extrude_body
   public :: set_supports, perturb_interior, max_perturbation, section_triangles
   public :: extrude_pick, extrude_count, extruded_particle, extruded_facet, extruded_nfacets
+  public :: lattice_particle, lattice_pick, lattice_count, body_pick, body_count
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp
@@ -70,12 +71,18 @@ contains
   end subroutine make_segment
 
   !> n(1) x n(2) particles on [lo, hi] (Example 2.2).
-  subroutine make_rectangle(b, lo, hi, n, err)
+  subroutine make_rectangle(b, lo, hi, n, err, share)
     type(body_t), intent(out) :: b
     real(wp), intent(in) :: lo(2), hi(2)
     integer, intent(in) :: n(2)
     type(error_t), allocatable, intent(inout) :: err
+    !> [me, nranks]: only rank me's share of the particles (rank_comm_m share_first, as
+    !! body_keep_share cuts it: b%held_share, b%row0), made from the recipe (b%lat), with
+    !! the whole boundary loop (its ring's particles only)
+    integer, intent(in), optional :: share(2)
     real(wp) :: v(2, 4), dx(2)
+    integer :: q, q0, q1
+    logical :: ok
     if (any(n < 2) .or. any(hi <= lo)) then
       call set_error(err, 'rectangle needs n >= 2 in each direction and hi > lo')
       return
@@ -85,8 +92,291 @@ contains
     v(:, 2) = [hi(1), lo(2)]
     v(:, 3) = hi
     v(:, 4) = [lo(1), hi(2)]
-    call make_polygon(b, v, dx, lo, err)
+    if (.not. present(share)) then
+      call make_polygon(b, v, dx, lo, err)
+      if (allocated(err)) return
+    else if (int(n(1), i64)*n(2) > int(huge(1), i64)) then
+      call set_error(err, 'rectangle: more than 2**31 - 1 lattice points; give fewer')
+      return
+    end if
+    ! the recipe (a rank makes its share and region from it: lattice_particle)
+    allocate(b%lat)
+    b%lat%n = n
+    b%lat%origin = lo
+    b%lat%dx = dx
+    b%lat%g%kind = geom_polygon
+    b%lat%g%v = v
+    if (.not. present(share)) return
+    b%ndim = 2
+    b%geom = b%lat%g
+    b%np = n(1)*n(2)
+    b%spacing = 0.0_wp
+    b%spacing(1:2) = dx
+    q0 = share_first(b%np, share(1), share(2))
+    q1 = share_first(b%np, share(1) + 1, share(2)) - 1
+    b%held_share = .true.
+    b%row0 = q0
+    ! (particle q at q - q0 + 1: a share's arrays from 1, as body_keep_share leaves them)
+    allocate(b%x(2, q1 - q0 + 1), b%vol(q1 - q0 + 1), b%boundary(q1 - q0 + 1))
+    do q = q0, q1
+      call lattice_particle(b%lat, mod(q - 1, n(1)), (q - 1)/n(1), b%x(:, q - q0 + 1), &
+        b%vol(q - q0 + 1), b%boundary(q - q0 + 1))
+    end do
+    call lattice_loop(b%lat, b, ok)
+    if (.not. ok) call set_error(err, 'rectangle: its lattice is not the n(1) x n(2) '// &
+      'points a rank makes its share of (an internal error of the generator; the serial '// &
+      'run, mfcd, makes it whole)')
   end subroutine make_rectangle
+
+  !> Lattice point (i, j) of rectangle recipe lat (make_rectangle's; i, j from 0): its
+  !! position, volume (its lattice cell clipped by the rectangle) and boundary flag by
+  !! make_polygon's operations in its order, so the same bits, then moved by lat%shift as
+  !! build_body's placement does (unless as_made).
+  pure subroutine lattice_particle(lat, i, j, x, vol, bnd, as_made)
+    type(lattice_t), intent(in) :: lat
+    integer, intent(in) :: i, j
+    real(wp), intent(out) :: x(2), vol
+    logical, intent(out) :: bnd
+    logical, intent(in), optional :: as_made
+    real(wp) :: p(2), sd, w(2, 64)
+    integer :: nw
+    logical :: moved
+    call lattice_point(lat, i, j, p, sd, vol, nw, w)
+    bnd = abs(sd) <= geom_tol*minval(lat%dx) .or. vol < (1.0_wp - geom_tol)* &
+      (lat%dx(1)*lat%dx(2))
+    moved = lat%shifted
+    if (present(as_made)) moved = moved .and. .not. as_made
+    x = p
+    if (moved) x = x + lat%shift
+  end subroutine lattice_particle
+
+  !> make_polygon's look at lattice point (i, j) of recipe lat: its position p, signed
+  !! distance sd to the rectangle, and its clipped cell (w, nw) and area a.
+  pure subroutine lattice_point(lat, i, j, p, sd, a, nw, w)
+    type(lattice_t), intent(in) :: lat
+    integer, intent(in) :: i, j
+    real(wp), intent(out) :: p(2), sd, a, w(2, 64)
+    integer, intent(out) :: nw
+    p = lat%origin + [real(i, wp)*lat%dx(1), real(j, wp)*lat%dx(2)]
+    sd = signed_distance(lat%g, p)
+    call clip_polygon_box(lat%g%v, p - 0.5_wp*lat%dx, p + 0.5_wp*lat%dx, w, nw)
+    a = 0.0_wp
+    if (nw >= 3) a = polygon_area(w, nw)
+  end subroutine lattice_point
+
+  !> The boundary loop of the rectangle of recipe lat into b (make_polygon's: its boundary
+  !! particles in ascending numbers, sorted by edge_key), made from the ring of the
+  !! lattice's outermost points alone; ok: make_polygon keeps exactly the n(1) x n(2)
+  !! points (every point of the ring within the rectangle and a boundary particle, every
+  !! point of the ring around it outside with no piece of its cell inside, which
+  !! make_polygon would merge), so that particle (i + 1) + j n(1) is lattice point (i, j)
+  !! and the ring's particles are the boundary's (an inner cell is the whole lattice box).
+  subroutine lattice_loop(lat, b, ok)
+    type(lattice_t), intent(in) :: lat
+    type(body_t), intent(inout) :: b
+    logical, intent(out) :: ok
+    integer, allocatable :: bl(:), order(:)
+    real(wp), allocatable :: key(:)
+    real(wp) :: x(2), vol, p(2), sd, a, w(2, 64), tol, reach
+    integer :: i, j, k, nb, nw
+    logical :: bnd
+    tol = geom_tol*minval(lat%dx)
+    reach = 0.5_wp*norm2(lat%dx)
+    ok = .true.
+    nb = 0
+    allocate(bl(2*(lat%n(1) + lat%n(2))), key(2*(lat%n(1) + lat%n(2))))
+    do j = -1, lat%n(2)
+      do k = 1, lat%n(1) + 2
+        ! (the rows of the two rings whole, of the others their two ends each side)
+        i = k - 2
+        if (j > 0 .and. j < lat%n(2) - 1) then
+          if (k > 4) exit
+          i = merge(k - 2, lat%n(1) + k - 4, k <= 2)
+        end if
+        if (i > -1 .and. i < lat%n(1) .and. j > -1 .and. j < lat%n(2)) then
+          call lattice_particle(lat, i, j, x, vol, bnd, as_made=.true.)
+          call lattice_point(lat, i, j, p, sd, a, nw, w)
+          ok = ok .and. bnd .and. sd <= tol
+          nb = nb + 1
+          bl(nb) = i + 1 + j*lat%n(1)
+          key(nb) = edge_key(lat%g%v, x)
+        else
+          ! (the ring around: outside, and no piece of its cell inside)
+          call lattice_point(lat, i, j, p, sd, a, nw, w)
+          ok = ok .and. sd > tol .and. (sd >= reach .or. .not. a > 0.0_wp)
+        end if
+      end do
+    end do
+    allocate(order(nb))
+    call sort_index(key(1:nb), order)
+    b%nloops = 1
+    b%loop_ptr = [1, nb + 1]
+    b%loop_idx = bl(order)
+    b%loop_closed = [.true.]
+  end subroutine lattice_loop
+
+  !> Some particles of rectangle b (its recipe b%lat, make_rectangle's: the whole body is
+  !! never made), as extrude_pick takes an extruded body's: those numbered g0 ... g1
+  !! whose reference position, or one of its mirror images across the lines (nplanes of
+  !! them: coordinate normal(m) = pos(m); and across both), lies within [lo, hi] (their
+  !! first two entries); ends: of the lattice's outermost ring only (the whole cloud's
+  !! extremes are theirs and their images'). As body r, in ascending numbers (r%glob, of
+  !! r%np_whole = b%np): positions, volumes, boundary flags and supports (b%lat%rho) the
+  !! whole body's bits; b's description copied (name, kernel, spacing, supports' factors,
+  !! geometry, the recipe); no boundary loops. Only the lattice rows and columns that can
+  !! hold such a particle are walked (a rank's region, not the whole body).
+  subroutine lattice_pick(b, g0, g1, lo, hi, nplanes, normal, pos, r, ends)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: g0, g1, nplanes, normal(:)
+    real(wp), intent(in) :: lo(:), hi(:), pos(:)
+    type(body_t), intent(out) :: r
+    logical, intent(in), optional :: ends
+    integer :: n, pass, i, j, q, k(2, 2)
+    real(wp) :: x(2), vol
+    logical :: bnd, only_ends
+    only_ends = .false.
+    if (present(ends)) only_ends = ends
+    call copy_description(b, r)
+    r%ndim = 2
+    r%lat = b%lat
+    r%np_whole = b%lat%n(1)*b%lat%n(2)
+    ! the lattice indices each axis can take (a position or an image within the box)
+    do i = 1, 2
+      k(i, :) = index_span(i)
+    end do
+    associate (l => b%lat)
+      do pass = 1, 2
+        n = 0
+        do j = k(2, 1), k(2, 2)
+          do i = k(1, 1), k(1, 2)
+            if (only_ends .and. i > 0 .and. i < l%n(1) - 1 .and. j > 0 .and. &
+              j < l%n(2) - 1) cycle
+            q = i + 1 + j*l%n(1)
+            if (q < g0 .or. q > g1) cycle
+            call lattice_particle(l, i, j, x, vol, bnd)
+            if (.not. near(x)) cycle
+            n = n + 1
+            if (pass == 1) cycle
+            r%x(:, n) = x
+            r%vol(n) = vol
+            r%boundary(n) = bnd
+            r%rho(:, n) = l%rho
+            r%glob(n) = q
+          end do
+        end do
+        if (pass == 1) allocate(r%x(2, n), r%vol(n), r%boundary(n), r%rho(2, n), r%glob(n))
+      end do
+    end associate
+    r%np = n
+
+  contains
+
+    !> The lattice indices along axis d (0 ... n(d) - 1) whose coordinate or its image
+    !! across a line normal to d lies within [lo(d), hi(d)], widened by one for rounding
+    !! (near tests each particle exactly)
+    function index_span(d) result(span)
+      integer, intent(in) :: d
+      integer :: span(2), m, ia, ic
+      real(wp) :: o, a, c
+      o = b%lat%origin(d)
+      if (b%lat%shifted) o = o + b%lat%shift(d)
+      span = [index_at(lo(d), o, b%lat%dx(d), b%lat%n(d), .false.), &
+        index_at(hi(d), o, b%lat%dx(d), b%lat%n(d), .true.)]
+      do m = 1, nplanes
+        if (normal(m) /= d) cycle
+        ! (the image of [lo, hi] across the line: [2 pos - hi, 2 pos - lo])
+        a = 2.0_wp*pos(m) - hi(d)
+        c = 2.0_wp*pos(m) - lo(d)
+        ia = index_at(a, o, b%lat%dx(d), b%lat%n(d), .false.)
+        ic = index_at(c, o, b%lat%dx(d), b%lat%n(d), .true.)
+        if (ia <= ic) then
+          span(1) = min(span(1), ia)
+          span(2) = max(span(2), ic)
+        end if
+      end do
+      if (span(1) > span(2)) span = [0, -1]
+    end function index_span
+
+    !> x or one of its images within [lo, hi]
+    pure logical function near(x) result(yes)
+      real(wp), intent(in) :: x(2)
+      real(wp) :: y(2)
+      integer :: m
+      yes = all(x >= lo(1:2)) .and. all(x <= hi(1:2))
+      if (yes .or. nplanes == 0) return
+      do m = 1, nplanes
+        y = x
+        y(normal(m)) = 2.0_wp*pos(m) - y(normal(m))
+        if (all(y >= lo(1:2)) .and. all(y <= hi(1:2))) yes = .true.
+      end do
+      if (nplanes == 2) then
+        y = x
+        y(normal(1:2)) = 2.0_wp*pos(1:2) - y(normal(1:2))
+        if (all(y >= lo(1:2)) .and. all(y <= hi(1:2))) yes = .true.
+      end if
+    end function near
+  end subroutine lattice_pick
+
+  !> The first (upper: last) index i of the lattice coordinates o + i dx, i = 0 ... n - 1,
+  !! at or beyond coordinate y, widened by one (lattice_pick's span)
+  pure integer function index_at(y, o, dx, n, upper) result(i)
+    real(wp), intent(in) :: y, o, dx
+    integer, intent(in) :: n
+    logical, intent(in) :: upper
+    real(wp) :: t
+    ! (a box's infinite sides: the lattice's ends, without overflowing)
+    if (abs(y - o) > real(n + 2, wp)*dx) then
+      t = sign(real(n + 2, wp), y - o)
+    else
+      t = (y - o)/dx
+    end if
+    t = max(-2.0_wp, min(real(n + 1, wp), t))
+    if (upper) then
+      i = min(n - 1, ceiling(t) + 1)
+    else
+      i = max(0, floor(t) - 1)
+    end if
+  end function index_at
+
+  !> Whether any particle of rectangle b (its recipe, lattice_pick's) lies within [lo, hi]
+  !! (their first two entries; 1, else 0), without making the body.
+  integer function lattice_count(b, lo, hi) result(n)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: lo(:), hi(:)
+    type(body_t) :: r
+    integer :: none(2)
+    real(wp) :: nowhere(2)
+    none = 0
+    nowhere = 0.0_wp
+    call lattice_pick(b, 1, b%np, lo, hi, 0, none, nowhere, r)
+    n = min(1, r%np)
+  end function lattice_count
+
+  !> Some particles of b, a body whose particles a rank makes from its recipe (a rectangle,
+  !! lattice_pick; an extruded body, extrude_pick), by that recipe's pick.
+  subroutine body_pick(b, g0, g1, lo, hi, nplanes, normal, pos, r, ends)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: g0, g1, nplanes, normal(:)
+    real(wp), intent(in) :: lo(:), hi(:), pos(:)
+    type(body_t), intent(out) :: r
+    logical, intent(in), optional :: ends
+    if (allocated(b%lat)) then
+      call lattice_pick(b, g0, g1, lo, hi, nplanes, normal, pos, r, ends)
+    else
+      call extrude_pick(b, g0, g1, lo(1:3), hi(1:3), nplanes, normal, pos, r, ends)
+    end if
+  end subroutine body_pick
+
+  !> Whether any particle of b (as body_pick) lies within [lo, hi] (1, else 0).
+  integer function body_count(b, lo, hi) result(n)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: lo(:), hi(:)
+    if (allocated(b%lat)) then
+      n = lattice_count(b, lo, hi)
+    else
+      n = extrude_count(b, lo(1:3), hi(1:3))
+    end if
+  end function body_count
 
   !> Lattice points origin + (i dx, j dy) inside or on the polygon v(2, nv).
   !! A particle's cell is its lattice cell clipped by the polygon. The lattice cells whose
@@ -876,16 +1166,8 @@ contains
     logical :: bnd, only_ends
     only_ends = .false.
     if (present(ends)) only_ends = ends
-    r%name = b%name
-    r%shape = b%shape
+    call copy_description(b, r)
     r%ndim = 3
-    r%spacing = b%spacing
-    r%support_factor = b%support_factor
-    r%h = b%h
-    r%kid = b%kid
-    r%wshape = b%wshape
-    r%bid = b%bid
-    r%geom = b%geom
     if (allocated(b%cell_ptr)) then
       r%cell_ptr = b%cell_ptr
       r%cell_xy = b%cell_xy
@@ -896,9 +1178,6 @@ contains
     r%facet0 = b%facet0
     r%nfacets = b%nfacets
     r%np_whole = b%ext%n2*b%ext%nz
-    r%nloops = 0
-    allocate(r%loop_ptr(1), r%loop_idx(0), r%loop_closed(0))
-    r%loop_ptr = 1
     associate (e => b%ext)
       do pass = 1, 2
         n = 0
@@ -949,6 +1228,26 @@ contains
       end if
     end function near
   end subroutine extrude_pick
+
+  !> What a body made of some of b's particles (extrude_pick, lattice_pick) takes of b's
+  !! description: name, shape, spacing, supports' factors and scale, kernel, window,
+  !! basis, geometry; no boundary loops.
+  subroutine copy_description(b, r)
+    type(body_t), intent(in) :: b
+    type(body_t), intent(inout) :: r
+    r%name = b%name
+    r%shape = b%shape
+    r%spacing = b%spacing
+    r%support_factor = b%support_factor
+    r%h = b%h
+    r%kid = b%kid
+    r%wshape = b%wshape
+    r%bid = b%bid
+    r%geom = b%geom
+    r%nloops = 0
+    allocate(r%loop_ptr(1), r%loop_idx(0), r%loop_closed(0))
+    r%loop_ptr = 1
+  end subroutine copy_description
 
   !> Whether any particle of extruded body b (its recipe, extrude_pick's) lies within [lo,
   !! hi] (1, else 0), without making them.

@@ -38,10 +38,11 @@ module rkpm_tl_m
   use geometry_m, only: geom_polygon, clip_polygon_box
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape, cloud_count_cover
   use neighbour_bins_m, only: bins_candidates
+  use generators_m, only: lattice_pick
   implicit none
   private
   public :: solid_tables_t, tl_build, scheme_scni, scheme_gauss, scheme_direct, scheme_names
-  public :: scheme_id
+  public :: scheme_id, tl_region_2d
   ! (the 3D builder rkpm_tl3d_m integrates its cells' x-y sections with it)
   public :: cell_area_points
 
@@ -95,7 +96,7 @@ contains
     type(rk_cloud_t) :: c
     real(wp), allocatable :: xe(:, :), rhoe(:, :), vole(:)
     integer, allocatable :: twin(:)
-    real(wp) :: tol, reg(2, 2), ext(2)
+    real(wp) :: tol, reg(2, 2), ext(2), lo(2), hi(2)
     integer :: np, ng, i, k
     np = b%np
     t%np = np
@@ -153,7 +154,14 @@ contains
     if (present(box)) then
       reg = box(1:2, :)
       ext = largest_cell(b, scheme)
-      call region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err)
+      if (allocated(b%glob)) then
+        ! (b holds some particles of a rectangle, a rank's region made from its recipe:
+        ! the whole cloud's extremes are those of its outermost ring and their images)
+        call whole_extremes(b, axisym, tol, lo, hi)
+        call region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err, lo, hi)
+      else
+        call region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err)
+      end if
     else
       call cloud_init(c, xe, rhoe, vole, b%kid, b%wshape, b%bid, b%h(1:2), err)
     end if
@@ -197,13 +205,15 @@ contains
   !! support and the largest cell extent ext, one spacing more for rounding), in the same
   !! order, with the whole cloud's extremes and largest supports (cloud_init's grid): the
   !! same shape functions there, to the bit. twin is cut to the region cloud's.
-  subroutine region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err)
+  subroutine region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err, wlo, whi)
     type(body_t), intent(in) :: b
     real(wp), intent(in) :: ext(2), reg(2, 2), xe(:, :), rhoe(:, :), vole(:)
     integer, allocatable, intent(inout) :: twin(:)
     type(rk_cloud_t), intent(out) :: c
     type(error_t), allocatable, intent(inout) :: err
-    real(wp) :: rmax(2), grow(2)
+    !> the whole cloud's extremes when xe is a region's cloud (whole_extremes)
+    real(wp), intent(in), optional :: wlo(2), whi(2)
+    real(wp) :: rmax(2), grow(2), lo(2), hi(2)
     logical, allocatable :: near(:)
     integer :: i
     rmax = maxval(rhoe, dim=2)
@@ -212,11 +222,67 @@ contains
     do i = 1, size(xe, 2)
       near(i) = all(xe(:, i) >= reg(:, 1) - grow) .and. all(xe(:, i) <= reg(:, 2) + grow)
     end do
+    if (present(wlo)) then
+      lo = wlo
+      hi = whi
+    else
+      lo = minval(xe, dim=2)
+      hi = maxval(xe, dim=2)
+    end if
     call cloud_init(c, reshape(pack(xe, spread(near, 1, 2)), [2, count(near)]), &
       reshape(pack(rhoe, spread(near, 1, 2)), [2, count(near)]), pack(vole, near), b%kid, &
-      b%wshape, b%bid, b%h(1:2), err, minval(xe, dim=2), maxval(xe, dim=2), rmax)
+      b%wshape, b%bid, b%h(1:2), err, lo, hi, rmax)
     twin = pack(twin, near)
   end subroutine region_cloud
+
+  !> The extremes [lo, hi] of the whole cloud of rectangle b (particles and their mirror
+  !! images about the axis in axisymmetry, as tl_build makes them; tol its axis
+  !! tolerance) when b holds a rank's region only (made from the recipe: generators_m
+  !! lattice_pick): those of the lattice's outermost ring, whose rows and columns take
+  !! every coordinate a particle or image has (min and max are exact: the same bits).
+  subroutine whole_extremes(b, axisym, tol, lo, hi)
+    type(body_t), intent(in) :: b
+    logical, intent(in) :: axisym
+    real(wp), intent(in) :: tol
+    real(wp), intent(out) :: lo(2), hi(2)
+    type(body_t) :: ring
+    integer :: i, none(1)
+    real(wp) :: nowhere(1)
+    none = 0
+    nowhere = 0.0_wp
+    call lattice_pick(b, 1, huge(1), [-huge(1.0_wp), -huge(1.0_wp)], &
+      [huge(1.0_wp), huge(1.0_wp)], 0, none, nowhere, ring, ends=.true.)
+    lo = minval(ring%x, dim=2)
+    hi = maxval(ring%x, dim=2)
+    if (.not. axisym) return
+    do i = 1, ring%np
+      if (ring%x(1, i) > tol .and. ring%x(1, i) < ring%rho(1, i)) then
+        lo(1) = min(lo(1), -ring%x(1, i))
+        hi(1) = max(hi(1), -ring%x(1, i))
+      end if
+    end do
+  end subroutine whole_extremes
+
+  !> The particles of rectangle b (made from its recipe, generators_m lattice_pick: the
+  !! whole body need not exist) that tl_build's tables for box read: those whose position
+  !! or mirror image about the axis (axisymmetry) lies within the box grown by what
+  !! region_cloud takes (twice the supports, a cell, a spacing) and one spacing more; as
+  !! body r numbered over them (r%glob: their numbers in b), in b's order. tl_build(r, ...,
+  !! box) then makes the same rows as tl_build(b, ..., box), over r's numbers.
+  subroutine tl_region_2d(b, axisym, box, r)
+    type(body_t), intent(in) :: b
+    logical, intent(in) :: axisym
+    real(wp), intent(in) :: box(3, 2)
+    type(body_t), intent(out) :: r
+    real(wp) :: grow(2), pos(1)
+    integer :: normal(1), n
+    grow = 2.0_wp*b%lat%rho + 3.0_wp*b%spacing(1:2)
+    n = 0
+    normal = 1
+    pos = 0.0_wp
+    if (axisym) n = 1
+    call lattice_pick(b, 1, b%np, box(1:2, 1) - grow, box(1:2, 2) + grow, n, normal, pos, r)
+  end subroutine tl_region_2d
 
   !> Piece k of particle i's cell, clipped by the body polygon: vertices cv(2, ncv). Piece 0
   !! is the particle's own lattice cell, pieces 1 .. cell_pieces(b, i) the lattice cells

@@ -13,7 +13,7 @@ module body_setup_m
   use deck_m, only: deck_t, body_spec_t, body_count_var, body_place_var, body_make_vars
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, make_disk, &
-    lattice_cells_explicit, extrude_body, extrude_pick, &
+    lattice_cells_explicit, extrude_body, extrude_pick, body_pick, &
     make_from_arrays, set_supports, perturb_interior
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
@@ -185,9 +185,15 @@ contains
             ! a generated shape may reach up to a spacing beyond its outermost particles
             lo = minval(b%x, dim=2) - maxval(b%spacing(1:2))
             hi = maxval(b%x, dim=2) + maxval(b%spacing(1:2))
+            ! (a rank's share of b: its extent is not b's; its exact shape is the test)
+            if (b%held_share) then
+              lo = -huge(1.0_wp)
+              hi = huge(1.0_wp)
+            end if
             hit = 0
             depth = 0.0_wp
-            do i = 1, a%np
+            ! (a rank's share of a: its particles, numbered row0 ... in the whole body)
+            do i = 1, size(a%x, 2)
               if (any(a%x(:, i) < lo) .or. any(a%x(:, i) > hi)) cycle
               if (b%geom%kind /= geom_none) then
                 depth = -signed_distance(b%geom, a%x(:, i))
@@ -202,7 +208,7 @@ contains
               if (b%geom%kind /= geom_none) how = ' by '//rtoa(depth)//' m'
               call set_error(err, "deck '"//deck%path//"', group &body (body "//itoa(ka)// &
                 ", '"//trim(a%name)//"'), variable "//body_place_var(deck%bodies(ka)%shape)// &
-                ": particle "//itoa(hit)//" at ("//rtoa(a%x(1, hit))//", "// &
+                ": particle "//itoa(hit + max(a%row0, 1) - 1)//" at ("//rtoa(a%x(1, hit))//", "// &
                 rtoa(a%x(2, hit))//") lies inside body '"//trim(b%name)//"'"//how// &
                 " at t = 0: bodies may touch but not overlap (tolerance "//rtoa(tol)// &
                 " m, 1% of the smaller spacing); move or shrink one of them")
@@ -257,7 +263,8 @@ contains
           mesh, e2)
         if (.not. allocated(e2)) call move_alloc(mesh%tri, b%cells)
       else
-        call make_rectangle(b, s%lo(1:2), s%hi(1:2), s%n(1:2), e2)
+        ! (a rank's share only, body_per_part: made from the lattice's recipe)
+        call make_rectangle(b, s%lo(1:2), s%hi(1:2), s%n(1:2), e2, share)
       end if
     case ('polygon')
       if (nd == 3) then
@@ -414,11 +421,17 @@ contains
       call set_supports(b, s%support_factor)
       ! (set_supports' supports, for the particles an extruded body's recipe makes)
       if (allocated(b%ext)) b%ext%rho = s%support_factor(1:3)*b%spacing(1:3)
+      if (allocated(b%lat)) b%lat%rho = s%support_factor(1:2)*b%spacing(1:2)
     end if
     ! an extruded body's recipe is kept where a rank can make its region from it: a
     ! deformable body of a dynamic run, RKPM or tetrahedra (dynamic_setup_m)
     if (allocated(b%ext) .and. (.not. any(s%discretization == ['rkpm', 'fem ']) .or. &
       s%role /= 'deformable' .or. deck%run%mode /= 'dynamic')) deallocate(b%ext)
+    ! and a rectangle's, of a deformable RKPM body of a dynamic run by SCNI that stays on
+    ! its lattice (no perturbation, no rotation: dynamic_setup_m body_per_part)
+    if (allocated(b%lat) .and. (s%discretization /= 'rkpm' .or. s%role /= 'deformable' &
+      .or. deck%run%mode /= 'dynamic' .or. s%integration /= 'scni' .or. &
+      s%perturbation > 0.0_wp .or. s%rotate /= 0.0_wp .or. nd /= 2)) deallocate(b%lat)
     ! Theorem 3.1 on the generating lattice: name the smallest support factor that works.
     if (any(s%shape == ['segment  ', 'rectangle', 'polygon  ', 'box      ']) .and. &
       .not. allocated(b%cells)) then
@@ -446,10 +459,10 @@ contains
       flat = .false.
     else if (b%held_share) then
       ! a rank's share: the whole body is flat where its first and last layers are (an
-      ! extruded body: where its section is)
+      ! extruded body: where its section is; a rectangle where its outermost ring is)
       none = 0
       nowhere = 0.0_wp
-      call extrude_pick(b, 1, b%np, [(-huge(1.0_wp), i = 1, 3)], [(huge(1.0_wp), i = 1, 3)], &
+      call body_pick(b, 1, b%np, [(-huge(1.0_wp), i = 1, 3)], [(huge(1.0_wp), i = 1, 3)], &
         0, none, nowhere, ends, ends=.true.)
       flat = flat_layout(ends%x)
     else
@@ -554,7 +567,12 @@ contains
     end do
     ! (the rows a rank reads of a mesh file later are moved the same way)
     if (allocated(b%mfile)) b%mfile%shift = s%translate(1:3)
-    ! (the particles an extruded body's recipe makes are moved the same way)
+    ! (the particles a rectangle's or an extruded body's recipe makes are moved the same
+    ! way)
+    if (allocated(b%lat)) then
+      b%lat%shifted = .true.
+      b%lat%shift = s%translate(1:2)
+    end if
     if (allocated(b%ext)) then
       b%ext%shifted = .true.
       b%ext%shift = s%translate(1:3)
@@ -788,11 +806,17 @@ contains
       ! from the particles its largest trial supports reach (made from the recipe)
       g0 = b0%row0
       g1 = b0%row0 + size(b0%x, 2) - 1
-      grow = maxval(trial)*b0%ext%rho + b0%spacing(1:3)
+      ! (or of a rectangle: its recipe b0%lat)
+      grow = 0.0_wp
+      if (allocated(b0%lat)) then
+        grow(1:2) = maxval(trial)*b0%lat%rho + b0%spacing(1:2)
+      else
+        grow = maxval(trial)*b0%ext%rho + b0%spacing(1:3)
+      end if
       none = 0
       nowhere = 0.0_wp
-      call extrude_pick(b0, 1, b0%np, minval(b0%x, dim=2) - grow, &
-        maxval(b0%x, dim=2) + grow, 0, none, nowhere, near)
+      call body_pick(b0, 1, b0%np, minval(b0%x, dim=2) - grow(1:b0%ndim), &
+        maxval(b0%x, dim=2) + grow(1:b0%ndim), 0, none, nowhere, near)
       b => near
     end if
     if (.not. allocated(mine)) then

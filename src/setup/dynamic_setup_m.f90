@@ -14,11 +14,11 @@ module dynamic_setup_m
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
   use sorting_m, only: sorted_place
-  use generators_m, only: extrude_pick, extrude_count
+  use generators_m, only: extrude_pick, body_pick, body_count
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part, region_of, &
     region_rows
   use solid_tables_m, only: solid_tables_t
-  use rkpm_tl_m, only: tl_build, scheme_id
+  use rkpm_tl_m, only: tl_build, scheme_id, tl_region_2d
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d
   use cst4_m, only: cst4_mesh_t, cst4_tables
   use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
@@ -140,8 +140,8 @@ contains
         ext = maxval(bodies(k)%mfile%hi - bodies(k)%mfile%lo)
       else if (bodies(k)%held_share) then
         ! (a rank's share of an extruded body: the whole one's extent is its first and
-        ! last layers')
-        call extrude_pick(bodies(k), 1, bodies(k)%np, [(-huge(1.0_wp), j = 1, 3)], &
+        ! last layers'; of a rectangle, its outermost ring's)
+        call body_pick(bodies(k), 1, bodies(k)%np, [(-huge(1.0_wp), j = 1, 3)], &
           [(huge(1.0_wp), j = 1, 3)], 0, none, nowhere, ends, ends=.true.)
         ext = maxval(maxval(ends%x, dim=2) - minval(ends%x, dim=2))
       else
@@ -403,7 +403,14 @@ contains
         end if
       else
         if (region_box(part, b, tree, box)) then
-          call tl_build(b, axisym, scheme_id(bs%integration), &
+          if (region_made(deck, k, part, b)) then
+            ! (a rectangle no rank holds whole: the rank's region made from its recipe)
+            allocate(reg%body)
+            call tl_region_2d(b, axisym, box, reg%body)
+            bp => reg%body
+            call log_made(part, b, bp%np, "region from the rectangle's lattice", '', .true.)
+          end if
+          call tl_build(bp, axisym, scheme_id(bs%integration), &
             deck%materials(bs%imat)%params%density, t, e2, box)
         else
           call tl_build(b, axisym, scheme_id(bs%integration), &
@@ -545,6 +552,33 @@ contains
     if (has) call rcb_box(tree, part%me + 1, box(:, 1), box(:, 2))
   end function region_box
 
+  !> The particle of body b (a rank's share of it, made as such: b%held_share) nearest to
+  !! point y, its number in the whole body, the first in the numbering among equals, as a
+  !! scan of the whole body finds it: each rank's nearest in its share, then the least
+  !! distance over the ranks and the least number at it. Collective.
+  integer function whole_nearest(part, b, y) result(q)
+    type(setup_part_t), intent(in) :: part
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: y(:)
+    real(wp) :: best(1), mine(1), at(1)
+    integer :: j
+    mine = huge(1.0_wp)
+    q = 0
+    do j = 1, size(b%x, 2)
+      if (norm2(b%x(:, j) - y(1:b%ndim)) < mine(1)) then
+        mine = norm2(b%x(:, j) - y(1:b%ndim))
+        q = b%row0 + j - 1
+      end if
+    end do
+    best = -mine
+    call part%comm%max_real(best)
+    ! (numbers below 2**53 are exact reals)
+    at = -real(huge(1), wp)
+    if (mine(1) == -best(1) .and. q > 0) at = -real(q, wp)
+    call part%comm%max_real(at)
+    q = nint(-at(1))
+  end function whole_nearest
+
   !> Whether body k is made as each rank's share only on nranks ranks (build_bodies'
   !! per_part: the whole body is never made on a rank; its set-up makes the rank's region
   !! from the body's recipe, region_made, or its tetrahedra's, tet4_region): a deformable
@@ -565,6 +599,17 @@ contains
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
         any(bs%shape == ['box     ', 'cylinder', 'polygon '])
+      ! an RKPM rectangle in the plane on its lattice, integrated by SCNI, the slave of
+      ! rigid masters only (a deforming master's or self-contact's sides take the whole
+      ! body's facts, side_facts, in 3D only yet): made from its lattice's recipe
+      if (.not. yes) yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 2 .and. &
+        deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
+        bs%discretization == 'rkpm' .and. bs%angular_velocity == 0.0_wp .and. &
+        bs%shape == 'rectangle' .and. bs%integration == 'scni' .and. &
+        bs%perturbation == 0.0_wp .and. bs%rotate == 0.0_wp .and. .not. any( &
+        (deck%contacts(1:deck%ncontacts)%imaster == k .or. &
+        deck%contacts(1:deck%ncontacts)%islave == k) .and. &
+        deck%bodies(deck%contacts(1:deck%ncontacts)%imaster)%role /= 'rigid')
       ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
       ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
       ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
@@ -590,8 +635,8 @@ contains
     type(body_t), intent(in) :: b
     yes = .false.
     if (.not. present(part)) return
-    if (part%nranks == 1 .or. b%ndim /= 3 .or. .not. (allocated(b%ext) .or. &
-      allocated(b%mfile))) return
+    if (part%nranks == 1 .or. .not. (allocated(b%ext) .or. allocated(b%mfile) .or. &
+      (allocated(b%lat) .and. b%held_share))) return
     yes = region_solid_do(deck, k, part)
   end function region_made
 
@@ -861,7 +906,7 @@ contains
         if (allocated(b%mfile)) then
           nsel = tet_file_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))
         else
-          nsel = extrude_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))
+          nsel = body_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))
         end if
       else if (nsel == 0 .and. size(at) < b%np) then
         do i = 1, b%np
@@ -961,6 +1006,10 @@ contains
           call contact_pair_init(pairs(k), prm, regions(isolid(is))%body, isolid(is), &
             bodies(im), isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &
             regions(isolid(is))%places)
+          ! (the tracked edge particle: the whole body's nearest to edge_point, its number
+          ! in the whole body, as a whole body's pair holds it; the region's may not hold it)
+          if (prm%track_edge .and. present(part)) pairs(k)%edge = whole_nearest(part, &
+            bodies(is), cs%edge_point)
         else if (cut) then
           call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
             isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &

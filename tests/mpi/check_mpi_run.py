@@ -49,11 +49,11 @@ in 3D each rank must also have kept fewer facets of the sides' surfaces than the
 facets of its own particles, not the whole surface).
 
 With --made NAME (repeatable; a deck of the list, by its name without .nml, with an
-extruded 3D body, of RKPM particles or of tetrahedra): on 2 ranks and
-more, mfcd_mpi's log must say that each such body was made per rank (each rank its share
-and its region from the body's recipe, never the whole body), and the most particles a rank
-made must be fewer than the body has; and that the surface's facets are in rows over the
-ranks, the most a rank holds fewer than the surface has; and, where the deck has a
+extruded 3D body, of RKPM particles or of tetrahedra, or an RKPM rectangle in the plane): on
+2 ranks and more, mfcd_mpi's log must say that each such body was made per rank (each rank
+its share and its region from the body's recipe, never the whole body), and the most
+particles a rank made must be fewer than the body has; in 3D, that the surface's facets are
+in rows over the ranks, the most a rank holds fewer than the surface has; and, where the deck has a
 deforming master or a self-contact, that its sides took at the set-up only the facets near
 each rank's region (dynamic_setup_m side_facts), the most on a rank fewer than the surface
 has.
@@ -503,15 +503,17 @@ def main():
                 made = re.findall(r"made per rank .*?, at most (\d+) particles(?: \(nodes\))? "
                                   r"on a rank, of "
                                   r"(\d+) \(the whole body is made on no rank\)", p.stdout)
-                check(f"{name}, {n} ranks: each extruded body made per rank, no rank making "
+                check(f"{name}, {n} ranks: each such body made per rank, no rank making "
                       "all its particles", len(made) > 0 and all(
                           int(a) < int(b) for a, b in made), made or p.stdout[-800:])
-                # (and its surface: each rank its rows of the facets, none the whole)
+                # (and its surface in 3D: each rank its rows of the facets, none the whole;
+                # a plane body's is its boundary loop, perimeter-sized, made on each rank)
                 rows = re.findall(r"surface's (\d+) facets in rows over the ranks, at most "
                                   r"(\d+) on a rank", p.stdout)
-                check(f"{name}, {n} ranks: each such body's facets in rows over the ranks, no "
-                      "rank holding them all", len(rows) > 0 and all(
-                          int(b) < int(a) for a, b in rows), rows or p.stdout[-800:])
+                if re.search(r"ndim\s*=\s*3", open(src).read()):
+                    check(f"{name}, {n} ranks: each such body's facets in rows over the "
+                          "ranks, no rank holding them all", len(rows) > 0 and all(
+                              int(b) < int(a) for a, b in rows), rows or p.stdout[-800:])
                 # (a deforming master's or a self-contact's sides: the facets near a rank's
                 # region at the set-up, none the whole surface)
                 if re.search(r"detection both ways|self-contact of", p.stdout):
