@@ -340,6 +340,12 @@ def compare(tag, ref, new, record=True, continued=None):
     # serial run finds first)
     check(f"{tag}: /summary failure reason as the serial run's",
           sa.get("failure") == sb.get("failure"), (sa.get("failure"), sb.get("failure")))
+    # (a tracked edge particle, &contact edge_point: the whole body's nearest, on the
+    # rank that owns it, its first contact and separation)
+    edge = ("edge_first_contact_time", "edge_separation_time")
+    ediff = [(k, sa.get(k), sb.get(k)) for k in edge if sa.get(k) != sb.get(k)]
+    check(f"{tag}: /summary edge particle's first contact and separation as the serial "
+          "run's", not ediff, ediff)
     check(f"{tag}: /summary status {sb['status']}, {sb['steps']} steps, as the serial run",
           sa["status"] == sb["status"] and sa["steps"] == sb["steps"], (sa["status"],
                                                                       sb["status"]))
