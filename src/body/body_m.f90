@@ -69,6 +69,11 @@ module body_m
     integer :: n(2) = 0
     real(wp) :: origin(2) = 0.0_wp, dx(2) = 0.0_wp
     type(geometry_t) :: g
+    !> a CST4 rectangle's (cst4_m cst4_rectangle): the lattice points are the corners of
+    !! its (n(1) - 1) x (n(2) - 1) boxes, nodes 1 ... n(1) n(2), followed by the boxes'
+    !! centres (node n(1) n(2) + box), each box cut into four triangles; the nodes' volumes
+    !! are the lumped areas (generators_m lattice_node)
+    logical :: cst4 = .false.
     logical :: shifted = .false.
     real(wp) :: shift(2) = 0.0_wp
     real(wp) :: rho(2) = 0.0_wp

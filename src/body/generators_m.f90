@@ -21,6 +21,7 @@ module generators_m
   public :: set_supports, perturb_interior, max_perturbation, section_triangles
   public :: extrude_pick, extrude_count, extruded_particle, extruded_facet, extruded_nfacets
   public :: lattice_particle, lattice_pick, lattice_count, body_pick, body_count
+  public :: lattice_node, lattice_nodes, lattice_loop
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp
@@ -71,7 +72,7 @@ contains
   end subroutine make_segment
 
   !> n(1) x n(2) particles on [lo, hi] (Example 2.2).
-  subroutine make_rectangle(b, lo, hi, n, err, share)
+  subroutine make_rectangle(b, lo, hi, n, err, share, cst4)
     type(body_t), intent(out) :: b
     real(wp), intent(in) :: lo(2), hi(2)
     integer, intent(in) :: n(2)
@@ -80,6 +81,9 @@ contains
     !! body_keep_share cuts it: b%held_share, b%row0), made from the recipe (b%lat), with
     !! the whole boundary loop (its ring's particles only)
     integer, intent(in), optional :: share(2)
+    !> with share: the nodes of a CST4 rectangle on this lattice (lattice_t cst4: the
+    !! lattice points, then the boxes' centres, their lumped volumes), its share of them
+    logical, intent(in), optional :: cst4
     real(wp) :: v(2, 4), dx(2)
     integer :: q, q0, q1
     logical :: ok
@@ -107,9 +111,10 @@ contains
     b%lat%g%kind = geom_polygon
     b%lat%g%v = v
     if (.not. present(share)) return
+    if (present(cst4)) b%lat%cst4 = cst4
     b%ndim = 2
     b%geom = b%lat%g
-    b%np = n(1)*n(2)
+    b%np = lattice_nodes(b%lat)
     b%spacing = 0.0_wp
     b%spacing(1:2) = dx
     q0 = share_first(b%np, share(1), share(2))
@@ -119,8 +124,8 @@ contains
     ! (particle q at q - q0 + 1: a share's arrays from 1, as body_keep_share leaves them)
     allocate(b%x(2, q1 - q0 + 1), b%vol(q1 - q0 + 1), b%boundary(q1 - q0 + 1))
     do q = q0, q1
-      call lattice_particle(b%lat, mod(q - 1, n(1)), (q - 1)/n(1), b%x(:, q - q0 + 1), &
-        b%vol(q - q0 + 1), b%boundary(q - q0 + 1))
+      call lattice_node(b%lat, q, b%x(:, q - q0 + 1), b%vol(q - q0 + 1), &
+        b%boundary(q - q0 + 1))
     end do
     call lattice_loop(b%lat, b, ok)
     if (.not. ok) call set_error(err, 'rectangle: its lattice is not the n(1) x n(2) '// &
@@ -149,6 +154,56 @@ contains
     x = p
     if (moved) x = x + lat%shift
   end subroutine lattice_particle
+
+  !> Node q of the rectangle of recipe lat: lattice point q (i + 1 + j n(1): position,
+  !! volume, boundary flag, lattice_particle's); or of a CST4 rectangle's (lat%cst4,
+  !! cst4_m cst4_rectangle's operations in its order, so the same bits): a box's corner
+  !! (q <= n(1) n(2)), its volume a third of a quarter box added once for each triangle
+  !! at it, or a box's centre (the mean of its four corners as made), four such thirds.
+  pure subroutine lattice_node(lat, q, x, vol, bnd)
+    type(lattice_t), intent(in) :: lat
+    integer, intent(in) :: q
+    real(wp), intent(out) :: x(2), vol
+    logical, intent(out) :: bnd
+    real(wp) :: xc(2, 4), a3, v
+    integer :: nc, i, j, m, ntri
+    logical :: b
+    nc = lat%n(1)*lat%n(2)
+    if (q <= nc) then
+      i = mod(q - 1, lat%n(1))
+      j = (q - 1)/lat%n(1)
+      call lattice_particle(lat, i, j, x, vol, bnd)
+      if (.not. lat%cst4) return
+      ! (two triangles of each box at the corner)
+      ntri = 2*(merge(1, 0, i > 0) + merge(1, 0, i < lat%n(1) - 1))* &
+        (merge(1, 0, j > 0) + merge(1, 0, j < lat%n(2) - 1))
+    else
+      m = q - nc - 1
+      i = mod(m, lat%n(1) - 1)
+      j = m/(lat%n(1) - 1)
+      call lattice_particle(lat, i, j, xc(:, 1), v, b, as_made=.true.)
+      call lattice_particle(lat, i + 1, j, xc(:, 2), v, b, as_made=.true.)
+      call lattice_particle(lat, i + 1, j + 1, xc(:, 3), v, b, as_made=.true.)
+      call lattice_particle(lat, i, j + 1, xc(:, 4), v, b, as_made=.true.)
+      x = 0.25_wp*sum(xc, dim=2)
+      if (lat%shifted) x = x + lat%shift
+      bnd = .false.
+      ntri = 4
+    end if
+    a3 = 0.25_wp*lat%dx(1)*lat%dx(2)/3.0_wp
+    vol = 0.0_wp
+    do m = 1, ntri
+      vol = vol + a3
+    end do
+  end subroutine lattice_node
+
+  !> The number of nodes of the rectangle of recipe lat: its lattice points, and a CST4
+  !! rectangle's box centres.
+  pure integer function lattice_nodes(lat) result(n)
+    type(lattice_t), intent(in) :: lat
+    n = lat%n(1)*lat%n(2)
+    if (lat%cst4) n = n + (lat%n(1) - 1)*(lat%n(2) - 1)
+  end function lattice_nodes
 
   !> make_polygon's look at lattice point (i, j) of recipe lat: its position p, signed
   !! distance sd to the rectangle, and its clipped cell (w, nw) and area a.
@@ -239,7 +294,7 @@ contains
     call copy_description(b, r)
     r%ndim = 2
     r%lat = b%lat
-    r%np_whole = b%lat%n(1)*b%lat%n(2)
+    r%np_whole = lattice_nodes(b%lat)
     ! the lattice indices each axis can take (a position or an image within the box)
     do i = 1, 2
       k(i, :) = index_span(i)
@@ -253,7 +308,7 @@ contains
               j < l%n(2) - 1) cycle
             q = i + 1 + j*l%n(1)
             if (q < g0 .or. q > g1) cycle
-            call lattice_particle(l, i, j, x, vol, bnd)
+            call lattice_node(l, q, x, vol, bnd)
             if (.not. near(x)) cycle
             n = n + 1
             if (pass == 1) cycle
@@ -264,6 +319,24 @@ contains
             r%glob(n) = q
           end do
         end do
+        ! (a CST4 rectangle's box centres, numbered after the corners: lattice_node)
+        if (l%cst4 .and. .not. only_ends) then
+          do j = max(0, k(2, 1) - 1), min(l%n(2) - 2, k(2, 2))
+            do i = max(0, k(1, 1) - 1), min(l%n(1) - 2, k(1, 2))
+              q = l%n(1)*l%n(2) + i + 1 + j*(l%n(1) - 1)
+              if (q < g0 .or. q > g1) cycle
+              call lattice_node(l, q, x, vol, bnd)
+              if (.not. near(x)) cycle
+              n = n + 1
+              if (pass == 1) cycle
+              r%x(:, n) = x
+              r%vol(n) = vol
+              r%boundary(n) = bnd
+              r%rho(:, n) = l%rho
+              r%glob(n) = q
+            end do
+          end do
+        end if
         if (pass == 1) allocate(r%x(2, n), r%vol(n), r%boundary(n), r%rho(2, n), r%glob(n))
       end do
     end associate

@@ -19,14 +19,16 @@ module cst4_m
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
   use body_m, only: body_t
-  use generators_m, only: make_rectangle, make_annulus, set_supports
+  use generators_m, only: make_rectangle, make_annulus, set_supports, lattice_pick
+  use rank_comm_m, only: share_first
+  use sorting_m, only: sorted_place
   use geometry_m, only: full_turn_tol
   use dims_m, only: dims_plane
   use solid_tables_m, only: solid_tables_t, tables_finish_elements, element_rows
   use mesh_cells_m, only: check_cells
   implicit none
   private
-  public :: cst4_mesh_t, cst4_rectangle, cst4_annulus, cst4_tables
+  public :: cst4_mesh_t, cst4_rectangle, cst4_annulus, cst4_tables, cst4_region
 
   !> Relative tolerance (of the nominal spacing) for "the node lies on the axis r = 0" and
   !! for checking make_rectangle's lattice: far above round-off of X, far below a box.
@@ -50,13 +52,17 @@ contains
   !! the dilation parameters taken from the element sizes ("one can construct the moment
   !! matrix upon the finite element mesh"). Triangles: four per box in box order (x fastest),
   !! bottom, right, top, left.
-  subroutine cst4_rectangle(lo, hi, nbox, support_factor, b, mesh, err)
+  subroutine cst4_rectangle(lo, hi, nbox, support_factor, b, mesh, err, share)
     real(wp), intent(in) :: lo(2), hi(2)
     integer, intent(in) :: nbox(2)
     real(wp), intent(in) :: support_factor(:)
     type(body_t), intent(out) :: b
     type(cst4_mesh_t), intent(out) :: mesh
     type(error_t), allocatable, intent(inout) :: err
+    !> [me, nranks]: only rank me's share of the nodes (generators_m make_rectangle's, from
+    !! the lattice's recipe b%lat, lattice_node) and of the triangles (mesh%tri: elements
+    !! b%cell0 ... of b%ncells), the whole body never made
+    integer, intent(in), optional :: share(2)
     real(wp), allocatable :: x(:, :)
     logical, allocatable :: bnd(:)
     real(wp) :: dx(2), tol, a3
@@ -81,8 +87,26 @@ contains
         ', '//rtoa(support_factor(2))//') must be positive')
       return
     end if
+    if (present(share)) then
+      call make_rectangle(b, lo, hi, nbox + 1, err, share, cst4=.true.)
+      if (allocated(err)) return
+      nc = (nbox(1) + 1)*(nbox(2) + 1)
+      mesh%nbox = nbox
+      mesh%ncorner = nc
+      b%ncells = 4*nbox(1)*nbox(2)
+      b%cell0 = share_first(b%ncells, share(1), share(2))
+      mesh%ne = share_first(b%ncells, share(1) + 1, share(2)) - b%cell0
+      allocate(mesh%tri(3, mesh%ne))
+      do e = 1, mesh%ne
+        mesh%tri(:, e) = rectangle_triangle(nbox, b%cell0 + e - 1)
+      end do
+      call set_supports(b, support_factor(1:2))
+      b%lat%rho = support_factor(1:2)*b%spacing(1:2)
+      return
+    end if
     call make_rectangle(b, lo, hi, nbox + 1, err)
     if (allocated(err)) return
+    b%lat%cst4 = .true.
     nc = (nbox(1) + 1)*(nbox(2) + 1)
     ncen = nbox(1)*nbox(2)
     np = nc + ncen
@@ -131,12 +155,114 @@ contains
       b%vol(mesh%tri(:, e)) = b%vol(mesh%tri(:, e)) + a3
     end do
     call set_supports(b, support_factor(1:2))
+    b%lat%rho = support_factor(1:2)*b%spacing(1:2)
   contains
     pure integer function corner(i, j)
       integer, intent(in) :: i, j
       corner = i + (j - 1)*(nbox(1) + 1)
     end function corner
   end subroutine cst4_rectangle
+
+  !> Triangle e of the CST4 rectangle of nbox boxes (cst4_rectangle's numbering: four a
+  !! box in box order, split_box's; nodes the corners, then the centres).
+  pure function rectangle_triangle(nbox, e) result(tri)
+    integer, intent(in) :: nbox(2), e
+    integer :: tri(3)
+    integer :: box, k, ib, jb, c(4), n1
+    box = (e - 1)/4 + 1
+    k = mod(e - 1, 4) + 1
+    n1 = nbox(1) + 1
+    ib = mod(box - 1, nbox(1)) + 1
+    jb = (box - 1)/nbox(1) + 1
+    c = [ib + (jb - 1)*n1, ib + 1 + (jb - 1)*n1, ib + 1 + jb*n1, ib + jb*n1]
+    tri = [c(k), c(mod(k, 4) + 1), n1*(nbox(2) + 1) + box]
+  end function rectangle_triangle
+
+  !> What a rank makes of the CST4 rectangle b (its recipe b%lat: the whole body is never
+  !! made) for its box (3, 2) of the decomposition: the triangles all of whose nodes lie
+  !! within 2 l + s of the box (l the longest edge, a box's side, s the spacing, for the
+  !! rounding), as mesh over the nodes of body r (generators_m lattice_pick's, cut to
+  !! those the triangles use), with their numbers in the whole mesh, eglob (ascending;
+  !! ne_whole of them). They hold every triangle cst4_tables keeps a row of for the box
+  !! (its centroid or a vertex in it: every vertex within l of the box) and every triangle
+  !! of each of those rows' nodes (within l of such a vertex), in the whole mesh's order:
+  !! those nodes' masses are the same sums in the same order as the whole body's (as
+  !! tet4_m tet4_region's tetrahedra).
+  subroutine cst4_region(b, box, r, mesh, eglob, ne_whole)
+    type(body_t), intent(in) :: b
+    real(wp), intent(in) :: box(3, 2)
+    type(body_t), intent(out) :: r
+    type(cst4_mesh_t), intent(out) :: mesh
+    integer, allocatable, intent(out) :: eglob(:)
+    integer, intent(out) :: ne_whole
+    type(body_t) :: near
+    real(wp) :: grow, nowhere(1)
+    integer :: none(1), nb(2), nc, n, pass, ib, jb, k, e, at(3), i, ij(2, 2), l
+    logical, allocatable :: used(:)
+    integer, allocatable :: loc(:)
+    nb = b%lat%n - 1
+    nc = b%lat%n(1)*b%lat%n(2)
+    ne_whole = 4*nb(1)*nb(2)
+    mesh%nbox = nb
+    grow = 3.0_wp*maxval(b%spacing(1:2))
+    none = 0
+    nowhere = 0.0_wp
+    call lattice_pick(b, 1, b%np, box(1:2, 1) - grow, box(1:2, 2) + grow, 0, none, nowhere, &
+      near)
+    ! (the boxes whose corners are among the near corners' index ranges)
+    ij(:, 1) = huge(1) - 1
+    ij(:, 2) = -1
+    do i = 1, near%np
+      if (near%glob(i) > nc) exit
+      ij(:, 1) = min(ij(:, 1), [mod(near%glob(i) - 1, b%lat%n(1)), (near%glob(i) - 1)/ &
+        b%lat%n(1)])
+      ij(:, 2) = max(ij(:, 2), [mod(near%glob(i) - 1, b%lat%n(1)), (near%glob(i) - 1)/ &
+        b%lat%n(1)])
+    end do
+    allocate(used(near%np))
+    used = .false.
+    do pass = 1, 2
+      n = 0
+      do jb = ij(2, 1) + 1, min(ij(2, 2), nb(2))
+        do ib = ij(1, 1) + 1, min(ij(1, 2), nb(1))
+          do k = 1, 4
+            e = 4*(ib - 1 + (jb - 1)*nb(1)) + k
+            at = rectangle_triangle(nb, e)
+            do l = 1, 3
+              at(l) = sorted_place(near%glob, at(l))
+            end do
+            if (any(at == 0)) cycle
+            n = n + 1
+            if (pass == 1) cycle
+            mesh%tri(:, n) = at
+            eglob(n) = e
+            used(at) = .true.
+          end do
+        end do
+      end do
+      if (pass == 1) allocate(mesh%tri(3, n), eglob(n))
+    end do
+    mesh%ne = n
+    ! the nodes the triangles use, in near's (ascending) order
+    allocate(loc(near%np))
+    loc = 0
+    n = 0
+    do i = 1, near%np
+      if (.not. used(i)) cycle
+      n = n + 1
+      loc(i) = n
+    end do
+    do e = 1, mesh%ne
+      mesh%tri(:, e) = loc(mesh%tri(:, e))
+    end do
+    r = near
+    r%np = n
+    r%x = near%x(:, pack([(i, i = 1, near%np)], used))
+    r%vol = pack(near%vol, used)
+    r%boundary = pack(near%boundary, used)
+    r%rho = near%rho(:, pack([(i, i = 1, near%np)], used))
+    r%glob = pack(near%glob, used)
+  end subroutine cst4_region
 
   !> CST4 elements on an annulus sector (a ring when theta1 - theta0 = 2 pi): the polar
   !! lattice of make_annulus (nr radii on [r0, r1], nt angles, radius fastest; its boundary

@@ -259,8 +259,9 @@ contains
       if (s%discretization == 'fem') then
         ! CST4 elements on the boxes of the n(1) x n(2) lattice; nodes carry the det(M)
         ! cloud with supports from the element sizes (Section 6)
+        ! (a rank's share only, body_per_part: made from the lattice's recipe)
         call cst4_rectangle(s%lo(1:2), s%hi(1:2), s%n(1:2) - 1, s%support_factor(1:2), b, &
-          mesh, e2)
+          mesh, e2, share)
         if (.not. allocated(e2)) call move_alloc(mesh%tri, b%cells)
       else
         ! (a rank's share only, body_per_part: made from the lattice's recipe)
@@ -427,11 +428,13 @@ contains
     ! deformable body of a dynamic run, RKPM or tetrahedra (dynamic_setup_m)
     if (allocated(b%ext) .and. (.not. any(s%discretization == ['rkpm', 'fem ']) .or. &
       s%role /= 'deformable' .or. deck%run%mode /= 'dynamic')) deallocate(b%ext)
-    ! and a rectangle's, of a deformable RKPM body of a dynamic run by SCNI that stays on
-    ! its lattice (no perturbation, no rotation: dynamic_setup_m body_per_part)
-    if (allocated(b%lat) .and. (s%discretization /= 'rkpm' .or. s%role /= 'deformable' &
-      .or. deck%run%mode /= 'dynamic' .or. s%integration /= 'scni' .or. &
-      s%perturbation > 0.0_wp .or. s%rotate /= 0.0_wp .or. nd /= 2)) deallocate(b%lat)
+    ! and a rectangle's, of a deformable body of a dynamic run that stays on its lattice
+    ! (no rotation; RKPM by SCNI without a perturbation, or CST4: dynamic_setup_m
+    ! body_per_part)
+    if (allocated(b%lat) .and. (s%role /= 'deformable' .or. deck%run%mode /= 'dynamic' &
+      .or. s%rotate /= 0.0_wp .or. nd /= 2 .or. .not. (s%discretization == 'fem' .or. &
+      (s%discretization == 'rkpm' .and. s%integration == 'scni' .and. &
+      s%perturbation == 0.0_wp)))) deallocate(b%lat)
     ! Theorem 3.1 on the generating lattice: name the smallest support factor that works.
     if (any(s%shape == ['segment  ', 'rectangle', 'polygon  ', 'box      ']) .and. &
       .not. allocated(b%cells)) then

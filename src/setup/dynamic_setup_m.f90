@@ -20,7 +20,7 @@ module dynamic_setup_m
   use solid_tables_m, only: solid_tables_t
   use rkpm_tl_m, only: tl_build, scheme_id, tl_region_2d
   use rkpm_tl3d_m, only: tl_build_3d, symmetry_planes_3d, tl_region_3d
-  use cst4_m, only: cst4_mesh_t, cst4_tables
+  use cst4_m, only: cst4_mesh_t, cst4_tables, cst4_region
   use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
   use tet_file_m, only: tet_file_region, tet_file_count
   use side_surface_m, only: side_surface
@@ -361,12 +361,28 @@ contains
       alpha = 0.0_wp
     else if (allocated(b%cells)) then
       ! CST4: on a rank, the rows of the triangles of its region (the masses whole)
-      mesh%ne = size(b%cells, 2)
-      mesh%tri = b%cells
       if (region_box(part, b, tree, box)) then
-        call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2, &
-          box)
+        if (b%held_share) then
+          ! (a rectangle no rank holds whole: the rank's triangles and nodes made from its
+          ! lattice's recipe, cst4_region; the smallest altitude and the total mass over
+          ! the ranks)
+          allocate(reg%body)
+          call cst4_region(b, box, reg%body, mesh, eglob, ne_whole)
+          bp => reg%body
+          call cst4_tables(bp, mesh, axisym, deck%materials(bs%imat)%params%density, t, &
+            e2, box)
+          call region_tet_sums(part, tree, bp, t, e2)
+          call log_made(part, b, bp%np, "region's triangles from the rectangle's lattice", &
+            ' (nodes)', .not. allocated(e2))
+        else
+          mesh%ne = size(b%cells, 2)
+          mesh%tri = b%cells
+          call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, &
+            e2, box)
+        end if
       else
+        mesh%ne = size(b%cells, 2)
+        mesh%tri = b%cells
         call cst4_tables(b, mesh, axisym, deck%materials(bs%imat)%params%density, t, e2)
       end if
       alpha = 0.0_wp    ! the SCNI stabilization is a particle method's; elements need none
@@ -604,9 +620,10 @@ contains
       ! body's facts, side_facts, in 3D only yet): made from its lattice's recipe
       if (.not. yes) yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 2 .and. &
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
-        bs%discretization == 'rkpm' .and. bs%angular_velocity == 0.0_wp .and. &
-        bs%shape == 'rectangle' .and. bs%integration == 'scni' .and. &
-        bs%perturbation == 0.0_wp .and. bs%rotate == 0.0_wp .and. .not. any( &
+        (bs%discretization == 'fem' .or. (bs%discretization == 'rkpm' .and. &
+        bs%integration == 'scni' .and. bs%perturbation == 0.0_wp)) .and. &
+        bs%angular_velocity == 0.0_wp .and. bs%shape == 'rectangle' .and. &
+        bs%rotate == 0.0_wp .and. .not. any( &
         (deck%contacts(1:deck%ncontacts)%imaster == k .or. &
         deck%contacts(1:deck%ncontacts)%islave == k) .and. &
         deck%bodies(deck%contacts(1:deck%ncontacts)%imaster)%role /= 'rigid')
