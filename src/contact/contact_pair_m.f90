@@ -51,9 +51,11 @@ module contact_pair_m
   use solid_tables_m, only: solid_tables_t
   use exact_sum_m, only: exact_sum_t, exact_add, exact_merge, exact_value
   use sorting_m, only: sort_index, sorted_place
+  use generators_m, only: lattice_node
   implicit none
   private
   public :: contact_pair_t, contact_params_t, contact_pair_init, contact_correct, side_facts_t
+  public :: side_loop_surface
   public :: contact_stats_t, contact_det_fields, contact_step
   public :: detector_det_m, detector_nts, detector_name, contact_self_det, side_np_whole
   public :: contact_pair_localize, contact_pair_cut, contact_pair_distribute, contact_pair_own, &
@@ -161,6 +163,9 @@ module contact_pair_m
     integer :: nf_most = 0               !< the most facets of the surface a rank took (log)
     real(wp) :: rmax(3) = 0.0_wp, lo(3) = 0.0_wp, hi(3) = 0.0_wp
     type(surface3d_t) :: surf3
+    !> a plane body's (a rectangle made per rank): its whole boundary polyline, its ends the
+    !! whole body's numbers (side_loop_surface), as side_init builds it from the whole body
+    type(master_surface_t) :: surf2
   end type side_facts_t
 
   !> One body of a pair as contact sees it.
@@ -544,6 +549,32 @@ contains
     end if
   end subroutine contact_pair_init
 
+  !> The boundary polyline of plane body b that a rank holds a share of, made from its
+  !! recipe (a rectangle: generators_m lattice_node, the whole body's positions to the bit)
+  !! at the whole loop b holds (b%loop_ptr, loop_idx: the whole body's numbers,
+  !! perimeter-sized): side_init's surface_build over the whole body, the same segments
+  !! with the same geometry, their ends the whole body's numbers.
+  subroutine side_loop_surface(b, axisym, s, err)
+    type(body_t), intent(in) :: b
+    logical, intent(in) :: axisym
+    type(master_surface_t), intent(out) :: s
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: x(:, :)
+    real(wp) :: vol
+    logical :: bnd
+    integer :: n, k
+    n = size(b%loop_idx)
+    allocate(x(2, n))
+    do k = 1, n
+      call lattice_node(b%lat, b%loop_idx(k), x(:, k), vol, bnd)
+    end do
+    call surface_build(s, x, b%loop_ptr, [(k, k = 1, n)], b%loop_closed, axisym, &
+      axis_fraction*minval(b%spacing(1:2)), err)
+    if (allocated(err)) return
+    s%i0 = b%loop_idx(s%i0)
+    s%i1 = b%loop_idx(s%i1)
+  end subroutine side_loop_surface
+
   !> What a 3D pair (slave body bs) cannot do: the node-to-segment detector and the
   !! detectors' comparison (a 3D closest-facet search binned like contact_nts_m's buckets
   !! is not written), axisymmetry (a 2D geometry).
@@ -650,6 +681,9 @@ contains
       end if
       allocate(s%bary(3, n))
       s%bary = 0.0_wp
+    else if (own .and. present(facts)) then
+      ! (the whole polyline of a plane body no rank holds whole, from facts)
+      s%surface = facts%surf2
     else if (own) then
       call surface_build(s%surface, b%x, b%loop_ptr, b%loop_idx, b%loop_closed, axisym, &
         axis_fraction*minval(b%spacing(1:b%ndim)), err)

@@ -28,7 +28,8 @@ module dynamic_setup_m
     solid_np_whole, solid_nq_whole
   use material_m, only: material_constant_names, material_constant
   use stable_step_m, only: step_control_t, step_control_calibrate, spacing_step
-  use contact_pair_m, only: contact_pair_t, contact_params_t, contact_pair_init, &
+  use contact_pair_m, only: side_loop_surface, contact_pair_t, contact_params_t, &
+    contact_pair_init, &
     detector_det_m, detector_nts, detector_name, side_facts_t
   use rk_cloud_m, only: rk_cloud_t, cloud_init
   use detection_m, only: share_det_medians, deep_particles, det_at_points
@@ -604,7 +605,9 @@ contains
   !! master's and a self-contact's sides take the whole body's detection scalars and
   !! surface from the ranks (side_facts); or a body of tetrahedra from a mesh file
   !! (tet_file_m: each rank reads its share and region of the file), or from a 3D gmsh
-  !! script (shape 'geo'), which one rank meshes into such a file first (mfcd_mpi).
+  !! script (shape 'geo'), which one rank meshes into such a file first (mfcd_mpi); or a
+  !! rectangle in the plane that stays on its lattice, RKPM or CST4, in any contact (its
+  !! region from the lattice's recipe: tl_region_2d, cst4_region).
   logical function body_per_part(deck, k, nranks, root_whole) result(yes)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k, nranks
@@ -615,18 +618,16 @@ contains
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
         any(bs%shape == ['box     ', 'cylinder', 'polygon '])
-      ! an RKPM rectangle in the plane on its lattice, integrated by SCNI, the slave of
-      ! rigid masters only (a deforming master's or self-contact's sides take the whole
-      ! body's facts, side_facts, in 3D only yet): made from its lattice's recipe
+      ! a rectangle in the plane on its lattice (RKPM by SCNI without a perturbation, or
+      ! CST4; no rotation), in any contact (a deforming master's or a self-contact's sides
+      ! take the whole body's det(M) facts over the ranks and its whole boundary polyline
+      ! from the recipe, side_facts): made from its lattice's recipe
       if (.not. yes) yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 2 .and. &
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         (bs%discretization == 'fem' .or. (bs%discretization == 'rkpm' .and. &
         bs%integration == 'scni' .and. bs%perturbation == 0.0_wp)) .and. &
         bs%angular_velocity == 0.0_wp .and. bs%shape == 'rectangle' .and. &
-        bs%rotate == 0.0_wp .and. .not. any( &
-        (deck%contacts(1:deck%ncontacts)%imaster == k .or. &
-        deck%contacts(1:deck%ncontacts)%islave == k) .and. &
-        deck%bodies(deck%contacts(1:deck%ncontacts)%imaster)%role /= 'rigid')
+        bs%rotate == 0.0_wp
       ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
       ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
       ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
@@ -1013,6 +1014,9 @@ contains
           if (.not. allocated(e2)) call side_of(im, bmp, rm, fm)
           if (.not. allocated(e2)) call contact_pair_init(pairs(k), prm, bsp, isolid(is), &
             bmp, isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, rs, rm, fs, fm)
+          ! (the tracked edge particle: the whole body's nearest, its whole number)
+          if (prm%track_edge .and. bodies(is)%held_share) pairs(k)%edge = &
+            whole_nearest(part, bodies(is), cs%edge_point)
         else if (cutm) then
           call contact_pair_init(pairs(k), prm, bodies(is), isolid(is), bodies(im), &
             isolid(im), solids, deck%run%geometry == 'axisymmetric', e2, &
@@ -1105,9 +1109,16 @@ contains
       f => facts(kb)
       if (made(kb)) return
       if (.not. present(part)) error stop 'setup_contacts: a share without the ranks'
-      call side_facts(part%comm, bodies(kb), bp%glob, facts(kb), e2)
+      call side_facts(part%comm, bodies(kb), bp%glob, facts(kb), e2, &
+        deck%run%geometry == 'axisymmetric')
       made(kb) = .true.
       if (allocated(e2) .or. .not. loud) return
+      if (bodies(kb)%ndim == 2) then
+        write(output_unit, '(a,i0,a)') 'contact: the sides of '''//trim(bodies(kb)%name)// &
+          ''' took at the set-up its whole boundary polyline (', facts(kb)%surf2%nseg, &
+          ' segments, perimeter-sized) and det(M)''s plateau and surface median over the ranks'
+        return
+      end if
       write(output_unit, '(a,i0,a,i0,a)') 'contact: the sides of '''//trim(bodies(kb)%name)// &
         ''' took at the set-up the facets near each rank''s region, at most ', &
         facts(kb)%nf_most, ' of its ', facts(kb)%surf3%nf_whole, ' on a rank'
@@ -1124,17 +1135,21 @@ contains
   !! side_init makes of the whole body, to the bit (test_side_facts; mpi_run_3d_made),
   !! the surface restricted to those facets. Collective; an error on a rank reaches every
   !! rank.
-  subroutine side_facts(comm, b, inner, f, err)
+  subroutine side_facts(comm, b, inner, f, err, axisym)
     class(rank_comm_t), intent(inout) :: comm
     type(body_t), intent(in) :: b
     integer, intent(in) :: inner(:)
     type(side_facts_t), intent(out) :: f
     type(error_t), allocatable, intent(inout) :: err
+    !> a plane body's geometry (its polyline's segments on the axis are dropped)
+    logical, intent(in) :: axisym
     real(wp), allocatable :: det(:)
     logical, allocatable :: deep(:)
     real(wp) :: flag(1), most(1)
     ! (a body whose generator could not close its surface has none: side_init says so)
     if (allocated(b%facets)) call side_surface(comm, b, inner, f%surf3, err)
+    ! (a plane body's: its whole boundary polyline, perimeter-sized, from its recipe)
+    if (b%ndim == 2) call side_loop_surface(b, axisym, f%surf2, err)
     most = real(f%surf3%nf, wp)
     call comm%max_real(most)
     f%nf_most = nint(most(1))
@@ -1166,10 +1181,50 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(body_t) :: ends, near
     type(rk_cloud_t) :: c
-    integer :: n, j, none(2)
+    integer :: n, j, none(2), nd, run, r0, r1
     real(wp) :: nowhere(2), lo(3), hi(3), reach(3)
+    logical, allocatable :: deep_run(:)
     none = 0
     nowhere = 0.0_wp
+    nd = b%ndim
+    if (allocated(b%lat)) then
+      ! a rectangle's: its outermost ring's extremes (every coordinate of its lattice),
+      ! and its recipe's supports
+      call body_pick(b, 1, huge(1), [(-huge(1.0_wp), j = 1, 3)], &
+        [(huge(1.0_wp), j = 1, 3)], 0, none, nowhere, ends, ends=.true.)
+      f%lo(1:2) = minval(ends%x, dim=2)
+      f%hi(1:2) = maxval(ends%x, dim=2)
+      f%rmax(1:2) = b%lat%rho
+      ! det(M) at the share's particles, in a cloud of those within a support of them (a
+      ! CST4 share's corners and box centres apart: the centres are numbered after every
+      ! corner, so a share of both spans the body)
+      n = size(b%x, 2)
+      allocate(det(n), deep(n))
+      do run = 1, 2
+        r0 = 1
+        r1 = n
+        if (b%lat%cst4) then
+          ! (the share's corners, then its centres: rows r0 ... r1)
+          j = b%lat%n(1)*b%lat%n(2) - b%row0 + 1
+          if (run == 1) r1 = min(n, j)
+          if (run == 2) r0 = max(1, j + 1)
+        else if (run == 2) then
+          exit
+        end if
+        if (r1 < r0) cycle
+        reach(1:2) = f%rmax(1:2) + maxval(b%spacing(1:2))
+        lo(1:2) = minval(b%x(:, r0:r1), dim=2) - reach(1:2)
+        hi(1:2) = maxval(b%x(:, r0:r1), dim=2) + reach(1:2)
+        call body_pick(b, 1, huge(1), lo(1:2), hi(1:2), 0, none, nowhere, near)
+        call cloud_init(c, near%x, near%rho, near%vol, b%kid, b%wshape, b%bid, b%h(1:2), &
+          err, grid_lo=f%lo(1:2), grid_hi=f%hi(1:2), rmax=f%rmax(1:2))
+        if (allocated(err)) return
+        call det_at_points(c, b%x(:, r0:r1), det(r0:r1))
+        deep_run = deep_particles(c, near%boundary, b%x(:, r0:r1), b%rho(:, r0:r1))
+        deep(r0:r1) = deep_run
+      end do
+      return
+    end if
     if (allocated(b%mfile)) then
       ! a mesh file's (tet_file_m): its extent, read whole, placed (a rounding is monotonic:
       ! the least of the placed positions is the least placed), and the longest support,

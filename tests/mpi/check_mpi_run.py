@@ -492,9 +492,18 @@ def main():
             if p.returncode == 0 and HELD_BELOW == n:
                 held = re.findall(r"sides held at most (\d+) and (\d+) particles \(of (\d+) "
                                   r"and (\d+)\)", p.stdout)
+                # (a self-contact's two sides are one small body: its master side may take
+                # every particle as ghosts while its slot closes, as the 3D C's did in a
+                # Debug build at 108bf72 and later on an AMD EPYC guest, 828 of 828, against
+                # 798 in Release there and below in Debug on an Intel Xeon guest: the last
+                # bits of the dynamics decide; its slave side stays below the body)
+                self_c = "self-contact of" in p.stdout
                 check(f"{name}, {n} ranks: each rank's contact sides held fewer particles "
-                      "than their bodies (own and ghosts only)", len(held) > 0 and all(
-                          int(a) < int(c) and int(b) < int(d) for a, b, c, d in held),
+                      "than their bodies (own and ghosts only" + (
+                          "; a self-contact's slave side" if self_c else "") + ")",
+                      len(held) > 0 and all(
+                          (int(a) < int(c) and int(b) < int(d)) or
+                          (self_c and int(a) < int(c)) for a, b, c, d in held),
                       held or p.stdout[-800:])
                 # (3D: and kept fewer facets than their surfaces have: their own particles')
                 kept = re.findall(r"a rank kept at most (\d+) and (\d+) facets of the sides' "
@@ -522,7 +531,9 @@ def main():
                               int(b) < int(a) for a, b in rows), rows or p.stdout[-800:])
                 # (a deforming master's or a self-contact's sides: the facets near a rank's
                 # region at the set-up, none the whole surface)
-                if re.search(r"detection both ways|self-contact of", p.stdout):
+                # (a plane body's: its whole polyline, perimeter-sized, on every rank)
+                if re.search(r"detection both ways|self-contact of", p.stdout) and \
+                        re.search(r"ndim\s*=\s*3", open(src).read()):
                     near = re.findall(r"took at the set-up the facets near each rank's "
                                       r"region, at most (\d+) of its (\d+) on a rank",
                                       p.stdout)
