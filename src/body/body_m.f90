@@ -10,7 +10,7 @@ module body_m
   private
   public :: body_t, name_len, max_cell_vertices, body_keep_share, body_cell, extrusion_t
   public :: mesh_file_t, lattice_t
-  public :: body_whole
+  public :: body_whole, body_keep_used
 
   integer, parameter :: name_len = 64
   !> Vertices of one integration cell at most (a clipped lattice cell, a file's cell)
@@ -185,6 +185,38 @@ contains
     g = i
     if (allocated(b%glob)) g = b%glob(i)
   end function body_whole
+
+  !> The particles of near that used marks, as body r in near's order (its description and
+  !! numbers in the whole body, glob, kept), and cells over near's particles renumbered
+  !! over r's: a rank's region of an element body (tet4_m tet4_region, cst4_m
+  !! cst4_region), the nodes its elements use.
+  subroutine body_keep_used(near, used, cells, r)
+    type(body_t), intent(in) :: near
+    logical, intent(in) :: used(:)
+    integer, intent(inout) :: cells(:, :)
+    type(body_t), intent(out) :: r
+    integer, allocatable :: loc(:), keep(:)
+    integer :: i, n, m
+    allocate(loc(near%np))
+    loc = 0
+    n = 0
+    do i = 1, near%np
+      if (.not. used(i)) cycle
+      n = n + 1
+      loc(i) = n
+    end do
+    do m = 1, size(cells, 2)
+      cells(:, m) = loc(cells(:, m))
+    end do
+    keep = pack([(i, i = 1, near%np)], used)
+    r = near
+    r%np = n
+    r%x = near%x(:, keep)
+    r%vol = near%vol(keep)
+    r%boundary = near%boundary(keep)
+    r%rho = near%rho(:, keep)
+    r%glob = near%glob(keep)
+  end subroutine body_keep_used
 
   !> Body b reduced to rank me's share of it (of nranks), for the ranks of mfcd_mpi once
   !! the set-up has read it: the rows of its particles row0 .. row0 + nrows - 1 (the

@@ -308,15 +308,7 @@ contains
               j < l%n(2) - 1) cycle
             q = i + 1 + j*l%n(1)
             if (q < g0 .or. q > g1) cycle
-            call lattice_node(l, q, x, vol, bnd)
-            if (.not. near(x)) cycle
-            n = n + 1
-            if (pass == 1) cycle
-            r%x(:, n) = x
-            r%vol(n) = vol
-            r%boundary(n) = bnd
-            r%rho(:, n) = l%rho
-            r%glob(n) = q
+            call take(q)
           end do
         end do
         ! (a CST4 rectangle's box centres, numbered after the corners: lattice_node)
@@ -325,15 +317,7 @@ contains
             do i = max(0, k(1, 1) - 1), min(l%n(1) - 2, k(1, 2))
               q = l%n(1)*l%n(2) + i + 1 + j*(l%n(1) - 1)
               if (q < g0 .or. q > g1) cycle
-              call lattice_node(l, q, x, vol, bnd)
-              if (.not. near(x)) cycle
-              n = n + 1
-              if (pass == 1) cycle
-              r%x(:, n) = x
-              r%vol(n) = vol
-              r%boundary(n) = bnd
-              r%rho(:, n) = l%rho
-              r%glob(n) = q
+              call take(q)
             end do
           end do
         end if
@@ -346,7 +330,7 @@ contains
 
     !> The lattice indices along axis d (0 ... n(d) - 1) whose coordinate or its image
     !! across a line normal to d lies within [lo(d), hi(d)], widened by one for rounding
-    !! (near tests each particle exactly)
+    !! (take tests each node exactly)
     function index_span(d) result(span)
       integer, intent(in) :: d
       integer :: span(2), m, ia, ic
@@ -370,24 +354,20 @@ contains
       if (span(1) > span(2)) span = [0, -1]
     end function index_span
 
-    !> x or one of its images within [lo, hi]
-    pure logical function near(x) result(yes)
-      real(wp), intent(in) :: x(2)
-      real(wp) :: y(2)
-      integer :: m
-      yes = all(x >= lo(1:2)) .and. all(x <= hi(1:2))
-      if (yes .or. nplanes == 0) return
-      do m = 1, nplanes
-        y = x
-        y(normal(m)) = 2.0_wp*pos(m) - y(normal(m))
-        if (all(y >= lo(1:2)) .and. all(y <= hi(1:2))) yes = .true.
-      end do
-      if (nplanes == 2) then
-        y = x
-        y(normal(1:2)) = 2.0_wp*pos(1:2) - y(normal(1:2))
-        if (all(y >= lo(1:2)) .and. all(y <= hi(1:2))) yes = .true.
-      end if
-    end function near
+    !> node q when it or one of its images lies within [lo, hi]: counted (pass 1) and
+    !! stored (pass 2)
+    subroutine take(q)
+      integer, intent(in) :: q
+      call lattice_node(b%lat, q, x, vol, bnd)
+      if (.not. near_images(x, lo(1:2), hi(1:2), nplanes, normal, pos)) return
+      n = n + 1
+      if (pass == 1) return
+      r%x(:, n) = x
+      r%vol(n) = vol
+      r%boundary(n) = bnd
+      r%rho(:, n) = b%lat%rho
+      r%glob(n) = q
+    end subroutine take
   end subroutine lattice_pick
 
   !> The first (upper: last) index i of the lattice coordinates o + i dx, i = 0 ... n - 1,
@@ -1265,7 +1245,7 @@ contains
             q = i + (k - 1)*e%n2
             if (q < g0 .or. q > g1) cycle
             call extruded_particle(e, i, k, x, vol, bnd)
-            if (.not. near(x)) cycle
+            if (.not. near_images(x, lo, hi, nplanes, normal, pos)) cycle
             n = n + 1
             if (pass == 1) cycle
             r%x(:, n) = x
@@ -1280,26 +1260,6 @@ contains
     end associate
     r%np = n
 
-  contains
-
-    !> x or one of its images within [lo, hi]
-    pure logical function near(x) result(yes)
-      real(wp), intent(in) :: x(3)
-      real(wp) :: y(3)
-      integer :: m
-      yes = all(x >= lo) .and. all(x <= hi)
-      if (yes .or. nplanes == 0) return
-      do m = 1, nplanes
-        y = x
-        y(normal(m)) = 2.0_wp*pos(m) - y(normal(m))
-        if (all(y >= lo) .and. all(y <= hi)) yes = .true.
-      end do
-      if (nplanes == 2) then
-        y = x
-        y(normal(1:2)) = 2.0_wp*pos(1:2) - y(normal(1:2))
-        if (all(y >= lo) .and. all(y <= hi)) yes = .true.
-      end if
-    end function near
   end subroutine extrude_pick
 
   !> What a body made of some of b's particles (extrude_pick, lattice_pick) takes of b's
@@ -1321,6 +1281,28 @@ contains
     allocate(r%loop_ptr(1), r%loop_idx(0), r%loop_closed(0))
     r%loop_ptr = 1
   end subroutine copy_description
+
+  !> Whether x or one of its mirror images across the planes (nplanes of them, 0-2:
+  !! coordinate normal(m) = pos(m); and across both) lies within [lo, hi]: the regions of
+  !! extrude_pick and lattice_pick, with their symmetry planes or axis.
+  pure logical function near_images(x, lo, hi, nplanes, normal, pos) result(yes)
+    real(wp), intent(in) :: x(:), lo(:), hi(:), pos(:)
+    integer, intent(in) :: nplanes, normal(:)
+    real(wp) :: y(size(x))
+    integer :: m
+    yes = all(x >= lo) .and. all(x <= hi)
+    if (yes .or. nplanes == 0) return
+    do m = 1, nplanes
+      y = x
+      y(normal(m)) = 2.0_wp*pos(m) - y(normal(m))
+      if (all(y >= lo) .and. all(y <= hi)) yes = .true.
+    end do
+    if (nplanes == 2) then
+      y = x
+      y(normal(1:2)) = 2.0_wp*pos(1:2) - y(normal(1:2))
+      if (all(y >= lo) .and. all(y <= hi)) yes = .true.
+    end if
+  end function near_images
 
   !> Whether any particle of extruded body b (its recipe, extrude_pick's) lies within [lo,
   !! hi] (1, else 0), without making them.

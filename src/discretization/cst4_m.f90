@@ -18,7 +18,7 @@ module cst4_m
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
-  use body_m, only: body_t
+  use body_m, only: body_t, body_keep_used
   use generators_m, only: make_rectangle, make_annulus, set_supports, lattice_pick
   use rank_comm_m, only: share_first
   use sorting_m, only: sorted_place
@@ -199,7 +199,6 @@ contains
     real(wp) :: grow, nowhere(1)
     integer :: none(1), nb(2), nc, n, pass, ib, jb, k, e, at(3), i, ij(2, 2), l
     logical, allocatable :: used(:)
-    integer, allocatable :: loc(:)
     nb = b%lat%n - 1
     nc = b%lat%n(1)*b%lat%n(2)
     ne_whole = 4*nb(1)*nb(2)
@@ -243,25 +242,8 @@ contains
       if (pass == 1) allocate(mesh%tri(3, n), eglob(n))
     end do
     mesh%ne = n
-    ! the nodes the triangles use, in near's (ascending) order
-    allocate(loc(near%np))
-    loc = 0
-    n = 0
-    do i = 1, near%np
-      if (.not. used(i)) cycle
-      n = n + 1
-      loc(i) = n
-    end do
-    do e = 1, mesh%ne
-      mesh%tri(:, e) = loc(mesh%tri(:, e))
-    end do
-    r = near
-    r%np = n
-    r%x = near%x(:, pack([(i, i = 1, near%np)], used))
-    r%vol = pack(near%vol, used)
-    r%boundary = pack(near%boundary, used)
-    r%rho = near%rho(:, pack([(i, i = 1, near%np)], used))
-    r%glob = pack(near%glob, used)
+    ! the nodes the triangles use, renumbered
+    call body_keep_used(near, used, mesh%tri(:, 1:mesh%ne), r)
   end subroutine cst4_region
 
   !> CST4 elements on an annulus sector (a ring when theta1 - theta0 = 2 pi): the polar

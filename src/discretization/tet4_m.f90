@@ -17,7 +17,7 @@ module tet4_m
   use kinds_m, only: wp
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
-  use body_m, only: body_t, extrusion_t
+  use body_m, only: body_t, extrusion_t, body_keep_used
   use generators_m, only: section_triangles, extruded_particle, extrude_pick
   use sorting_m, only: sorted_place, incidence_csr
   use dims_m, only: dims_3d
@@ -227,10 +227,9 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     type(body_t) :: near
     real(wp) :: lo(3), hi(3), l2, xa(2), xb(2), tlo(2), thi(2)
-    integer :: none(2), nt, k, m, j, g, n, pass, l, i, t4(4), at(4), k0, k1
+    integer :: none(2), nt, k, m, j, g, n, pass, l, t4(4), at(4), k0, k1
     real(wp) :: nowhere(2)
     logical, allocatable :: used(:), cross(:)
-    integer, allocatable :: loc(:)
     logical :: ok
     associate (e => b%ext)
       nt = size(e%tri2, 2)
@@ -302,24 +301,7 @@ contains
       mesh%ne = n
     end associate
     ! the nodes the tetrahedra use, renumbered
-    allocate(loc(near%np))
-    loc = 0
-    n = 0
-    do i = 1, near%np
-      if (.not. used(i)) cycle
-      n = n + 1
-      loc(i) = n
-    end do
-    do m = 1, mesh%ne
-      mesh%tet(:, m) = loc(mesh%tet(:, m))
-    end do
-    r = near
-    r%np = n
-    r%x = near%x(:, pack([(i, i = 1, near%np)], used))
-    r%vol = pack(near%vol, used)
-    r%boundary = pack(near%boundary, used)
-    r%rho = near%rho(:, pack([(i, i = 1, near%np)], used))
-    r%glob = pack(near%glob, used)
+    call body_keep_used(near, used, mesh%tet(:, 1:mesh%ne), r)
   end subroutine tet4_region
 
   !> Signed volume of the tetrahedron xt (3, 4) (m^3): positive when node 4 lies on the side
