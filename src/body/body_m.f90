@@ -63,8 +63,9 @@ module body_m
   !! each with its lattice cell clipped by the rectangle g (make_polygon's operations, which
   !! keep exactly these points and merge no cell into them: generators_m lattice_particle);
   !! then moved by shift when shifted (&body translate) and given the supports rho. Held
-  !! (some 200 B) so that a rank can make just the particles its share and region need
-  !! (generators_m lattice_pick), the same bits as the whole body's.
+  !! (some 200 B; a polygon's runs below perimeter-sized) so that a rank can make just the
+  !! particles its share and region need (generators_m lattice_pick), the same bits as the
+  !! whole body's.
   type :: lattice_t
     integer :: n(2) = 0
     real(wp) :: origin(2) = 0.0_wp, dx(2) = 0.0_wp
@@ -77,6 +78,17 @@ module body_m
     logical :: shifted = .false.
     real(wp) :: shift(2) = 0.0_wp
     real(wp) :: rho(2) = 0.0_wp
+    !> a polygon's lattice (generators_m make_polygon with a share, when it merges no
+    !! lattice cell: polygon_walk): g the polygon, the lattice points origin + (i dx, j dy)
+    !! with i from i0, j from j0, n(1) x n(2) of them; its nq particles lie in runs of
+    !! consecutive i along the rows, in make_polygon's order (rows upwards, i ascending):
+    !! run r is row run_j(r), i from run_i(1, r) to run_i(2, r), particles run_q(r) + 1
+    !! ...; the runs of row j are run_ptr(j - j0 + 1) ... run_ptr(j - j0 + 2) - 1;
+    !! col_low(i - i0 + 1) is the lowest particle's row in column i (j0 - 1: none). Rows,
+    !! runs and columns: perimeter-sized. Unallocated run_ptr: a rectangle, whose particle
+    !! (i + 1) + j n(1) is lattice point (i, j), i and j from 0.
+    integer :: i0 = 0, j0 = 0, nq = 0
+    integer, allocatable :: run_ptr(:), run_j(:), run_i(:, :), run_q(:), col_low(:)
   end type lattice_t
 
   type :: body_t
@@ -151,7 +163,7 @@ module body_m
     integer, allocatable :: tets(:, :)
     !> An extruded body's recipe (extrusion_t), when its particles can be made per region
     type(extrusion_t), allocatable :: ext
-    !> A rectangle's recipe (lattice_t), when its particles can be made per region
+    !> A rectangle's or a polygon's recipe (lattice_t), when its particles can be made per region
     type(lattice_t), allocatable :: lat
     !> A body of tetrahedra read per part from its mesh file (mesh_file_t); facet_key: the
     !! rank's facets of it (those whose smallest node is in its share), each with its place

@@ -21,7 +21,7 @@ module generators_m
   public :: set_supports, perturb_interior, max_perturbation, section_triangles
   public :: extrude_pick, extrude_count, extruded_particle, extruded_facet, extruded_nfacets
   public :: lattice_particle, lattice_pick, lattice_count, body_pick, body_count
-  public :: lattice_node, lattice_nodes, lattice_loop
+  public :: lattice_node, lattice_nodes, lattice_loop, polygon_merges
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp
@@ -85,7 +85,6 @@ contains
     !! lattice points, then the boxes' centres, their lumped volumes), its share of them
     logical, intent(in), optional :: cst4
     real(wp) :: v(2, 4), dx(2)
-    integer :: q, q0, q1
     logical :: ok
     if (any(n < 2) .or. any(hi <= lo)) then
       call set_error(err, 'rectangle needs n >= 2 in each direction and hi > lo')
@@ -117,6 +116,20 @@ contains
     b%np = lattice_nodes(b%lat)
     b%spacing = 0.0_wp
     b%spacing(1:2) = dx
+    call lattice_share(b, share)
+    call lattice_loop(b%lat, b, ok)
+    if (.not. ok) call set_error(err, 'rectangle: its lattice is not the n(1) x n(2) '// &
+      'points a rank makes its share of (an internal error of the generator; the serial '// &
+      'run, mfcd, makes it whole)')
+  end subroutine make_rectangle
+
+  !> Rank share(1)'s share of the share(2) ranks of the particles (nodes) of b, a body of
+  !! b%np made from its recipe b%lat (rank_comm_m share_first, as body_keep_share cuts it:
+  !! b%held_share, b%row0, the share's arrays from 1), by lattice_node.
+  subroutine lattice_share(b, share)
+    type(body_t), intent(inout) :: b
+    integer, intent(in) :: share(2)
+    integer :: q, q0, q1
     q0 = share_first(b%np, share(1), share(2))
     q1 = share_first(b%np, share(1) + 1, share(2)) - 1
     b%held_share = .true.
@@ -127,11 +140,7 @@ contains
       call lattice_node(b%lat, q, b%x(:, q - q0 + 1), b%vol(q - q0 + 1), &
         b%boundary(q - q0 + 1))
     end do
-    call lattice_loop(b%lat, b, ok)
-    if (.not. ok) call set_error(err, 'rectangle: its lattice is not the n(1) x n(2) '// &
-      'points a rank makes its share of (an internal error of the generator; the serial '// &
-      'run, mfcd, makes it whole)')
-  end subroutine make_rectangle
+  end subroutine lattice_share
 
   !> Lattice point (i, j) of rectangle recipe lat (make_rectangle's; i, j from 0): its
   !! position, volume (its lattice cell clipped by the rectangle) and boundary flag by
@@ -169,9 +178,9 @@ contains
     integer :: nc, i, j, m, ntri
     logical :: b
     nc = lat%n(1)*lat%n(2)
+    if (allocated(lat%run_ptr)) nc = lat%nq
     if (q <= nc) then
-      i = mod(q - 1, lat%n(1))
-      j = (q - 1)/lat%n(1)
+      call lattice_ij(lat, q, i, j)
       call lattice_particle(lat, i, j, x, vol, bnd)
       if (.not. lat%cst4) return
       ! (two triangles of each box at the corner)
@@ -202,8 +211,36 @@ contains
   pure integer function lattice_nodes(lat) result(n)
     type(lattice_t), intent(in) :: lat
     n = lat%n(1)*lat%n(2)
+    if (allocated(lat%run_ptr)) n = lat%nq
     if (lat%cst4) n = n + (lat%n(1) - 1)*(lat%n(2) - 1)
   end function lattice_nodes
+
+  !> The lattice indices (i, j) of particle q of recipe lat: a rectangle's (i + 1) + j n(1),
+  !! a polygon's by its runs (the run holding q, by bisection over their first numbers).
+  pure subroutine lattice_ij(lat, q, i, j)
+    type(lattice_t), intent(in) :: lat
+    integer, intent(in) :: q
+    integer, intent(out) :: i, j
+    integer :: lo, hi, mid
+    if (.not. allocated(lat%run_ptr)) then
+      i = mod(q - 1, lat%n(1))
+      j = (q - 1)/lat%n(1)
+      return
+    end if
+    ! (the last run whose first particle is at most q)
+    lo = 1
+    hi = size(lat%run_q)
+    do while (lo < hi)
+      mid = (lo + hi + 1)/2
+      if (lat%run_q(mid) < q) then
+        lo = mid
+      else
+        hi = mid - 1
+      end if
+    end do
+    j = lat%run_j(lo)
+    i = lat%run_i(1, lo) + (q - lat%run_q(lo) - 1)
+  end subroutine lattice_ij
 
   !> make_polygon's look at lattice point (i, j) of recipe lat: its position p, signed
   !! distance sd to the rectangle, and its clipped cell (w, nw) and area a.
@@ -286,7 +323,7 @@ contains
     real(wp), intent(in) :: lo(:), hi(:), pos(:)
     type(body_t), intent(out) :: r
     logical, intent(in), optional :: ends
-    integer :: n, pass, i, j, q, k(2, 2)
+    integer :: n, pass, i, j, q, k(2, 2), m
     real(wp) :: x(2), vol
     logical :: bnd, only_ends
     only_ends = .false.
@@ -302,7 +339,23 @@ contains
     associate (l => b%lat)
       do pass = 1, 2
         n = 0
+        if (allocated(l%run_ptr)) then
+          ! a polygon's: the runs of the rows in the span; its ends each run's first and
+          ! last particles and each column's lowest (every row's and column's coordinate)
+          do j = k(2, 1), k(2, 2)
+            do m = l%run_ptr(j - l%j0 + 1), l%run_ptr(j - l%j0 + 2) - 1
+              do i = max(k(1, 1), l%run_i(1, m)), min(k(1, 2), l%run_i(2, m))
+                if (only_ends .and. i > l%run_i(1, m) .and. i < l%run_i(2, m) .and. &
+                  j /= l%col_low(i - l%i0 + 1)) cycle
+                q = l%run_q(m) + i - l%run_i(1, m) + 1
+                if (q < g0 .or. q > g1) cycle
+                call take(q)
+              end do
+            end do
+          end do
+        end if
         do j = k(2, 1), k(2, 2)
+          if (allocated(l%run_ptr)) exit
           do i = k(1, 1), k(1, 2)
             if (only_ends .and. i > 0 .and. i < l%n(1) - 1 .and. j > 0 .and. &
               j < l%n(2) - 1) cycle
@@ -333,9 +386,12 @@ contains
     !! (take tests each node exactly)
     function index_span(d) result(span)
       integer, intent(in) :: d
-      integer :: span(2), m, ia, ic
+      integer :: span(2), m, ia, ic, k0
       real(wp) :: o, a, c
-      o = b%lat%origin(d)
+      ! (a polygon's lattice indices from i0, j0: k0 + 0 ... n(d) - 1)
+      k0 = 0
+      if (allocated(b%lat%run_ptr)) k0 = merge(b%lat%i0, b%lat%j0, d == 1)
+      o = b%lat%origin(d) + real(k0, wp)*b%lat%dx(d)
       if (b%lat%shifted) o = o + b%lat%shift(d)
       span = [index_at(lo(d), o, b%lat%dx(d), b%lat%n(d), .false.), &
         index_at(hi(d), o, b%lat%dx(d), b%lat%n(d), .true.)]
@@ -352,6 +408,7 @@ contains
         end if
       end do
       if (span(1) > span(2)) span = [0, -1]
+      span = span + k0
     end function index_span
 
     !> node q when it or one of its images lies within [lo, hi]: counted (pass 1) and
@@ -401,7 +458,8 @@ contains
     real(wp) :: nowhere(2)
     none = 0
     nowhere = 0.0_wp
-    call lattice_pick(b, 1, b%np, lo, hi, 0, none, nowhere, r)
+    ! (every particle of the whole body: b may be some of them, b%np fewer)
+    call lattice_pick(b, 1, huge(1), lo, hi, 0, none, nowhere, r)
     n = min(1, r%np)
   end function lattice_count
 
@@ -446,15 +504,21 @@ contains
   !! Gauss integration (rkpm_tl_m) integrate over each piece and add, so the lines the
   !! pieces share cancel and each cell's boundary integral is over its true boundary.
   !! Boundary flags and the boundary polyline come from the particle's own clipped cell.
-  subroutine make_polygon(b, v_in, dx, origin, err)
+  subroutine make_polygon(b, v_in, dx, origin, err, share)
     type(body_t), intent(out) :: b
     real(wp), intent(in) :: v_in(:, :), dx(2), origin(2)
     type(error_t), allocatable, intent(inout) :: err
+    !> [me, nranks]: only rank me's share of the particles (as make_rectangle's), made from
+    !! the recipe b%lat (polygon_walk: the runs of the rows' particles, perimeter-sized),
+    !! with the whole boundary loop; for a polygon whose lattice merges no cell
+    !! (polygon_merges false), the whole body never made
+    integer, intent(in), optional :: share(2)
     real(wp), allocatable :: v(:, :), xs(:, :), vols(:), key(:), oarea(:)
     logical, allocatable :: bnd(:)
     integer, allocatable :: order(:), bl(:), own(:, :), oij(:, :), oown(:), onew(:)
     real(wp) :: lo(2), hi(2), p(2), sd, tol, w(2, 64), cell, area, reach, a, dmin
     integer :: nv, i, j, i0, i1, j0, j1, np, cap, nw, k, nb, no, q, nleft
+    logical :: merges
     nv = size(v_in, 2)
     if (nv < 3 .or. any(dx <= 0.0_wp)) then
       call set_error(err, 'polygon needs at least 3 vertices and a positive spacing')
@@ -489,6 +553,28 @@ contains
     j1 = ceiling((hi(2) - origin(2))/dx(2) + geom_tol)
     if (int(i1 - i0 + 1, i64)*(j1 - j0 + 1) > int(huge(1), i64)) then
       call set_error(err, 'polygon: more than 2**31 - 1 lattice points; give a coarser spacing')
+      return
+    end if
+    if (present(share)) then
+      ! the recipe: the lattice, its rows' runs of particles, the loop (one walk)
+      allocate(b%lat)
+      b%lat%g = b%geom
+      b%lat%origin = origin
+      b%lat%dx = dx
+      b%lat%i0 = i0
+      b%lat%j0 = j0
+      b%lat%n = [i1 - i0 + 1, j1 - j0 + 1]
+      call polygon_walk(v, dx, origin, i0, i1, j0, j1, merges, b%lat, b)
+      if (merges) then
+        call set_error(err, 'polygon: its lattice merges cells along the outline, so a '// &
+          'rank cannot make its share alone (an internal error: such a polygon is made '// &
+          'whole, dynamic_setup_m body_per_part)', 1)
+        return
+      end if
+      b%np = lattice_nodes(b%lat)
+      b%spacing = 0.0_wp
+      b%spacing(1:2) = dx
+      call lattice_share(b, share)
       return
     end if
     cap = (i1 - i0 + 1)*(j1 - j0 + 1)
@@ -593,6 +679,131 @@ contains
     b%loop_idx = bl(order)
     b%loop_closed = [.true.]
   end subroutine make_polygon
+
+  !> Whether make_polygon merges a lattice cell into a particle's for the polygon v_in
+  !! (spacing dx from origin): an orphan piece along the outline (then a rank cannot make
+  !! its share alone, since a particle's cell depends on its neighbours'). Also true for
+  !! what make_polygon refuses (it is then made whole, and says why). The lattice's walk
+  !! alone (polygon_walk): the time of the whole lattice, no array.
+  logical function polygon_merges(v_in, dx, origin) result(merges)
+    real(wp), intent(in) :: v_in(:, :), dx(2), origin(2)
+    real(wp), allocatable :: v(:, :)
+    real(wp) :: area, lo(2), hi(2)
+    integer :: nv
+    merges = .true.
+    nv = size(v_in, 2)
+    if (nv < 3 .or. any(dx <= 0.0_wp)) return
+    area = polygon_area(v_in, nv)
+    if (abs(area) <= 0.0_wp) return
+    if (area > 0.0_wp) then
+      v = v_in
+    else
+      v = v_in(:, nv:1:-1)
+    end if
+    lo = minval(v, dim=2)
+    hi = maxval(v, dim=2)
+    if (any((hi - lo)/dx > 0.25_wp*real(huge(1), wp))) return
+    ! (make_polygon's index range)
+    call polygon_walk(v, dx, origin, floor((lo(1) - origin(1))/dx(1) - geom_tol), &
+      ceiling((hi(1) - origin(1))/dx(1) + geom_tol), &
+      floor((lo(2) - origin(2))/dx(2) - geom_tol), &
+      ceiling((hi(2) - origin(2))/dx(2) + geom_tol), merges)
+  end function polygon_merges
+
+  !> make_polygon's walk of the lattice points origin + (i dx, j dy), i0 <= i <= i1,
+  !! j0 <= j <= j1, over the counter-clockwise polygon v, by its tests in its order;
+  !! merges: it finds a lattice cell that make_polygon would merge into a particle's (an
+  !! orphan piece; the walk stops there). With lat and b, it keeps what a rank needs to
+  !! make any particle without the whole body: the runs of each row's particles and each
+  !! column's lowest particle (into lat: its n, i0, j0 and the rest set by the caller),
+  !! and the boundary loop (into b: the boundary particles sorted by edge_key, as
+  !! make_polygon sorts them, in the same order, so the same loop).
+  subroutine polygon_walk(v, dx, origin, i0, i1, j0, j1, merges, lat, b)
+    real(wp), intent(in) :: v(:, :), dx(2), origin(2)
+    integer, intent(in) :: i0, i1, j0, j1
+    logical, intent(out) :: merges
+    type(lattice_t), intent(inout), optional :: lat
+    type(body_t), intent(inout), optional :: b
+    type(geometry_t) :: g
+    integer, allocatable :: rj(:), ri(:, :), rq(:), bl(:), order(:)
+    real(wp), allocatable :: key(:)
+    real(wp) :: p(2), sd, tol, reach, a, w(2, 64), cell
+    integer :: i, j, nw, np, nr, nb, last
+    logical :: keep
+    keep = present(lat) .and. present(b)
+    g%kind = geom_polygon
+    g%v = v
+    tol = geom_tol*minval(dx)
+    reach = 0.5_wp*norm2(dx)
+    cell = dx(1)*dx(2)
+    merges = .false.
+    np = 0
+    nr = 0
+    nb = 0
+    if (keep) then
+      allocate(lat%run_ptr(j1 - j0 + 2), lat%col_low(i1 - i0 + 1))
+      lat%col_low = j0 - 1
+      allocate(rj(64), ri(2, 64), rq(64), bl(64), key(64))
+    end if
+    do j = j0, j1
+      if (keep) lat%run_ptr(j - j0 + 1) = nr + 1
+      last = i0 - 2
+      do i = i0, i1
+        p = origin + [real(i, wp)*dx(1), real(j, wp)*dx(2)]
+        sd = signed_distance(g, p)
+        if (sd > tol .and. sd >= reach) cycle
+        call clip_polygon_box(v, p - 0.5_wp*dx, p + 0.5_wp*dx, w, nw)
+        a = 0.0_wp
+        if (nw >= 3) a = polygon_area(w, nw)
+        if (sd > tol) then
+          if (a > 0.0_wp) then
+            merges = .true.
+            return
+          end if
+          cycle
+        end if
+        np = np + 1
+        if (.not. keep) cycle
+        if (i /= last + 1) then
+          ! (a new run: the arrays doubled when full)
+          nr = nr + 1
+          if (nr > size(rq)) then
+            rj = [rj, rj]
+            rq = [rq, rq]
+            ri = reshape([ri, ri], [2, 2*size(ri, 2)])
+          end if
+          rj(nr) = j
+          ri(:, nr) = i
+          rq(nr) = np - 1
+        end if
+        ri(2, nr) = i
+        last = i
+        if (lat%col_low(i - i0 + 1) < j0) lat%col_low(i - i0 + 1) = j
+        ! (make_polygon's boundary flag, its volume a: no cell merged)
+        if (abs(sd) <= tol .or. a < (1.0_wp - geom_tol)*cell) then
+          nb = nb + 1
+          if (nb > size(bl)) then
+            bl = [bl, bl]
+            key = [key, key]
+          end if
+          bl(nb) = np
+          key(nb) = edge_key(v, p)
+        end if
+      end do
+    end do
+    if (.not. keep) return
+    lat%run_ptr(j1 - j0 + 2) = nr + 1
+    lat%run_j = rj(1:nr)
+    lat%run_i = ri(:, 1:nr)
+    lat%run_q = rq(1:nr)
+    lat%nq = np
+    allocate(order(nb))
+    call sort_index(key(1:nb), order)
+    b%nloops = 1
+    b%loop_ptr = [1, nb + 1]
+    b%loop_idx = bl(order)
+    b%loop_closed = [.true.]
+  end subroutine polygon_walk
 
   !> make_polygon: the owner of the neighbour of orphan cell (ii, jj) of the lattice own
   !! (spacing dx from origin, the polygon v) that shares the longest stretch of lattice

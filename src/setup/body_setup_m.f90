@@ -275,7 +275,8 @@ contains
           max(2, nint((s%extrude(2) - s%extrude(1))/s%spacing(3)) + 1), b, e2, share)
         if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
       else
-        call make_polygon(b, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2)
+        ! (a rank's share only, body_per_part: made from the lattice's recipe)
+        call make_polygon(b, s%vertices(:, 1:s%nvert), s%spacing(1:2), s%origin, e2, share)
       end if
     case ('box')
       ! a rectangle in x-y extruded along z: n(1) x n(2) x n(3) lattice points

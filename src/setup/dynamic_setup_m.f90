@@ -14,7 +14,7 @@ module dynamic_setup_m
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
   use sorting_m, only: sorted_place
-  use generators_m, only: extrude_pick, body_pick, body_count
+  use generators_m, only: extrude_pick, body_pick, body_count, polygon_merges
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part, region_of, &
     region_rows
   use solid_tables_m, only: solid_tables_t
@@ -425,7 +425,8 @@ contains
             allocate(reg%body)
             call tl_region_2d(b, axisym, box, reg%body)
             bp => reg%body
-            call log_made(part, b, bp%np, "region from the rectangle's lattice", '', .true.)
+            call log_made(part, b, bp%np, 'region from the '//trim(b%shape)//"'s lattice", &
+              '', .true.)
           end if
           call tl_build(bp, axisym, scheme_id(bs%integration), &
             deck%materials(bs%imat)%params%density, t, e2, box)
@@ -618,16 +619,21 @@ contains
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
         any(bs%shape == ['box     ', 'cylinder', 'polygon '])
-      ! a rectangle in the plane on its lattice (RKPM by SCNI without a perturbation, or
-      ! CST4; no rotation), in any contact (a deforming master's or a self-contact's sides
-      ! take the whole body's det(M) facts over the ranks and its whole boundary polyline
-      ! from the recipe, side_facts): made from its lattice's recipe
+      ! a rectangle or polygon in the plane on its lattice (RKPM by SCNI without a
+      ! perturbation, or CST4 on a rectangle; no rotation), in any contact (a deforming
+      ! master's or a self-contact's sides take the whole body's det(M) facts over the
+      ! ranks and its whole boundary polyline from the recipe, side_facts): made from its
+      ! lattice's recipe
       if (.not. yes) yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 2 .and. &
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         (bs%discretization == 'fem' .or. (bs%discretization == 'rkpm' .and. &
         bs%integration == 'scni' .and. bs%perturbation == 0.0_wp)) .and. &
-        bs%angular_velocity == 0.0_wp .and. bs%shape == 'rectangle' .and. &
-        bs%rotate == 0.0_wp
+        bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp .and. &
+        (bs%shape == 'rectangle' .or. bs%shape == 'polygon')
+      ! (a polygon's when its lattice merges no cell along the outline, so that each
+      ! particle's cell is its own lattice cell clipped: generators_m polygon_walk)
+      if (yes .and. bs%shape == 'polygon') yes = .not. polygon_merges( &
+        bs%vertices(:, 1:bs%nvert), bs%spacing(1:2), bs%origin(1:2))
       ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
       ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
       ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
