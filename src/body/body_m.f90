@@ -89,6 +89,15 @@ module body_m
     !! (i + 1) + j n(1) is lattice point (i, j), i and j from 0.
     integer :: i0 = 0, j0 = 0, nq = 0
     integer, allocatable :: run_ptr(:), run_j(:), run_i(:, :), run_q(:), col_low(:)
+    !> an annulus sector's CST4 nodes (cst4_m cst4_annulus with a share; cst4 true): the
+    !! polar lattice of make_annulus, radii r0 + (i - 1) dr, angles t0 + (j - 1) dt about
+    !! center, i = 1 ... n(1), j = 1 ... n(2), corner i + (j - 1) n(1) (the radius
+    !! fastest); full: a whole ring, its last boxes closing onto the first; g the annulus.
+    !! The supports at a node as made: factor x max(sdr, |x - center| sdt) (body_setup_m's
+    !! local spacing, its own sdr and sdt), rho the largest of them.
+    logical :: polar = .false., full = .false.
+    real(wp) :: center(2) = 0.0_wp, r0 = 0.0_wp, dr = 0.0_wp, t0 = 0.0_wp, dt = 0.0_wp
+    real(wp) :: sdr = 0.0_wp, sdt = 0.0_wp, factor(2) = 0.0_wp
   end type lattice_t
 
   type :: body_t

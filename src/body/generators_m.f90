@@ -10,7 +10,7 @@ module generators_m
   use body_m, only: body_t, max_cell_vertices, extrusion_t, lattice_t
   use geometry_m, only: geometry_t, geom_segment, geom_polygon, geom_annulus, geom_prism, &
     geom_cylinder, &
-    signed_distance, polygon_area, clip_polygon_box, segment_distance, full_turn_tol
+    signed_distance, polygon_area, clip_polygon_box, segment_distance, full_turn_tol, twice_area
   use sorting_m, only: sort_index
   use rank_comm_m, only: share_first
   use strings_m, only: itoa, rtoa
@@ -21,7 +21,8 @@ module generators_m
   public :: set_supports, perturb_interior, max_perturbation, section_triangles
   public :: extrude_pick, extrude_count, extruded_particle, extruded_facet, extruded_nfacets
   public :: lattice_particle, lattice_pick, lattice_count, body_pick, body_count
-  public :: lattice_node, lattice_nodes, lattice_loop, polygon_merges
+  public :: lattice_node, lattice_nodes, lattice_loop, polygon_merges, lattice_corners
+  public :: polar_boxes, annulus_supports
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp
@@ -169,14 +170,24 @@ contains
   !! cst4_m cst4_rectangle's operations in its order, so the same bits): a box's corner
   !! (q <= n(1) n(2)), its volume a third of a quarter box added once for each triangle
   !! at it, or a box's centre (the mean of its four corners as made), four such thirds.
-  pure subroutine lattice_node(lat, q, x, vol, bnd)
+  pure subroutine lattice_node(lat, q, x, vol, bnd, rho)
     type(lattice_t), intent(in) :: lat
     integer, intent(in) :: q
     real(wp), intent(out) :: x(2), vol
     logical, intent(out) :: bnd
+    !> its supports (an annulus's from its position as made, build_body's local spacing;
+    !! else the recipe's, lat%rho)
+    real(wp), intent(out), optional :: rho(2)
     real(wp) :: xc(2, 4), a3, v
     integer :: nc, i, j, m, ntri
     logical :: b
+    if (present(rho)) rho = lat%rho
+    if (lat%polar) then
+      call polar_node(lat, q, x, vol, bnd)
+      if (present(rho)) rho = lat%factor*max(lat%sdr, norm2(x - lat%center)*lat%sdt)
+      if (lat%shifted) x = x + lat%shift
+      return
+    end if
     nc = lat%n(1)*lat%n(2)
     if (allocated(lat%run_ptr)) nc = lat%nq
     if (q <= nc) then
@@ -210,10 +221,140 @@ contains
   !! rectangle's box centres.
   pure integer function lattice_nodes(lat) result(n)
     type(lattice_t), intent(in) :: lat
+    n = lattice_corners(lat)
+    if (lat%cst4) n = n + (lat%n(1) - 1)*polar_boxes(lat)
+  end function lattice_nodes
+
+  !> The number of lattice points of recipe lat (a CST4 body's corners, numbered first)
+  pure integer function lattice_corners(lat) result(n)
+    type(lattice_t), intent(in) :: lat
     n = lat%n(1)*lat%n(2)
     if (allocated(lat%run_ptr)) n = lat%nq
-    if (lat%cst4) n = n + (lat%n(1) - 1)*(lat%n(2) - 1)
-  end function lattice_nodes
+  end function lattice_corners
+
+  !> The rows of boxes of a CST4 lattice along its second index: n(2) - 1, or n(2) around
+  !! a whole ring (its last boxes close onto the first)
+  pure integer function polar_boxes(lat) result(n)
+    type(lattice_t), intent(in) :: lat
+    n = lat%n(2) - 1
+    if (lat%polar .and. lat%full) n = lat%n(2)
+  end function polar_boxes
+
+  !> Corner (i, j) of the polar lattice of recipe lat (i, j from 1; j modulo n(2) around
+  !! a ring), as made: make_annulus's operations, the same bits.
+  pure function polar_corner(lat, i, j) result(x)
+    type(lattice_t), intent(in) :: lat
+    integer, intent(in) :: i, j
+    real(wp) :: x(2), r, t
+    t = lat%t0 + real(modulo(j - 1, lat%n(2)), wp)*lat%dt
+    r = lat%r0 + real(i - 1, wp)*lat%dr
+    x = lat%center + [r*cos(t), r*sin(t)]
+  end function polar_corner
+
+  !> Node q of the CST4 annulus of recipe lat (polar), as made, by cst4_m cst4_annulus's
+  !! operations in its order (the same bits): a corner (q <= n(1) n(2); make_annulus's
+  !! boundary flag) or a box's centre (the mean of its corners; interior); its lumped area
+  !! a third of each triangle at it, added in the triangles' order (four a box: bottom,
+  !! right, top, left of its corners (ib, jb), (ib + 1, jb), (ib + 1, jb + 1), (ib, jb + 1)).
+  pure subroutine polar_node(lat, q, x, vol, bnd)
+    type(lattice_t), intent(in) :: lat
+    integer, intent(in) :: q
+    real(wp), intent(out) :: x(2), vol
+    logical, intent(out) :: bnd
+    integer :: n1, nc, i, j, box, ib(4), jb(4), k(2, 4), e(8), order(8), ne, m, l, t
+    real(wp) :: xc(2, 4), xt(2, 3)
+    n1 = lat%n(1)
+    nc = n1*lat%n(2)
+    ne = 0
+    if (q <= nc) then
+      i = mod(q - 1, n1) + 1
+      j = (q - 1)/n1 + 1
+      x = polar_corner(lat, i, j)
+      bnd = i == 1 .or. i == n1 .or. ((j == 1 .or. j == lat%n(2)) .and. .not. lat%full)
+      ! (the boxes at the corner: it is their corner 1, 2, 3 or 4, in two triangles each)
+      ib = [i, i - 1, i - 1, i]
+      jb = [j, j, j - 1, j - 1]
+      k = reshape([1, 4, 1, 2, 2, 3, 3, 4], [2, 4])
+      do m = 1, 4
+        if (jb(m) == 0 .and. lat%full) jb(m) = lat%n(2)
+        if (ib(m) < 1 .or. ib(m) > n1 - 1 .or. jb(m) < 1 .or. jb(m) > polar_boxes(lat)) cycle
+        box = ib(m) + (jb(m) - 1)*(n1 - 1)
+        e(ne + 1:ne + 2) = 4*(box - 1) + k(:, m)
+        ne = ne + 2
+      end do
+    else
+      box = q - nc
+      i = mod(box - 1, n1 - 1) + 1
+      j = (box - 1)/(n1 - 1) + 1
+      xc = box_corners(i, j)
+      x = 0.25_wp*sum(xc, dim=2)
+      bnd = .false.
+      e(1:4) = 4*(box - 1) + [1, 2, 3, 4]
+      ne = 4
+    end if
+    ! (the triangles in ascending numbers, as cst4_annulus adds them)
+    do m = 1, ne
+      order(m) = m
+    end do
+    do m = 2, ne
+      t = order(m)
+      l = m - 1
+      do while (l >= 1)
+        if (e(order(l)) <= e(t)) exit
+        order(l + 1) = order(l)
+        l = l - 1
+      end do
+      order(l + 1) = t
+    end do
+    vol = 0.0_wp
+    do m = 1, ne
+      box = (e(order(m)) - 1)/4 + 1
+      l = mod(e(order(m)) - 1, 4) + 1
+      xc = box_corners(mod(box - 1, n1 - 1) + 1, (box - 1)/(n1 - 1) + 1)
+      xt(:, 1) = xc(:, l)
+      xt(:, 2) = xc(:, mod(l, 4) + 1)
+      xt(:, 3) = 0.25_wp*sum(xc, dim=2)
+      vol = vol + 0.5_wp*twice_area(xt)/3.0_wp
+    end do
+  contains
+    !> the corners of box (bi, bj) as made, counter-clockwise (cst4_annulus's order)
+    pure function box_corners(bi, bj) result(c)
+      integer, intent(in) :: bi, bj
+      real(wp) :: c(2, 4)
+      c(:, 1) = polar_corner(lat, bi, bj)
+      c(:, 2) = polar_corner(lat, bi + 1, bj)
+      c(:, 3) = polar_corner(lat, bi + 1, bj + 1)
+      c(:, 4) = polar_corner(lat, bi, bj + 1)
+    end function box_corners
+  end subroutine polar_node
+
+  !> The boundary loops of the annulus of recipe lat (polar) into b, make_annulus's: a ring's
+  !! outer circle counter-clockwise and inner one clockwise, a sector's one loop.
+  subroutine polar_loops(lat, b)
+    type(lattice_t), intent(in) :: lat
+    type(body_t), intent(inout) :: b
+    integer :: i, j, nr, nt, nb
+    nr = lat%n(1)
+    nt = lat%n(2)
+    if (lat%full) then
+      b%nloops = 2
+      b%loop_ptr = [1, nt + 1, 2*nt + 1]
+      b%loop_idx = [([(idx(nr, j), j = 1, nt)]), ([(idx(1, j), j = nt, 1, -1)])]
+      b%loop_closed = [.true., .true.]
+    else
+      nb = 2*(nr - 1) + 2*(nt - 1)
+      b%nloops = 1
+      b%loop_ptr = [1, nb + 1]
+      b%loop_idx = [[(idx(i, 1), i = 1, nr - 1)], [(idx(nr, j), j = 1, nt - 1)], &
+        [(idx(i, nt), i = nr, 2, -1)], [(idx(1, j), j = nt, 2, -1)]]
+      b%loop_closed = [.true.]
+    end if
+  contains
+    pure integer function idx(ir, jt)
+      integer, intent(in) :: ir, jt
+      idx = ir + (jt - 1)*nr
+    end function idx
+  end subroutine polar_loops
 
   !> The lattice indices (i, j) of particle q of recipe lat: a rectangle's (i + 1) + j n(1),
   !! a polygon's by its runs (the run holding q, by bisection over their first numbers).
@@ -323,19 +464,26 @@ contains
     real(wp), intent(in) :: lo(:), hi(:), pos(:)
     type(body_t), intent(out) :: r
     logical, intent(in), optional :: ends
-    integer :: n, pass, i, j, q, k(2, 2), m
-    real(wp) :: x(2), vol
+    integer :: n, pass, i, j, q, k(2, 2), m, ir(2)
+    real(wp) :: x(2), vol, rh(2)
     logical :: bnd, only_ends
+    logical, allocatable :: jm(:)
     only_ends = .false.
     if (present(ends)) only_ends = ends
     call copy_description(b, r)
     r%ndim = 2
     r%lat = b%lat
     r%np_whole = lattice_nodes(b%lat)
-    ! the lattice indices each axis can take (a position or an image within the box)
-    do i = 1, 2
-      k(i, :) = index_span(i)
-    end do
+    if (b%lat%polar) then
+      ! the radii and angles of the box (polar_span)
+      allocate(jm(b%lat%n(2)))
+      call polar_span(b%lat, lo(1:2), hi(1:2), nplanes, ir, jm)
+    else
+      ! the lattice indices each axis can take (a position or an image within the box)
+      do i = 1, 2
+        k(i, :) = index_span(i)
+      end do
+    end if
     associate (l => b%lat)
       do pass = 1, 2
         n = 0
@@ -354,8 +502,30 @@ contains
             end do
           end do
         end if
+        if (l%polar) then
+          ! an annulus's: the corners of the radii and angles the box can hold, then the
+          ! boxes' centres among them
+          do j = 1, l%n(2)
+            if (.not. jm(j)) cycle
+            do i = ir(1), ir(2)
+              if (only_ends .and. i > 1 .and. i < l%n(1)) cycle
+              q = i + (j - 1)*l%n(1)
+              if (q < g0 .or. q > g1) cycle
+              call take(q)
+            end do
+          end do
+          do j = 1, polar_boxes(l)
+            if (only_ends) exit
+            if (.not. (jm(j) .or. jm(modulo(j, l%n(2)) + 1))) cycle
+            do i = max(1, ir(1) - 1), min(l%n(1) - 1, ir(2))
+              q = l%n(1)*l%n(2) + i + (j - 1)*(l%n(1) - 1)
+              if (q < g0 .or. q > g1) cycle
+              call take(q)
+            end do
+          end do
+        end if
         do j = k(2, 1), k(2, 2)
-          if (allocated(l%run_ptr)) exit
+          if (allocated(l%run_ptr) .or. l%polar) exit
           do i = k(1, 1), k(1, 2)
             if (only_ends .and. i > 0 .and. i < l%n(1) - 1 .and. j > 0 .and. &
               j < l%n(2) - 1) cycle
@@ -365,7 +535,7 @@ contains
           end do
         end do
         ! (a CST4 rectangle's box centres, numbered after the corners: lattice_node)
-        if (l%cst4 .and. .not. only_ends) then
+        if (l%cst4 .and. .not. only_ends .and. .not. l%polar) then
           do j = max(0, k(2, 1) - 1), min(l%n(2) - 2, k(2, 2))
             do i = max(0, k(1, 1) - 1), min(l%n(1) - 2, k(1, 2))
               q = l%n(1)*l%n(2) + i + 1 + j*(l%n(1) - 1)
@@ -415,17 +585,72 @@ contains
     !! stored (pass 2)
     subroutine take(q)
       integer, intent(in) :: q
-      call lattice_node(b%lat, q, x, vol, bnd)
+      call lattice_node(b%lat, q, x, vol, bnd, rh)
       if (.not. near_images(x, lo(1:2), hi(1:2), nplanes, normal, pos)) return
       n = n + 1
       if (pass == 1) return
       r%x(:, n) = x
       r%vol(n) = vol
       r%boundary(n) = bnd
-      r%rho(:, n) = b%lat%rho
+      r%rho(:, n) = rh
       r%glob(n) = q
     end subroutine take
   end subroutine lattice_pick
+
+  !> The radii ir(1) ... ir(2) and the angles jm(j) of the polar lattice of recipe lat
+  !! whose corners can lie within [lo, hi] (lattice_pick's box, in the positions as moved
+  !! by lat%shift), widened by two spacings each way for the rounding (lattice_pick tests
+  !! each node exactly): the radii between the box's least and greatest distance from the
+  !! centre, the angles of the box as seen from it (all of them when the box holds the
+  !! centre, or the pick takes mirror images: nplanes > 0).
+  pure subroutine polar_span(lat, lo, hi, nplanes, ir, jm)
+    type(lattice_t), intent(in) :: lat
+    real(wp), intent(in) :: lo(2), hi(2)
+    integer, intent(in) :: nplanes
+    integer, intent(out) :: ir(2)
+    logical, intent(out) :: jm(:)
+    real(wp) :: c(2), p(2), dmin, dmax, phi, d, amin, amax, a, z, per, corner(2)
+    integer :: m, j0, j1, n1, n2
+    n1 = lat%n(1)
+    n2 = lat%n(2)
+    ir = [1, n1]
+    jm = .true.
+    if (nplanes > 0) return
+    c = lat%center
+    if (lat%shifted) c = c + lat%shift
+    ! (a box of huge sides reaches everything)
+    if (any(abs(lo) > 0.25_wp*huge(1.0_wp)) .or. any(abs(hi) > 0.25_wp*huge(1.0_wp))) return
+    p = max(lo, min(hi, c))
+    dmin = norm2(p - c)
+    dmax = 0.0_wp
+    do m = 1, 4
+      corner = [merge(lo(1), hi(1), m == 1 .or. m == 4), merge(lo(2), hi(2), m <= 2)]
+      dmax = max(dmax, norm2(corner - c))
+    end do
+    ir(1) = max(1, floor(max(-2.0_wp, min(real(n1 + 1, wp), (dmin - lat%r0)/lat%dr))) - 1)
+    ir(2) = min(n1, ceiling(max(-2.0_wp, min(real(n1 + 1, wp), (dmax - lat%r0)/lat%dr))) + 3)
+    if (dmin <= 0.0_wp) return
+    ! the box's angles about c: within pi of the nearest point's
+    phi = atan2(p(2) - c(2), p(1) - c(1))
+    amin = 0.0_wp
+    amax = 0.0_wp
+    do m = 1, 4
+      corner = [merge(lo(1), hi(1), m == 1 .or. m == 4), merge(lo(2), hi(2), m <= 2)]
+      d = atan2(corner(2) - c(2), corner(1) - c(1)) - phi
+      d = d - 2.0_wp*pi*anint(d/(2.0_wp*pi))
+      amin = min(amin, d)
+      amax = max(amax, d)
+    end do
+    jm = .false.
+    per = 2.0_wp*pi/lat%dt
+    do m = -2, 2
+      a = (phi + amin - lat%t0)/lat%dt + real(m, wp)*per
+      z = (phi + amax - lat%t0)/lat%dt + real(m, wp)*per
+      j0 = max(1, floor(max(-3.0_wp, min(real(n2 + 2, wp), a))) - 1)
+      j1 = min(n2, ceiling(max(-3.0_wp, min(real(n2 + 2, wp), z))) + 3)
+      if (j0 <= j1) jm(j0:j1) = .true.
+    end do
+  end subroutine polar_span
 
   !> The first (upper: last) index i of the lattice coordinates o + i dx, i = 0 ... n - 1,
   !! at or beyond coordinate y, widened by one (lattice_pick's span)
@@ -882,11 +1107,15 @@ contains
 
   !> Polar lattice: nr radii on [r0, r1], nt angles on [t0, t1] (radians) about center.
   !! A full ring (t1 - t0 = 2 pi) does not repeat the seam.
-  subroutine make_annulus(b, center, r0, r1, t0, t1, nr, nt, err)
+  subroutine make_annulus(b, center, r0, r1, t0, t1, nr, nt, err, share)
     type(body_t), intent(out) :: b
     real(wp), intent(in) :: center(2), r0, r1, t0, t1
     integer, intent(in) :: nr, nt
     type(error_t), allocatable, intent(inout) :: err
+    !> [me, nranks]: the nodes of the CST4 annulus on this lattice (cst4_m cst4_annulus:
+    !! the corners, then the boxes' centres, their lumped areas), rank me's share of them
+    !! only, made from the recipe b%lat (polar), with the whole boundary loops
+    integer, intent(in), optional :: share(2)
     real(wp) :: dr, dt, r, t, ra, rb, ta, tb
     logical :: full
     integer :: i, j, k, np, nb
@@ -907,6 +1136,33 @@ contains
       dt = (t1 - t0)/real(nt, wp)
     else
       dt = (t1 - t0)/real(nt - 1, wp)
+    end if
+    if (present(share)) then
+      ! the recipe (a rank makes its share and region from it: lattice_node)
+      allocate(b%lat)
+      b%lat%polar = .true.
+      b%lat%cst4 = .true.
+      b%lat%full = full
+      b%lat%n = [nr, nt]
+      b%lat%center = center
+      b%lat%r0 = r0
+      b%lat%dr = dr
+      b%lat%t0 = t0
+      b%lat%dt = dt
+      b%ndim = 2
+      b%np = lattice_nodes(b%lat)
+      b%spacing = 0.0_wp
+      b%spacing(1:2) = max(dr, 0.5_wp*(r0 + r1)*dt)
+      b%geom%kind = geom_annulus
+      b%geom%center = center
+      b%geom%r0 = r0
+      b%geom%r1 = r1
+      b%geom%t0 = t0
+      b%geom%t1 = t1
+      b%lat%g = b%geom
+      call lattice_share(b, share)
+      call polar_loops(b%lat, b)
+      return
     end if
     np = nr*nt
     b%ndim = 2
@@ -1996,6 +2252,35 @@ contains
 
   !> rho = factor x spacing per direction. For annuli the local spacing grows with radius,
   !! so each particle gets factor x max(dr, r dtheta); the basis scale h is the nominal rho.
+  !> The supports of the particles (CST4 nodes) of annulus sector b as build_body gives
+  !! them: factor x the local spacing max(dr, |x - center| dt) at each position as made
+  !! (dr, dt the deck's radial and angular spacings); for a share made from b's polar
+  !! recipe, the recipe's supports too (generators_m lattice_node) and the largest of them,
+  !! at the outer circle's corners (the boxes' centres lie inside it).
+  subroutine annulus_supports(b, center, dr, dt, factor)
+    type(body_t), intent(inout) :: b
+    real(wp), intent(in) :: center(2), dr, dt, factor(:)
+    real(wp), allocatable :: local(:)
+    real(wp) :: x(2), vol, rho(2)
+    logical :: bnd
+    integer :: i
+    ! (a rank's share holds size(b%x, 2) of the np)
+    allocate(local(size(b%x, 2)))
+    do i = 1, size(b%x, 2)
+      local(i) = max(dr, norm2(b%x(:, i) - center)*dt)
+    end do
+    call set_supports(b, factor, local)
+    if (.not. allocated(b%lat)) return
+    b%lat%sdr = dr
+    b%lat%sdt = dt
+    b%lat%factor = factor(1:2)
+    b%lat%rho = 0.0_wp
+    do i = 1, b%lat%n(2)
+      call lattice_node(b%lat, b%lat%n(1)*i, x, vol, bnd, rho)
+      b%lat%rho = max(b%lat%rho, rho)
+    end do
+  end subroutine annulus_supports
+
   subroutine set_supports(b, factor, local_spacing)
     type(body_t), intent(inout) :: b
     real(wp), intent(in) :: factor(:)

@@ -18,11 +18,12 @@ module cst4_m
   use kinds_m, only: wp, pi
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa, rtoa
-  use body_m, only: body_t, body_keep_used
-  use generators_m, only: make_rectangle, make_annulus, set_supports, lattice_pick
+  use body_m, only: body_t, body_keep_used, lattice_t
+  use generators_m, only: make_rectangle, make_annulus, set_supports, lattice_pick, polar_boxes, &
+    lattice_corners
   use rank_comm_m, only: share_first
   use sorting_m, only: sorted_place
-  use geometry_m, only: full_turn_tol
+  use geometry_m, only: full_turn_tol, twice_area
   use dims_m, only: dims_plane
   use solid_tables_m, only: solid_tables_t, tables_finish_elements, element_rows
   use mesh_cells_m, only: check_cells
@@ -178,16 +179,44 @@ contains
     tri = [c(k), c(mod(k, 4) + 1), n1*(nbox(2) + 1) + box]
   end function rectangle_triangle
 
-  !> What a rank makes of the CST4 rectangle b (its recipe b%lat: the whole body is never
-  !! made) for its box (3, 2) of the decomposition: the triangles all of whose nodes lie
-  !! within 2 l + s of the box (l the longest edge, a box's side, s the spacing, for the
-  !! rounding), as mesh over the nodes of body r (generators_m lattice_pick's, cut to
-  !! those the triangles use), with their numbers in the whole mesh, eglob (ascending;
-  !! ne_whole of them). They hold every triangle cst4_tables keeps a row of for the box
-  !! (its centroid or a vertex in it: every vertex within l of the box) and every triangle
-  !! of each of those rows' nodes (within l of such a vertex), in the whole mesh's order:
-  !! those nodes' masses are the same sums in the same order as the whole body's (as
-  !! tet4_m tet4_region's tetrahedra).
+  !> Triangle e of the CST4 body of recipe lat (a rectangle's, rectangle_triangle; an
+  !! annulus's, cst4_annulus's numbering: four a polar box in box order, the radius
+  !! fastest, split_box's, its corners (ib, jb), (ib + 1, jb), (ib + 1, jb + 1),
+  !! (ib, jb + 1), the last row of a ring's boxes closing onto the first corners).
+  pure function box_triangle(lat, e) result(tri)
+    type(lattice_t), intent(in) :: lat
+    integer, intent(in) :: e
+    integer :: tri(3)
+    integer :: box, k, ib, jb, c(4), nr, nt
+    if (.not. lat%polar) then
+      tri = rectangle_triangle(lat%n - 1, e)
+      return
+    end if
+    nr = lat%n(1)
+    nt = lat%n(2)
+    box = (e - 1)/4 + 1
+    k = mod(e - 1, 4) + 1
+    ib = mod(box - 1, nr - 1) + 1
+    jb = (box - 1)/(nr - 1) + 1
+    c = [corner(ib, jb), corner(ib + 1, jb), corner(ib + 1, jb + 1), corner(ib, jb + 1)]
+    tri = [c(k), c(mod(k, 4) + 1), nr*nt + box]
+  contains
+    pure integer function corner(i, j)
+      integer, intent(in) :: i, j
+      corner = i + (modulo(j - 1, nt))*nr
+    end function corner
+  end function box_triangle
+
+  !> What a rank makes of the CST4 rectangle or annulus b (its recipe b%lat: the whole body
+  !! is never made) for its box (3, 2) of the decomposition: the triangles all of whose
+  !! nodes lie within 2 l + s of the box (l the longest edge, a box's side or an annulus's
+  !! outer arc's chord, s the spacing, for the rounding), as mesh over the nodes of body r
+  !! (generators_m lattice_pick's, cut to those the triangles use), with their numbers in
+  !! the whole mesh, eglob (ascending; ne_whole of them). They hold every triangle
+  !! cst4_tables keeps a row of for the box (its centroid or a vertex in it: every vertex
+  !! within l of the box) and every triangle of each of those rows' nodes (within l of such
+  !! a vertex), in the whole mesh's order: those nodes' masses are the same sums in the
+  !! same order as the whole body's (as tet4_m tet4_region's tetrahedra).
   subroutine cst4_region(b, box, r, mesh, eglob, ne_whole)
     type(body_t), intent(in) :: b
     real(wp), intent(in) :: box(3, 2)
@@ -196,47 +225,39 @@ contains
     integer, allocatable, intent(out) :: eglob(:)
     integer, intent(out) :: ne_whole
     type(body_t) :: near
-    real(wp) :: grow, nowhere(1)
-    integer :: none(1), nb(2), nc, n, pass, ib, jb, k, e, at(3), i, ij(2, 2), l
+    real(wp) :: grow, nowhere(1), l
+    integer :: none(1), nc, n, pass, k, e, at(3), i, m
     logical, allocatable :: used(:)
-    nb = b%lat%n - 1
-    nc = b%lat%n(1)*b%lat%n(2)
-    ne_whole = 4*nb(1)*nb(2)
-    mesh%nbox = nb
-    grow = 3.0_wp*maxval(b%spacing(1:2))
+    nc = lattice_corners(b%lat)
+    mesh%nbox = [b%lat%n(1) - 1, polar_boxes(b%lat)]
+    ne_whole = 4*mesh%nbox(1)*mesh%nbox(2)
+    l = maxval(b%spacing(1:2))
+    if (b%lat%polar) l = max(b%lat%dr, (b%lat%r0 + real(b%lat%n(1) - 1, wp)*b%lat%dr)* &
+      b%lat%dt)
+    grow = 3.0_wp*l
     none = 0
     nowhere = 0.0_wp
     call lattice_pick(b, 1, b%np, box(1:2, 1) - grow, box(1:2, 2) + grow, 0, none, nowhere, &
       near)
-    ! (the boxes whose corners are among the near corners' index ranges)
-    ij(:, 1) = huge(1) - 1
-    ij(:, 2) = -1
-    do i = 1, near%np
-      if (near%glob(i) > nc) exit
-      ij(:, 1) = min(ij(:, 1), [mod(near%glob(i) - 1, b%lat%n(1)), (near%glob(i) - 1)/ &
-        b%lat%n(1)])
-      ij(:, 2) = max(ij(:, 2), [mod(near%glob(i) - 1, b%lat%n(1)), (near%glob(i) - 1)/ &
-        b%lat%n(1)])
-    end do
+    ! (every triangle holds its box's centre: the near centres' boxes, in ascending order)
     allocate(used(near%np))
     used = .false.
     do pass = 1, 2
       n = 0
-      do jb = ij(2, 1) + 1, min(ij(2, 2), nb(2))
-        do ib = ij(1, 1) + 1, min(ij(1, 2), nb(1))
-          do k = 1, 4
-            e = 4*(ib - 1 + (jb - 1)*nb(1)) + k
-            at = rectangle_triangle(nb, e)
-            do l = 1, 3
-              at(l) = sorted_place(near%glob, at(l))
-            end do
-            if (any(at == 0)) cycle
-            n = n + 1
-            if (pass == 1) cycle
-            mesh%tri(:, n) = at
-            eglob(n) = e
-            used(at) = .true.
+      do i = 1, near%np
+        if (near%glob(i) <= nc) cycle
+        do k = 1, 4
+          e = 4*(near%glob(i) - nc - 1) + k
+          at = box_triangle(b%lat, e)
+          do m = 1, 3
+            at(m) = sorted_place(near%glob, at(m))
           end do
+          if (any(at == 0)) cycle
+          n = n + 1
+          if (pass == 1) cycle
+          mesh%tri(:, n) = at
+          eglob(n) = e
+          used(at) = .true.
         end do
       end do
       if (pass == 1) allocate(mesh%tri(3, n), eglob(n))
@@ -253,17 +274,35 @@ contains
   !! centre node at the mean of its corners (nodes numbered after the corners, box order,
   !! radius fastest). b%vol is the lumped nodal area, a third of each touching triangle's
   !! area (m^2); supports are the caller's (make_annulus's local spacing).
-  subroutine cst4_annulus(center, r0, r1, t0, t1, nr, nt, b, mesh, err)
+  subroutine cst4_annulus(center, r0, r1, t0, t1, nr, nt, b, mesh, err, share)
     real(wp), intent(in) :: center(2), r0, r1, t0, t1
     integer, intent(in) :: nr, nt
     type(body_t), intent(out) :: b
     type(cst4_mesh_t), intent(out) :: mesh
     type(error_t), allocatable, intent(inout) :: err
+    !> [me, nranks]: only rank me's share of the nodes (generators_m make_annulus's, from
+    !! the polar recipe b%lat, lattice_node) and of the triangles (mesh%tri: elements
+    !! b%cell0 ... of b%ncells), the whole body never made
+    integer, intent(in), optional :: share(2)
     real(wp), allocatable :: x(:, :)
     logical, allocatable :: bnd(:)
     real(wp) :: xt(2, 3), dn(2, 3), area, alt
     integer :: nc, nbt, ncen, np, ib, jb, c(4), e, box
     logical :: full
+    if (present(share)) then
+      call make_annulus(b, center, r0, r1, t0, t1, nr, nt, err, share)
+      if (allocated(err)) return
+      mesh%nbox = [nr - 1, polar_boxes(b%lat)]
+      mesh%ncorner = nr*nt
+      b%ncells = 4*mesh%nbox(1)*mesh%nbox(2)
+      b%cell0 = share_first(b%ncells, share(1), share(2))
+      mesh%ne = share_first(b%ncells, share(1) + 1, share(2)) - b%cell0
+      allocate(mesh%tri(3, mesh%ne))
+      do e = 1, mesh%ne
+        mesh%tri(:, e) = box_triangle(b%lat, b%cell0 + e - 1)
+      end do
+      return
+    end if
     call make_annulus(b, center, r0, r1, t0, t1, nr, nt, err)
     if (allocated(err)) return
     full = t1 - t0 >= 2.0_wp*pi - full_turn_tol
@@ -469,8 +508,7 @@ contains
     real(wp), intent(out) :: area, dn(2, 3), alt
     real(wp) :: a2, lmax
     integer :: k, k1, k2
-    a2 = (xt(1, 2) - xt(1, 1))*(xt(2, 3) - xt(2, 1)) &
-      - (xt(1, 3) - xt(1, 1))*(xt(2, 2) - xt(2, 1))
+    a2 = twice_area(xt)
     area = 0.5_wp*a2
     dn = 0.0_wp
     alt = 0.0_wp

@@ -9,7 +9,7 @@ module geometry_m
   public :: geometry_t, geom_none, geom_segment, geom_polygon, geom_annulus, geom_prism
   public :: geom_cylinder
   public :: signed_distance, polygon_area, clip_polygon_box, segment_distance
-  public :: polygon_crossing, full_turn_tol, cross3
+  public :: polygon_crossing, full_turn_tol, cross3, twice_area
 
   integer, parameter :: geom_none = 0, geom_segment = 1, geom_polygon = 2, geom_annulus = 3
   integer, parameter :: geom_prism = 4
@@ -360,4 +360,13 @@ contains
     real(wp) :: c(3)
     c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
   end function cross3
+
+  !> Twice the area of the triangle xt(2, 3), positive when counter-clockwise (m^2): one
+  !! function for cst4_m's element areas and the nodes' lumped areas made per rank
+  !! (generators_m lattice_node), so that both are the same bits.
+  pure real(wp) function twice_area(xt) result(a2)
+    real(wp), intent(in) :: xt(2, 3)
+    a2 = (xt(1, 2) - xt(1, 1))*(xt(2, 3) - xt(2, 1)) &
+      - (xt(1, 3) - xt(1, 1))*(xt(2, 2) - xt(2, 1))
+  end function twice_area
 end module geometry_m

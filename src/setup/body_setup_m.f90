@@ -14,7 +14,7 @@ module body_setup_m
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, make_disk, &
     lattice_cells_explicit, extrude_body, extrude_pick, body_pick, &
-    make_from_arrays, set_supports, perturb_interior
+    make_from_arrays, set_supports, perturb_interior, annulus_supports
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
   use kinds_m, only: i64
@@ -286,8 +286,9 @@ contains
     case ('annulus_sector')
       if (s%discretization == 'fem') then
         ! CST4 elements on the polar boxes of the annulus lattice
+        ! (a rank's share only, body_per_part: made from the polar lattice's recipe)
         call cst4_annulus(s%center, s%r_inner, s%r_outer, s%theta_start*pi/180.0_wp, &
-          s%theta_end*pi/180.0_wp, s%n(1), s%n(2), b, mesh, e2)
+          s%theta_end*pi/180.0_wp, s%n(1), s%n(2), b, mesh, e2, share)
         if (.not. allocated(e2)) call move_alloc(mesh%tri, b%cells)
       else
         call make_annulus(b, s%center, s%r_inner, s%r_outer, s%theta_start*pi/180.0_wp, &
@@ -413,11 +414,8 @@ contains
       else
         dt = dt/real(s%n(2) - 1, wp)
       end if
-      allocate(local(b%np))
-      do i = 1, b%np
-        local(i) = max(dr, norm2(b%x(:, i) - s%center)*dt)
-      end do
-      call set_supports(b, s%support_factor, local)
+      ! (and the polar recipe's of a rank's share)
+      call annulus_supports(b, s%center, dr, dt, s%support_factor)
     else if (.not. allocated(b%cells) .or. nd == 3) then
       ! (a 3D element body's nodes are its lattice's particles: their det(M) supports too)
       call set_supports(b, s%support_factor)

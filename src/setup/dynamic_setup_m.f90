@@ -14,7 +14,7 @@ module dynamic_setup_m
   use rank_comm_m, only: rank_comm_t, share_first
   use exact_sum_m, only: exact_sum_t, exact_add, exact_allsum
   use sorting_m, only: sorted_place
-  use generators_m, only: extrude_pick, body_pick, body_count, polygon_merges
+  use generators_m, only: extrude_pick, body_pick, body_count, polygon_merges, lattice_corners
   use decomposition_m, only: rcb_tree_t, rcb_build_ranks, rcb_box, rcb_part, region_of, &
     region_rows
   use solid_tables_m, only: solid_tables_t
@@ -364,7 +364,7 @@ contains
       ! CST4: on a rank, the rows of the triangles of its region (the masses whole)
       if (region_box(part, b, tree, box)) then
         if (b%held_share) then
-          ! (a rectangle no rank holds whole: the rank's triangles and nodes made from its
+          ! (a rectangle or annulus no rank holds whole: the rank's triangles and nodes made from its
           ! lattice's recipe, cst4_region; the smallest altitude and the total mass over
           ! the ranks)
           allocate(reg%body)
@@ -373,8 +373,8 @@ contains
           call cst4_tables(bp, mesh, axisym, deck%materials(bs%imat)%params%density, t, &
             e2, box)
           call region_tet_sums(part, tree, bp, t, e2)
-          call log_made(part, b, bp%np, "region's triangles from the rectangle's lattice", &
-            ' (nodes)', .not. allocated(e2))
+          call log_made(part, b, bp%np, "region's triangles from the "//trim(b%shape)// &
+            "'s lattice", ' (nodes)', .not. allocated(e2))
         else
           mesh%ne = size(b%cells, 2)
           mesh%tri = b%cells
@@ -421,7 +421,7 @@ contains
       else
         if (region_box(part, b, tree, box)) then
           if (region_made(deck, k, part, b)) then
-            ! (a rectangle no rank holds whole: the rank's region made from its recipe)
+            ! (a rectangle or polygon no rank holds whole: the rank's region made from its recipe)
             allocate(reg%body)
             call tl_region_2d(b, axisym, box, reg%body)
             bp => reg%body
@@ -620,7 +620,8 @@ contains
         any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &
         any(bs%shape == ['box     ', 'cylinder', 'polygon '])
       ! a rectangle or polygon in the plane on its lattice (RKPM by SCNI without a
-      ! perturbation, or CST4 on a rectangle; no rotation), in any contact (a deforming
+      ! perturbation, or CST4 on a rectangle), or the CST4 elements of an annulus sector
+      ! on its polar lattice (no rotation), in any contact (a deforming
       ! master's or a self-contact's sides take the whole body's det(M) facts over the
       ! ranks and its whole boundary polyline from the recipe, side_facts): made from its
       ! lattice's recipe
@@ -629,7 +630,8 @@ contains
         (bs%discretization == 'fem' .or. (bs%discretization == 'rkpm' .and. &
         bs%integration == 'scni' .and. bs%perturbation == 0.0_wp)) .and. &
         bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp .and. &
-        (bs%shape == 'rectangle' .or. bs%shape == 'polygon')
+        (bs%shape == 'rectangle' .or. bs%shape == 'polygon' .or. &
+        (bs%shape == 'annulus_sector' .and. bs%discretization == 'fem'))
       ! (a polygon's when its lattice merges no cell along the outline, so that each
       ! particle's cell is its own lattice cell clipped: generators_m polygon_walk)
       if (yes .and. bs%shape == 'polygon') yes = .not. polygon_merges( &
@@ -1211,7 +1213,7 @@ contains
         r1 = n
         if (b%lat%cst4) then
           ! (the share's corners, then its centres: rows r0 ... r1)
-          j = b%lat%n(1)*b%lat%n(2) - b%row0 + 1
+          j = lattice_corners(b%lat) - b%row0 + 1
           if (run == 1) r1 = min(n, j)
           if (run == 2) r0 = max(1, j + 1)
         else if (run == 2) then
