@@ -12,13 +12,17 @@
 # POLYGON=1 takes the C of input/c_shape_fold.nml (RKPM, self-contact) at 1/16 mm spacing
 # instead, its two arms 20 mm longer for each rank (the spine 6 x 30 mm, the arms 6 mm
 # thick: some 61,000 particles a rank more), made per rank from its lattice's rows.
+# RING=1 takes the CST4 ring of input/ring_crush.nml (self-contact) instead, refined for each
+# rank count so that it holds some 61,000 nodes a rank (n = 1 + 46 sqrt(ranks/2) corners
+# across the wall, 28.3 times as many boxes around: near-square boxes), made per rank from
+# its polar lattice.
 # Prints, per run, the bar's size, the summary's set-up and time-loop seconds, every rank's
 # resident memory after the set-up and at the end (the smallest and largest, mfcd_mpi's
 # log), the log's line on the bar made per rank, and every rank's peak resident memory (GNU
 # time's %M).
 # Usage: [STEPS=N] [FEM=1] bash bench/mpi_weak_2d.sh [MPI_BIN_DIR] [RANKS ...]
 #   default: build-mpi-rel/bin (bench/mpi_scaling.sh builds it), ranks 2 4 8, 3 steps
-#   (POLYGON=1: t_end 2e-8 s, a few steps)
+#   (POLYGON=1, RING=1: t_end 2e-8 s, a few steps)
 # More ranks than cores run oversubscribed: the memory holds, the set-up's seconds are then
 # the ranks sharing a core.
 set -euo pipefail
@@ -32,7 +36,9 @@ steps=${STEPS:-3}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-if [ "${POLYGON:-0}" = 1 ]; then
+if [ "${RING:-0}" = 1 ]; then
+  echo "# mfcd_mpi weak scaling of the set-up, the CST4 ring of ring_crush.nml, some 61,000 nodes a rank, t_end 2e-8 s"
+elif [ "${POLYGON:-0}" = 1 ]; then
   echo "# mfcd_mpi weak scaling of the set-up, the C of c_shape_fold.nml, arms 20 mm longer a rank at 1/16 mm, t_end 2e-8 s"
 else
   echo "# mfcd_mpi weak scaling of the set-up, plane Taylor bar 30 mm a rank at 1/24 mm, $steps steps$([ "${FEM:-0}" = 1 ] && echo ', CST4')"
@@ -42,7 +48,15 @@ echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//
 for n in "${ranks[@]}"; do
   len=$(python3 -c "print(f'{0.03*$n:.4f}')")
   ny=$((720 * n + 1))
-  if [ "${POLYGON:-0}" = 1 ]; then
+  if [ "${RING:-0}" = 1 ]; then
+    n1=$(python3 -c "print(1 + round(46 * ($n / 2) ** 0.5))")
+    n2=$(python3 -c "print(4 * round(28.3 * ($n1 - 1) / 4))")
+    sed -e "s#file = 'output/#file = '$work/#" -e "s/  n = 5, 112/  n = $n1, $n2/" \
+      -e 's/t_end = 860.0e-6/t_end = 2.0e-8/' -e '/snapshot_times/d' \
+      "$root/input/ring_crush.nml" > "$work/t.nml"
+    grep -q "n = $n1, $n2" "$work/t.nml" || { echo "mpi_weak_2d: the deck was not resized" >&2; exit 1; }
+    echo "== $n rank(s), the ring's polar lattice $n1 x $n2"
+  elif [ "${POLYGON:-0}" = 1 ]; then
     xr=$(python3 -c "print(f'{0.006 + 0.02*$n:.4f}')")
     sed -e "s#file = 'output/#file = '$work/#" -e "s/0\.040,/$xr,/g" \
       -e 's/spacing = 0.001, 0.001/spacing = 0.0000625, 0.0000625/' \
@@ -63,7 +77,7 @@ for n in "${ranks[@]}"; do
       -e "s/t_end = 24.0e-6/t_end = $(python3 -c "print(f'{0.625e-9*$steps:.4e}')")/" \
       -e '/snapshot_times/d' "$root/input/taylor_bar_rkpm_fine.nml" > "$work/t.nml"
   fi
-  if [ "${POLYGON:-0}" != 1 ]; then
+  if [ "${POLYGON:-0}" != 1 ] && [ "${RING:-0}" != 1 ]; then
     grep -q "n = 121, $ny" "$work/t.nml" || { echo "mpi_weak_2d: the deck was not resized" >&2; exit 1; }
     echo "== $n rank(s), bar $len m long, 121 x $ny"
   fi
