@@ -181,23 +181,31 @@ contains
   !! part of as a mesh file (tet_file_m) and rank 0 removes after the set-up (or when the
   !! run ends earlier): gmsh meshes a model whole, so one rank holds the whole mesh while
   !! gmsh makes it and none after. Collective (rank 0's process id names the files).
+  !! A 2D script (any role) the same way, each rank reading the file whole (a plane mesh is
+  !! not read per part yet): gmsh runs on one rank instead of on every one.
   subroutine mesh_scripts()
     integer :: pid, j
-    if (.not. any(per_part .and. deck%bodies(1:deck%nbodies)%shape == 'geo')) return
+    logical :: once(deck%nbodies)
+    once = deck%bodies(1:deck%nbodies)%shape == 'geo' .and. (per_part .or. &
+      deck%run%ndim == 2)
+    if (.not. any(once)) return
     pid = process_id()
     call MPI_Bcast(pid, 1, MPI_INTEGER, 0, MPI_COMM_WORLD)
     if (me == 0) call check_output_path(deck, err, restart_path)
     do j = 1, deck%nbodies
-      if (.not. (per_part(j) .and. deck%bodies(j)%shape == 'geo')) cycle
-      mesh_files(j) = scratch_name(deck, itoa(pid)//'-mesh'//itoa(j))
+      if (.not. once(j)) cycle
+      ! (a plane mesh is read as a particle file, which its name's .h5 says)
+      mesh_files(j) = scratch_name(deck, itoa(pid)//'-mesh'//itoa(j)// &
+        trim(merge('.h5', '   ', deck%run%ndim == 2)))
       if (me /= 0 .or. allocated(err)) cycle
       call geo_mesh_file(deck, j, trim(mesh_files(j)), err)
       ! (gmsh's freed model back to the system: its thread's arena keeps the pages)
       call memory_trim()
       if (.not. allocated(err)) call log_print("mfcd_mpi: body "//itoa(j)//" ('"// &
         trim(deck%bodies(j)%name)//"'): gmsh meshed '"//trim(deck%bodies(j)%file)// &
-        "' once, on rank 0, into '"//trim(mesh_files(j))//"'; each rank reads its part "// &
-        "of it (removed after the set-up)")
+        "' once, on rank 0, into '"//trim(mesh_files(j))//"'; each rank reads "// &
+        trim(merge('its part of it', 'it whole      ', deck%run%ndim == 3))// &
+        " (removed after the set-up)")
     end do
   end subroutine mesh_scripts
 

@@ -73,8 +73,9 @@ contains
     !! share, so that the ranks may find different errors)
     integer, intent(in), optional :: share(2)
     logical, intent(in), optional :: per_part(:)
-    !> with per_part: the mesh file a 3D gmsh script (shape 'geo') was meshed into once
-    !! (geo_mesh_file, by one rank), read per part as a mesh file is; '' for other bodies
+    !> the mesh file a gmsh script (shape 'geo') was meshed into once (geo_mesh_file, by
+    !! one rank): in 3D (with per_part) read per part as a mesh file is, in 2D read whole
+    !! by each rank; '' for other bodies
     character(len=*), intent(in), optional :: mesh_files(:)
     !> the ranks (with share): a mesh file's whole checks shared over them (tet_file_m),
     !! and an error of any rank's body ends every rank's building before the next body's
@@ -92,6 +93,9 @@ contains
           comm)
       else if (part) then
         call build_body(deck, deck%bodies(k), k, bodies(k), err, share, comm=comm)
+      else if (present(mesh_files)) then
+        ! (a 2D gmsh script one rank meshed into a file: each rank reads it whole)
+        call build_body(deck, deck%bodies(k), k, bodies(k), err, mesh_file=trim(mesh_files(k)))
       else
         call build_body(deck, deck%bodies(k), k, bodies(k), err)
       end if
@@ -232,8 +236,8 @@ contains
     !> [me, nranks]: an extruded body made as rank me's share only (generators_m
     !! extrude_body; build_bodies)
     integer, intent(in), optional :: share(2)
-    !> with share, for a 3D gmsh script: the file it was meshed into (geo_mesh_file), read
-    !! as rank me's share; '' or absent: the script meshed here
+    !> for a gmsh script: the file it was meshed into (geo_mesh_file), read as rank me's
+    !! share in 3D (with share), whole in 2D; '' or absent: the script meshed here
     character(len=*), intent(in), optional :: mesh_file
     !> with share: the ranks, over which a mesh file's whole checks are shared (tet_file_m;
     !! collective then), else each rank reads the whole file for them
@@ -243,7 +247,7 @@ contains
     integer, allocatable :: loop(:), order(:), tri(:, :), ptr(:)
     real(wp) :: dr, dt, fmin
     integer :: nd, i
-    logical :: has_tri, has_cells, tets, from_file
+    logical :: has_tri, has_cells, tets, from_file, geo_file
     type(error_t), allocatable :: e2
     type(cst4_mesh_t) :: mesh
     type(body_t) :: b2, ends
@@ -304,7 +308,7 @@ contains
       if (.not. allocated(e2)) call tets_if_fem(b2, b, e2)
     case ('file', 'geo')
       from_file = s%shape == 'file' .and. present(share)
-      if (s%shape == 'geo' .and. present(mesh_file) .and. present(share)) &
+      if (s%shape == 'geo' .and. present(mesh_file) .and. present(share) .and. nd == 3) &
         from_file = len(mesh_file) > 0
       if (from_file) then
         ! a rank's share of a tetrahedral mesh file (body_per_part): the file streamed,
@@ -335,7 +339,16 @@ contains
       has_tri = .false.
       has_cells = .false.
       tets = s%shape == 'geo' .and. nd == 3
-      if (s%shape == 'geo') then
+      geo_file = .false.
+      if (present(mesh_file)) geo_file = s%shape == 'geo' .and. nd == 2 .and. len(mesh_file) > 0
+      if (geo_file) then
+        ! a 2D script one rank meshed into a file (geo_mesh_file: what mesh_geo gives, as
+        ! tools/mesh_body.py writes it), read whole: the same arrays to the bit
+        what = "the mesh of '"//trim(s%file)//"'"
+        call read_particle_file_h5(mesh_file, nd, xs, vols, loop, order, e2)
+        if (.not. allocated(e2)) call read_mesh_extras(mesh_file, size(xs, 2), has_tri, &
+          tri, has_cells, ptr, xy, e2)
+      else if (s%shape == 'geo') then
         what = "the mesh of '"//trim(s%file)//"'"
         call mesh_geo(s, where, nd, xs, vols, loop, order, tri, ptr, xy, e2)
         has_tri = .not. allocated(e2)
@@ -1171,6 +1184,9 @@ contains
   !! tet_node_volumes' sums, /mesh/tetrahedra, 1-based), for every rank of mfcd_mpi to read
   !! its part of (tet_file_m): the body the script meshed on a rank gives (tet_mesh_body),
   !! bit for bit, and no rank holds the whole mesh but this one, while it meshes and writes.
+  !! A 2D script's as tools/mesh_body.py writes a plane mesh (the nodes' volumes, boundary
+  !! loops, triangles and median-dual cells), which every rank reads whole: the same
+  !! arrays as mesh_geo's, so gmsh runs on one rank instead of on every one.
   !! gmsh meshes a model whole (its partitioner cuts a mesh already made), so this is the
   !! one rank's work. err names the deck's body and variable as build_body does; a file
   !! that cannot be written is a failed run (exit 1), the path named.
@@ -1184,27 +1200,46 @@ contains
     type(h5file_t) :: f
     type(error_t), allocatable :: e2
     character(len=:), allocatable :: where
+    integer :: nd
     where = "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"// &
       trim(deck%bodies(k)%name)//"')"
-    call mesh_geo(deck%bodies(k), where, 3, x, vol, loop, order, tet, ptr, xy, e2)
+    nd = deck%run%ndim
+    call mesh_geo(deck%bodies(k), where, nd, x, vol, loop, order, tet, ptr, xy, e2)
     if (allocated(e2)) then
       call body_error(where, deck%bodies(k), e2, err)
       return
     end if
-    call tet_node_volumes(x, tet, vol)
-    call h5_create(f, path, e2)
-    if (.not. allocated(e2)) call h5_group(f, '/particles', e2)
-    if (.not. allocated(e2)) call h5_write(f, '/particles/x', x, 'm', e2)
-    if (.not. allocated(e2)) call h5_write(f, '/particles/volume', vol, 'm^3', e2)
-    if (.not. allocated(e2)) call h5_group(f, '/mesh', e2)
-    if (.not. allocated(e2)) call h5_write(f, '/mesh/tetrahedra', tet, '1', e2)
-    ! (the index: each block of rows' box, for the ranks' reading of their parts)
-    call mesh_index(x, tet, nbox, tbox)
-    if (.not. allocated(e2)) call h5_write(f, '/mesh/node_box', nbox, 'm', e2)
-    if (.not. allocated(e2)) call h5_write(f, '/mesh/tet_box', tbox, 'm', e2)
+    if (nd == 2) then
+      ! a plane mesh as tools/mesh_body.py writes it: the nodes, their volumes, boundary
+      ! loops, the triangles and the median-dual cells (1-based CSR), read whole by each
+      ! rank (build_body: read_particle_file_h5, read_mesh_extras)
+      call h5_create(f, path, e2)
+      if (.not. allocated(e2)) call h5_group(f, '/particles', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/particles/x', x, 'm', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/particles/volume', vol, 'm^2', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/particles/loop', loop, '1', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/particles/order', order, '1', e2)
+      if (.not. allocated(e2)) call h5_group(f, '/mesh', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/mesh/triangles', tet, '1', e2)
+      if (.not. allocated(e2)) call h5_group(f, '/cells', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/cells/ptr', ptr, '1', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/cells/xy', xy, 'm', e2)
+    else
+      call tet_node_volumes(x, tet, vol)
+      call h5_create(f, path, e2)
+      if (.not. allocated(e2)) call h5_group(f, '/particles', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/particles/x', x, 'm', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/particles/volume', vol, 'm^3', e2)
+      if (.not. allocated(e2)) call h5_group(f, '/mesh', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/mesh/tetrahedra', tet, '1', e2)
+      ! (the index: each block of rows' box, for the ranks' reading of their parts)
+      call mesh_index(x, tet, nbox, tbox)
+      if (.not. allocated(e2)) call h5_write(f, '/mesh/node_box', nbox, 'm', e2)
+      if (.not. allocated(e2)) call h5_write(f, '/mesh/tet_box', tbox, 'm', e2)
+    end if
     if (.not. allocated(e2)) call h5_attr(f, '/', 'source', "mfcd_mpi: the mesh of '"// &
       trim(deck%bodies(k)%file)//"' (body "//itoa(k)//" of deck '"//deck%path// &
-      "'), each rank's part read from here", e2)
+      "'), each rank's "//trim(merge('part', 'copy', nd == 3))//" read from here", e2)
     call h5_close(f, e2)
     if (allocated(e2)) call set_error(err, where//": the mesh of '"// &
       trim(deck%bodies(k)%file)//"' cannot be written to '"//path//"' for the ranks to "// &

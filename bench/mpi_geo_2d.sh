@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# A plane gmsh script on ranks (doc/parallel.md, "Plane gmsh scripts meshed once for the
+# ranks"): the disk of input/disk_plate_fine.nml (RKPM over the mesh's median-dual cells)
+# meshed at H (default 0.04 mm: some 60,000 nodes) striking the plate at 1/8 mm, a few
+# steps, on each rank count given, one thread a rank. Prints, per run, the log's gmsh lines,
+# the summary's set-up and time-loop seconds, mfcd_mpi's resident memory after the set-up
+# and at the end (the smallest and largest over the ranks), and every rank's peak resident
+# memory (GNU time's %M). Run it with the builds before and after a change to compare them.
+# Usage: [H=metres] bash bench/mpi_geo_2d.sh MPI_BIN_DIR [RANKS ...]   (default ranks 1 2 4)
+# More ranks than cores run oversubscribed: the memory holds, the set-up's seconds are then
+# the ranks sharing a core.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+bin=$(cd "$1" && pwd)
+shift
+ranks=("$@")
+[ ${#ranks[@]} -gt 0 ] || ranks=(1 2 4)
+[ -x /usr/bin/time ] || { echo "mpi_geo_2d: needs GNU time (apt-get install time)" >&2; exit 2; }
+h=${H:-0.04e-3}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cp "$root/input/disk.geo" "$work/"
+sed -e "s#file = 'output/#file = '$work/#" -e "s#file = 'input/disk.geo'#file = '$work/disk.geo'#" \
+  -e "s/geo_values = 0.125e-3/geo_values = $h\n  geo_max_elements = 10000000/" \
+  -e 's/t_end = 40.0e-6/t_end = 2.0e-8/' -e '/snapshot_times/d' \
+  "$root/input/disk_plate_fine.nml" > "$work/t.nml"
+grep -q "geo_values = $h" "$work/t.nml" || { echo "mpi_geo_2d: the deck was not resized" >&2; exit 1; }
+echo "# mfcd_mpi: the disk of disk_plate_fine.nml meshed by gmsh at h = $h m, t_end 2e-8 s"
+echo "- date: $(date -Iseconds); repository at $(git -C "$root" rev-parse --short HEAD 2>/dev/null); bin: $bin (its commit: each run's first log line)"
+echo "- cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), nproc $(nproc --all)"
+for n in "${ranks[@]}"; do
+  echo "== $n rank(s)"
+  rm -f "$work"/mem.*
+  (cd "$work" && mpiexec --oversubscribe --bind-to none -n "$n" sh -c \
+    'exec /usr/bin/time -o "mem.$OMPI_COMM_WORLD_RANK" -f "%M" "$1" t.nml' sh \
+    "$bin/mfcd_mpi" > log.txt 2> err.txt) || { tail -5 "$work/err.txt"; exit 1; }
+  grep -m1 -E "^mfcd .*\(git " "$work/log.txt" | sed -e 's/^/  /'
+  grep -E "gmsh|summary: [0-9]+ steps|resident memory" "$work/log.txt" | cut -c1-220 | sed -e 's/^/  /'
+  for r in $(seq 0 $((n - 1))); do
+    printf '  mem rank %d %s kB\n' "$r" "$(cat "$work/mem.$r")"
+  done
+done
