@@ -36,7 +36,7 @@ module rkpm_tl_m
   use dims_m, only: dims_plane
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_polygon, clip_polygon_box
-  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape, cloud_count_cover
+  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape, cloud_shape_fn, cloud_count_cover
   use neighbour_bins_m, only: bins_candidates
   use generators_m, only: lattice_pick
   implicit none
@@ -405,11 +405,18 @@ contains
     real(wp), intent(in) :: p(2)
     integer, intent(out) :: nf
     integer, intent(out) :: fid(:)
-    real(wp), intent(out) :: fn(:, :), fdn(:, :, :)
+    real(wp), intent(out) :: fn(:, :)
+    !> the derivatives, when present (else only the values: cloud_shape_fn, the same
+    !! values to the bit at a quarter of the work)
+    real(wp), intent(out), optional :: fdn(:, :, :)
     logical, intent(out) :: ok
     integer :: ids(max_nb), nnb, k, j, m
     real(wp) :: n(max_nb), dn(2, max_nb), s
-    call cloud_shape(c, p, nnb, ids, n, dn, ok)
+    if (present(fdn)) then
+      call cloud_shape(c, p, nnb, ids, n, dn, ok)
+    else
+      call cloud_shape_fn(c, p, nnb, ids, n, ok)
+    end if
     nf = 0
     if (.not. ok) return
     do k = 1, nnb
@@ -427,10 +434,11 @@ contains
         m = nf
         fid(m) = j
         fn(:, m) = 0.0_wp
-        fdn(:, :, m) = 0.0_wp
+        if (present(fdn)) fdn(:, :, m) = 0.0_wp
       end if
       fn(1, m) = fn(1, m) + s*n(k)
       fn(2, m) = fn(2, m) + n(k)
+      if (.not. present(fdn)) cycle
       fdn(:, 1, m) = fdn(:, 1, m) + s*dn(:, k)
       fdn(:, 2, m) = fdn(:, 2, m) + dn(:, k)
     end do
@@ -447,7 +455,7 @@ contains
     integer, allocatable :: idl(:, :), nl(:), slot(:), kpos(:)
     logical, allocatable :: keep(:)
     real(wp) :: cv(2, max_cv), xg(2, 3*max_cv), wg(3*max_cv), p(2), nrm(2), e(2), len_e
-    real(wp) :: vol_l, fn(2, max_nb), fdn(2, 2, max_nb), rw, gw, hv(2), vh(2), big
+    real(wp) :: vol_l, fn(2, max_nb), rw, gw, hv(2), vh(2), big
     real(wp) :: hc(2, max_cv), o(2), hpiece, lo(2), hi(2)
     integer :: maxk, i, ncv, ngp, k, q, nf, fid(max_nb), s, bad, j, nhc, dir, piece, nk, kk
     logical :: ok
@@ -469,7 +477,7 @@ contains
     bad = 0
     !$omp parallel default(none) shared(b, c, twin, np, t, gl, hl, ml, idl, nl, maxk, rho0, &
     !$omp sub, wsub, big, kpos) &
-    !$omp private(cv, ncv, xg, wg, ngp, k, q, p, nrm, e, len_e, vol_l, fn, fdn, nf, fid, &
+    !$omp private(cv, ncv, xg, wg, ngp, k, q, p, nrm, e, len_e, vol_l, fn, nf, fid, &
     !$omp ok, s, slot, rw, gw, j, hc, nhc, dir, hv, vh, o, piece, hpiece, kk) &
     !$omp reduction(max: bad)
     allocate(slot(np))
@@ -511,7 +519,7 @@ contains
           rw = 1.0_wp
           if (t%axisym) rw = xg(1, q)
           vol_l = vol_l + wg(q)*rw
-          call folded_shape(c, twin, xg(:, q), nf, fid, fn, fdn, ok)
+          call folded_shape(c, twin, xg(:, q), nf, fid, fn, ok=ok)
           if (.not. ok) then
             bad = max(bad, i)
             cycle
@@ -535,7 +543,7 @@ contains
             rw = 1.0_wp
             if (t%axisym) rw = p(1)
             gw = 0.5_wp*len_e*rw
-            call folded_shape(c, twin, p, nf, fid, fn, fdn, ok)
+            call folded_shape(c, twin, p, nf, fid, fn, ok=ok)
             if (.not. ok) then
               bad = max(bad, i)
               cycle
@@ -616,7 +624,7 @@ contains
     real(wp), intent(inout) :: gl(:, :, :), hl(:, :), ml(:, :), sub(:, :, :)
     real(wp), intent(out) :: hv
     logical, intent(out) :: ok
-    real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), fn(2, max_nb), fdn(2, 2, max_nb), e(2), nrm(2)
+    real(wp) :: xg(2, 3*max_cv), wg(3*max_cv), fn(2, max_nb), e(2), nrm(2)
     real(wp) :: p(2), len_e, rw, gw
     integer :: ngp, q, k, nf, fid(max_nb), s, j
     real(wp), parameter :: gx(2) = [0.5_wp - 0.5_wp/sqrt(3.0_wp), 0.5_wp + 0.5_wp/sqrt(3.0_wp)]
@@ -628,7 +636,7 @@ contains
       if (axisym) rw = xg(1, q)
       hv = hv + wg(q)*rw
       if (.not. (axisym .and. dir == 1)) cycle
-      call folded_shape(c, twin, xg(:, q), nf, fid, fn, fdn, ok)
+      call folded_shape(c, twin, xg(:, q), nf, fid, fn, ok=ok)
       if (.not. ok) return
       do k = 1, nf
         call add_slot(fid(k), i, slot, nl, idl, gl, hl, ml, s)
@@ -646,7 +654,7 @@ contains
         rw = 1.0_wp
         if (axisym) rw = p(1)
         gw = 0.5_wp*len_e*rw*nrm(dir)
-        call folded_shape(c, twin, p, nf, fid, fn, fdn, ok)
+        call folded_shape(c, twin, p, nf, fid, fn, ok=ok)
         if (.not. ok) return
         do j = 1, nf
           call add_slot(fid(j), i, slot, nl, idl, gl, hl, ml, s)
@@ -920,7 +928,7 @@ contains
     integer, allocatable :: cnt(:), idl(:, :), kpos(:)
     logical, allocatable :: keep(:)
     real(wp), allocatable :: nl(:, :, :)
-    real(wp) :: fn(2, max_nb), fdn(2, 2, max_nb)
+    real(wp) :: fn(2, max_nb)
     integer :: j, nf, fid(max_nb), maxk, bad, k, e, nk, kk
     logical :: ok
     allocate(keep(np), kpos(np))
@@ -932,12 +940,12 @@ contains
     allocate(cnt(np), idl(maxk, max(nk, 1)), nl(2, maxk, max(nk, 1)))
     bad = 0
     !$omp parallel do default(none) shared(b, c, twin, np, cnt, idl, nl, kpos) &
-    !$omp private(fn, fdn, nf, fid, ok, kk) reduction(max: bad) schedule(dynamic, 64)
+    !$omp private(fn, nf, fid, ok, kk) reduction(max: bad) schedule(dynamic, 64)
     do j = 1, np
       kk = kpos(j)
       cnt(j) = 0
       if (kk == 0) cycle
-      call folded_shape(c, twin, b%x(:, j), nf, fid, fn, fdn, ok)
+      call folded_shape(c, twin, b%x(:, j), nf, fid, fn, ok=ok)
       cnt(j) = nf
       if (.not. ok) bad = max(bad, j)
       idl(1:nf, kk) = fid(1:nf)
