@@ -561,7 +561,7 @@ contains
   !! (the same sums, in the same order: n_I = (b^T P(z_I)) phi_I V_I), without the
   !! derivatives: no moment-matrix derivatives, two fewer solves, the window and basis
   !! without their gradients. For the 2D tables that take only N at their points (SCNI's
-  !! boundary and area integrals, the position rows): measured 2026-12-07 (doc/performance.md).
+  !! boundary and area integrals, the position rows): measured 2026-12-07 (doc/benchmarks.md).
   pure subroutine cloud_shape_fn(c, p, nnb, ids, n, ok)
     type(rk_cloud_t), intent(in) :: c
     real(wp), intent(in) :: p(:)
