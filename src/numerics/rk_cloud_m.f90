@@ -19,6 +19,12 @@ module rk_cloud_m
   public :: cloud_move, cloud_set_reference, cloud_det_excluding, cloud_clearance, &
     cloud_candidates
 
+  !> The most particles covering one point that the shape routines take (cloud_shape,
+  !! cloud_shape_fn, cloud_shape_values: the callers' ids hold at most this many, 2D's 512
+  !! and 3D's 1024): their slot lists are fixed arrays of this size, not automatic arrays
+  !! allocated on the heap at every point
+  integer, parameter :: max_cover = 1024
+
   type :: rk_cloud_t
     integer :: ndim = 0, np = 0
     integer :: kid = kernel_cubic, wshape = window_tensor, bid = 0, m = 0
@@ -179,7 +185,7 @@ contains
     real(wp), intent(in), optional :: xc(:), rex
     integer :: clo(3), chi(3), i, j, k, cc, q, nd
     logical :: empty, excl
-    real(wp) :: d(3), pv(mmax), phi, rex2
+    real(wp) :: d(3), z(3), pv(mmax), phi, rex2
     nd = c%ndim
     excl = present(xc) .and. present(rex)
     rex2 = 0.0_wp
@@ -201,7 +207,10 @@ contains
             call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
             if (phi <= 0.0_wp) cycle
             ncover = ncover + 1
-            call basis_eval(c%bid, d(1:nd)*c%hinv(1:nd), pv)
+            ! (the basis argument in a fixed array: an expression would be a temporary
+            ! of unknown size, allocated on the heap at every particle)
+            z(1:nd) = d(1:nd)*c%hinv(1:nd)
+            call basis_eval(c%bid, z(1:nd), pv)
             call moment_add(c%m, pv, phi*c%vol(q), mm)
           end do
         end do
@@ -492,7 +501,7 @@ contains
     logical :: empty
     real(wp) :: d(3), z(3), pv(mmax), dpz(mmax, 3), phi, dphi(3), vol
     real(wp) :: mm(mmax, mmax), dmm(mmax, mmax, 3), b(mmax), db(mmax, 3)
-    integer :: slot(size(ids))
+    integer :: slot(max_cover)
     nd = c%ndim
     m = c%m
     nnb = 0
@@ -511,7 +520,7 @@ contains
             call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi, &
               dphi(1:nd))
             if (phi <= 0.0_wp) cycle
-            if (nnb >= size(ids)) return
+            if (nnb >= min(size(ids), max_cover)) return
             nnb = nnb + 1
             slot(nnb) = q
             z(1:nd) = d(1:nd)*c%hinv(1:nd)
@@ -572,7 +581,7 @@ contains
     integer :: clo(3), chi(3), i, j, k, cc, q, nd, m, l
     logical :: empty
     real(wp) :: d(3), z(3), pv(mmax), phi, mm(mmax, mmax), b(mmax)
-    integer :: slot(size(ids))
+    integer :: slot(max_cover)
     nd = c%ndim
     m = c%m
     nnb = 0
@@ -589,7 +598,7 @@ contains
             if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
             call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
             if (phi <= 0.0_wp) cycle
-            if (nnb >= size(ids)) return
+            if (nnb >= min(size(ids), max_cover)) return
             nnb = nnb + 1
             slot(nnb) = q
             ! (n holds phi until the coefficients are known)
@@ -637,8 +646,8 @@ contains
     integer, intent(in), optional :: cand(:)
     integer :: clo(3), chi(3), i, j, k, cc, q, nd, m, l
     logical :: empty, full
-    real(wp) :: d(3), pv(mmax), phi, mm(mmax, mmax), b(mmax)
-    integer :: slot(size(ids))
+    real(wp) :: d(3), z(3), pv(mmax), phi, mm(mmax, mmax), b(mmax)
+    integer :: slot(max_cover)
     nd = c%ndim
     m = c%m
     nnb = 0
@@ -676,7 +685,8 @@ contains
       q = slot(l)
       ids(l) = c%perm(q)
       d(1:nd) = c%x(:, q) - p(1:nd)
-      call basis_eval(c%bid, d(1:nd)*c%hinv(1:nd), pv)
+      z(1:nd) = d(1:nd)*c%hinv(1:nd)
+      call basis_eval(c%bid, z(1:nd), pv)
       n(l) = dot_product(b(1:m), pv(1:m))*n(l)
     end do
   contains
@@ -687,7 +697,7 @@ contains
       if (any(abs(d(1:nd)) >= c%rho(:, q))) return
       call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
       if (phi <= 0.0_wp) return
-      if (nnb >= size(ids)) then
+      if (nnb >= min(size(ids), max_cover)) then
         full = .true.
         return
       end if
@@ -695,7 +705,8 @@ contains
       slot(nnb) = q
       ! (n holds phi V until the coefficients are known)
       n(nnb) = phi*c%vol(q)
-      call basis_eval(c%bid, d(1:nd)*c%hinv(1:nd), pv)
+      z(1:nd) = d(1:nd)*c%hinv(1:nd)
+      call basis_eval(c%bid, z(1:nd), pv)
       call moment_add(m, pv, n(nnb), mm)
     end subroutine take
   end subroutine cloud_shape_values
