@@ -21,7 +21,7 @@ module contact_m
   use kinds_m, only: wp, i64
   use exact_sum_m, only: exact_sum_t
   use errors_m, only: error_t
-  use neighbour_bins_m, only: bins_t, bins_build, bins_candidates
+  use neighbour_bins_m, only: bins_t, bins_build, bins_candidates, bins_cell_block
   use geometry_m, only: segment_distance
   implicit none
   private
@@ -180,20 +180,32 @@ contains
     real(wp), intent(out), optional :: xi          !< where p projects on it, 0 at a, 1 at b
     real(wp), intent(in), optional :: xr(:, :), xc(2), rex
     real(wp), intent(in), optional :: rexv(:)
-    integer :: list(s%nseg), nc, k, jbest
+    integer :: clo(3), chi(3), i, j, k, c, q, jseg, jbest
     real(wp) :: gbest, dbest
-    logical :: excl
+    logical :: excl, empty
     excl = present(xr) .and. present(xc) .and. present(rex)
-    call bins_candidates(s%bins, p, r + s%reach, list, nc)
     jbest = 0
     dbest = huge(1.0_wp)
     gbest = -huge(1.0_wp)
-    do k = 1, nc
-      if (excl) then
-        if (near_end(s%i0(list(k))) .or. near_end(s%i1(list(k)))) cycle
-      end if
-      call closest_segment_update(s, list(k), p, jbest, dbest, gbest)
-    end do
+    ! the segments of the bins' block around p, in bins_candidates' order (walked in place:
+    ! a candidate list as long as the surface was an allocation at every call)
+    call bins_cell_block(s%bins, p, r + s%reach, clo, chi, empty)
+    if (.not. empty) then
+      do k = clo(3), chi(3)
+        do j = clo(2), chi(2)
+          c = 1 + s%bins%nc(1)*(j + s%bins%nc(2)*k)
+          do i = clo(1), chi(1)
+            do q = s%bins%start(c + i), s%bins%start(c + i + 1) - 1
+              jseg = s%bins%idx(q)
+              if (excl) then
+                if (near_end(s%i0(jseg)) .or. near_end(s%i1(jseg))) cycle
+              end if
+              call closest_segment_update(s, jseg, p, jbest, dbest, gbest)
+            end do
+          end do
+        end do
+      end do
+    end if
     call surface_projection(s, p, jbest, found, g, nrm, tng, seg, xi)
 
   contains
