@@ -75,8 +75,12 @@ contains
       b%lo(1:ndim) = grid_lo(1:ndim)
       b%hi(1:ndim) = grid_hi(1:ndim)
     else
-      b%lo(1:ndim) = minval(x, dim=2)
-      b%hi(1:ndim) = maxval(x, dim=2)
+      ! (per direction: minval(x, dim=2) is a temporary of unknown size, a heap
+      ! allocation at every rebuild, as a deforming master's at every step)
+      do d = 1, ndim
+        b%lo(d) = minval(x(d, :))
+        b%hi(d) = maxval(x(d, :))
+      end do
     end if
     ext = 0.0_wp
     ext(1:ndim) = b%hi(1:ndim) - b%lo(1:ndim)
