@@ -1609,7 +1609,7 @@ contains
     logical, intent(in), optional :: lower_only
     integer :: j, jj, i0, i1
     integer(i64) :: neval, ndet, ncon
-    real(wp) :: g, nrm(2), tng(2)
+    real(wp) :: g, nrm(2), tng(2), xq(2)
     logical :: found
     real(wp) :: t0
     if (a%ndim == 3) then
@@ -1665,10 +1665,12 @@ contains
         call surface_gap(b%surface, a%x_pred(:, j), a%rho(:, j), found, g, nrm, tng, &
           xr=b%x_ref, xc=a%x_ref(:, j), rex=a%rex(j), rexv=b%rex)
       else if (p%detector == detector_nts) then
-        call nts_gap(b%buckets, b%surface, a%x_pred(:, j) - b%shift, b%buckets%capture, &
-          found, g, nrm, tng)
+        ! (b's frame in a fixed array: the expression was a heap temporary a particle)
+        xq = a%x_pred(:, j) - b%shift
+        call nts_gap(b%buckets, b%surface, xq, b%buckets%capture, found, g, nrm, tng)
       else
-        call surface_gap(b%surface, a%x_pred(:, j) - b%shift, a%rho(:, j), found, g, nrm, tng)
+        xq = a%x_pred(:, j) - b%shift
+        call surface_gap(b%surface, xq, a%rho(:, j), found, g, nrm, tng)
       end if
       if (found) p%step%pen_after = max(p%step%pen_after, -g)
     end do
@@ -1854,7 +1856,7 @@ contains
     logical, intent(in), optional :: lower_only
     integer :: j, jj, k, i, jf
     integer(i64) :: neval, ndet, ncon, nunsure
-    real(wp) :: g, nrm(3), bary(3), t0
+    real(wp) :: g, nrm(3), bary(3), t0, xq(3)
     logical :: sure
     t0 = omp_get_wtime()
     if (p%self) then
@@ -1903,7 +1905,9 @@ contains
         call surface3d_gap(b%surf3, a%x_pred(:, j), g, nrm, jf, bary, xr=b%x_ref, &
           xc=a%x_ref(:, j), rex=a%rex(j), sure=sure, rexv=b%rex)
       else
-        call surface3d_gap(b%surf3, a%x_pred(:, j) - b%shift, g, nrm, jf, bary)
+        ! (b's frame in a fixed array: the expression was a heap temporary a particle)
+        xq = a%x_pred(:, j) - b%shift
+        call surface3d_gap(b%surf3, xq, g, nrm, jf, bary)
       end if
       if (jf > 0 .and. sure) p%step%pen_after = max(p%step%pen_after, -g)
     end do
