@@ -36,7 +36,7 @@ module rkpm_tl_m
   use dims_m, only: dims_plane
   use solid_tables_m, only: solid_tables_t, tables_transpose
   use geometry_m, only: geom_polygon, clip_polygon_box
-  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape, cloud_shape_fn, cloud_count_cover
+  use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_shape, cloud_shape_values, cloud_count_cover
   use neighbour_bins_m, only: bins_candidates
   use generators_m, only: lattice_pick
   implicit none
@@ -406,8 +406,8 @@ contains
     integer, intent(out) :: nf
     integer, intent(out) :: fid(:)
     real(wp), intent(out) :: fn(:, :)
-    !> the derivatives, when present (else only the values: cloud_shape_fn, the same
-    !! values to the bit at a quarter of the work)
+    !> the derivatives, when present (else only the values: cloud_shape_values apart, the
+    !! same values to the bit at a quarter of the work)
     real(wp), intent(out), optional :: fdn(:, :, :)
     logical, intent(out) :: ok
     integer :: ids(max_nb), nnb, k, j, m
@@ -415,7 +415,7 @@ contains
     if (present(fdn)) then
       call cloud_shape(c, p, nnb, ids, n, dn, ok)
     else
-      call cloud_shape_fn(c, p, nnb, ids, n, ok)
+      call cloud_shape_values(c, p, nnb, ids, n, ok, apart=.true.)
     end if
     nf = 0
     if (.not. ok) return

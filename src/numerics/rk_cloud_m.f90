@@ -14,13 +14,12 @@ module rk_cloud_m
   implicit none
   private
   public :: rk_cloud_t, cloud_init, cloud_det, cloud_moment, cloud_shape, cloud_count_cover, &
-    cloud_shape_fn, &
     cloud_shape_values
   public :: cloud_move, cloud_set_reference, cloud_det_excluding, cloud_clearance, &
     cloud_candidates
 
   !> The most particles covering one point that the shape routines take (cloud_shape,
-  !! cloud_shape_fn, cloud_shape_values: the callers' ids hold at most this many, 2D's 512
+  !! cloud_shape_values: the callers' ids hold at most this many, 2D's 512
   !! and 3D's 1024): their slot lists are fixed arrays of this size, not automatic arrays
   !! allocated on the heap at every point
   integer, parameter :: max_cover = 1024
@@ -566,67 +565,6 @@ contains
     end do
   end subroutine cloud_shape
 
-  !> The RK shape functions' values at p, each the same number as cloud_shape's to the bit
-  !! (the same sums, in the same order: n_I = (b^T P(z_I)) phi_I V_I), without the
-  !! derivatives: no moment-matrix derivatives, two fewer solves, the window and basis
-  !! without their gradients. For the 2D tables that take only N at their points (SCNI's
-  !! boundary and area integrals, the position rows): measured 2026-12-07 (doc/benchmarks.md).
-  pure subroutine cloud_shape_fn(c, p, nnb, ids, n, ok)
-    type(rk_cloud_t), intent(in) :: c
-    real(wp), intent(in) :: p(:)
-    integer, intent(out) :: nnb
-    integer, intent(inout) :: ids(:)
-    real(wp), intent(inout) :: n(:)
-    logical, intent(out) :: ok
-    integer :: clo(3), chi(3), i, j, k, cc, q, nd, m, l
-    logical :: empty
-    real(wp) :: d(3), z(3), pv(mmax), phi, mm(mmax, mmax), b(mmax)
-    integer :: slot(max_cover)
-    nd = c%ndim
-    m = c%m
-    nnb = 0
-    ok = .false.
-    mm = 0.0_wp
-    call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
-    if (empty) return
-    do k = clo(3), chi(3)
-      do j = clo(2), chi(2)
-        cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
-        do i = clo(1), chi(1)
-          do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
-            d(1:nd) = c%x(:, q) - p(1:nd)
-            if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
-            call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
-            if (phi <= 0.0_wp) cycle
-            if (nnb >= min(size(ids), max_cover)) return
-            nnb = nnb + 1
-            slot(nnb) = q
-            ! (n holds phi until the coefficients are known)
-            n(nnb) = phi
-            z(1:nd) = d(1:nd)*c%hinv(1:nd)
-            call basis_eval(c%bid, z(1:nd), pv)
-            call moment_add(m, pv, phi*c%vol(q), mm)
-          end do
-        end do
-      end do
-    end do
-    if (nnb == 0) return
-    call moment_symmetrize(m, mm)
-    call chol_small(m, mm, ok)
-    if (.not. ok) return
-    b = 0.0_wp
-    b(1) = 1.0_wp
-    call chol_solve(m, mm, b)
-    do l = 1, nnb
-      q = slot(l)
-      ids(l) = c%perm(q)
-      d(1:nd) = c%x(:, q) - p(1:nd)
-      z(1:nd) = d(1:nd)*c%hinv(1:nd)
-      call basis_eval(c%bid, z(1:nd), pv)
-      n(l) = dot_product(b(1:m), pv(1:m))*n(l)*c%vol(q)
-    end do
-  end subroutine cloud_shape_fn
-
   !> The RK shape functions' values at p (cloud_shape without the derivatives): N_I(p) =
   !! b^T P(z_I) phi_I V_I with M(p) b = e_1, for the nnb particles ids(1:nnb) (original
   !! numbers) whose supports cover p; ok false where M(p) is singular or more particles
@@ -636,7 +574,11 @@ contains
   !! particles scanned are cand(1:size(cand)) (packed cloud indices in the bins' order,
   !! e.g. cloud_candidates' for a region holding p) instead of the bins' block around p:
   !! every particle covering p among them, in the same order, so the same sums to the bit.
-  subroutine cloud_shape_values(c, p, nnb, ids, n, ok, cand)
+  !! With apart: n_I = ((b^T P(z_I)) phi_I) V_I, each the same number as cloud_shape's to
+  !! the bit (its order of the products): the 2D tables that take only N at their points
+  !! (SCNI's boundary and area integrals, the position rows; measured 2026-12-07,
+  !! doc/benchmarks.md); else (b^T P(z_I)) (phi_I V_I), the 3D builder's.
+  subroutine cloud_shape_values(c, p, nnb, ids, n, ok, cand, apart)
     type(rk_cloud_t), intent(in) :: c
     real(wp), intent(in) :: p(:)
     integer, intent(out) :: nnb
@@ -644,8 +586,9 @@ contains
     real(wp), intent(inout) :: n(:)
     logical, intent(out) :: ok
     integer, intent(in), optional :: cand(:)
+    logical, intent(in), optional :: apart
     integer :: clo(3), chi(3), i, j, k, cc, q, nd, m, l
-    logical :: empty, full
+    logical :: empty, full, vapart
     real(wp) :: d(3), z(3), pv(mmax), phi, mm(mmax, mmax), b(mmax)
     integer :: slot(max_cover)
     nd = c%ndim
@@ -653,6 +596,8 @@ contains
     nnb = 0
     ok = .false.
     full = .false.
+    vapart = .false.
+    if (present(apart)) vapart = apart
     mm = 0.0_wp
     if (present(cand)) then
       do l = 1, size(cand)
@@ -687,7 +632,11 @@ contains
       d(1:nd) = c%x(:, q) - p(1:nd)
       z(1:nd) = d(1:nd)*c%hinv(1:nd)
       call basis_eval(c%bid, z(1:nd), pv)
-      n(l) = dot_product(b(1:m), pv(1:m))*n(l)
+      if (vapart) then
+        n(l) = dot_product(b(1:m), pv(1:m))*n(l)*c%vol(q)
+      else
+        n(l) = dot_product(b(1:m), pv(1:m))*n(l)
+      end if
     end do
   contains
     !> Particle q into the moment matrix when its support covers p (full: no room).
@@ -703,11 +652,12 @@ contains
       end if
       nnb = nnb + 1
       slot(nnb) = q
-      ! (n holds phi V until the coefficients are known)
+      ! (n holds phi V, or phi with apart, until the coefficients are known)
       n(nnb) = phi*c%vol(q)
       z(1:nd) = d(1:nd)*c%hinv(1:nd)
       call basis_eval(c%bid, z(1:nd), pv)
       call moment_add(m, pv, n(nnb), mm)
+      if (vapart) n(nnb) = phi
     end subroutine take
   end subroutine cloud_shape_values
 
