@@ -587,38 +587,57 @@ contains
     logical, intent(out) :: ok
     integer, intent(in), optional :: cand(:)
     logical, intent(in), optional :: apart
-    integer :: clo(3), chi(3), i, j, k, cc, q, nd, m, l
-    logical :: empty, full, vapart
+    integer :: clo(3), chi(3), j, k, cc, q, nd, m, l, r, nrun, nj, qa, qb, cap
+    logical :: empty, vapart
     real(wp) :: d(3), z(3), pv(mmax), phi, mm(mmax, mmax), b(mmax)
     integer :: slot(max_cover)
     nd = c%ndim
     m = c%m
     nnb = 0
     ok = .false.
-    full = .false.
     vapart = .false.
     if (present(apart)) vapart = apart
+    cap = min(size(ids), max_cover)
     mm = 0.0_wp
+    ! the particles scanned as runs of packed indices: each of cand alone, or each row of
+    ! the bins' block around p (its cells are consecutive in the bins' order), so that one
+    ! loop body serves both, inline
+    nj = 1
     if (present(cand)) then
-      do l = 1, size(cand)
-        call take(cand(l))
-        if (full) return
-      end do
+      nrun = size(cand)
     else
       call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
       if (empty) return
-      do k = clo(3), chi(3)
-        do j = clo(2), chi(2)
-          cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
-          do i = clo(1), chi(1)
-            do q = c%bins%start(cc + i), c%bins%start(cc + i + 1) - 1
-              call take(q)
-              if (full) return
-            end do
-          end do
-        end do
-      end do
+      nj = chi(2) - clo(2) + 1
+      nrun = nj*(chi(3) - clo(3) + 1)
     end if
+    do r = 1, nrun
+      if (present(cand)) then
+        qa = cand(r)
+        qb = qa
+      else
+        j = clo(2) + mod(r - 1, nj)
+        k = clo(3) + (r - 1)/nj
+        cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
+        qa = c%bins%start(cc + clo(1))
+        qb = c%bins%start(cc + chi(1) + 1) - 1
+      end if
+      do q = qa, qb
+        d(1:nd) = c%x(:, q) - p(1:nd)
+        if (any(abs(d(1:nd)) >= c%rho(:, q))) cycle
+        call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
+        if (phi <= 0.0_wp) cycle
+        if (nnb >= cap) return
+        nnb = nnb + 1
+        slot(nnb) = q
+        ! (n holds phi V, or phi with apart, until the coefficients are known)
+        n(nnb) = phi*c%vol(q)
+        z(1:nd) = d(1:nd)*c%hinv(1:nd)
+        call basis_eval(c%bid, z(1:nd), pv)
+        call moment_add(m, pv, n(nnb), mm)
+        if (vapart) n(nnb) = phi
+      end do
+    end do
     if (nnb == 0) return
     call moment_symmetrize(m, mm)
     call chol_small(m, mm, ok)
@@ -638,27 +657,6 @@ contains
         n(l) = dot_product(b(1:m), pv(1:m))*n(l)
       end if
     end do
-  contains
-    !> Particle q into the moment matrix when its support covers p (full: no room).
-    subroutine take(q)
-      integer, intent(in) :: q
-      d(1:nd) = c%x(:, q) - p(1:nd)
-      if (any(abs(d(1:nd)) >= c%rho(:, q))) return
-      call window_eval(c%kid, c%wshape, nd, d(1:nd), c%rinv(:, q), c%cn, phi)
-      if (phi <= 0.0_wp) return
-      if (nnb >= min(size(ids), max_cover)) then
-        full = .true.
-        return
-      end if
-      nnb = nnb + 1
-      slot(nnb) = q
-      ! (n holds phi V, or phi with apart, until the coefficients are known)
-      n(nnb) = phi*c%vol(q)
-      z(1:nd) = d(1:nd)*c%hinv(1:nd)
-      call basis_eval(c%bid, z(1:nd), pv)
-      call moment_add(m, pv, n(nnb), mm)
-      if (vapart) n(nnb) = phi
-    end subroutine take
   end subroutine cloud_shape_values
 
   !> The particles of cloud c (packed indices, in the bins' order) whose supports may
