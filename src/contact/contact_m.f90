@@ -21,7 +21,8 @@ module contact_m
   use kinds_m, only: wp, i64
   use exact_sum_m, only: exact_sum_t
   use errors_m, only: error_t
-  use neighbour_bins_m, only: bins_t, bins_build, bins_candidates, bins_cell_block
+  use neighbour_bins_m, only: bins_t, bins_build, bins_candidates, bins_cell_block, &
+    bins_block_runs, bins_block_run
   use geometry_m, only: segment_distance
   implicit none
   private
@@ -180,7 +181,7 @@ contains
     real(wp), intent(out), optional :: xi          !< where p projects on it, 0 at a, 1 at b
     real(wp), intent(in), optional :: xr(:, :), xc(2), rex
     real(wp), intent(in), optional :: rexv(:)
-    integer :: clo(3), chi(3), i, j, k, c, q, jseg, jbest
+    integer :: clo(3), chi(3), k, q, qa, qb, jseg, jbest
     real(wp) :: gbest, dbest
     logical :: excl, empty
     excl = present(xr) .and. present(xc) .and. present(rex)
@@ -191,18 +192,14 @@ contains
     ! a candidate list as long as the surface was an allocation at every call)
     call bins_cell_block(s%bins, p, r + s%reach, clo, chi, empty)
     if (.not. empty) then
-      do k = clo(3), chi(3)
-        do j = clo(2), chi(2)
-          c = 1 + s%bins%nc(1)*(j + s%bins%nc(2)*k)
-          do i = clo(1), chi(1)
-            do q = s%bins%start(c + i), s%bins%start(c + i + 1) - 1
-              jseg = s%bins%idx(q)
-              if (excl) then
-                if (near_end(s%i0(jseg)) .or. near_end(s%i1(jseg))) cycle
-              end if
-              call closest_segment_update(s, jseg, p, jbest, dbest, gbest)
-            end do
-          end do
+      do k = 1, bins_block_runs(clo, chi)
+        call bins_block_run(s%bins, clo, chi, k, qa, qb)
+        do q = qa, qb
+          jseg = s%bins%idx(q)
+          if (excl) then
+            if (near_end(s%i0(jseg)) .or. near_end(s%i1(jseg))) cycle
+          end if
+          call closest_segment_update(s, jseg, p, jbest, dbest, gbest)
         end do
       end do
     end if

@@ -9,7 +9,7 @@ module neighbour_bins_m
   implicit none
   private
   public :: bins_t, bins_build, bins_cell_block, bins_candidates, bins_brute_force
-  public :: bins_cell_size
+  public :: bins_cell_size, bins_block_runs, bins_block_run
 
   !> Cells cap: keeps memory bounded for very elongated or sparse clouds.
   integer, parameter :: max_cells = 16*1024*1024
@@ -205,23 +205,38 @@ contains
     real(wp), intent(in) :: p(:), r(:)
     integer, intent(inout) :: list(:)
     integer, intent(out) :: n
-    integer :: clo(3), chi(3), i, j, k, c, q
+    integer :: clo(3), chi(3), k, qa, qb
     logical :: empty
     n = 0
     call bins_cell_block(b, p, r, clo, chi, empty)
     if (empty) return
-    do k = clo(3), chi(3)
-      do j = clo(2), chi(2)
-        c = 1 + b%nc(1)*(j + b%nc(2)*k)
-        do i = clo(1), chi(1)
-          do q = b%start(c + i), b%start(c + i + 1) - 1
-            n = n + 1
-            list(n) = b%idx(q)
-          end do
-        end do
-      end do
+    do k = 1, bins_block_runs(clo, chi)
+      call bins_block_run(b, clo, chi, k, qa, qb)
+      list(n + 1:n + qb - qa + 1) = b%idx(qa:qb)
+      n = n + qb - qa + 1
     end do
   end subroutine bins_candidates
+
+  !> The runs of the bins' block clo ... chi (bins_cell_block, not empty): one a row of
+  !! cells along the first direction, whose points are consecutive in the bins' order.
+  pure integer function bins_block_runs(clo, chi) result(n)
+    integer, intent(in) :: clo(3), chi(3)
+    n = (chi(2) - clo(2) + 1)*(chi(3) - clo(3) + 1)
+  end function bins_block_runs
+
+  !> Run k (1 .. bins_block_runs) of the bins' block clo ... chi: the places qa ... qb in
+  !! b%idx of its points (none when qb < qa), the rows in bins_candidates' order (the second
+  !! direction fastest, then the third): a walk over the block without a candidate list.
+  pure subroutine bins_block_run(b, clo, chi, k, qa, qb)
+    type(bins_t), intent(in) :: b
+    integer, intent(in) :: clo(3), chi(3), k
+    integer, intent(out) :: qa, qb
+    integer :: nj, c
+    nj = chi(2) - clo(2) + 1
+    c = 1 + b%nc(1)*(clo(2) + mod(k - 1, nj) + b%nc(2)*(clo(3) + (k - 1)/nj))
+    qa = b%start(c + clo(1))
+    qb = b%start(c + chi(1) + 1) - 1
+  end subroutine bins_block_run
 
   !> Reference O(N) search: particles with |x_d - p_d| < r_d in every direction.
   pure subroutine bins_brute_force(x, p, r, list, n)

@@ -10,7 +10,8 @@ module rk_cloud_m
     basis_linear_3d
   use moment_matrix_m, only: moment_add, chol_small, chol_det, chol_solve, moment_symmetrize, &
     singular_pivot
-  use neighbour_bins_m, only: bins_t, bins_build, bins_cell_block, bins_candidates
+  use neighbour_bins_m, only: bins_t, bins_build, bins_cell_block, bins_candidates, &
+    bins_block_runs, bins_block_run
   implicit none
   private
   public :: rk_cloud_t, cloud_init, cloud_det, cloud_moment, cloud_shape, cloud_count_cover, &
@@ -587,7 +588,7 @@ contains
     logical, intent(out) :: ok
     integer, intent(in), optional :: cand(:)
     logical, intent(in), optional :: apart
-    integer :: clo(3), chi(3), j, k, cc, q, nd, m, l, r, nrun, nj, qa, qb, cap
+    integer :: clo(3), chi(3), q, nd, m, l, r, nrun, qa, qb, cap
     logical :: empty, vapart
     real(wp) :: d(3), z(3), pv(mmax), phi, mm(mmax, mmax), b(mmax)
     integer :: slot(max_cover)
@@ -602,25 +603,19 @@ contains
     ! the particles scanned as runs of packed indices: each of cand alone, or each row of
     ! the bins' block around p (its cells are consecutive in the bins' order), so that one
     ! loop body serves both, inline
-    nj = 1
     if (present(cand)) then
       nrun = size(cand)
     else
       call bins_cell_block(c%bins, p, c%rmax, clo, chi, empty)
       if (empty) return
-      nj = chi(2) - clo(2) + 1
-      nrun = nj*(chi(3) - clo(3) + 1)
+      nrun = bins_block_runs(clo, chi)
     end if
     do r = 1, nrun
       if (present(cand)) then
         qa = cand(r)
         qb = qa
       else
-        j = clo(2) + mod(r - 1, nj)
-        k = clo(3) + (r - 1)/nj
-        cc = 1 + c%bins%nc(1)*(j + c%bins%nc(2)*k)
-        qa = c%bins%start(cc + clo(1))
-        qb = c%bins%start(cc + chi(1) + 1) - 1
+        call bins_block_run(c%bins, clo, chi, r, qa, qb)
       end if
       do q = qa, qb
         d(1:nd) = c%x(:, q) - p(1:nd)
