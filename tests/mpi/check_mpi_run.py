@@ -494,6 +494,16 @@ def main():
                 g = re.findall(r"state gathered to rank 0 (\d+) time", p.stdout)
                 check(f"{name}, {n} ranks: no gather to rank 0 in the time loop (the "
                       "snapshots written from the parts)", g == ["0"], g or p.stdout[-800:])
+            if p.returncode == 0:
+                # (the summary's shares of the time loop from the parts' wall times: rank
+                # 0's whole solids are shells without them, and the summary said 0% on
+                # ranks until 2026-12-07)
+                sh = re.findall(r"kinematics +([0-9.]+)%, material +([0-9.]+)%, internal "
+                                r"force +([0-9.]+)%", p.stdout)
+                check(f"{name}, {n} rank(s): the summary's shares of the time loop in "
+                      "kinematics, material and internal force are the parts'",
+                      len(sh) == 1 and sum(float(v) for v in sh[0]) > 0.0,
+                      sh or p.stdout[-800:])
             if p.returncode == 0 and HELD_BELOW == n:
                 held = re.findall(r"sides held at most (\d+) and (\d+) particles \(of (\d+) "
                                   r"and (\d+)\)", p.stdout)
