@@ -723,13 +723,19 @@ contains
     character(len=:), allocatable :: path
     integer :: k
     type(exact_sum_t) :: e(8)
-    real(wp) :: et(8)
+    real(wp) :: et(8), phase(3), wall0(3, size(solids))
     do k = 1, size(solids)
       ! the accounts the history records: exact sums over the parts' entries
       e = exact_sum_t()
       call solid_account_sums(solids(k), e)
       et = exact_allsum_many(e, dom%comm)
+      ! the wall times of kinematics, material and internal force: the parts' mean over
+      ! the ranks added to what the whole solid holds (a restart's), for the file only
+      phase = solids(k)%acc%wall
+      call dom%comm%sum_real(phase)
       if (.not. dom%root) cycle
+      wall0(:, k) = dom%gs(k)%acc%wall
+      dom%gs(k)%acc%wall = wall0(:, k) + phase/real(dom%comm%nranks, wp)
       call solid_set_energies(dom%gs(k), et)
       dom%gs(k)%kappa = solids(k)%kappa
       dom%gs(k)%dt_cal = solids(k)%dt_cal
@@ -761,8 +767,12 @@ contains
       call mpi_counters(dom, pairs, .false.)
       ! (skip_far's schedule: its count and bound here, every rank's own particles' rows
       ! with the fields)
-      if (dom%root) &
+      if (dom%root) then
         call run_files_checkpoint(out, bodies, r, dom%gs, pairs, t_loop, err, fields=.false.)
+        do j = 1, size(solids)
+          dom%gs(j)%acc%wall = wall0(:, j)
+        end do
+      end if
       do j = 1, size(pairs)
         pairs(j)%count = keep(j)
       end do

@@ -216,12 +216,14 @@ contains
       bms(k) = dom%measures(solids(k))
     end do
     ! the summary's shares of the time loop in kinematics, material and internal force:
-    ! each part's wall times, their mean over the ranks (rank 0's whole solids are shells
-    ! without them: the summary said 0% on ranks); on one rank the solids' own (x/1 = x)
+    ! each part's wall times, their mean over the ranks, added on rank 0 to its whole
+    ! solids' (shells without them but for what a restart's checkpoint held: the summary
+    ! said 0% of each on ranks); a serial run's solids are its whole ones
     do k = 1, size(solids)
       phase = solids(k)%acc%wall
       call dom%comm%sum_real(phase)
-      if (dom%root) whole(k)%acc%wall = phase/real(dom%comm%nranks, wp)
+      if (dom%root .and. .not. associated(whole, solids)) &
+        whole(k)%acc%wall = whole(k)%acc%wall + phase/real(dom%comm%nranks, wp)
     end do
     ! a failed run's diagnostic snapshot: its solids' datasets (on ranks from the parts)
     if (r%failed) then
