@@ -123,8 +123,10 @@ program mfcd_mpi
       per_part(k) = body_per_part(deck, k, nranks, root_needs_whole(deck))
     end do
     call mesh_scripts()
+    call check_whole()
   end if
-  ! (a script rank 0 could not mesh, or a bad output path, ends every rank first)
+  ! (a script rank 0 could not mesh, a body it found wrong, or a bad output path, ends
+  ! every rank first)
   call agree_or_fail(1)
   if (.not. allocated(err)) call build_bodies(deck, bodies, err, [me, nranks], per_part, &
     mesh_files, world)
@@ -204,10 +206,34 @@ contains
       if (.not. allocated(err)) call log_print("mfcd_mpi: body "//itoa(j)//" ('"// &
         trim(deck%bodies(j)%name)//"'): gmsh meshed '"//trim(deck%bodies(j)%file)// &
         "' once, on rank 0, into '"//trim(mesh_files(j))//"'; each rank reads "// &
-        trim(merge('its part of it', 'it whole      ', deck%run%ndim == 3))// &
+        trim(merge('its part of it', 'it whole      ', per_part(j)))// &
         " (removed after the set-up)")
     end do
   end subroutine mesh_scripts
+
+  !> A plane gmsh script's elements read per part (tri_file_m) are not checked on the ranks:
+  !! rank 0 builds every body of the deck whole once, as mfcd does (the scripts' from the
+  !! files it meshed them into), through every serial check of each body and of the
+  !! bodies together, and frees them; an error is the serial one (exit 2). Rank 0 then
+  !! holds the plane bodies whole at the set-up, as it holds the mesh while gmsh makes it
+  !! (doc/parallel.md).
+  subroutine check_whole()
+    type(body_t), allocatable :: whole(:)
+    integer :: j
+    logical :: plane
+    plane = .false.
+    do j = 1, deck%nbodies
+      if (per_part(j) .and. deck%run%ndim == 2 .and. deck%bodies(j)%shape == 'geo') &
+        plane = .true.
+    end do
+    if (.not. plane .or. me /= 0 .or. allocated(err)) return
+    call build_bodies(deck, whole, err, mesh_files=mesh_files)
+    if (allocated(whole)) deallocate(whole)
+    call memory_trim()
+    if (.not. allocated(err)) call log_print('mfcd_mpi: rank 0 built the bodies whole '// &
+      'once and checked them (the plane scripts'' elements are read per part, unchecked '// &
+      'on the ranks)')
+  end subroutine check_whole
 
   !> Rank 0 removes the scratch meshes of mesh_scripts (every rank past reading them).
   subroutine drop_meshes()

@@ -22,7 +22,7 @@ module generators_m
   public :: extrude_pick, extrude_count, extruded_particle, extruded_facet, extruded_nfacets
   public :: lattice_particle, lattice_pick, lattice_count, body_pick, body_count
   public :: lattice_node, lattice_nodes, lattice_loop, polygon_merges, lattice_corners
-  public :: polar_boxes, annulus_supports
+  public :: polar_boxes, annulus_supports, mean_spacing
 
   !> Relative tolerance for "on the boundary" and "cell is cut" decisions on lattices.
   real(wp), parameter :: geom_tol = 1.0e-9_wp
@@ -2199,10 +2199,18 @@ contains
       pos = pos + n
       b%loop_ptr(k + 1) = pos + 1
     end do
-    ! nominal spacing: the cube root (square root in 2D) of the mean volume
     b%spacing = 0.0_wp
-    b%spacing(1:b%ndim) = (sum(vol)/real(np, wp))**(1.0_wp/real(b%ndim, wp))
+    b%spacing(1:b%ndim) = mean_spacing(vol, b%ndim)
   end subroutine make_from_arrays
+
+  !> A particle file's nominal spacing: the cube root (square root in 2D) of the mean
+  !! volume (make_from_arrays; a plane mesh file read per part takes it from the rank that
+  !! wrote the file, body_setup_m geo_mesh_file, the same expression: the same bits)
+  pure real(wp) function mean_spacing(vol, ndim) result(h)
+    real(wp), intent(in) :: vol(:)
+    integer, intent(in) :: ndim
+    h = (sum(vol)/real(size(vol), wp))**(1.0_wp/real(ndim, wp))
+  end function mean_spacing
 
   !> Moves every interior particle of a lattice body (rectangle, polygon; b%boundary false)
   !! by a random offset, uniform in [-fraction, fraction) x the spacing in each direction

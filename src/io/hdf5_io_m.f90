@@ -55,7 +55,7 @@ module hdf5_io_m
   !! last dimension, the rows h5py shows first), the other dimension checked against a's:
   !! what a rank streams of a mesh file it reads per part (tet_file_m).
   interface h5_read_block
-    module procedure block_r1, block_r2, block_i64_2
+    module procedure block_r1, block_r2, block_i64_2, block_i1
   end interface h5_read_block
 
   !> Attribute readers: text (any length), integer scalar, real rank 1 of the caller's size.
@@ -843,6 +843,23 @@ contains
       mspace, space)
     call block_close(f, path, d, space, mspace, st, err)
   end subroutine block_r2
+
+  !> (an integer column, as default integers: a plane mesh file's loop and order)
+  subroutine block_i1(f, path, a, first, err)
+    type(h5file_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    integer, intent(inout) :: a(:)
+    integer, intent(in) :: first
+    type(error_t), allocatable, intent(inout) :: err
+    integer(hid_t) :: d, space, mspace
+    integer :: st
+    call block_open(f, path, 1, 1, first, size(a), d, space, mspace, err)
+    if (d < 0) return
+    st = 0
+    if (size(a) > 0) call h5dread_f(d, H5T_NATIVE_INTEGER, a, shape(a, kind=hsize_t), st, &
+      mspace, space)
+    call block_close(f, path, d, space, mspace, st, err)
+  end subroutine block_i1
 
   subroutine block_i64_2(f, path, a, first, err)
     type(h5file_t), intent(in) :: f

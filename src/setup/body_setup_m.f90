@@ -14,7 +14,7 @@ module body_setup_m
   use basis_m, only: mmax, basis_size
   use generators_m, only: make_segment, make_rectangle, make_polygon, make_annulus, make_disk, &
     lattice_cells_explicit, extrude_body, extrude_pick, body_pick, &
-    make_from_arrays, set_supports, perturb_interior, annulus_supports
+    make_from_arrays, set_supports, perturb_interior, annulus_supports, mean_spacing
   use rk_cloud_m, only: rk_cloud_t, cloud_init, cloud_moment
   use moment_matrix_m, only: chol_small
   use kinds_m, only: i64
@@ -33,6 +33,7 @@ module body_setup_m
   use gmsh_mesh_m, only: gmsh_mesh_model
   use confine_m, only: confine_limits_t
   use log_m, only: log_print
+  use tri_file_m, only: tri_file_share
   use tet_file_m, only: tet_file_share, tet_file_region, volume_spacing, mesh_index_t, &
     read_index, node_outside, tet_outside, file_error
   implicit none
@@ -172,7 +173,7 @@ contains
     allocate(clouds(size(bodies)), plateau(size(bodies)))
     plateau = 0.0_wp
     do kb = 1, size(bodies)
-      if (bodies(kb)%geom%kind /= geom_none) cycle
+      if (bodies(kb)%geom%kind /= geom_none .or. checked_whole(bodies(kb))) cycle
       call body_cloud(bodies(kb), clouds(kb), err)
       if (allocated(err)) return
       plateau(kb) = body_plateau(bodies(kb), clouds(kb))
@@ -184,6 +185,9 @@ contains
           if (ka == kb) cycle
           if (deck%bodies(ka)%role /= 'deformable' .and. deck%bodies(kb)%role /= &
             'deformable') cycle
+          ! (a rank's share of a plane mesh file holds no cloud of the body: rank 0 checked
+          ! the whole bodies against each other, mfcd_mpi)
+          if (checked_whole(bodies(kb))) cycle
           associate (a => bodies(ka), b => bodies(kb))
             tol = overlap_tol*min(minval(a%spacing(1:2)), minval(b%spacing(1:2)))
             ! a generated shape may reach up to a spacing beyond its outermost particles
@@ -222,6 +226,14 @@ contains
         end do
       end do
     end do
+
+  contains
+
+    !> A rank's share of a plane mesh file (tri_file_m), whose whole body rank 0 checked
+    pure logical function checked_whole(b)
+      type(body_t), intent(in) :: b
+      checked_whole = allocated(b%mfile) .and. b%ndim == 2
+    end function checked_whole
   end subroutine check_overlaps
 
 
@@ -247,7 +259,7 @@ contains
     integer, allocatable :: loop(:), order(:), tri(:, :), ptr(:)
     real(wp) :: dr, dt, fmin
     integer :: nd, i
-    logical :: has_tri, has_cells, tets, from_file, geo_file
+    logical :: has_tri, has_cells, tets, from_file, geo_file, plane_part
     type(error_t), allocatable :: e2
     type(cst4_mesh_t) :: mesh
     type(body_t) :: b2, ends
@@ -310,7 +322,18 @@ contains
       from_file = s%shape == 'file' .and. present(share)
       if (s%shape == 'geo' .and. present(mesh_file) .and. present(share) .and. nd == 3) &
         from_file = len(mesh_file) > 0
-      if (from_file) then
+      plane_part = .false.
+      if (s%shape == 'geo' .and. present(mesh_file) .and. present(share) .and. nd == 2) &
+        plane_part = len(mesh_file) > 0
+      if (plane_part) then
+        ! a rank's share of a plane gmsh script's elements (body_per_part): the file rank
+        ! 0 meshed it into and built the whole body from, through every serial check
+        ! (mfcd_mpi), read per part (tri_file_m): the share's nodes and triangles, the
+        ! boundary loops whole, the same bits as the whole body's
+        what = "the mesh of '"//trim(s%file)//"'"
+        call tri_file_share(mesh_file, what, share(1), share(2), b, local, e2)
+        if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
+      else if (from_file) then
         ! a rank's share of a tetrahedral mesh file (body_per_part): the file streamed,
         ! the whole mesh never held (tet_file_m); the checks the serial ones, at the share.
         ! A 3D gmsh script's: the file one rank meshed it into (geo_mesh_file), the same
@@ -794,6 +817,9 @@ contains
     b => b0
     g0 = 1
     g1 = b0%np
+    ! (a rank's share of a plane mesh file: rank 0 built the whole body and checked it,
+    ! mfcd_mpi, before any rank read its share)
+    if (allocated(b0%mfile) .and. b0%ndim == 2) return
     if (allocated(b0%mfile)) then
       ! a rank's share of a mesh file: M at the nodes of its slab of the body (a mesh file
       ! numbers its nodes in no spatial order, so the share's own nodes are spread over the
@@ -1224,6 +1250,13 @@ contains
       if (.not. allocated(e2)) call h5_group(f, '/cells', e2)
       if (.not. allocated(e2)) call h5_write(f, '/cells/ptr', ptr, '1', e2)
       if (.not. allocated(e2)) call h5_write(f, '/cells/xy', xy, 'm', e2)
+      ! (the whole mesh's facts a rank reading its part needs: the spacing
+      ! make_from_arrays gives, the longest edge, the extent; tri_file_m)
+      if (.not. allocated(e2)) call h5_attr(f, '/mesh', 'spacing', mean_spacing(vol, 2), e2)
+      if (.not. allocated(e2)) call h5_attr(f, '/mesh', 'longest_edge', &
+        longest_edge(x, tet), e2)
+      if (.not. allocated(e2)) call h5_attr(f, '/mesh', 'lo', minval(x, dim=2), e2)
+      if (.not. allocated(e2)) call h5_attr(f, '/mesh', 'hi', maxval(x, dim=2), e2)
     else
       call tet_node_volumes(x, tet, vol)
       call h5_create(f, path, e2)
@@ -1245,6 +1278,19 @@ contains
       trim(deck%bodies(k)%file)//"' cannot be written to '"//path//"' for the ranks to "// &
       "read ("//e2%message//"); check the space in the directory of &output file", 1)
   end subroutine geo_mesh_file
+
+  !> The longest edge of the triangles tri over the nodes x (set_mesh_extras' lengths)
+  pure real(wp) function longest_edge(x, tri) result(l)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: tri(:, :)
+    integer :: e, k
+    l = 0.0_wp
+    do e = 1, size(tri, 2)
+      do k = 1, 3
+        l = max(l, norm2(x(:, tri(k, e)) - x(:, tri(modulo(k, 3) + 1, e))))
+      end do
+    end do
+  end function longest_edge
 
   !> A body's error e2 as build_body reports it: a message that names its own place (it
   !! begins with where: geo_max_elements) as it is, else prefixed by where and the

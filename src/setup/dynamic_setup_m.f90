@@ -23,6 +23,7 @@ module dynamic_setup_m
   use cst4_m, only: cst4_mesh_t, cst4_tables, cst4_region
   use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
   use tet_file_m, only: tet_file_region, tet_file_count
+  use tri_file_m, only: tri_file_region, tri_file_count
   use side_surface_m, only: side_surface
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin, &
     solid_np_whole, solid_nq_whole
@@ -368,13 +369,28 @@ contains
           ! lattice's recipe, cst4_region; the smallest altitude and the total mass over
           ! the ranks)
           allocate(reg%body)
-          call cst4_region(b, box, reg%body, mesh, eglob, ne_whole)
+          if (allocated(b%mfile)) then
+            ! (a plane mesh file's: the triangles within the reach of the box that holds
+            ! every triangle whose rows the box keeps and every triangle touching their
+            ! nodes, read from the file, tri_file_m; the longest edge the whole mesh's)
+            ne_whole = b%mfile%ne
+            grow = 2.0_wp*b%mfile%lmax + maxval(b%spacing)
+            call tri_file_region(b, box(:, 1) - grow, box(:, 2) + grow, reg%body, e2, &
+              mesh, eglob)
+          else
+            call cst4_region(b, box, reg%body, mesh, eglob, ne_whole)
+          end if
           bp => reg%body
-          call cst4_tables(bp, mesh, axisym, deck%materials(bs%imat)%params%density, t, &
-            e2, box)
+          if (.not. allocated(e2)) call cst4_tables(bp, mesh, axisym, &
+            deck%materials(bs%imat)%params%density, t, e2, box)
           call region_tet_sums(part, tree, bp, t, e2)
-          call log_made(part, b, bp%np, "region's triangles from the "//trim(b%shape)// &
-            "'s lattice", ' (nodes)', .not. allocated(e2))
+          if (allocated(b%mfile)) then
+            call log_made(part, b, bp%np, "region's triangles read from its mesh file", &
+              ' (nodes)', .not. allocated(e2))
+          else
+            call log_made(part, b, bp%np, "region's triangles from the "//trim(b%shape)// &
+              "'s lattice", ' (nodes)', .not. allocated(e2))
+          end if
         else
           mesh%ne = size(b%cells, 2)
           mesh%tri = b%cells
@@ -639,6 +655,15 @@ contains
       ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
       ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
       ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
+      ! a plane gmsh script's linear triangles, meshed once by rank 0 into a file that it
+      ! then builds the whole body from and checks (mfcd_mpi), read per part (tri_file_m),
+      ! as a slave of rigid masters only (a deforming master's or a self-contact's sides
+      ! would take the whole polyline's and det(M)'s facts from the file: not yet)
+      if (.not. yes) yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 2 .and. &
+        deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
+        bs%discretization == 'fem' .and. bs%shape == 'geo' .and. &
+        bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp .and. &
+        slave_of_rigid(deck, k)
       if (.not. yes) then
         l = len_trim(bs%file)
         yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &
@@ -649,6 +674,23 @@ contains
       end if
     end associate
   end function body_per_part
+
+  !> Whether body k is in contact only as the slave of rigid masters, without a tracked
+  !! edge particle (its contact sides then need nothing of the whole body: no polyline,
+  !! no det(M) facts, no nearest particle).
+  logical function slave_of_rigid(deck, k) result(yes)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    integer :: j
+    yes = .true.
+    do j = 1, deck%ncontacts
+      associate (c => deck%contacts(j))
+        if (c%imaster == k) yes = .false.
+        if (c%islave == k .and. deck%bodies(c%imaster)%role == 'deformable') yes = .false.
+        if (c%islave == k .and. c%edge_point(1) > -huge(1.0_wp)) yes = .false.
+      end associate
+    end do
+  end function slave_of_rigid
 
   !> Whether a rank makes only the particles of body k its region needs (tl_region_3d), not
   !! the whole body, for the solid's set-up: a 3D extruded body with its recipe (a
@@ -792,7 +834,9 @@ contains
     if (say) write(output_unit, '(a)') "dynamic: body '"//trim(b%name)//"': made per "// &
       'rank (its share, then its '//what//'), at most '//itoa(nint(made(1)))// &
       ' particles'//unit//' on a rank, of '//itoa(b%np)//' (the whole body is made on '// &
-      'no rank)'
+      trim(merge('no rank                               ', &
+      'no rank past rank 0''s checks of it    ', .not. (allocated(b%mfile) .and. &
+      b%ndim == 2)))//')'
   end subroutine log_made
 
   !> The whole mesh's smallest height (the time step's) and total mass (for the log) for
@@ -929,7 +973,9 @@ contains
       if (nsel == 0 .and. allocated(b%glob)) then
         ! (b some particles of a larger body: any of the whole body's, from its recipe or
         ! its mesh file)
-        if (allocated(b%mfile)) then
+        if (allocated(b%mfile) .and. b%ndim == 2) then
+          nsel = tri_file_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))
+        else if (allocated(b%mfile)) then
           nsel = tet_file_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))
         else
           nsel = body_count(b, deck%bcs(j)%region_lo(1:3), deck%bcs(j)%region_hi(1:3))

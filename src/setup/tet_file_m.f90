@@ -34,7 +34,7 @@ module tet_file_m
   private
   public :: tet_file_share, tet_file_region, tet_file_facets, tet_file_positions, volume_spacing
   public :: block_rows, tet_file_count, mesh_index_t, read_index, node_outside, tet_outside
-  public :: rows_read, file_error
+  public :: rows_read, file_error, unique_nodes, merge_places
 
   !> Rows a block of the file (64 Ki rows: 1.5 MiB of positions, 2 MiB of tetrahedra; a
   !! test sets a few, so that a small mesh spans many blocks)

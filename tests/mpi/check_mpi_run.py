@@ -85,6 +85,11 @@ only its share of such a body (never the whole body): on 2, 4 and 6 ranks every 
 exit 2 within a minute, nothing written, and its standard error must hold the serial run's
 message (said by the rank whose share holds the serial run's particle).
 
+With --bad-body DECK (repeatable): a plane deck whose gmsh body of elements (read per part
+on ranks, tri_file_m: rank 0 builds and checks the whole bodies once, the ranks check none)
+overlaps another body at t = 0: on 2 and 4 ranks every run must exit 2 within a minute with
+the serial run's message, nothing written, no scratch mesh left.
+
 With --bad-mesh DECK (repeatable): a deck whose gmsh script (&body shape = 'geo') cannot
 be made into its body (more elements than geo_max_elements, say). On ranks rank 0 meshes
 the script once into a scratch file the ranks read (their parts of, in 3D): on 2 and 4
@@ -101,7 +106,7 @@ Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N] [
                         [--sides-held-below N] [--made NAME]...
                         [--restart N1:N2:EVERY] [--refused DECK]... [--bad-cell DECK]...
                         [--bad-particle DECK]... [--bad-mesh DECK]...
-                        [--checkpoints EVERY]
+                        [--bad-body DECK]... [--checkpoints EVERY]
                         MFCD MFCD_MPI MPIEXEC DECK...
 (--ranks: the rank counts each deck runs on, 1,2,3,4 by default; --t-end: every deck run to
 T seconds, snapshots at 0 and T.)
@@ -174,6 +179,11 @@ BAD_MESH = []
 while "--bad-mesh" in ARGS:
     i = ARGS.index("--bad-mesh")
     BAD_MESH.append(os.path.abspath(ARGS[i + 1]))
+    del ARGS[i:i + 2]
+BAD_BODY = []
+while "--bad-body" in ARGS:
+    i = ARGS.index("--bad-body")
+    BAD_BODY.append(os.path.abspath(ARGS[i + 1]))
     del ARGS[i:i + 2]
 while "--bad-cell" in ARGS:
     i = ARGS.index("--bad-cell")
@@ -452,7 +462,7 @@ def main():
     work = tempfile.mkdtemp(prefix="mfcd_mpi_")
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    if any(has_geo(d) for d in DECKS + BAD_MESH):
+    if any(has_geo(d) for d in DECKS + BAD_MESH + BAD_BODY):
         v = subprocess.run([MFCD, "--version"], capture_output=True, text=True)
         if "gmsh: not built in" in v.stdout:
             print("mpi_run: mfcd is built without gmsh; the decks with a gmsh body are "
@@ -532,7 +542,8 @@ def main():
             if p.returncode == 0 and name in MADE and n >= 2:
                 made = re.findall(r"made per rank .*?, at most (\d+) particles(?: \(nodes\))? "
                                   r"on a rank, of "
-                                  r"(\d+) \(the whole body is made on no rank\)", p.stdout)
+                                  r"(\d+) \(the whole body is made on no rank(?: past rank "
+                                  r"0's checks of it)?\)", p.stdout)
                 check(f"{name}, {n} ranks: each such body made per rank, no rank making "
                       "all its particles", len(made) > 0 and all(
                           int(a) < int(b) for a, b in made), made or p.stdout[-800:])
@@ -652,6 +663,12 @@ def main():
         os.makedirs(sub)
         refused_as_serial(src, sub, env, "naming the gmsh script", lambda m: ".geo" in m,
                           (2, 4), "nothing written, no scratch mesh left")
+    for src in BAD_BODY:
+        sub = os.path.join(work, os.path.basename(src).replace(".nml", "") + "_bad")
+        os.makedirs(sub)
+        refused_as_serial(src, sub, env, "naming a particle inside another body",
+                          lambda m: "lies inside body" in m, (2, 4),
+                          "nothing written, no scratch mesh left")
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if results and all(results) else 1)
 
