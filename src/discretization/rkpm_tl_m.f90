@@ -154,7 +154,16 @@ contains
     if (present(box)) then
       reg = box(1:2, :)
       ext = largest_cell(b, scheme)
-      if (allocated(b%glob)) then
+      if (allocated(b%glob) .and. allocated(b%mfile)) then
+        ! (b holds some nodes of a plane mesh file, a rank's region read from it: the
+        ! whole cloud's extremes are the mesh's, placed, and its largest supports the
+        ! factors times the mesh's longest edge, as each node's is the factors times its
+        ! own; plane strain only: no images about the axis, dynamic_setup_m body_per_part)
+        lo = b%mfile%lo(1:2) + b%mfile%shift(1:2)
+        hi = b%mfile%hi(1:2) + b%mfile%shift(1:2)
+        call region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err, lo, hi, &
+          b%support_factor(1:2)*b%mfile%lmax)
+      else if (allocated(b%glob)) then
         ! (b holds some particles of a rectangle, a rank's region made from its recipe:
         ! the whole cloud's extremes are those of its outermost ring and their images)
         call whole_extremes(b, axisym, tol, lo, hi)
@@ -205,7 +214,7 @@ contains
   !! support and the largest cell extent ext, one spacing more for rounding), in the same
   !! order, with the whole cloud's extremes and largest supports (cloud_init's grid): the
   !! same shape functions there, to the bit. twin is cut to the region cloud's.
-  subroutine region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err, wlo, whi)
+  subroutine region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err, wlo, whi, wrmax)
     type(body_t), intent(in) :: b
     real(wp), intent(in) :: ext(2), reg(2, 2), xe(:, :), rhoe(:, :), vole(:)
     integer, allocatable, intent(inout) :: twin(:)
@@ -213,10 +222,13 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     !> the whole cloud's extremes when xe is a region's cloud (whole_extremes)
     real(wp), intent(in), optional :: wlo(2), whi(2)
+    !> and its largest supports, when the region's may be smaller (a graded mesh's)
+    real(wp), intent(in), optional :: wrmax(2)
     real(wp) :: rmax(2), grow(2), lo(2), hi(2)
     logical, allocatable :: near(:)
     integer :: i
     rmax = maxval(rhoe, dim=2)
+    if (present(wrmax)) rmax = wrmax
     grow = 2.0_wp*rmax + ext + b%spacing(1:2)
     allocate(near(size(xe, 2)))
     do i = 1, size(xe, 2)

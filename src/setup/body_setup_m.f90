@@ -332,6 +332,13 @@ contains
         ! boundary loops whole, the same bits as the whole body's
         what = "the mesh of '"//trim(s%file)//"'"
         call tri_file_share(mesh_file, what, share(1), share(2), b, local, e2)
+        ! (an RKPM body integrates over the median-dual cells: no elements; each rank
+        ! reads its region's cells, dynamic_setup_m)
+        if (.not. allocated(e2) .and. s%discretization /= 'fem') then
+          deallocate(b%cells)
+          b%cell0 = 0
+          b%ncells = 0
+        end if
         if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
       else if (from_file) then
         ! a rank's share of a tetrahedral mesh file (body_per_part): the file streamed,

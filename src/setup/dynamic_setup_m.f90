@@ -437,14 +437,29 @@ contains
       else
         if (region_box(part, b, tree, box)) then
           if (region_made(deck, k, part, b)) then
-            ! (a rectangle or polygon no rank holds whole: the rank's region made from its recipe)
             allocate(reg%body)
-            call tl_region_2d(b, axisym, box, reg%body)
-            bp => reg%body
-            call log_made(part, b, bp%np, 'region from the '//trim(b%shape)//"'s lattice", &
-              '', .true.)
+            if (allocated(b%mfile)) then
+              ! (a plane mesh file's: the nodes within what tl_build's region cloud takes
+              ! of the box, twice the largest support, a cell (within two longest edges
+              ! of its node: a median-dual cell lies in the node's triangles) and a
+              ! spacing, one spacing more; with their cells, read: tri_file_m)
+              grow = 0.0_wp
+              grow(1:2) = 2.0_wp*b%support_factor(1:2)*b%mfile%lmax + &
+                2.0_wp*b%mfile%lmax + 2.0_wp*b%spacing(1:2)
+              call tri_file_region(b, box(:, 1) - grow, box(:, 2) + grow, reg%body, e2)
+              bp => reg%body
+              call log_made(part, b, bp%np, 'region read from its mesh file', '', &
+                .not. allocated(e2))
+            else
+              ! (a rectangle or polygon no rank holds whole: the rank's region made from
+              ! its recipe)
+              call tl_region_2d(b, axisym, box, reg%body)
+              bp => reg%body
+              call log_made(part, b, bp%np, 'region from the '//trim(b%shape)// &
+                "'s lattice", '', .true.)
+            end if
           end if
-          call tl_build(bp, axisym, scheme_id(bs%integration), &
+          if (.not. allocated(e2)) call tl_build(bp, axisym, scheme_id(bs%integration), &
             deck%materials(bs%imat)%params%density, t, e2, box)
         else
           call tl_build(b, axisym, scheme_id(bs%integration), &
@@ -659,9 +674,14 @@ contains
       ! then builds the whole body from and checks (mfcd_mpi), read per part (tri_file_m),
       ! as a slave of rigid masters only (a deforming master's or a self-contact's sides
       ! would take the whole polyline's and det(M)'s facts from the file: not yet)
+      ! (or RKPM over its median-dual cells in plane strain, one point a particle: the
+      ! whole cloud's extremes and largest supports from the file's facts, rkpm_tl_m
+      ! tl_build; Gauss integration's points are not the particles a region numbers)
       if (.not. yes) yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 2 .and. &
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
-        bs%discretization == 'fem' .and. bs%shape == 'geo' .and. &
+        (bs%discretization == 'fem' .or. (bs%discretization == 'rkpm' .and. &
+        deck%run%geometry /= 'axisymmetric' .and. bs%integration /= 'gauss')) .and. &
+        bs%shape == 'geo' .and. &
         bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp .and. &
         slave_of_rigid(deck, k)
       if (.not. yes) then

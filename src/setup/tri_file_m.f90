@@ -126,19 +126,21 @@ contains
   end subroutine tri_file_share
 
   !> The nodes of the plane body b read per part (b%mfile) within the box lo ... hi (in
-  !! the placed body: b%mfile%shift added), as body r: only the nodes of the triangles all
-  !! of whose nodes lie in the box, with their positions, volumes, boundary flags and
-  !! supports (b's factors times the longest edge at each: every triangle touching them is
-  !! read) and their whole numbers r%glob (ascending, of np_whole = b%np); those triangles
-  !! over r's nodes in the file's order (mesh), with their file numbers eglob. b's name,
-  !! kernel, basis, spacing and file. Not collective.
+  !! the placed body: b%mfile%shift added), as body r: with mesh, only the nodes of the
+  !! triangles all of whose nodes lie in the box, and those triangles over r's nodes in the
+  !! file's order, with their file numbers eglob; without, every node in the box, with its
+  !! integration cell (the file's /cells/ptr and /cells/xy rows: an RKPM body over the
+  !! median-dual cells). Their positions, volumes, boundary flags and supports (b's factors
+  !! times the longest edge at each: every triangle touching them is read) and their whole
+  !! numbers r%glob (ascending, of np_whole = b%np); b's name, kernel, basis, spacing and
+  !! file. Not collective.
   subroutine tri_file_region(b, lo, hi, r, err, mesh, eglob)
     type(body_t), intent(in) :: b
     real(wp), intent(in) :: lo(3), hi(3)
     type(body_t), intent(out) :: r
     type(error_t), allocatable, intent(inout) :: err
-    type(cst4_mesh_t), intent(out) :: mesh
-    integer, allocatable, intent(out) :: eglob(:)
+    type(cst4_mesh_t), intent(out), optional :: mesh
+    integer, allocatable, intent(out), optional :: eglob(:)
     type(h5file_t) :: f
     type(error_t), allocatable :: e2
     type(touching_t) :: tc
@@ -194,22 +196,31 @@ contains
         used(sorted_place(sel, tc%t(k, kept(m)))) = .true.
       end do
     end do
-    allocate(loc(size(sel)))
-    loc = 0
-    i = 0
-    do m = 1, size(sel)
-      if (.not. used(m)) cycle
-      i = i + 1
-      loc(m) = i
-    end do
-    mesh%ne = n
-    allocate(mesh%tri(3, n), eglob(n))
-    do m = 1, n
-      do k = 1, 3
-        mesh%tri(k, m) = loc(sorted_place(sel, tc%t(k, kept(m))))
+    if (present(mesh)) then
+      allocate(loc(size(sel)))
+      loc = 0
+      i = 0
+      do m = 1, size(sel)
+        if (.not. used(m)) cycle
+        i = i + 1
+        loc(m) = i
       end do
-      eglob(m) = tc%e(kept(m))
-    end do
+      mesh%ne = n
+      allocate(mesh%tri(3, n), eglob(n))
+      do m = 1, n
+        do k = 1, 3
+          mesh%tri(k, m) = loc(sorted_place(sel, tc%t(k, kept(m))))
+        end do
+        eglob(m) = tc%e(kept(m))
+      end do
+    else
+      ! every node in the box, with its cell
+      used = .true.
+      call read_cells(b%mfile%path, what, np, sel, r, err)
+      if (allocated(err)) return
+      if (any(b%mfile%shift(1:2) /= 0.0_wp)) r%cell_xy = r%cell_xy + &
+        spread(b%mfile%shift(1:2), 2, size(r%cell_xy, 2))
+    end if
     r%name = b%name
     r%shape = b%shape
     r%ndim = 2
@@ -239,6 +250,77 @@ contains
     ! (the file, for what the set-up asks of the whole body later: kinematic_masks)
     r%mfile = b%mfile
   end subroutine tri_file_region
+
+  !> The integration cells of the nodes g (ascending) of the plane mesh file path onto r
+  !! (cell_ptr over them, cell_xy: their /cells/xy rows, unplaced): the rows g and g + 1 of
+  !! /cells/ptr (exact as reals: node counts far below 2^53), then their runs of /cells/xy.
+  subroutine read_cells(path, what, np, g, r, err)
+    character(len=*), intent(in) :: path, what
+    integer, intent(in) :: np, g(:)
+    type(body_t), intent(inout) :: r
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    integer, allocatable :: dims(:), at(:), rows(:)
+    real(wp), allocatable :: p(:, :)
+    integer :: n, m, i, k, nxy, a, c
+    n = size(g)
+    call h5_open_read(f, path, err)
+    if (allocated(err)) return
+    if (.not. (h5_has(f, '/cells/ptr') .and. h5_has(f, '/cells/xy'))) then
+      call set_error(err, what//" has no /cells (ptr, xy): the median-dual cells an RKPM "// &
+        "body integrates over")
+      call h5_close(f, e2)
+      return
+    end if
+    call h5_shape(f, '/cells/xy', dims, err)
+    if (.not. allocated(err)) then
+      nxy = dims(size(dims))
+      ! (the rows g and g + 1, ascending without repeats; at: each g's place in them)
+      allocate(rows(2*n), at(n))
+      m = 0
+      do i = 1, n
+        if (m == 0) then
+          m = 1
+          rows(m) = g(i)
+        else if (rows(m) /= g(i)) then
+          m = m + 1
+          rows(m) = g(i)
+        end if
+        at(i) = m
+        m = m + 1
+        rows(m) = g(i) + 1
+      end do
+      allocate(p(1, m))
+      call h5_read_rows(f, '/cells/ptr', p, rows(1:m), np + 1, .true., err)
+    end if
+    if (.not. allocated(err)) then
+      allocate(r%cell_ptr(n + 1))
+      r%cell_ptr(1) = 1
+      do i = 1, n
+        r%cell_ptr(i + 1) = r%cell_ptr(i) + nint(p(1, at(i) + 1)) - nint(p(1, at(i)))
+      end do
+      deallocate(rows)
+      allocate(rows(r%cell_ptr(n + 1) - 1))
+      k = 0
+      do i = 1, n
+        a = nint(p(1, at(i)))
+        c = nint(p(1, at(i) + 1))
+        if (a < 1 .or. c < a .or. c - 1 > nxy) then
+          call set_error(err, what//": /cells/ptr is not ascending within 1 ... "// &
+            itoa(nxy + 1))
+          exit
+        end if
+        rows(k + 1:k + c - a) = [(a + m, m = 0, c - a - 1)]
+        k = k + c - a
+      end do
+    end if
+    if (.not. allocated(err)) then
+      allocate(r%cell_xy(2, size(rows)))
+      call h5_read_rows(f, '/cells/xy', r%cell_xy, rows, nxy, .false., err)
+    end if
+    call h5_close(f, e2)
+  end subroutine read_cells
 
   !> Whether any node of the plane body b read per part lies within lo ... hi, placed (1,
   !! else 0; 1 when the file cannot be read again: nothing is refused for it here).
