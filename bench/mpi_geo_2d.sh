@@ -8,8 +8,10 @@
 # memory (GNU time's %M). Run it with the builds before and after a change to compare them.
 # With BODY=cylinder: the cylinder of input/hertz_cylinder_fem.nml (linear triangles, a
 # slave of the rigid wall: read per part on ranks since 2026-12-07, tri_file_m) meshed
-# uniformly at H (hc = hf = H; 0.04 mm: some 50,000 nodes) instead of the disk.
-# Usage: [H=metres] [BODY=disk|cylinder] bash bench/mpi_geo_2d.sh MPI_BIN_DIR [RANKS ...]
+# uniformly at H (hc = hf = H; 0.04 mm: some 50,000 nodes) instead of the disk; with
+# BODY=cylinder_rkpm the same cylinder by RKPM over its median-dual cells
+# (input/hertz_cylinder_rkpm.nml).
+# Usage: [H=metres] [BODY=disk|cylinder|cylinder_rkpm] bash bench/mpi_geo_2d.sh MPI_BIN_DIR [RANKS ...]
 # (default ranks 1 2 4)
 # More ranks than cores run oversubscribed: the memory holds, the set-up's seconds are then
 # the ranks sharing a core.
@@ -25,15 +27,17 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 body=${BODY:-disk}
-if [ "$body" = cylinder ]; then
+if [ "$body" = cylinder ] || [ "$body" = cylinder_rkpm ]; then
+  deck=hertz_cylinder_fem
+  [ "$body" = cylinder ] || deck=hertz_cylinder_rkpm
   cp "$root/input/hertz_cylinder.geo" "$work/"
   sed -e "s#file = 'output/#file = '$work/#" \
     -e "s#file = 'input/hertz_cylinder.geo'#file = '$work/hertz_cylinder.geo'#" \
     -e "s/geo_names = 'hc', 'b'/geo_names = 'hc', 'hf', 'b'/" \
     -e "s/geo_values = 0.046e-3, 0.185e-3/geo_values = $h, $h, 0.185e-3\n  geo_max_elements = 10000000/" \
     -e 's/t_end = 12.0e-6/t_end = 2.0e-8/' \
-    "$root/input/hertz_cylinder_fem.nml" > "$work/t.nml"
-  what="the cylinder of hertz_cylinder_fem.nml"
+    "$root/input/$deck.nml" > "$work/t.nml"
+  what="the cylinder of $deck.nml"
 else
   cp "$root/input/disk.geo" "$work/"
   sed -e "s#file = 'output/#file = '$work/#" -e "s#file = 'input/disk.geo'#file = '$work/disk.geo'#" \

@@ -639,7 +639,10 @@ contains
   !! (tet_file_m: each rank reads its share and region of the file), or from a 3D gmsh
   !! script (shape 'geo'), which one rank meshes into such a file first (mfcd_mpi); or a
   !! rectangle in the plane that stays on its lattice, RKPM or CST4, in any contact (its
-  !! region from the lattice's recipe: tl_region_2d, cst4_region).
+  !! region from the lattice's recipe: tl_region_2d, cst4_region); or a plane gmsh
+  !! script's linear triangles, or its RKPM body in plane strain, as a slave of rigid
+  !! masters (tri_file_m: each rank reads its share and region of the file rank 0 meshed
+  !! it into and checked the whole bodies from, mfcd_mpi).
   logical function body_per_part(deck, k, nranks, root_whole) result(yes)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k, nranks
@@ -667,9 +670,6 @@ contains
       ! particle's cell is its own lattice cell clipped: generators_m polygon_walk)
       if (yes .and. bs%shape == 'polygon') yes = .not. polygon_merges( &
         bs%vertices(:, 1:bs%nvert), bs%spacing(1:2), bs%origin(1:2))
-      ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
-      ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
-      ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
       ! a plane gmsh script's linear triangles, meshed once by rank 0 into a file that it
       ! then builds the whole body from and checks (mfcd_mpi), read per part (tri_file_m),
       ! as a slave of rigid masters only (a deforming master's or a self-contact's sides
@@ -684,6 +684,9 @@ contains
         bs%shape == 'geo' .and. &
         bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp .and. &
         slave_of_rigid(deck, k)
+      ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
+      ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
+      ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
       if (.not. yes) then
         l = len_trim(bs%file)
         yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &

@@ -21,7 +21,7 @@ module tri_file_m
   use kinds_m, only: wp, i64
   use errors_m, only: error_t, set_error
   use strings_m, only: itoa
-  use sorting_m, only: sort_index
+  use sorting_m, only: sort_index, sorted_place
   use rank_comm_m, only: share_first
   use hdf5_io_m, only: h5file_t, h5_open_read, h5_close, h5_has, h5_shape, h5_read_block, &
     h5_read_rows, h5_read_attr
@@ -59,8 +59,8 @@ contains
     type(error_t), allocatable :: e2
     type(touching_t) :: tc
     integer, allocatable :: lp(:), tb(:, :)
-    integer :: np, ne, r0, r1, n, c0, c1, i0, nb, i, m, k, l, g
-    real(wp) :: len_e, spacing, lmax, lo(2), hi(2)
+    integer :: np, ne, r0, r1, n, c0, c1, i0, nb, i, g
+    real(wp) :: spacing, lmax, lo(2), hi(2)
     call open_plane(path, what, f, np, ne, err)
     if (allocated(err)) return
     r0 = share_first(np, me, nranks)
@@ -93,19 +93,7 @@ contains
     if (.not. allocated(err)) call read_facts(f, what, spacing, lmax, lo, hi, err)
     call h5_close(f, e2)
     if (allocated(err)) return
-    ! (set_mesh_extras' lengths: node k to node k + 1 of each triangle, in turn)
-    allocate(local(n))
-    local = 0.0_wp
-    do m = 1, tc%n
-      do k = 1, 3
-        l = modulo(k, 3) + 1
-        len_e = norm2(tc%xn(:, tc%nl(k, m)) - tc%xn(:, tc%nl(l, m)))
-        i = tc%t(k, m)
-        if (i >= r0 .and. i <= r1) local(i - r0 + 1) = max(local(i - r0 + 1), len_e)
-        i = tc%t(l, m)
-        if (i >= r0 .and. i <= r1) local(i - r0 + 1) = max(local(i - r0 + 1), len_e)
-      end do
-    end do
+    call longest_edges(tc, [(i, i = r0, r1)], local)
     b%ndim = 2
     b%np = np
     b%row0 = r0
@@ -147,8 +135,8 @@ contains
     integer, allocatable :: sel(:), lsel(:), tb(:, :), loc(:), kept(:)
     real(wp), allocatable :: xsel(:, :), vsel(:), local(:)
     logical, allocatable :: used(:)
-    real(wp) :: ulo(2), uhi(2), len_e
-    integer :: np, ne, i0, nb, i, m, k, l, n, p
+    real(wp) :: ulo(2), uhi(2)
+    integer :: np, ne, i0, nb, i, m, k, n, p
     character(len=:), allocatable :: what
     what = "mesh file '"//b%mfile%path//"'"
     ulo = lo(1:2) - b%mfile%shift(1:2)
@@ -178,19 +166,9 @@ contains
     if (.not. allocated(err)) call tc_positions(f, np, tc, err)
     call h5_close(f, e2)
     if (allocated(err)) return
-    allocate(local(size(sel)), used(size(sel)))
-    local = 0.0_wp
+    call longest_edges(tc, sel, local)
+    allocate(used(size(sel)))
     used = .false.
-    do m = 1, tc%n
-      do k = 1, 3
-        l = modulo(k, 3) + 1
-        len_e = norm2(tc%xn(:, tc%nl(k, m)) - tc%xn(:, tc%nl(l, m)))
-        i = sorted_place(sel, tc%t(k, m))
-        if (i > 0) local(i) = max(local(i), len_e)
-        i = sorted_place(sel, tc%t(l, m))
-        if (i > 0) local(i) = max(local(i), len_e)
-      end do
-    end do
     do m = 1, n
       do k = 1, 3
         used(sorted_place(sel, tc%t(k, kept(m)))) = .true.
@@ -321,6 +299,29 @@ contains
     end if
     call h5_close(f, e2)
   end subroutine read_cells
+
+  !> The longest edge at each node sel(i) (ascending) of the triangles tc, every one
+  !! touching them (set_mesh_extras' lengths: node k to node k + 1 of each triangle, in
+  !! turn; a maximum, so in any order the same bits).
+  subroutine longest_edges(tc, sel, local)
+    type(touching_t), intent(in) :: tc
+    integer, intent(in) :: sel(:)
+    real(wp), allocatable, intent(out) :: local(:)
+    real(wp) :: len_e
+    integer :: m, k, l, i
+    allocate(local(size(sel)))
+    local = 0.0_wp
+    do m = 1, tc%n
+      do k = 1, 3
+        l = modulo(k, 3) + 1
+        len_e = norm2(tc%xn(:, tc%nl(k, m)) - tc%xn(:, tc%nl(l, m)))
+        i = sorted_place(sel, tc%t(k, m))
+        if (i > 0) local(i) = max(local(i), len_e)
+        i = sorted_place(sel, tc%t(l, m))
+        if (i > 0) local(i) = max(local(i), len_e)
+      end do
+    end do
+  end subroutine longest_edges
 
   !> Whether any node of the plane body b read per part lies within lo ... hi, placed (1,
   !! else 0; 1 when the file cannot be read again: nothing is refused for it here).
@@ -566,24 +567,4 @@ contains
     allocate(tc%xn(2, size(tc%node)))
     call h5_read_rows(f, '/particles/x', tc%xn, tc%node, np, .false., err)
   end subroutine tc_positions
-
-  !> The place of g in a (ascending), 0 where it is not there (a bisection).
-  pure integer function sorted_place(a, g) result(p)
-    integer, intent(in) :: a(:), g
-    integer :: lo, hi, mid
-    p = 0
-    lo = 1
-    hi = size(a)
-    do while (lo <= hi)
-      mid = (lo + hi)/2
-      if (a(mid) == g) then
-        p = mid
-        return
-      else if (a(mid) < g) then
-        lo = mid + 1
-      else
-        hi = mid - 1
-      end if
-    end do
-  end function sorted_place
 end module tri_file_m
