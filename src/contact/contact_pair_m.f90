@@ -554,20 +554,27 @@ contains
   !! at the whole loop b holds (b%loop_ptr, loop_idx: the whole body's numbers,
   !! perimeter-sized): side_init's surface_build over the whole body, the same segments
   !! with the same geometry, their ends the whole body's numbers.
-  subroutine side_loop_surface(b, axisym, s, err)
+  subroutine side_loop_surface(b, axisym, s, err, xloop)
     type(body_t), intent(in) :: b
     logical, intent(in) :: axisym
     type(master_surface_t), intent(out) :: s
     type(error_t), allocatable, intent(inout) :: err
+    !> the positions of the loops' particles b%loop_idx, when b has no recipe (a plane
+    !! mesh file read per part: tri_file_m tri_file_positions)
+    real(wp), intent(in), optional :: xloop(:, :)
     real(wp), allocatable :: x(:, :)
     real(wp) :: vol
     logical :: bnd
     integer :: n, k
     n = size(b%loop_idx)
     allocate(x(2, n))
-    do k = 1, n
-      call lattice_node(b%lat, b%loop_idx(k), x(:, k), vol, bnd)
-    end do
+    if (present(xloop)) then
+      x = xloop
+    else
+      do k = 1, n
+        call lattice_node(b%lat, b%loop_idx(k), x(:, k), vol, bnd)
+      end do
+    end if
     call surface_build(s, x, b%loop_ptr, [(k, k = 1, n)], b%loop_closed, axisym, &
       axis_fraction*minval(b%spacing(1:2)), err)
     if (allocated(err)) return

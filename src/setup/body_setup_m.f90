@@ -39,7 +39,7 @@ module body_setup_m
   implicit none
   private
   public :: build_bodies, build_body, lattice_admissible, min_support_factor
-  public :: read_particle_columns, tet_mesh_body, geo_mesh_file
+  public :: read_particle_columns, tet_mesh_body, geo_mesh_file, file_slab
 
   !> Relative pivot below which M counts as singular in the admissibility checks: far above
   !! round-off (1e-16) and far below the weakest genuine pivot of an admissible lattice

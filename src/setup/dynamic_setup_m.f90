@@ -23,7 +23,8 @@ module dynamic_setup_m
   use cst4_m, only: cst4_mesh_t, cst4_tables, cst4_region
   use tet4_m, only: tet4_mesh_t, tet4_tables, tet4_region
   use tet_file_m, only: tet_file_region, tet_file_count
-  use tri_file_m, only: tri_file_region, tri_file_count
+  use tri_file_m, only: tri_file_region, tri_file_count, tri_file_positions
+  use body_setup_m, only: file_slab
   use side_surface_m, only: side_surface
   use solid_m, only: solid_t, solid_init, solid_quiet_init, solid_set_gravity, solid_add_spin, &
     solid_np_whole, solid_nq_whole
@@ -640,9 +641,9 @@ contains
   !! script (shape 'geo'), which one rank meshes into such a file first (mfcd_mpi); or a
   !! rectangle in the plane that stays on its lattice, RKPM or CST4, in any contact (its
   !! region from the lattice's recipe: tl_region_2d, cst4_region); or a plane gmsh
-  !! script's linear triangles, or its RKPM body in plane strain, as a slave of rigid
-  !! masters (tri_file_m: each rank reads its share and region of the file rank 0 meshed
-  !! it into and checked the whole bodies from, mfcd_mpi).
+  !! script's linear triangles, or its RKPM body in plane strain, in any contact but a
+  !! self-contact (tri_file_m: each rank reads its share and region of the file rank 0
+  !! meshed it into and checked the whole bodies from, mfcd_mpi).
   logical function body_per_part(deck, k, nranks, root_whole) result(yes)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k, nranks
@@ -672,8 +673,8 @@ contains
         bs%vertices(:, 1:bs%nvert), bs%spacing(1:2), bs%origin(1:2))
       ! a plane gmsh script's linear triangles, meshed once by rank 0 into a file that it
       ! then builds the whole body from and checks (mfcd_mpi), read per part (tri_file_m),
-      ! as a slave of rigid masters only (a deforming master's or a self-contact's sides
-      ! would take the whole polyline's and det(M)'s facts from the file: not yet)
+      ! in any contact but a self-contact (a deforming master's sides take the whole
+      ! polyline and det(M)'s medians from the file and the ranks: side_facts)
       ! (or RKPM over its median-dual cells in plane strain, one point a particle: the
       ! whole cloud's extremes and largest supports from the file's facts, rkpm_tl_m
       ! tl_build; Gauss integration's points are not the particles a region numbers)
@@ -683,7 +684,7 @@ contains
         deck%run%geometry /= 'axisymmetric' .and. bs%integration /= 'gauss')) .and. &
         bs%shape == 'geo' .and. &
         bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp .and. &
-        slave_of_rigid(deck, k)
+        .not. in_self_contact(deck, k)
       ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
       ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
       ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
@@ -698,22 +699,14 @@ contains
     end associate
   end function body_per_part
 
-  !> Whether body k is in contact only as the slave of rigid masters, without a tracked
-  !! edge particle (its contact sides then need nothing of the whole body: no polyline,
-  !! no det(M) facts, no nearest particle).
-  logical function slave_of_rigid(deck, k) result(yes)
+  !> Whether body k is in contact with itself (a self-contact's sides of a plane mesh
+  !! file read per part are not built yet).
+  logical function in_self_contact(deck, k) result(yes)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: k
-    integer :: j
-    yes = .true.
-    do j = 1, deck%ncontacts
-      associate (c => deck%contacts(j))
-        if (c%imaster == k) yes = .false.
-        if (c%islave == k .and. deck%bodies(c%imaster)%role == 'deformable') yes = .false.
-        if (c%islave == k .and. c%edge_point(1) > -huge(1.0_wp)) yes = .false.
-      end associate
-    end do
-  end function slave_of_rigid
+    yes = any(deck%contacts(1:deck%ncontacts)%imaster == k .and. &
+      deck%contacts(1:deck%ncontacts)%islave == k)
+  end function in_self_contact
 
   !> Whether a rank makes only the particles of body k its region needs (tl_region_3d), not
   !! the whole body, for the solid's set-up: a 3D extruded body with its recipe (a
@@ -1220,17 +1213,23 @@ contains
     type(error_t), allocatable, intent(inout) :: err
     !> a plane body's geometry (its polyline's segments on the axis are dropped)
     logical, intent(in) :: axisym
-    real(wp), allocatable :: det(:)
-    logical, allocatable :: deep(:)
+    real(wp), allocatable :: det(:), xloop(:, :)
+    logical, allocatable :: deep(:), bnd(:)
     real(wp) :: flag(1), most(1)
     ! (a body whose generator could not close its surface has none: side_init says so)
     if (allocated(b%facets)) call side_surface(comm, b, inner, f%surf3, err)
-    ! (a plane body's: its whole boundary polyline, perimeter-sized, from its recipe)
-    if (b%ndim == 2) call side_loop_surface(b, axisym, f%surf2, err)
+    ! (a plane body's: its whole boundary polyline, perimeter-sized, from its recipe; a
+    ! plane mesh file's from its loops' rows of the file)
+    if (b%ndim == 2 .and. allocated(b%mfile)) then
+      call tri_file_positions(b, b%loop_idx, xloop, err)
+      if (.not. allocated(err)) call side_loop_surface(b, axisym, f%surf2, err, xloop)
+    else if (b%ndim == 2) then
+      call side_loop_surface(b, axisym, f%surf2, err)
+    end if
     most = real(f%surf3%nf, wp)
     call comm%max_real(most)
     f%nf_most = nint(most(1))
-    if (.not. allocated(err)) call side_facts_local(b, f, det, deep, err)
+    if (.not. allocated(err)) call side_facts_local(b, f, det, deep, err, bnd)
     if (.not. allocated(det)) allocate(det(0), deep(0))
     flag = 0.0_wp
     if (allocated(err)) flag = 1.0_wp
@@ -1240,7 +1239,12 @@ contains
         "surface or det(M) failed on another rank")
       return
     end if
-    call share_det_medians(comm, det, deep, b%boundary, f%plateau, f%surface_det)
+    ! (the particles det was taken at: the share's, or a slab's, bnd)
+    if (allocated(bnd)) then
+      call share_det_medians(comm, det, deep, bnd, f%plateau, f%surface_det)
+    else
+      call share_det_medians(comm, det, deep, b%boundary, f%plateau, f%surface_det)
+    end if
   end subroutine side_facts
 
   !> side_facts' part that needs no other rank, of body b held as a rank's share: the
@@ -1250,20 +1254,50 @@ contains
   !! share's particles and whether each is deep (detection_m deep_particles), in a cloud
   !! of the particles within a support of them (and a spacing) on the whole cloud's bins'
   !! grid, so that every sum runs in the whole cloud's order.
-  subroutine side_facts_local(b, f, det, deep, err)
+  subroutine side_facts_local(b, f, det, deep, err, bnd)
     type(body_t), intent(in) :: b
     type(side_facts_t), intent(inout) :: f
     real(wp), allocatable, intent(out) :: det(:)
     logical, allocatable, intent(out) :: deep(:)
     type(error_t), allocatable, intent(inout) :: err
+    !> the boundary flags of the particles det is taken at when they are not the share's
+    !! (a plane mesh file's: its slab's), else unallocated
+    logical, allocatable, intent(out), optional :: bnd(:)
     type(body_t) :: ends, near
     type(rk_cloud_t) :: c
-    integer :: n, j, none(2), nd, run, r0, r1
+    integer :: n, j, none(2), nd, run, r0, r1, axis
     real(wp) :: nowhere(2), lo(3), hi(3), reach(3)
-    logical, allocatable :: deep_run(:)
+    logical, allocatable :: deep_run(:), mine(:)
+    integer, allocatable :: at(:)
     none = 0
     nowhere = 0.0_wp
     nd = b%ndim
+    if (allocated(b%mfile) .and. nd == 2) then
+      ! a plane mesh file's (tri_file_m): its extent and largest support from the file's
+      ! facts, placed (as a tetrahedral file's below); det(M) at the nodes of the rank's
+      ! slab of the extent, not its share (a gmsh numbering spreads a share over the whole
+      ! body; the slabs hold each node once, and the medians are k-th values, whatever
+      ! rank holds which), in a cloud of the nodes within a support (and a spacing) of it
+      f%lo(1:2) = b%mfile%lo(1:2) + b%mfile%shift(1:2)
+      f%hi(1:2) = b%mfile%hi(1:2) + b%mfile%shift(1:2)
+      f%rmax(1:2) = b%support_factor(1:2)*b%mfile%lmax
+      call file_slab(b%mfile, lo, hi, axis)
+      reach = 0.0_wp
+      reach(1:2) = f%rmax(1:2) + maxval(b%spacing(1:2))
+      call tri_file_region(b, lo - reach, hi + reach, near, err, cells=.false.)
+      if (allocated(err)) return
+      mine = near%x(axis, :) >= lo(axis) .and. (near%x(axis, :) < hi(axis) .or. &
+        (b%mfile%me == b%mfile%nranks - 1 .and. near%x(axis, :) <= hi(axis)))
+      at = pack([(j, j = 1, near%np)], mine)
+      call cloud_init(c, near%x, near%rho, near%vol, b%kid, b%wshape, b%bid, b%h(1:2), &
+        err, grid_lo=f%lo(1:2), grid_hi=f%hi(1:2), rmax=f%rmax(1:2))
+      if (allocated(err)) return
+      allocate(det(size(at)))
+      call det_at_points(c, near%x(:, at), det)
+      deep = deep_particles(c, near%boundary, near%x(:, at), near%rho(:, at))
+      if (present(bnd)) bnd = near%boundary(at)
+      return
+    end if
     if (allocated(b%lat)) then
       ! a rectangle's: its outermost ring's extremes (every coordinate of its lattice),
       ! and its recipe's supports

@@ -30,7 +30,7 @@ module tri_file_m
   use tet_file_m, only: block_rows, unique_nodes
   implicit none
   private
-  public :: tri_file_share, tri_file_region, tri_file_count
+  public :: tri_file_share, tri_file_region, tri_file_count, tri_file_positions
 
   !> The triangles that touch a set of nodes, with the positions of all their nodes
   type :: touching_t
@@ -122,13 +122,15 @@ contains
   !! times the longest edge at each: every triangle touching them is read) and their whole
   !! numbers r%glob (ascending, of np_whole = b%np); b's name, kernel, basis, spacing and
   !! file. Not collective.
-  subroutine tri_file_region(b, lo, hi, r, err, mesh, eglob)
+  subroutine tri_file_region(b, lo, hi, r, err, mesh, eglob, cells)
     type(body_t), intent(in) :: b
     real(wp), intent(in) :: lo(3), hi(3)
     type(body_t), intent(out) :: r
     type(error_t), allocatable, intent(inout) :: err
     type(cst4_mesh_t), intent(out), optional :: mesh
     integer, allocatable, intent(out), optional :: eglob(:)
+    !> without mesh: read the nodes' cells (default), or not (the nodes only: a cloud)
+    logical, intent(in), optional :: cells
     type(h5file_t) :: f
     type(error_t), allocatable :: e2
     type(touching_t) :: tc
@@ -138,6 +140,7 @@ contains
     real(wp) :: ulo(2), uhi(2)
     integer :: np, ne, i0, nb, i, m, k, n, p
     character(len=:), allocatable :: what
+    logical :: with_cells
     what = "mesh file '"//b%mfile%path//"'"
     ulo = lo(1:2) - b%mfile%shift(1:2)
     uhi = hi(1:2) - b%mfile%shift(1:2)
@@ -194,10 +197,14 @@ contains
     else
       ! every node in the box, with its cell
       used = .true.
-      call read_cells(b%mfile%path, what, np, sel, r, err)
-      if (allocated(err)) return
-      if (any(b%mfile%shift(1:2) /= 0.0_wp)) r%cell_xy = r%cell_xy + &
-        spread(b%mfile%shift(1:2), 2, size(r%cell_xy, 2))
+      with_cells = .true.
+      if (present(cells)) with_cells = cells
+      if (with_cells) then
+        call read_cells(b%mfile%path, what, np, sel, r, err)
+        if (allocated(err)) return
+        if (any(b%mfile%shift(1:2) /= 0.0_wp)) r%cell_xy = r%cell_xy + &
+          spread(b%mfile%shift(1:2), 2, size(r%cell_xy, 2))
+      end if
     end if
     r%name = b%name
     r%shape = b%shape
@@ -299,6 +306,31 @@ contains
     end if
     call h5_close(f, e2)
   end subroutine read_cells
+
+  !> The positions of the nodes g (any order, repeats allowed) of the plane body b read
+  !! per part, placed (b%mfile's shift added): its boundary loops' vertices.
+  subroutine tri_file_positions(b, g, x, err)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: g(:)
+    real(wp), allocatable, intent(out) :: x(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    integer, allocatable :: node(:), at(:, :)
+    real(wp), allocatable :: xn(:, :)
+    integer :: np, ne, i
+    allocate(x(2, size(g)))
+    call open_plane(b%mfile%path, "mesh file '"//b%mfile%path//"'", f, np, ne, err)
+    if (allocated(err)) return
+    call unique_nodes(reshape(g, [1, size(g)]), node, at)
+    allocate(xn(2, size(node)))
+    call h5_read_rows(f, '/particles/x', xn, node, np, .false., err)
+    call h5_close(f, e2)
+    if (allocated(err)) return
+    do i = 1, size(g)
+      x(:, i) = xn(:, at(1, i)) + b%mfile%shift(1:2)
+    end do
+  end subroutine tri_file_positions
 
   !> The longest edge at each node sel(i) (ascending) of the triangles tc, every one
   !! touching them (set_mesh_extras' lengths: node k to node k + 1 of each triangle, in
