@@ -14,6 +14,8 @@
 program mfcd_mpi
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use kinds_m, only: wp, i64
+  use hdf5_io_m, only: h5file_t, h5_open_rw, h5_attr, h5_close
+  use rkpm_tl_m, only: axis_images
   use mpi_f08
   use memory_policy_m, only: memory_policy_apply, resident_kib, memory_trim, read_bytes
   use errors_m, only: error_t, exit_bad_input
@@ -219,6 +221,8 @@ contains
   !! (doc/parallel.md).
   subroutine check_whole()
     type(body_t), allocatable :: whole(:)
+    type(h5file_t) :: f
+    real(wp) :: image(2)
     integer :: j
     logical :: plane
     plane = .false.
@@ -228,6 +232,19 @@ contains
     end do
     if (.not. plane .or. me /= 0 .or. allocated(err)) return
     call build_bodies(deck, whole, err, mesh_files=mesh_files)
+    ! (an RKPM body's in axisymmetry: the extent of its mirror images about the axis,
+    ! which the whole cloud's grid takes and no share can find, with its file)
+    do j = 1, deck%nbodies
+      if (allocated(err)) exit
+      if (.not. (per_part(j) .and. deck%bodies(j)%shape == 'geo' .and. &
+        deck%bodies(j)%discretization == 'rkpm' .and. deck%run%geometry == &
+        'axisymmetric')) cycle
+      image = [huge(1.0_wp), -huge(1.0_wp)]
+      call axis_images(whole(j), image(1), image(2))
+      call h5_open_rw(f, trim(mesh_files(j)), err)
+      if (.not. allocated(err)) call h5_attr(f, '/mesh', 'axis_images', image, err)
+      call h5_close(f, err)
+    end do
     if (allocated(whole)) deallocate(whole)
     call memory_trim()
     if (.not. allocated(err)) call log_print('mfcd_mpi: rank 0 built the bodies whole '// &

@@ -32,6 +32,10 @@ module body_m
     !! largest support of the box's nodes, per axis, by which the region's cells are
     !! chosen (rkpm_tl3d_m); negative: the region reaches by the whole mesh's
     real(wp) :: rbox(3) = -1.0_wp
+    !> a plane mesh file's RKPM body in axisymmetry: the least and largest first
+    !! coordinate of the mirror images about the axis of the whole body's particles
+    !! (rkpm_tl_m axis_images; huge, -huge: none), which rank 0 took (mfcd_mpi)
+    real(wp) :: image(2) = [huge(1.0_wp), -huge(1.0_wp)]
   end type mesh_file_t
 
   !> How an extruded 3D body's particles are made (generators_m extrude_body): its section

@@ -42,7 +42,7 @@ module rkpm_tl_m
   implicit none
   private
   public :: solid_tables_t, tl_build, scheme_scni, scheme_gauss, scheme_direct, scheme_names
-  public :: scheme_id, tl_region_2d
+  public :: scheme_id, tl_region_2d, axis_images
   ! (the 3D builder rkpm_tl3d_m integrates its cells' x-y sections with it)
   public :: cell_area_points
 
@@ -158,9 +158,14 @@ contains
         ! (b holds some nodes of a plane mesh file, a rank's region read from it: the
         ! whole cloud's extremes are the mesh's, placed, and its largest supports the
         ! factors times the mesh's longest edge, as each node's is the factors times its
-        ! own; plane strain only: no images about the axis, dynamic_setup_m body_per_part)
+        ! own)
         lo = b%mfile%lo(1:2) + b%mfile%shift(1:2)
         hi = b%mfile%hi(1:2) + b%mfile%shift(1:2)
+        ! (in axisymmetry the images' too, which rank 0 took of the whole body: mfcd_mpi)
+        if (axisym) then
+          lo(1) = min(lo(1), b%mfile%image(1))
+          hi(1) = max(hi(1), b%mfile%image(2))
+        end if
         call region_cloud(b, ext, reg, xe, rhoe, vole, twin, c, err, lo, hi, &
           b%support_factor(1:2)*b%mfile%lmax)
       else if (allocated(b%glob)) then
@@ -258,7 +263,7 @@ contains
     real(wp), intent(in) :: tol
     real(wp), intent(out) :: lo(2), hi(2)
     type(body_t) :: ring
-    integer :: i, none(1)
+    integer :: none(1)
     real(wp) :: nowhere(1)
     none = 0
     nowhere = 0.0_wp
@@ -267,13 +272,29 @@ contains
     lo = minval(ring%x, dim=2)
     hi = maxval(ring%x, dim=2)
     if (.not. axisym) return
-    do i = 1, ring%np
-      if (ring%x(1, i) > tol .and. ring%x(1, i) < ring%rho(1, i)) then
-        lo(1) = min(lo(1), -ring%x(1, i))
-        hi(1) = max(hi(1), -ring%x(1, i))
+    call axis_images(ring, lo(1), hi(1), tol)
+  end subroutine whole_extremes
+
+  !> The least and largest first coordinate, lo and hi (given, then lowered and raised), of
+  !! the mirror images about the axis that tl_build makes of body b's particles in
+  !! axisymmetry (those with tol < x < rho(1), tol = axis_fraction x b's smaller spacing
+  !! unless given): the whole cloud's extremes take them. (mfcd_mpi takes them of a whole
+  !! plane mesh body for the ranks that read it per part: tri_file_m.)
+  pure subroutine axis_images(b, lo, hi, tol_given)
+    type(body_t), intent(in) :: b
+    real(wp), intent(inout) :: lo, hi
+    real(wp), intent(in), optional :: tol_given
+    real(wp) :: tol
+    integer :: i
+    tol = axis_fraction*minval(b%spacing(1:2))
+    if (present(tol_given)) tol = tol_given
+    do i = 1, size(b%x, 2)
+      if (b%x(1, i) > tol .and. b%x(1, i) < b%rho(1, i)) then
+        lo = min(lo, -b%x(1, i))
+        hi = max(hi, -b%x(1, i))
       end if
     end do
-  end subroutine whole_extremes
+  end subroutine axis_images
 
   !> The particles of rectangle b (made from its recipe, generators_m lattice_pick: the
   !! whole body need not exist) that tl_build's tables for box read: those whose position

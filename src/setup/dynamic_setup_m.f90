@@ -641,7 +641,7 @@ contains
   !! script (shape 'geo'), which one rank meshes into such a file first (mfcd_mpi); or a
   !! rectangle in the plane that stays on its lattice, RKPM or CST4, in any contact (its
   !! region from the lattice's recipe: tl_region_2d, cst4_region); or a plane gmsh
-  !! script's linear triangles, or its RKPM body in plane strain, in any contact but a
+  !! script's linear triangles, or its RKPM body (not by Gauss), in any contact but a
   !! self-contact (tri_file_m: each rank reads its share and region of the file rank 0
   !! meshed it into and checked the whole bodies from, mfcd_mpi).
   logical function body_per_part(deck, k, nranks, root_whole) result(yes)
@@ -675,13 +675,14 @@ contains
       ! then builds the whole body from and checks (mfcd_mpi), read per part (tri_file_m),
       ! in any contact but a self-contact (a deforming master's sides take the whole
       ! polyline and det(M)'s medians from the file and the ranks: side_facts)
-      ! (or RKPM over its median-dual cells in plane strain, one point a particle: the
-      ! whole cloud's extremes and largest supports from the file's facts, rkpm_tl_m
-      ! tl_build; Gauss integration's points are not the particles a region numbers)
+      ! (or RKPM over its median-dual cells, one point a particle: the whole cloud's
+      ! extremes and largest supports from the file's facts, rkpm_tl_m tl_build, in
+      ! axisymmetry its images' extent too; Gauss integration's points are not the
+      ! particles a region numbers)
       if (.not. yes) yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 2 .and. &
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         (bs%discretization == 'fem' .or. (bs%discretization == 'rkpm' .and. &
-        deck%run%geometry /= 'axisymmetric' .and. bs%integration /= 'gauss')) .and. &
+        bs%integration /= 'gauss')) .and. &
         bs%shape == 'geo' .and. &
         bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp .and. &
         .not. in_self_contact(deck, k)

@@ -24,7 +24,7 @@ module tri_file_m
   use sorting_m, only: sort_index, sorted_place
   use rank_comm_m, only: share_first
   use hdf5_io_m, only: h5file_t, h5_open_read, h5_close, h5_has, h5_shape, h5_read_block, &
-    h5_read_rows, h5_read_attr
+    h5_read_rows, h5_read_attr, h5_has_attr
   use body_m, only: body_t
   use cst4_m, only: cst4_mesh_t
   use tet_file_m, only: block_rows, unique_nodes
@@ -60,7 +60,7 @@ contains
     type(touching_t) :: tc
     integer, allocatable :: lp(:), tb(:, :)
     integer :: np, ne, r0, r1, n, c0, c1, i0, nb, i, g
-    real(wp) :: spacing, lmax, lo(2), hi(2)
+    real(wp) :: spacing, lmax, lo(2), hi(2), image(2)
     call open_plane(path, what, f, np, ne, err)
     if (allocated(err)) return
     r0 = share_first(np, me, nranks)
@@ -91,6 +91,12 @@ contains
     end do
     if (.not. allocated(err)) call tc_positions(f, np, tc, err)
     if (.not. allocated(err)) call read_facts(f, what, spacing, lmax, lo, hi, err)
+    ! (an RKPM body's in axisymmetry: its images' extent, mfcd_mpi check_whole)
+    image = [huge(1.0_wp), -huge(1.0_wp)]
+    if (.not. allocated(err)) then
+      if (h5_has_attr(f, '/mesh', 'axis_images')) call h5_read_attr(f, '/mesh', &
+        'axis_images', image, err)
+    end if
     call h5_close(f, e2)
     if (allocated(err)) return
     call longest_edges(tc, [(i, i = r0, r1)], local)
@@ -111,6 +117,7 @@ contains
     b%mfile%hi(1:2) = hi
     b%mfile%me = me
     b%mfile%nranks = nranks
+    b%mfile%image = image
   end subroutine tri_file_share
 
   !> The nodes of the plane body b read per part (b%mfile) within the box lo ... hi (in
