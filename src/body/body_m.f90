@@ -10,7 +10,7 @@ module body_m
   private
   public :: body_t, name_len, max_cell_vertices, body_keep_share, body_cell, extrusion_t
   public :: mesh_file_t, lattice_t
-  public :: body_whole, body_keep_used
+  public :: body_whole, body_keep_used, body_region_rows, used_places
 
   integer, parameter :: name_len = 64
   !> Vertices of one integration cell at most (a clipped lattice cell, a file's cell)
@@ -220,16 +220,11 @@ contains
     logical, intent(in) :: used(:)
     integer, intent(inout) :: cells(:, :)
     type(body_t), intent(out) :: r
-    integer, allocatable :: loc(:), keep(:)
+    integer :: loc(size(used))
+    integer, allocatable :: keep(:)
     integer :: i, n, m
-    allocate(loc(near%np))
-    loc = 0
-    n = 0
-    do i = 1, near%np
-      if (.not. used(i)) cycle
-      n = n + 1
-      loc(i) = n
-    end do
+    loc = used_places(used)
+    n = count(used)
     do m = 1, size(cells, 2)
       cells(:, m) = loc(cells(:, m))
     end do
@@ -242,6 +237,65 @@ contains
     r%rho = near%rho(:, keep)
     r%glob = near%glob(keep)
   end subroutine body_keep_used
+
+  !> Each kept entry's place among the kept ones (used(i): the count of used(1:i)), 0 for
+  !! the others: the renumbering of a mesh's nodes over those a region keeps.
+  pure function used_places(used) result(loc)
+    logical, intent(in) :: used(:)
+    integer, allocatable :: loc(:)
+    integer :: i, n
+    allocate(loc(size(used)))
+    loc = 0
+    n = 0
+    do i = 1, size(used)
+      if (.not. used(i)) cycle
+      n = n + 1
+      loc(i) = n
+    end do
+  end function used_places
+
+  !> Region r of body b read from b's mesh file by a rank (tri_file_m tri_file_region,
+  !! tet_file_m tet_file_region): the file's nodes sel(used) (whole numbers, ascending),
+  !! their positions xsel (as in the file: b%mfile's shift added here), volumes vsel,
+  !! boundary flags bsel and longest edges hsel (the supports: b's factors times them);
+  !! b's description (name, shape, kernel, basis, spacing, supports' factors, whole count
+  !! np_whole) and file; no boundary loops.
+  subroutine body_region_rows(b, nd, sel, used, xsel, vsel, bsel, hsel, r)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: nd, sel(:)
+    logical, intent(in) :: used(:), bsel(:)
+    real(wp), intent(in) :: xsel(:, :), vsel(:), hsel(:)
+    type(body_t), intent(out) :: r
+    integer :: i, m
+    r%name = b%name
+    r%shape = b%shape
+    r%ndim = nd
+    r%kid = b%kid
+    r%wshape = b%wshape
+    r%bid = b%bid
+    r%spacing = b%spacing
+    r%support_factor = b%support_factor
+    r%h = b%h
+    r%np = count(used)
+    r%np_whole = b%np
+    r%glob = pack(sel, used)
+    allocate(r%x(nd, r%np))
+    i = 0
+    do m = 1, size(sel)
+      if (.not. used(m)) cycle
+      i = i + 1
+      r%x(:, i) = xsel(1:nd, m) + b%mfile%shift(1:nd)
+    end do
+    r%vol = pack(vsel, used)
+    r%boundary = pack(bsel, used)
+    allocate(r%rho(nd, r%np))
+    r%rho = spread(b%support_factor(1:nd), 2, r%np)*spread(pack(hsel, used), 1, nd)
+    r%nloops = 0
+    allocate(r%loop_ptr(1), r%loop_idx(0), r%loop_closed(0))
+    r%loop_ptr(1) = 1
+    ! (the file, for what the set-up asks of the whole body later: kinematic_masks)
+    r%mfile = b%mfile
+  end subroutine body_region_rows
 
   !> Body b reduced to rank me's share of it (of nranks), for the ranks of mfcd_mpi once
   !! the set-up has read it: the rows of its particles row0 .. row0 + nrows - 1 (the

@@ -325,44 +325,38 @@ contains
       plane_part = .false.
       if (s%shape == 'geo' .and. present(mesh_file) .and. present(share) .and. nd == 2) &
         plane_part = len(mesh_file) > 0
-      if (plane_part) then
-        ! a rank's share of a plane gmsh script's elements (body_per_part): the file rank
-        ! 0 meshed it into and built the whole body from, through every serial check
-        ! (mfcd_mpi), read per part (tri_file_m): the share's nodes and triangles, the
-        ! boundary loops whole, the same bits as the whole body's
-        what = "the mesh of '"//trim(s%file)//"'"
-        call tri_file_share(mesh_file, what, share(1), share(2), b, local, e2)
-        ! (an RKPM body integrates over the median-dual cells: no elements; each rank
-        ! reads its region's cells, dynamic_setup_m)
-        if (.not. allocated(e2) .and. s%discretization /= 'fem') then
-          deallocate(b%cells)
-          b%cell0 = 0
-          b%ncells = 0
-        end if
-        if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
-      else if (from_file) then
-        ! a rank's share of a tetrahedral mesh file (body_per_part): the file streamed,
-        ! the whole mesh never held (tet_file_m); the checks the serial ones, at the share.
-        ! A 3D gmsh script's: the file one rank meshed it into (geo_mesh_file), the same
-        ! nodes, volumes and tetrahedra as the script meshed here (tet_mesh_body)
-        if (s%shape == 'geo') then
+      if (plane_part .or. from_file) then
+        if (plane_part) then
+          ! a rank's share of a plane gmsh script's elements (body_per_part): the file
+          ! rank 0 meshed it into and built the whole body from, through every serial
+          ! check (mfcd_mpi), read per part (tri_file_m): the share's nodes and
+          ! triangles, the boundary loops whole, the same bits as the whole body's
+          what = "the mesh of '"//trim(s%file)//"'"
+          call tri_file_share(mesh_file, what, share(1), share(2), b, local, e2)
+        else if (s%shape == 'geo') then
+          ! a rank's share of a tetrahedral mesh file (body_per_part): the file streamed,
+          ! the whole mesh never held (tet_file_m); the checks the serial ones, at the
+          ! share. A 3D gmsh script's: the file one rank meshed it into (geo_mesh_file),
+          ! the same nodes, volumes and tetrahedra as the script meshed here
+          ! (tet_mesh_body)
           what = "the mesh of '"//trim(s%file)//"'"
           call tet_file_share(mesh_file, what, share(1), share(2), b, local, e2, comm)
         else
           what = "particle file '"//trim(s%file)//"'"
           call tet_file_share(trim(s%file), what, share(1), share(2), b, local, e2, comm)
+          ! (the volumes are the tetrahedra's, checked: check_file_layout's sum of them
+          ! cannot exceed the box; the coincident nodes are looked for in the rank's slab
+          ! of the body, with det(M): check_particles)
         end if
-        ! (an RKPM body integrates over the tetrahedra's median-dual cells: no elements;
-        ! each rank reads its region's tetrahedra for them, dynamic_setup_m)
+        ! (an RKPM body integrates over the median-dual cells of the triangles or
+        ! tetrahedra: no elements; each rank reads its region's cells or tetrahedra for
+        ! them, dynamic_setup_m)
         if (.not. allocated(e2) .and. s%discretization /= 'fem') then
           deallocate(b%cells)
           b%cell0 = 0
           b%ncells = 0
         end if
         if (.not. allocated(e2) .and. s%spacing(1) > 0.0_wp) b%spacing(1:nd) = s%spacing(1:nd)
-        ! (the volumes are the tetrahedra's, checked: check_file_layout's sum of them
-        ! cannot exceed the box; the coincident nodes are looked for in the rank's slab of
-        ! the body, with det(M): check_particles)
       else
       ! a gmsh script gives in memory what tools/mesh_body.py writes into a particle file:
       ! from here on the two are one path

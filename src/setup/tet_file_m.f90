@@ -26,7 +26,7 @@ module tet_file_m
   use exact_sum_m, only: exact_sum_t, exact_add, exact_merge, exact_value, exact_allmerge
   use hdf5_io_m, only: h5file_t, h5_open_read, h5_close, h5_has, h5_shape, h5_read_block, &
     h5_read_rows, h5_read
-  use body_m, only: body_t, mesh_file_t
+  use body_m, only: body_t, mesh_file_t, body_region_rows, used_places
   use mesh_cells_m, only: tet_volume, index_rows
   use log_m, only: log_print
   use tet4_m, only: tet4_mesh_t, face_nodes
@@ -274,7 +274,7 @@ contains
     real(wp), allocatable :: xsel(:, :), v4(:), local(:)
     logical, allocatable :: bnd(:), used(:)
     real(wp) :: rbox(3)
-    integer :: np, ne, i, m, n, l, nover
+    integer :: np, ne, m, n, l, nover
     logical :: sup
     sup = .false.
     if (present(supports)) sup = supports
@@ -307,14 +307,7 @@ contains
           used(selp(tc%nl(:, m))) = .true.
         end if
       end do
-      allocate(loc(size(sel)))
-      loc = 0
-      i = 0
-      do m = 1, size(sel)
-        if (.not. used(m)) cycle
-        i = i + 1
-        loc(m) = i
-      end do
+      loc = used_places(used)
       mesh%ne = n
       allocate(mesh%tet(4, n), eglob(n))
       do m = 1, n
@@ -324,34 +317,7 @@ contains
         eglob(m) = tc%e(keep(m))
       end do
     end if
-    r%name = b%name
-    r%shape = b%shape
-    r%ndim = 3
-    r%kid = b%kid
-    r%wshape = b%wshape
-    r%bid = b%bid
-    r%spacing = b%spacing
-    r%support_factor = b%support_factor
-    r%h = b%h
-    r%np = count(used)
-    r%np_whole = b%np
-    r%glob = pack(sel, used)
-    allocate(r%x(3, r%np))
-    n = 0
-    do m = 1, size(sel)
-      if (.not. used(m)) cycle
-      n = n + 1
-      r%x(:, n) = xsel(:, m) + b%mfile%shift
-    end do
-    r%vol = pack(v4, used)
-    r%boundary = pack(bnd, used)
-    allocate(r%rho(3, r%np))
-    r%rho = spread(b%support_factor(1:3), 2, r%np)*spread(pack(local, used), 1, 3)
-    r%nloops = 0
-    allocate(r%loop_ptr(1), r%loop_idx(0), r%loop_closed(0))
-    r%loop_ptr(1) = 1
-    ! (the file, for what the set-up asks of the whole body later: kinematic_masks)
-    r%mfile = b%mfile
+    call body_region_rows(b, 3, sel, used, xsel, v4, bnd, local, r)
     r%mfile%rbox = rbox
     ! (b's facets, the rank's rows of the surface, as a region made from an extruded
     ! body's recipe holds them: a side over the region takes its surface from side_facts)

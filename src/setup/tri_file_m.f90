@@ -25,7 +25,7 @@ module tri_file_m
   use rank_comm_m, only: share_first
   use hdf5_io_m, only: h5file_t, h5_open_read, h5_close, h5_has, h5_shape, h5_read_block, &
     h5_read_rows, h5_read_attr, h5_has_attr
-  use body_m, only: body_t
+  use body_m, only: body_t, body_region_rows, used_places
   use cst4_m, only: cst4_mesh_t
   use tet_file_m, only: block_rows, unique_nodes
   implicit none
@@ -185,14 +185,7 @@ contains
       end do
     end do
     if (present(mesh)) then
-      allocate(loc(size(sel)))
-      loc = 0
-      i = 0
-      do m = 1, size(sel)
-        if (.not. used(m)) cycle
-        i = i + 1
-        loc(m) = i
-      end do
+      loc = used_places(used)
       mesh%ne = n
       allocate(mesh%tri(3, n), eglob(n))
       do m = 1, n
@@ -204,43 +197,16 @@ contains
     else
       ! every node in the box, with its cell
       used = .true.
-      with_cells = .true.
-      if (present(cells)) with_cells = cells
-      if (with_cells) then
-        call read_cells(b%mfile%path, what, np, sel, r, err)
-        if (allocated(err)) return
-        if (any(b%mfile%shift(1:2) /= 0.0_wp)) r%cell_xy = r%cell_xy + &
-          spread(b%mfile%shift(1:2), 2, size(r%cell_xy, 2))
-      end if
     end if
-    r%name = b%name
-    r%shape = b%shape
-    r%ndim = 2
-    r%kid = b%kid
-    r%wshape = b%wshape
-    r%bid = b%bid
-    r%spacing = b%spacing
-    r%support_factor = b%support_factor
-    r%h = b%h
-    r%np = count(used)
-    r%np_whole = b%np
-    r%glob = pack(sel, used)
-    allocate(r%x(2, r%np))
-    i = 0
-    do m = 1, size(sel)
-      if (.not. used(m)) cycle
-      i = i + 1
-      r%x(:, i) = xsel(:, m) + b%mfile%shift(1:2)
-    end do
-    r%vol = pack(vsel, used)
-    r%boundary = pack(lsel > 0, used)
-    allocate(r%rho(2, r%np))
-    r%rho = spread(b%support_factor(1:2), 2, r%np)*spread(pack(local, used), 1, 2)
-    r%nloops = 0
-    allocate(r%loop_ptr(1), r%loop_idx(0), r%loop_closed(0))
-    r%loop_ptr(1) = 1
-    ! (the file, for what the set-up asks of the whole body later: kinematic_masks)
-    r%mfile = b%mfile
+    call body_region_rows(b, 2, sel, used, xsel, vsel, lsel > 0, local, r)
+    with_cells = .not. present(mesh)
+    if (present(cells)) with_cells = with_cells .and. cells
+    if (with_cells) then
+      call read_cells(b%mfile%path, what, np, sel, r, err)
+      if (allocated(err)) return
+      if (any(b%mfile%shift(1:2) /= 0.0_wp)) r%cell_xy = r%cell_xy + &
+        spread(b%mfile%shift(1:2), 2, size(r%cell_xy, 2))
+    end if
   end subroutine tri_file_region
 
   !> The integration cells of the nodes g (ascending) of the plane mesh file path onto r
