@@ -673,7 +673,7 @@ contains
         bs%vertices(:, 1:bs%nvert), bs%spacing(1:2), bs%origin(1:2))
       ! a plane gmsh script's linear triangles, meshed once by rank 0 into a file that it
       ! then builds the whole body from and checks (mfcd_mpi), read per part (tri_file_m),
-      ! in any contact but a self-contact (a deforming master's sides take the whole
+      ! in any contact (a deforming master's or a self-contact's sides take the whole
       ! polyline and det(M)'s medians from the file and the ranks: side_facts)
       ! (or RKPM over its median-dual cells, one point a particle: the whole cloud's
       ! extremes and largest supports from the file's facts, rkpm_tl_m tl_build, in
@@ -684,8 +684,7 @@ contains
         (bs%discretization == 'fem' .or. (bs%discretization == 'rkpm' .and. &
         bs%integration /= 'gauss')) .and. &
         bs%shape == 'geo' .and. &
-        bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp .and. &
-        .not. in_self_contact(deck, k)
+        bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp
       ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
       ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
       ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
@@ -699,15 +698,6 @@ contains
       end if
     end associate
   end function body_per_part
-
-  !> Whether body k is in contact with itself (a self-contact's sides of a plane mesh
-  !! file read per part are not built yet).
-  logical function in_self_contact(deck, k) result(yes)
-    type(deck_t), intent(in) :: deck
-    integer, intent(in) :: k
-    yes = any(deck%contacts(1:deck%ncontacts)%imaster == k .and. &
-      deck%contacts(1:deck%ncontacts)%islave == k)
-  end function in_self_contact
 
   !> Whether a rank makes only the particles of body k its region needs (tl_region_3d), not
   !! the whole body, for the solid's set-up: a 3D extruded body with its recipe (a
