@@ -14,7 +14,7 @@
 program mfcd_mpi
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use kinds_m, only: wp, i64
-  use hdf5_io_m, only: h5file_t, h5_open_rw, h5_attr, h5_close
+  use hdf5_io_m, only: h5file_t, h5_open_rw, h5_attr, h5_close, h5_open_read, h5_has
   use rkpm_tl_m, only: axis_images
   use mpi_f08
   use memory_policy_m, only: memory_policy_apply, resident_kib, memory_trim, read_bytes
@@ -23,7 +23,7 @@ program mfcd_mpi
   use version_m, only: code_name, code_version, git_commit
   use deck_m, only: deck_t, read_deck
   use body_m, only: body_t, body_keep_share
-  use body_setup_m, only: build_bodies, geo_mesh_file
+  use body_setup_m, only: build_bodies, geo_mesh_file, plane_facts_file
   use file_system_m, only: process_id, path_exists, remove_file
   use tet_file_m, only: tet_file_facets
   use run_output_m, only: timestamp
@@ -124,6 +124,7 @@ program mfcd_mpi
     do k = 1, deck%nbodies
       per_part(k) = body_per_part(deck, k, nranks, root_needs_whole(deck))
     end do
+    call plane_files_vetted()
     call mesh_scripts()
     call check_whole()
   end if
@@ -189,14 +190,19 @@ contains
   !! not read per part yet): gmsh runs on one rank instead of on every one.
   subroutine mesh_scripts()
     integer :: pid, j
-    logical :: once(deck%nbodies)
+    logical :: once(deck%nbodies), facts(deck%nbodies)
     once = deck%bodies(1:deck%nbodies)%shape == 'geo' .and. (per_part .or. &
       deck%run%ndim == 2)
-    if (.not. any(once)) return
+    ! (a user's plane particle file read per part: the whole file's facts, written apart)
+    facts = deck%bodies(1:deck%nbodies)%shape == 'file' .and. per_part .and. &
+      deck%run%ndim == 2
+    if (.not. any(once .or. facts)) return
     pid = process_id()
     call MPI_Bcast(pid, 1, MPI_INTEGER, 0, MPI_COMM_WORLD)
     if (me == 0) call check_output_path(deck, err, restart_path)
     do j = 1, deck%nbodies
+      ! (written by rank 0 once it has checked the file: check_whole)
+      if (facts(j)) mesh_files(j) = scratch_name(deck, itoa(pid)//'-facts'//itoa(j)//'.h5')
       if (.not. once(j)) cycle
       ! (a plane mesh is read as a particle file, which its name's .h5 says)
       mesh_files(j) = scratch_name(deck, itoa(pid)//'-mesh'//itoa(j)// &
@@ -213,12 +219,13 @@ contains
     end do
   end subroutine mesh_scripts
 
-  !> A plane gmsh script's elements read per part (tri_file_m) are not checked on the ranks:
-  !! rank 0 builds every body of the deck whole once, as mfcd does (the scripts' from the
-  !! files it meshed them into), through every serial check of each body and of the
-  !! bodies together, and frees them; an error is the serial one (exit 2). Rank 0 then
-  !! holds the plane bodies whole at the set-up, as it holds the mesh while gmsh makes it
-  !! (doc/parallel.md).
+  !> A plane gmsh script's body or a user's plane particle file read per part (tri_file_m)
+  !! is not checked on the ranks: rank 0 builds every body of the deck whole once, as mfcd
+  !! does (the scripts' from the files it meshed them into), through every serial check
+  !! of each body and of the bodies together, and frees them; an error is the serial one
+  !! (exit 2). A particle file so checked gets the file of its whole facts
+  !! (plane_facts_file). Rank 0 then holds the plane bodies whole at the set-up, as it
+  !! holds the mesh while gmsh makes it (doc/parallel.md).
   subroutine check_whole()
     type(body_t), allocatable :: whole(:)
     type(h5file_t) :: f
@@ -227,16 +234,26 @@ contains
     logical :: plane
     plane = .false.
     do j = 1, deck%nbodies
-      if (per_part(j) .and. deck%run%ndim == 2 .and. deck%bodies(j)%shape == 'geo') &
-        plane = .true.
+      if (per_part(j) .and. deck%run%ndim == 2 .and. (deck%bodies(j)%shape == 'geo' .or. &
+        deck%bodies(j)%shape == 'file')) plane = .true.
     end do
     if (.not. plane .or. me /= 0 .or. allocated(err)) return
     call build_bodies(deck, whole, err, mesh_files=mesh_files)
+    ! (a user's plane particle file, checked: the whole file's facts for the ranks)
+    do j = 1, deck%nbodies
+      if (allocated(err)) exit
+      if (.not. (per_part(j) .and. deck%bodies(j)%shape == 'file')) cycle
+      call plane_facts_file(deck, j, trim(mesh_files(j)), err)
+      if (.not. allocated(err)) call log_print("mfcd_mpi: body "//itoa(j)//" ('"// &
+        trim(deck%bodies(j)%name)//"'): each rank reads its part of '"// &
+        trim(deck%bodies(j)%file)//"', rank 0 wrote the whole file's facts into '"// &
+        trim(mesh_files(j))//"' (removed after the set-up)")
+    end do
     ! (an RKPM body's in axisymmetry: the extent of its mirror images about the axis,
     ! which the whole cloud's grid takes and no share can find, with its file)
     do j = 1, deck%nbodies
       if (allocated(err)) exit
-      if (.not. (per_part(j) .and. deck%bodies(j)%shape == 'geo' .and. &
+      if (.not. (per_part(j) .and. len_trim(mesh_files(j)) > 0 .and. &
         deck%bodies(j)%discretization == 'rkpm' .and. deck%run%geometry == &
         'axisymmetric')) cycle
       image = [huge(1.0_wp), -huge(1.0_wp)]
@@ -248,9 +265,40 @@ contains
     if (allocated(whole)) deallocate(whole)
     call memory_trim()
     if (.not. allocated(err)) call log_print('mfcd_mpi: rank 0 built the bodies whole '// &
-      'once and checked them (the plane scripts'' elements are read per part, unchecked '// &
+      'once and checked them (the plane meshes'' bodies are read per part, unchecked '// &
       'on the ranks)')
   end subroutine check_whole
+
+  !> A user's plane particle file is read per part only when it carries what the parts
+  !! read (tri_file_m): its triangles (every node's support, and an element body's
+  !! elements) and, for an RKPM body, its median-dual cells; else each rank builds it
+  !! whole as mfcd does (and a broken file gets the serial message). Rank 0 looks, every
+  !! rank learns. Collective.
+  subroutine plane_files_vetted()
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    integer :: j
+    do j = 1, deck%nbodies
+      if (me /= 0) exit
+      if (.not. (per_part(j) .and. deck%run%ndim == 2 .and. &
+        deck%bodies(j)%shape == 'file')) cycle
+      call h5_open_read(f, trim(deck%bodies(j)%file), e2)
+      if (allocated(e2)) then
+        per_part(j) = .false.
+        deallocate(e2)
+        cycle
+      end if
+      ! (each looked for: h5_has is not pure, which .and. may skip)
+      per_part(j) = h5_has(f, '/mesh/triangles')
+      if (per_part(j) .and. deck%bodies(j)%discretization == 'rkpm') &
+        per_part(j) = h5_has(f, '/cells/ptr')
+      if (per_part(j) .and. deck%bodies(j)%discretization == 'rkpm') &
+        per_part(j) = h5_has(f, '/cells/xy')
+      call h5_close(f, e2)
+      if (allocated(e2)) deallocate(e2)
+    end do
+    call MPI_Bcast(per_part, deck%nbodies, MPI_LOGICAL, 0, MPI_COMM_WORLD)
+  end subroutine plane_files_vetted
 
   !> Rank 0 removes the scratch meshes of mesh_scripts (every rank past reading them).
   subroutine drop_meshes()

@@ -39,7 +39,7 @@ module body_setup_m
   implicit none
   private
   public :: build_bodies, build_body, lattice_admissible, min_support_factor
-  public :: read_particle_columns, tet_mesh_body, geo_mesh_file, file_slab
+  public :: read_particle_columns, tet_mesh_body, geo_mesh_file, file_slab, plane_facts_file
 
   !> Relative pivot below which M counts as singular in the admissibility checks: far above
   !! round-off (1e-16) and far below the weakest genuine pivot of an admissible lattice
@@ -323,16 +323,23 @@ contains
       if (s%shape == 'geo' .and. present(mesh_file) .and. present(share) .and. nd == 3) &
         from_file = len(mesh_file) > 0
       plane_part = .false.
-      if (s%shape == 'geo' .and. present(mesh_file) .and. present(share) .and. nd == 2) &
-        plane_part = len(mesh_file) > 0
+      if (present(mesh_file) .and. present(share) .and. nd == 2) plane_part = len(mesh_file) > 0
       if (plane_part .or. from_file) then
         if (plane_part) then
           ! a rank's share of a plane gmsh script's elements (body_per_part): the file
           ! rank 0 meshed it into and built the whole body from, through every serial
           ! check (mfcd_mpi), read per part (tri_file_m): the share's nodes and
           ! triangles, the boundary loops whole, the same bits as the whole body's
-          what = "the mesh of '"//trim(s%file)//"'"
-          call tri_file_share(mesh_file, what, share(1), share(2), b, local, e2)
+          if (s%shape == 'geo') then
+            what = "the mesh of '"//trim(s%file)//"'"
+            call tri_file_share(mesh_file, what, share(1), share(2), b, local, e2)
+          else
+            ! a user's plane particle file: its rows from the file, the whole file's facts
+            ! from the one rank 0 wrote (plane_facts_file)
+            what = "particle file '"//trim(s%file)//"'"
+            call tri_file_share(trim(s%file), what, share(1), share(2), b, local, e2, &
+              facts=mesh_file)
+          end if
         else if (s%shape == 'geo') then
           ! a rank's share of a tetrahedral mesh file (body_per_part): the file streamed,
           ! the whole mesh never held (tet_file_m); the checks the serial ones, at the
@@ -1251,13 +1258,7 @@ contains
       if (.not. allocated(e2)) call h5_group(f, '/cells', e2)
       if (.not. allocated(e2)) call h5_write(f, '/cells/ptr', ptr, '1', e2)
       if (.not. allocated(e2)) call h5_write(f, '/cells/xy', xy, 'm', e2)
-      ! (the whole mesh's facts a rank reading its part needs: the spacing
-      ! make_from_arrays gives, the longest edge, the extent; tri_file_m)
-      if (.not. allocated(e2)) call h5_attr(f, '/mesh', 'spacing', mean_spacing(vol, 2), e2)
-      if (.not. allocated(e2)) call h5_attr(f, '/mesh', 'longest_edge', &
-        longest_edge(x, tet), e2)
-      if (.not. allocated(e2)) call h5_attr(f, '/mesh', 'lo', minval(x, dim=2), e2)
-      if (.not. allocated(e2)) call h5_attr(f, '/mesh', 'hi', maxval(x, dim=2), e2)
+      if (.not. allocated(e2)) call plane_facts(f, x, vol, tet, e2)
     else
       call tet_node_volumes(x, tet, vol)
       call h5_create(f, path, e2)
@@ -1279,6 +1280,60 @@ contains
       trim(deck%bodies(k)%file)//"' cannot be written to '"//path//"' for the ranks to "// &
       "read ("//e2%message//"); check the space in the directory of &output file", 1)
   end subroutine geo_mesh_file
+
+  !> The whole plane mesh's facts a rank reading its part needs (tri_file_m), as attributes
+  !! of f's group /mesh: the spacing make_from_arrays gives, the longest edge, the extent.
+  subroutine plane_facts(f, x, vol, tri, err)
+    type(h5file_t), intent(in) :: f
+    real(wp), intent(in) :: x(:, :), vol(:)
+    integer, intent(in) :: tri(:, :)
+    type(error_t), allocatable, intent(inout) :: err
+    call h5_attr(f, '/mesh', 'spacing', mean_spacing(vol, 2), err)
+    if (.not. allocated(err)) call h5_attr(f, '/mesh', 'longest_edge', longest_edge(x, tri), err)
+    if (.not. allocated(err)) call h5_attr(f, '/mesh', 'lo', minval(x, dim=2), err)
+    if (.not. allocated(err)) call h5_attr(f, '/mesh', 'hi', maxval(x, dim=2), err)
+  end subroutine plane_facts
+
+  !> Body k's plane particle file (shape 'file', HDF5 with /mesh/triangles: what
+  !! tools/mesh_body.py writes) read per part on ranks: the whole file's facts its readers
+  !! need (plane_facts), which a user's file does not carry, written here once into the
+  !! new file path (mfcd_mpi: rank 0, from the whole file, which it reads for its checks
+  !! anyway) for every rank to read beside its part of the user's file (tri_file_share).
+  !! The user's file is only read. A file that cannot be written is a failed run (exit 1).
+  subroutine plane_facts_file(deck, k, path, err)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: k
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(inout) :: err
+    real(wp), allocatable :: x(:, :), vol(:), xy(:, :)
+    integer, allocatable :: loop(:), order(:), tri(:, :), ptr(:)
+    logical :: has_tri, has_cells
+    type(h5file_t) :: f
+    type(error_t), allocatable :: e2
+    character(len=:), allocatable :: what
+    what = "particle file '"//trim(deck%bodies(k)%file)//"'"
+    call read_particle_file_h5(trim(deck%bodies(k)%file), 2, x, vol, loop, order, e2)
+    if (.not. allocated(e2)) call read_mesh_extras(trim(deck%bodies(k)%file), size(x, 2), &
+      has_tri, tri, has_cells, ptr, xy, e2)
+    if (.not. allocated(e2) .and. .not. has_tri) call set_error(e2, what// &
+      " has no /mesh/triangles")
+    if (allocated(e2)) then
+      ! (the whole build of the checks says what is wrong with the file first)
+      call set_error(err, "deck '"//deck%path//"', group &body (body "//itoa(k)//", '"// &
+        trim(deck%bodies(k)%name)//"'): "//e2%message, 2)
+      return
+    end if
+    call h5_create(f, path, e2)
+    if (.not. allocated(e2)) call h5_group(f, '/mesh', e2)
+    if (.not. allocated(e2)) call plane_facts(f, x, vol, tri, e2)
+    if (.not. allocated(e2)) call h5_attr(f, '/', 'source', "mfcd_mpi: the whole facts "// &
+      "of "//what//" (body "//itoa(k)//" of deck '"//deck%path//"'), each rank's part "// &
+      "read from that file", e2)
+    call h5_close(f, e2)
+    if (allocated(e2)) call set_error(err, "the facts of "//what//" cannot be written to '"// &
+      path//"' for the ranks to read ("//e2%message//"); check the space in the "// &
+      "directory of &output file", 1)
+  end subroutine plane_facts_file
 
   !> The longest edge of the triangles tri over the nodes x (set_mesh_extras' lengths)
   pure real(wp) function longest_edge(x, tri) result(l)

@@ -679,17 +679,21 @@ contains
       ! extremes and largest supports from the file's facts, rkpm_tl_m tl_build, in
       ! axisymmetry its images' extent too; Gauss integration's points are not the
       ! particles a region numbers)
+      ! A user's plane particle file in HDF5 (tools/mesh_body.py's layout) the same way,
+      ! rank 0 writing the whole file's facts apart (body_setup_m plane_facts_file), when
+      ! it carries the triangles (and an RKPM body its cells: mfcd_mpi plane_files_vetted)
+      l = len_trim(bs%file)
       if (.not. yes) yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 2 .and. &
         deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
         (bs%discretization == 'fem' .or. (bs%discretization == 'rkpm' .and. &
         bs%integration /= 'gauss')) .and. &
-        bs%shape == 'geo' .and. &
+        (bs%shape == 'geo' .or. (bs%shape == 'file' .and. l > 3 .and. &
+        (bs%file(max(1, l - 2):l) == '.h5' .or. bs%file(max(1, l - 4):l) == '.hdf5'))) .and. &
         bs%angular_velocity == 0.0_wp .and. bs%rotate == 0.0_wp
       ! a tetrahedral mesh file (tools/mesh_body.py --3d), its elements or their median-
       ! dual cells, in any contact (the sides' whole-body facts from the file: side_facts);
       ! a 3D gmsh script, meshed once by rank 0 into such a file (mfcd_mpi: geo_mesh_file)
       if (.not. yes) then
-        l = len_trim(bs%file)
         yes = nranks > 1 .and. .not. root_whole .and. deck%run%ndim == 3 .and. &
           deck%run%mode == 'dynamic' .and. bs%role == 'deformable' .and. &
           any(bs%discretization == ['rkpm', 'fem ']) .and. bs%angular_velocity == 0.0_wp .and. &

@@ -49,13 +49,16 @@ contains
   !! cell0 ... of ncells, the boundary loops whole, held_share, the spacing and its mfile
   !! (the path, the whole mesh's longest edge and extent). local: the longest edge at each
   !! node of the share (the supports'). Not collective: each rank reads its rows.
-  subroutine tri_file_share(path, what, me, nranks, b, local, err)
+  subroutine tri_file_share(path, what, me, nranks, b, local, err, facts)
     character(len=*), intent(in) :: path, what
     integer, intent(in) :: me, nranks
     type(body_t), intent(out) :: b
     real(wp), allocatable, intent(out) :: local(:)
     type(error_t), allocatable, intent(inout) :: err
-    type(h5file_t) :: f
+    !> the file of the whole mesh's facts (/mesh attributes), when path has none (a user's
+    !! file: body_setup_m plane_facts_file); else path's
+    character(len=*), intent(in), optional :: facts
+    type(h5file_t) :: f, ff
     type(error_t), allocatable :: e2
     type(touching_t) :: tc
     integer, allocatable :: lp(:), tb(:, :)
@@ -90,13 +93,19 @@ contains
       end do
     end do
     if (.not. allocated(err)) call tc_positions(f, np, tc, err)
-    if (.not. allocated(err)) call read_facts(f, what, spacing, lmax, lo, hi, err)
-    ! (an RKPM body's in axisymmetry: its images' extent, mfcd_mpi check_whole)
-    image = [huge(1.0_wp), -huge(1.0_wp)]
-    if (.not. allocated(err)) then
-      if (h5_has_attr(f, '/mesh', 'axis_images')) call h5_read_attr(f, '/mesh', &
-        'axis_images', image, err)
+    if (present(facts) .and. .not. allocated(err)) then
+      call h5_open_read(ff, facts, e2)
+      if (allocated(e2)) call set_error(err, what//": the whole file's facts ('"//facts// &
+        "') cannot be read")
     end if
+    if (.not. allocated(err)) then
+      if (present(facts)) then
+        call whole_facts(ff)
+      else
+        call whole_facts(f)
+      end if
+    end if
+    if (present(facts)) call h5_close(ff, e2)
     call h5_close(f, e2)
     if (allocated(err)) return
     call longest_edges(tc, [(i, i = r0, r1)], local)
@@ -118,6 +127,20 @@ contains
     b%mfile%me = me
     b%mfile%nranks = nranks
     b%mfile%image = image
+
+  contains
+
+    !> The whole mesh's facts from fa's /mesh attributes (and, for an RKPM body in
+    !! axisymmetry, its images' extent: mfcd_mpi check_whole)
+    subroutine whole_facts(fa)
+      type(h5file_t), intent(in) :: fa
+      call read_facts(fa, what, spacing, lmax, lo, hi, err)
+      image = [huge(1.0_wp), -huge(1.0_wp)]
+      if (.not. allocated(err)) then
+        if (h5_has_attr(fa, '/mesh', 'axis_images')) call h5_read_attr(fa, '/mesh', &
+          'axis_images', image, err)
+      end if
+    end subroutine whole_facts
   end subroutine tri_file_share
 
   !> The nodes of the plane body b read per part (b%mfile) within the box lo ... hi (in
@@ -222,10 +245,14 @@ contains
     integer, allocatable :: dims(:), at(:), rows(:)
     real(wp), allocatable :: p(:, :)
     integer :: n, m, i, k, nxy, a, c
+    logical :: has
     n = size(g)
     call h5_open_read(f, path, err)
     if (allocated(err)) return
-    if (.not. (h5_has(f, '/cells/ptr') .and. h5_has(f, '/cells/xy'))) then
+    ! (each looked for: h5_has is not pure, which .and. may skip)
+    has = h5_has(f, '/cells/ptr')
+    if (has) has = h5_has(f, '/cells/xy')
+    if (.not. has) then
       call set_error(err, what//" has no /cells (ptr, xy): the median-dual cells an RKPM "// &
         "body integrates over")
       call h5_close(f, e2)

@@ -90,6 +90,11 @@ on ranks, tri_file_m: rank 0 builds and checks the whole bodies once, the ranks 
 overlaps another body at t = 0: on 2 and 4 ranks every run must exit 2 within a minute with
 the serial run's message, nothing written, no scratch mesh left.
 
+With --bad-file DECK (repeatable): a plane deck whose particle file (read per part on
+ranks when it carries its triangles and cells, rank 0 checking it whole first) is wrong:
+on 2 and 4 ranks every run must exit 2 within a minute with the serial run's message
+naming the file, nothing written, no scratch file left.
+
 With --bad-mesh DECK (repeatable): a deck whose gmsh script (&body shape = 'geo') cannot
 be made into its body (more elements than geo_max_elements, say). On ranks rank 0 meshes
 the script once into a scratch file the ranks read (their parts of, in 3D): on 2 and 4
@@ -106,7 +111,7 @@ Usage: check_mpi_run.py [--ranks N,N,...] [--t-end T] [--no-refresh-differs N] [
                         [--sides-held-below N] [--made NAME]...
                         [--restart N1:N2:EVERY] [--refused DECK]... [--bad-cell DECK]...
                         [--bad-particle DECK]... [--bad-mesh DECK]...
-                        [--bad-body DECK]... [--checkpoints EVERY]
+                        [--bad-body DECK]... [--bad-file DECK]... [--checkpoints EVERY]
                         MFCD MFCD_MPI MPIEXEC DECK...
 (--ranks: the rank counts each deck runs on, 1,2,3,4 by default; --t-end: every deck run to
 T seconds, snapshots at 0 and T.)
@@ -184,6 +189,11 @@ BAD_BODY = []
 while "--bad-body" in ARGS:
     i = ARGS.index("--bad-body")
     BAD_BODY.append(os.path.abspath(ARGS[i + 1]))
+    del ARGS[i:i + 2]
+BAD_FILE = []
+while "--bad-file" in ARGS:
+    i = ARGS.index("--bad-file")
+    BAD_FILE.append(os.path.abspath(ARGS[i + 1]))
     del ARGS[i:i + 2]
 while "--bad-cell" in ARGS:
     i = ARGS.index("--bad-cell")
@@ -669,6 +679,12 @@ def main():
         refused_as_serial(src, sub, env, "naming a particle inside another body",
                           lambda m: "lies inside body" in m, (2, 4),
                           "nothing written, no scratch mesh left")
+    for src in BAD_FILE:
+        sub = os.path.join(work, os.path.basename(src).replace(".nml", "") + "_bad")
+        os.makedirs(sub)
+        refused_as_serial(src, sub, env, "naming the particle file",
+                          lambda m: "particle file '" in m, (2, 4),
+                          "nothing written, no scratch file left")
     print(f"{sum(results)} passed, {len(results) - sum(results)} failed")
     sys.exit(0 if results and all(results) else 1)
 
