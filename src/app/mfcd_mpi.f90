@@ -186,8 +186,10 @@ contains
   !! part of as a mesh file (tet_file_m) and rank 0 removes after the set-up (or when the
   !! run ends earlier): gmsh meshes a model whole, so one rank holds the whole mesh while
   !! gmsh makes it and none after. Collective (rank 0's process id names the files).
-  !! A 2D script (any role) the same way, each rank reading the file whole (a plane mesh is
-  !! not read per part yet): gmsh runs on one rank instead of on every one.
+  !! A 2D script (any role) the same way: each rank reads its part of the file when the body
+  !! is read per part (tri_file_m), else the file whole; gmsh runs on one rank instead of
+  !! on every one. A user's plane particle file read per part gets the name of the file
+  !! of its whole facts here, which rank 0 writes once it has checked it (check_whole).
   subroutine mesh_scripts()
     integer :: pid, j
     logical :: once(deck%nbodies), facts(deck%nbodies)
